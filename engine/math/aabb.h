@@ -1,0 +1,53 @@
+// Axis-aligned bounding box and the slab test used by the BVH.
+#pragma once
+
+#include "math/types.h"
+
+#include <algorithm>
+
+namespace ppm {
+
+struct Aabb {
+  Vec3 lo{kInf};
+  Vec3 hi{-kInf};
+
+  void grow(const Vec3& p) {
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  }
+  void grow(const Aabb& b) {
+    lo = glm::min(lo, b.lo);
+    hi = glm::max(hi, b.hi);
+  }
+  bool empty() const { return lo.x > hi.x; }
+  Vec3 center() const { return 0.5 * (lo + hi); }
+  Vec3 extent() const { return hi - lo; }
+  double half_area() const {
+    if (empty()) return 0.0;
+    const Vec3 e = extent();
+    return e.x * e.y + e.y * e.z + e.z * e.x;
+  }
+  int longest_axis() const {
+    const Vec3 e = extent();
+    return e.x > e.y ? (e.x > e.z ? 0 : 2) : (e.y > e.z ? 1 : 2);
+  }
+};
+
+// Slab test with precomputed reciprocal direction. Returns the entry distance
+// or kInf. Robust to zero direction components (inf * 0 handled by min/max
+// ordering because the box is never degenerate-NaN).
+inline double slab_entry(const Aabb& box, const Vec3& origin, const Vec3& inv_dir, double tmax) {
+  double t0 = 0.0, t1 = tmax;
+  for (int a = 0; a < 3; ++a) {
+    double tn = (box.lo[a] - origin[a]) * inv_dir[a];
+    double tf = (box.hi[a] - origin[a]) * inv_dir[a];
+    if (tn > tf) std::swap(tn, tf);
+    // NaN (0 * inf when the origin lies on a slab plane) must not shrink the interval.
+    t0 = tn > t0 ? tn : t0;
+    t1 = tf < t1 ? tf : t1;
+  }
+  // Conservative widening by a few ulps keeps rays along box faces from slipping through.
+  return t0 <= t1 * (1.0 + 4e-16) ? t0 : kInf;
+}
+
+}  // namespace ppm
