@@ -1,0 +1,91 @@
+"""Bundled scenes built directly through ppm_core (no Blender needed).
+
+Used by the demo, the tests and the benchmarks. `blend_scenes/build_blend_scenes.py`
+builds the same scenes as .blend files for the add-on. World space is Blender's:
+metres, Z up; cameras look down their local -Z.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+import ppm_core
+
+
+def look_at(eye, target, up=(0.0, 0.0, 1.0)) -> np.ndarray:
+    """Camera-to-world matrix of a camera at `eye` looking at `target` (Blender convention)."""
+    eye, target, up = (np.asarray(v, dtype=float) for v in (eye, target, up))
+    back = eye - target
+    back /= np.linalg.norm(back)
+    right = np.cross(up, back)
+    right /= np.linalg.norm(right)
+    true_up = np.cross(back, right)
+    m = np.eye(4)
+    m[:3, 0], m[:3, 1], m[:3, 2], m[:3, 3] = right, true_up, back, eye
+    return m
+
+
+def quad(scene, name, corners, material, object_id=0):
+    """Adds a planar quad (4 corners, counter-clockwise seen from the front)."""
+    positions = np.asarray(corners, dtype=float)
+    scene.add_mesh(name, positions, np.array([[0, 1, 2], [0, 2, 3]]), materials=material, object_id=object_id)
+
+
+def cornell_box(scene, size=2.0, object_id_start=0, with_front=False):
+    """Walls of a Cornell box spanning x, y in [-size/2, size/2], z in [0, size]; open towards -y."""
+    h = size / 2.0
+    white = scene.add_material("white", "diffuse", base_color=(0.75, 0.75, 0.75))
+    red = scene.add_material("red", "diffuse", base_color=(0.75, 0.25, 0.25))
+    blue = scene.add_material("blue", "diffuse", base_color=(0.25, 0.25, 0.75))
+    z0, z1 = 0.0, size
+    walls = [
+        ("floor", [(-h, -h, z0), (h, -h, z0), (h, h, z0), (-h, h, z0)], white),
+        ("ceiling", [(-h, -h, z1), (-h, h, z1), (h, h, z1), (h, -h, z1)], white),
+        ("back", [(-h, h, z0), (h, h, z0), (h, h, z1), (-h, h, z1)], white),
+        ("left", [(-h, -h, z0), (-h, h, z0), (-h, h, z1), (-h, -h, z1)], red),
+        ("right", [(h, -h, z0), (h, -h, z1), (h, h, z1), (h, h, z0)], blue),
+    ]
+    if with_front:
+        walls.append(("front", [(-h, -h, z0), (-h, -h, z1), (h, -h, z1), (h, -h, z0)], white))
+    for i, (name, corners, mat) in enumerate(walls):
+        quad(scene, name, corners, mat, object_id=object_id_start + i)
+    return {"white": white, "red": red, "blue": blue}
+
+
+def cornell_3spheres(width=640, height=480, light="sphere") -> ppm_core.Scene:
+    """The report's figure 1: mirror, glass and diffuse spheres, light in the box's centre."""
+    scene = ppm_core.Scene()
+    cornell_box(scene)
+    mirror = scene.add_material("mirror", "mirror", base_color=(0.95, 0.95, 0.95))
+    glass = scene.add_material("glass", "glass", base_color=(1.0, 1.0, 1.0), ior=1.5)
+    matte = scene.add_material("matte", "diffuse", base_color=(0.8, 0.7, 0.3))
+    scene.add_sphere("mirror_ball", (-0.45, 0.2, 0.35), 0.35, mirror, object_id=10)
+    scene.add_sphere("glass_ball", (0.45, -0.25, 0.35), 0.35, glass, object_id=11)
+    scene.add_sphere("matte_ball", (-0.3, 0.55, 1.45), 0.25, matte, object_id=12)
+    if light == "sphere":
+        scene.add_light("sphere", name="lamp", power=120.0, position=(0.0, 0.0, 1.3), radius=0.05)
+    else:
+        scene.add_light("point", name="lamp", power=120.0, position=(0.0, 0.0, 1.3))
+    fov = 2.0 * math.atan(0.5 * 36.0 / 40.0)
+    scene.set_camera(look_at((0.0, -4.4, 1.0), (0.0, 0.0, 1.0)), width, height, fov=fov)
+    return scene
+
+
+def closed_sphere_with_point_light(radius=1.0, albedo=0.5, power=100.0, width=32, height=32):
+    """Analytic test scene: a point light at the centre of a closed diffuse sphere.
+
+    The radiance on the inner wall is rho * Phi / (4 pi^2 R^2 (1 - rho)) everywhere.
+    The camera sits inside, near the centre, so every pixel sees the wall.
+    """
+    scene = ppm_core.Scene()
+    wall = scene.add_material("wall", "diffuse", base_color=(albedo, albedo, albedo))
+    scene.add_sphere("room", (0.0, 0.0, 0.0), radius, wall)
+    scene.add_light("point", name="lamp", power=power, position=(0.0, 0.0, 0.0))
+    scene.set_camera(look_at((0.0, -0.1 * radius, 0.0), (0.0, 1.0, 0.0)), width, height, fov=math.radians(60))
+    return scene
+
+
+def expected_closed_sphere_radiance(radius, albedo, power):
+    return albedo * power / (4.0 * math.pi**2 * radius**2 * (1.0 - albedo))

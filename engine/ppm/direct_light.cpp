@@ -1,0 +1,65 @@
+// Direct light at hit points (see direct_light.h).
+#include "ppm/direct_light.h"
+
+#include "math/rng.h"
+#include "ppm/parallel.h"
+
+namespace ppm {
+namespace {
+
+constexpr uint64_t kDirectStream = 1ull << 40;
+constexpr size_t kChunk = 4096;
+
+Color light_contribution(const Scene& scene, const Light& light, const HitPoint& hp,
+                         const HitPointShading& sh, double u1, double u2) {
+  const Vec3 n(hp.normal);
+  DirectSample ds;
+  if (!sample_direct(light, hp.position, n, u1, u2, ds)) return Color(0.0);
+  const Material& m = scene.material(sh.material);
+  const SurfacePoint sp{sh.geometric_normal, sh.shading_normal, sh.albedo};
+  const Color f = bsdf_eval(m, sp, sh.wo, ds.wi);
+  const double cos = std::fabs(glm::dot(sh.shading_normal, ds.wi));
+  const Color c = sh.throughput * f * (cos * ds.value);
+  if (!(max_component(c) > 0.0)) return Color(0.0);
+  const Vec3 origin = offset_point(hp.position, sh.geometric_normal, ds.wi, scene.offset_floor());
+  double dist = ds.distance;
+  if (dist < kInf) {
+    const Vec3 target = hp.position + ds.wi * ds.distance;
+    dist = dist * (1.0 - 1e-9) - 2.0 * ray_offset(target, scene.offset_floor());  // stop short of an emitter's own surface
+    if (!(dist > 0.0)) return Color(0.0);
+  }
+  return scene.occluded(Ray{origin, ds.wi}, dist) ? Color(0.0) : c;
+}
+
+}  // namespace
+
+bool direct_light_pass(const Scene& scene, const LightSampler& lights, const Settings& settings,
+                       uint64_t pass, int threads, HitPoints& hp, std::atomic<bool>& cancel,
+                       const std::function<bool()>& poll) {
+  const size_t n = hp.size(), chunks = (n + kChunk - 1) / kChunk;
+  std::vector<Color> sums(n);  // written in full before being added, so a cancel leaves stats untouched
+  auto work = [&](int, size_t chunk) {
+    for (size_t i = chunk * kChunk; i < std::min(n, (chunk + 1) * kChunk); ++i) {
+      Rng rng(settings.seed, kDirectStream + pass, i);
+      Color sum(0.0);
+      for (uint32_t l : lights.analytic()) {
+        const double u1 = rng.uniform(), u2 = rng.uniform();
+        sum += light_contribution(scene, scene.lights()[l], hp.points[i], hp.shading[i], u1, u2);
+      }
+      if (lights.has_triangles()) {
+        double pdf;
+        const uint32_t l = lights.pick_triangle(rng.uniform(), pdf);
+        const double u1 = rng.uniform(), u2 = rng.uniform();
+        sum += light_contribution(scene, scene.lights()[l], hp.points[i], hp.shading[i], u1, u2) / pdf;
+      }
+      sums[i] = sum;
+    }
+  };
+  if (!parallel_chunks(std::max(1, std::min<int>(threads, static_cast<int>(chunks))), chunks, work, cancel, poll,
+                       settings.progress_interval))
+    return false;
+  for (size_t i = 0; i < n; ++i) hp.stats[i].direct += sums[i];
+  return true;
+}
+
+}  // namespace ppm

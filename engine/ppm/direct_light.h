@@ -1,0 +1,21 @@
+// Direct light at the hit points by light sampling with shadow rays: each
+// call adds one sample per analytic light and one emissive triangle (chosen by
+// flux) to every hit point's running sum. Called once per pass, or once in
+// all when every light is a delta light (the sample is then exact).
+#pragma once
+
+#include "ppm/hit_point.h"
+#include "ppm/settings.h"
+#include "scene/light_sampler.h"
+#include "scene/scene.h"
+
+#include <atomic>
+#include <functional>
+
+namespace ppm {
+
+bool direct_light_pass(const Scene& scene, const LightSampler& lights, const Settings& settings,
+                       uint64_t pass, int threads, HitPoints& hit_points, std::atomic<bool>& cancel,
+                       const std::function<bool()>& poll);
+
+}  // namespace ppm

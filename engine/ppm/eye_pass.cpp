@@ -1,0 +1,187 @@
+// Eye pass (see eye_pass.h).
+#include "ppm/eye_pass.h"
+
+#include "math/rng.h"
+#include "ppm/parallel.h"
+
+#include <cmath>
+
+namespace ppm {
+namespace {
+
+constexpr uint64_t kEyeStream = 1;
+constexpr int kSplitDepth = 3;      // glass interfaces split into both branches up to this depth
+constexpr int kRowsPerChunk = 2;
+
+struct EyeVertex {
+  Ray ray;
+  Color throughput;
+  int depth;
+  double length;  // distance travelled, for the pixel footprint
+};
+
+struct ChunkOutput {
+  std::vector<HitPoint> points;
+  std::vector<HitPointShading> shading;
+};
+
+struct EyeTracer {
+  const Scene& scene;
+  const Settings& settings;
+  const EyePassOptions& options;
+  std::vector<uint32_t> visible_lights;
+  double footprint;
+  bool orthographic;
+
+  // Adds the radiance of lights nearer than the surface; returns true if one blocks the view.
+  bool see_lights(const Ray& ray, double t_surface, const Color& throughput, Color& emitted) const {
+    double nearest = t_surface;
+    Color seen(0.0);
+    for (uint32_t i : visible_lights) {
+      double t;
+      const Color L = light_seen(scene.lights()[i], ray, nearest, t);
+      if (max_component(L) > 0.0) {
+        nearest = t;
+        seen = L;
+      }
+    }
+    emitted += throughput * seen;
+    return nearest < t_surface;
+  }
+
+  void record(const Hit& hit, const EyeVertex& v, uint32_t pixel, ChunkOutput& out) const {
+    const Material& m = scene.material(hit.material);
+    const SurfacePoint sp = scene.surface_point(hit);
+    const Vec3 wo = -v.ray.direction;
+    const bool front = glm::dot(wo, sp.ng) >= 0.0;
+    const Vec3 ns = front ? sp.ns : -sp.ns;
+    const bool glossy = m.kind != MaterialKind::Diffuse;
+    double r = settings.initial_radius;
+    if (r <= 0.0) r = settings.initial_radius_pixels * footprint * (orthographic ? 1.0 : v.length);
+    r = std::fmax(r, 4.0 * ray_offset(hit.position, scene.offset_floor()));
+    HitPoint hp;
+    hp.position = hit.position;
+    hp.normal = Vec3f(ns);
+    hp.shading = static_cast<uint32_t>(out.shading.size());
+    hp.r2 = r * r;
+    hp.weight = Vec3f(glossy ? v.throughput : v.throughput * sp.albedo * kInvPi);
+    hp.glossy = glossy ? 1u : 0u;
+    out.points.push_back(hp);
+    out.shading.push_back(HitPointShading{sp.ng, sp.ns, wo, v.throughput, sp.albedo, hit.material, pixel});
+  }
+
+  void trace(const Ray& primary, const Color& weight, Rng& rng, uint32_t pixel, ChunkOutput& out,
+             Color& emitted) const {
+    EyeVertex stack[2 * kSplitDepth + 4];
+    int top = 0;
+    stack[top++] = EyeVertex{primary, weight, 0, 0.0};
+    const double tmax0 = scene.camera().clip_end - scene.camera().clip_start;
+    while (top > 0) {
+      const EyeVertex v = stack[--top];
+      Hit hit;
+      const bool found = scene.intersect(v.ray, hit, v.depth == 0 ? tmax0 : kInf);
+      if (see_lights(v.ray, found ? hit.t : kInf, v.throughput, emitted)) continue;
+      if (!found) {
+        emitted += v.throughput * background();
+        continue;
+      }
+      const Material& m = scene.material(hit.material);
+      if (m.emits()) emitted += v.throughput * m.emission;
+      if (is_black(m)) continue;
+      const EyeVertex here{v.ray, v.throughput, v.depth, v.length + hit.t};
+      if (!is_specular(m)) {
+        record(hit, here, pixel, out);
+        continue;
+      }
+      if (!options.follow_specular || v.depth + 1 >= settings.max_bounces) continue;
+      BsdfSample branches[2];
+      const SurfacePoint sp = scene.surface_point(hit);
+      int count = specular_branches(m, sp, -v.ray.direction, branches);
+      if (count == 2 && v.depth >= kSplitDepth) {  // past the split depth: follow one branch
+        const double w0 = luminance(branches[0].weight), w1 = luminance(branches[1].weight);
+        const double p0 = w0 + w1 > 0.0 ? w0 / (w0 + w1) : 0.5;
+        const int pick = rng.uniform() < p0 ? 0 : 1;
+        branches[0] = branches[pick];
+        branches[0].weight /= pick == 0 ? p0 : 1.0 - p0;
+        count = 1;
+      }
+      for (int b = 0; b < count; ++b) {
+        const Color thr = v.throughput * branches[b].weight;
+        if (!(max_component(thr) > 0.0)) continue;
+        const Vec3 origin = offset_point(hit.position, hit.geometric_normal, branches[b].wi, scene.offset_floor());
+        stack[top++] = EyeVertex{Ray{origin, branches[b].wi}, thr, v.depth + 1, here.length};
+      }
+    }
+  }
+
+  Color background() const {
+    for (const Light& l : scene.lights())
+      if (l.kind == LightKind::Background) return l.radiance;
+    return Color(0.0);
+  }
+};
+
+}  // namespace
+
+bool eye_pass(const Scene& scene, const Settings& settings, const EyePassOptions& options, HitPoints& out,
+              std::atomic<bool>& cancel, const std::function<bool()>& poll) {
+  const Camera& cam = scene.camera();
+  EyeTracer tracer{scene, settings, options, {}, cam.pixel_footprint(),
+                   cam.projection == Projection::Orthographic};
+  for (uint32_t i = 0; i < scene.lights().size(); ++i) {
+    const LightKind k = scene.lights()[i].kind;
+    if (k == LightKind::Sphere || k == LightKind::Rectangle || k == LightKind::Disk) tracer.visible_lights.push_back(i);
+  }
+  const int W = cam.width, H = cam.height, spp = settings.samples_per_pixel;
+  const int grid = static_cast<int>(std::floor(std::sqrt(static_cast<double>(spp))));
+  const size_t chunks = (H + kRowsPerChunk - 1) / kRowsPerChunk;
+  std::vector<ChunkOutput> outputs(chunks);
+  out.emitted.assign(static_cast<size_t>(W) * H, Color(0.0));
+  std::vector<uint32_t> counts(static_cast<size_t>(W) * H, 0);
+
+  auto work = [&](int, size_t chunk) {
+    ChunkOutput& o = outputs[chunk];
+    for (int y = static_cast<int>(chunk) * kRowsPerChunk; y < std::min(H, (static_cast<int>(chunk) + 1) * kRowsPerChunk); ++y)
+      for (int x = 0; x < W; ++x) {
+        const uint32_t pixel = static_cast<uint32_t>(y) * W + x;  // row 0 = bottom
+        const size_t before = o.points.size();
+        for (int s = 0; s < spp; ++s) {
+          Rng rng(settings.seed, kEyeStream, static_cast<uint64_t>(pixel) * spp + s);
+          // Stratified on a grid x grid lattice for the first grid^2 samples, then uniform.
+          double jx = rng.uniform(), jy = rng.uniform();
+          if (s < grid * grid) {
+            jx = (s % grid + jx) / grid;
+            jy = (s / grid + jy) / grid;
+          }
+          const Ray ray = cam.generate_ray(x + jx, y + jy);
+          tracer.trace(ray, Color(1.0 / spp), rng, pixel, o, out.emitted[pixel]);
+        }
+        counts[pixel] = static_cast<uint32_t>(o.points.size() - before);
+      }
+  };
+  const int threads = std::max(1, std::min<int>(options.threads, static_cast<int>(chunks)));
+  if (!parallel_chunks(threads, chunks, work, cancel, poll, settings.progress_interval)) return false;
+
+  size_t total = 0;
+  for (const ChunkOutput& o : outputs) total += o.points.size();
+  out.points.clear();
+  out.shading.clear();
+  out.points.reserve(total);
+  out.shading.reserve(total);
+  for (ChunkOutput& o : outputs) {
+    const uint32_t base = static_cast<uint32_t>(out.shading.size());
+    for (HitPoint hp : o.points) {
+      hp.shading += base;
+      out.points.push_back(hp);
+    }
+    out.shading.insert(out.shading.end(), o.shading.begin(), o.shading.end());
+    ChunkOutput().points.swap(o.points);
+    ChunkOutput().shading.swap(o.shading);
+  }
+  out.pixel_begin.assign(counts.size() + 1, 0);
+  for (size_t p = 0; p < counts.size(); ++p) out.pixel_begin[p + 1] = out.pixel_begin[p] + counts[p];
+  out.stats.assign(total, HitPointStats{});
+  return true;
+}
+
+}  // namespace ppm

@@ -1,0 +1,26 @@
+// The eye pass: trace N jittered samples per pixel through mirror and glass
+// chains (splitting at glass with the Fresnel weights for the first few
+// interfaces) and record a hit point at the first non-specular surface.
+// Emission and background met on the way go straight into the pixel.
+#pragma once
+
+#include "ppm/hit_point.h"
+#include "ppm/settings.h"
+#include "scene/scene.h"
+
+#include <atomic>
+#include <functional>
+
+namespace ppm {
+
+struct EyePassOptions {
+  int threads = 1;
+  bool follow_specular = true;  // false when the scene has no specular surface (skip the branching)
+  bool use_textures = true;
+};
+
+// Returns false if cancelled; `out` is then incomplete.
+bool eye_pass(const Scene& scene, const Settings& settings, const EyePassOptions& options, HitPoints& out,
+              std::atomic<bool>& cancel, const std::function<bool()>& poll);
+
+}  // namespace ppm

@@ -1,0 +1,52 @@
+// Hit points: what the eye pass records at the first non-specular surface of
+// each eye path. Split by use: `HitPoint` is the compact record the photon
+// gather reads (one cache line), `HitPointShading` the rest, read for direct
+// light and glossy surfaces, and `HitPointStats` the progressive statistics
+// (Hachisuka et al. 2008: radius r, photon count n, flux tau; plus m and
+// tau_m, the photons gathered at the current radius not yet folded in).
+#pragma once
+
+#include "math/types.h"
+
+#include <vector>
+
+namespace ppm {
+
+struct HitPoint {
+  Vec3 position;
+  Vec3f normal;     // shading normal on the viewer's side
+  uint32_t shading; // index into HitPointShading, for glossy evaluation
+  double r2;        // current radius squared
+  Vec3f weight;     // diffuse: eye-path throughput * albedo / pi; glossy: throughput
+  uint32_t glossy;  // 1 if the BSDF must be evaluated per photon
+};
+static_assert(sizeof(HitPoint) == 64, "HitPoint should fill one cache line");
+
+struct HitPointShading {
+  Vec3 geometric_normal;  // outward as the primitive defines it
+  Vec3 shading_normal;
+  Vec3 wo;                // towards the viewer
+  Color throughput;       // eye-path weight including 1/samples_per_pixel
+  Color albedo;
+  uint32_t material;
+  uint32_t pixel;
+};
+
+struct HitPointStats {
+  double n = 0.0;          // photons accumulated so far (alpha-weighted)
+  uint32_t m = 0;          // photons gathered at the current radius, not yet applied
+  Color tau{0.0};          // flux at the current radius (already times BSDF and throughput)
+  Color tau_m{0.0};        // flux of the m pending photons
+  Color direct{0.0};       // sum of direct-light samples
+};
+
+struct HitPoints {
+  std::vector<HitPoint> points;
+  std::vector<HitPointShading> shading;
+  std::vector<HitPointStats> stats;
+  std::vector<uint32_t> pixel_begin;  // hit points of pixel p: [pixel_begin[p], pixel_begin[p+1])
+  std::vector<Color> emitted;         // per pixel: emission and background seen along eye paths
+  size_t size() const { return points.size(); }
+};
+
+}  // namespace ppm

@@ -1,0 +1,77 @@
+// A photon pass: trace `photons_per_pass` photons in parallel and gather them
+// into the hit points' pending statistics (m, tau_m). Two organisations, both
+// over either spatial index (quantile grid or hashed grid):
+//   HitPoints: the index holds the hit points as spheres; every photon looks up
+//     the hit points around it and adds to per-thread accumulators that are
+//     summed in thread order after the pass (no locks, deterministic);
+//   Photons:   the pass's photons are stored, indexed, and every hit point
+//     gathers the photons inside its radius.
+#pragma once
+
+#include "ppm/hash_grid.h"
+#include "ppm/hit_point.h"
+#include "ppm/quantile_grid.h"
+#include "ppm/settings.h"
+#include "scene/light_sampler.h"
+#include "scene/scene.h"
+
+#include <atomic>
+#include <functional>
+
+namespace ppm {
+
+struct PhotonPassCounters {
+  uint64_t emitted = 0;
+  uint64_t deposited = 0;
+  double trace_seconds = 0.0;   // includes the gather in the HitPoints organisation
+  double index_seconds = 0.0;   // building the spatial index
+  double gather_seconds = 0.0;  // Photons organisation: hit points gathering
+};
+
+class PhotonPass {
+ public:
+  PhotonPass(const Settings& settings, int threads);
+
+  // Runs one pass. Returns false if cancelled; the statistics are then untouched.
+  bool run(const Scene& scene, const LightSampler& lights, uint64_t pass, HitPoints& hp,
+           std::atomic<bool>& cancel, const std::function<bool()>& poll, PhotonPassCounters& counters);
+
+  size_t memory_bytes() const;
+
+ private:
+  struct Photon {
+    Vec3 position;
+    Vec3f direction;
+    Vec3f flux;
+  };
+
+  template <class Grid>
+  bool run_hit_point_index(const Grid& grid, const Scene& scene, const LightSampler& lights, uint64_t pass,
+                           HitPoints& hp, std::atomic<bool>& cancel, const std::function<bool()>& poll,
+                           PhotonPassCounters& counters);
+  template <class Grid>
+  bool run_photon_index(Grid& grid, const Scene& scene, const LightSampler& lights, uint64_t pass,
+                        HitPoints& hp, std::atomic<bool>& cancel, const std::function<bool()>& poll,
+                        PhotonPassCounters& counters);
+  void build_hit_point_index(const HitPoints& hp, PhotonPassCounters& counters);
+  double mean_radius(const HitPoints& hp) const;
+
+  Settings settings_;
+  int threads_;
+  QuantileGrid quantile_;
+  HashGrid hash_;
+  double indexed_mean_r2_ = 0.0;  // mean r^2 when the hit-point index was last built
+  bool index_built_ = false;
+  // Per-thread accumulators (HitPoints organisation).
+  std::vector<std::vector<uint32_t>> m_acc_;
+  std::vector<std::vector<Vec3f>> tau_acc_;
+  std::vector<uint64_t> deposits_;
+  // Per-thread photon buffers and the merged list (Photons organisation).
+  std::vector<std::vector<Photon>> photon_buffers_;
+  std::vector<Photon> photons_;
+  std::vector<Vec3> photon_positions_;
+  std::vector<Vec3> centers_;
+  std::vector<double> radii_;
+};
+
+}  // namespace ppm

@@ -1,0 +1,33 @@
+// The progressive radiance estimate of each hit point (Hachisuka et al. 2008)
+// with the cross-generation rule: photons gathered at the current radius
+// accumulate over passes in (m, tau_m) until m >= P; only then
+//   r^2 *= (n + alpha m) / (n + m),  tau = (tau + tau_m) (n + alpha m) / (n + m),
+//   n += alpha m,  m = tau_m = 0.                                    (eq. 7-10)
+// P = 1 is classic PPM.
+#pragma once
+
+#include "ppm/hit_point.h"
+
+namespace ppm {
+
+inline void progressive_update(HitPoint& h, HitPointStats& s, double alpha, uint32_t threshold) {
+  if (s.m < threshold || s.m == 0) return;
+  const double m = static_cast<double>(s.m);
+  const double ratio = (s.n + alpha * m) / (s.n + m);
+  h.r2 *= ratio;
+  s.tau = (s.tau + s.tau_m) * ratio;
+  s.n += alpha * m;
+  s.m = 0;
+  s.tau_m = Color(0.0);
+}
+
+// Photon part of the radiance: flux per area per emitted photon. The pending
+// (tau_m, m) photons were gathered at the current radius r, exactly like
+// those already in tau, so they belong in the estimate: leaving them out would
+// darken every hit point that waits for P photons while N_emitted grows.
+inline Color photon_radiance(const HitPoint& h, const HitPointStats& s, double photons_emitted) {
+  if (photons_emitted <= 0.0 || h.r2 <= 0.0) return Color(0.0);
+  return (s.tau + s.tau_m) / (kPi * h.r2 * photons_emitted);
+}
+
+}  // namespace ppm

@@ -1,0 +1,90 @@
+// The render loop, as in the paper:
+//   hit_points = eye_pass(scene, camera)
+//   index      = grid over hit points (or over each pass's photons)
+//   for each pass until done, out of time or cancelled:
+//       direct_light_pass(hit_points)              // light sampling, running mean
+//       photons_emitted += photon_pass(index, hit_points)
+//       progressive_update(hit_points, alpha, P)   // cross-generation rule
+//   image = emitted + direct + tau / (pi r^2 N_emitted)
+// A pass cancelled half-way is discarded, so the image always reflects whole passes.
+#pragma once
+
+#include "ppm/hit_point.h"
+#include "ppm/photon_pass.h"
+#include "ppm/scene_analysis.h"
+#include "ppm/settings.h"
+#include "scene/light_sampler.h"
+#include "scene/scene.h"
+
+#include <atomic>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace ppm {
+
+struct Progress {
+  uint64_t passes;
+  uint64_t photons_emitted;
+  double seconds;  // since this run() started
+};
+
+struct RenderStats {
+  uint64_t passes = 0;
+  uint64_t photons_emitted = 0;
+  uint64_t photons_deposited = 0;
+  uint64_t hit_points = 0;
+  uint64_t direct_samples = 0;  // direct-light samples per hit point so far
+  double eye_seconds = 0, direct_seconds = 0, update_seconds = 0, total_seconds = 0;
+  PhotonPassCounters photon;
+  bool cancelled = false;
+  size_t memory_bytes = 0;
+  int threads = 1;
+  double initial_radius_mean = 0.0;
+  double radius_mean = 0.0;
+  std::vector<std::string> skipped;
+};
+
+class Renderer {
+ public:
+  // The scene must stay alive and unchanged while the renderer exists.
+  Renderer(std::shared_ptr<const Scene> scene, const Settings& settings);
+
+  // Runs up to `passes` passes (0 = no limit) and for at most `seconds`
+  // (0 = no limit; at least one of the two must be set). `poll` is called
+  // between passes and every settings.progress_interval inside them; returning
+  // false cancels (the unfinished pass is dropped). Returns the passes completed.
+  uint64_t run(uint64_t passes, double seconds, const std::function<bool(const Progress&)>& poll);
+
+  // Thread-safe: stops the current run within one poll interval.
+  void cancel() { cancel_ = true; }
+
+  // Linear RGBA, rows from the top of the image, alpha = 1.
+  std::vector<float> image() const;
+  RenderStats stats() const;
+  const Settings& settings() const { return settings_; }
+  int width() const { return scene_->camera().width; }
+  int height() const { return scene_->camera().height; }
+  ~Renderer();
+  Renderer(const Renderer&) = delete;
+  Renderer& operator=(const Renderer&) = delete;
+  const HitPoints& hit_points() const { return hit_points_; }
+
+ private:
+  bool ensure_eye_pass(const std::function<bool()>& poll);
+  bool one_pass(const std::function<bool()>& poll);
+
+  std::shared_ptr<const Scene> scene_;
+  Settings settings_;
+  int threads_;
+  LightSampler lights_;
+  SceneAnalysis analysis_;
+  HitPoints hit_points_;
+  PhotonPass photon_pass_;
+  bool eye_done_ = false;
+  std::atomic<bool> cancel_{false};
+  RenderStats stats_;
+};
+
+}  // namespace ppm

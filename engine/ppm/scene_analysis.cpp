@@ -1,0 +1,41 @@
+// Scene analysis (see scene_analysis.h).
+#include "ppm/scene_analysis.h"
+
+namespace ppm {
+
+SceneAnalysis analyse_scene(const Scene& scene, const LightSampler& lights, const Settings& settings) {
+  SceneAnalysis a;
+  bool any_specular = false, any_receiver = false, any_scatter = false;
+  for (const Material& m : scene.materials()) {
+    any_specular |= is_specular(m);
+    if (!is_specular(m) && !is_black(m)) any_receiver = true;
+    if (!is_black(m) && max_component(m.base_color) > 0.0) any_scatter = true;
+  }
+  if (!any_specular) {
+    a.follow_specular = false;
+    a.skipped.push_back("eye specular chains: no mirror or glass material");
+  }
+  if (scene.textures().empty()) {
+    a.use_textures = false;
+    a.skipped.push_back("texture lookups: no textures");
+  }
+  if (lights.dropped() > 0)
+    a.skipped.push_back("zero-power lights: " + std::to_string(lights.dropped()) + " left out of sampling");
+  const bool photons_direct = settings.direct_light == DirectLight::Photons;
+  // With direct light sampled, photons only matter after a bounce off something that scatters.
+  if (lights.empty() || !any_receiver || (!photons_direct && !any_scatter)) {
+    a.trace_photons = false;
+    a.skipped.push_back("photon passes: no light can reach a diffuse or glossy surface");
+  }
+  a.sample_direct = !photons_direct && !lights.empty();
+  bool all_delta = true;
+  for (uint32_t l : lights.analytic()) all_delta &= light_is_delta(scene.lights()[l]);
+  all_delta &= !lights.has_triangles();
+  if (a.sample_direct && all_delta) {
+    a.resample_direct = false;
+    a.skipped.push_back("direct light resampling: only point, spot and hard sun lights (one exact sample)");
+  }
+  return a;
+}
+
+}  // namespace ppm

@@ -1,0 +1,24 @@
+// Range checks for the render settings.
+#include "ppm/settings.h"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace ppm {
+
+void Settings::validate() const {
+  auto fail = [](const std::string& m) { throw std::invalid_argument("settings: " + m); };
+  if (photons_per_pass == 0) fail("photons_per_pass must be at least 1");
+  if (photons_per_pass > (1ull << 32)) fail("photons_per_pass must be below 2^32");
+  if (!(alpha > 0.0 && alpha < 1.0)) fail("alpha must be in (0, 1)");
+  if (threshold == 0) fail("threshold must be at least 1");
+  if (max_bounces < 1 || max_bounces > 1000) fail("max_bounces must be in [1, 1000]");
+  if (samples_per_pixel < 1 || samples_per_pixel > 4096) fail("samples_per_pixel must be in [1, 4096]");
+  if (threads < 0 || threads > 1024) fail("threads must be in [0, 1024]");
+  if (!(initial_radius >= 0.0) || !std::isfinite(initial_radius)) fail("initial_radius must be >= 0");
+  if (!(initial_radius_pixels > 0.0) || !std::isfinite(initial_radius_pixels))
+    fail("initial_radius_pixels must be positive");
+  if (!(progress_interval > 0.0) || !std::isfinite(progress_interval)) fail("progress_interval must be positive");
+}
+
+}  // namespace ppm

@@ -1,0 +1,39 @@
+// Render settings: one struct with documented defaults. The Python binding
+// builds it from keyword arguments and rejects unknown names.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+namespace ppm {
+
+enum class DirectLight : uint8_t {
+  Sampled,  // direct light by light sampling with shadow rays; photons carry indirect light and caustics
+  Photons,  // the reference design: photons carry all light
+};
+enum class GatherOrganisation : uint8_t {
+  HitPoints,  // hit points in the grid, each photon queries it
+  Photons,    // each pass's photons in the grid, each hit point queries it
+};
+enum class GridKind : uint8_t { Quantile, Hash };
+
+struct Settings {
+  uint64_t photons_per_pass = 200000;
+  double alpha = 0.7;               // radius reduction (Hachisuka 2008)
+  uint32_t threshold = 10;          // P of the cross-generation rule; 1 = classic PPM
+  int max_bounces = 12;             // photon path length and eye specular chain length
+  int samples_per_pixel = 4;        // jittered eye samples per pixel (fixed hit points)
+  uint64_t seed = 0;
+  int threads = 0;                  // 0 = all cores
+  double initial_radius = 0.0;      // metres; 0 = automatic from the pixel footprint
+  double initial_radius_pixels = 2.0;  // automatic radius, in pixels at the hit point's distance
+  DirectLight direct_light = DirectLight::Sampled;
+  GatherOrganisation gather = GatherOrganisation::HitPoints;
+  GridKind grid = GridKind::Quantile;
+  double progress_interval = 0.1;   // seconds between progress callbacks inside a pass
+
+  // Throws std::invalid_argument naming the setting when a value is out of range.
+  void validate() const;
+};
+
+}  // namespace ppm

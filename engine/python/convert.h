@@ -1,0 +1,101 @@
+// Conversions between numpy arrays / Python values and core types, with the
+// error messages that name the field and the object when the shape is wrong.
+#pragma once
+
+#include "math/types.h"
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace ppm::py_convert {
+
+namespace py = pybind11;
+using DoubleArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
+
+[[noreturn]] inline void fail(const std::string& what, const std::string& msg) {
+  throw std::invalid_argument(what + ": " + msg);
+}
+
+// An (N, cols) array of doubles; `what` and `field` name it in errors.
+inline DoubleArray matrix(const py::handle& obj, int cols, const std::string& what, const std::string& field) {
+  DoubleArray a;
+  try {
+    a = DoubleArray::ensure(obj);
+  } catch (const py::error_already_set&) {
+    fail(what, field + " must be an array of numbers");
+  }
+  if (!a) fail(what, field + " must be an array of numbers");
+  if (a.ndim() != 2 || a.shape(1) != cols)
+    fail(what, field + " must have shape (N, " + std::to_string(cols) + ")");
+  return a;
+}
+
+inline std::vector<Vec3> vec3_list(const py::handle& obj, const std::string& what, const std::string& field) {
+  const DoubleArray a = matrix(obj, 3, what, field);
+  std::vector<Vec3> out(a.shape(0));
+  const double* p = a.data();
+  for (size_t i = 0; i < out.size(); ++i) out[i] = Vec3(p[3 * i], p[3 * i + 1], p[3 * i + 2]);
+  return out;
+}
+
+inline std::vector<Vec2> vec2_list(const py::handle& obj, const std::string& what, const std::string& field) {
+  const DoubleArray a = matrix(obj, 2, what, field);
+  std::vector<Vec2> out(a.shape(0));
+  const double* p = a.data();
+  for (size_t i = 0; i < out.size(); ++i) out[i] = Vec2(p[2 * i], p[2 * i + 1]);
+  return out;
+}
+
+inline Vec3 vec3(const py::handle& obj, const std::string& what, const std::string& field) {
+  DoubleArray a;
+  try {
+    a = DoubleArray::ensure(obj);
+  } catch (const py::error_already_set&) {
+    fail(what, field + " must be 3 numbers");
+  }
+  if (!a || a.size() != 3) fail(what, field + " must be 3 numbers");
+  const double* p = a.data();
+  return Vec3(p[0], p[1], p[2]);
+}
+
+// A colour: 3 numbers, or one number for grey.
+inline Color color(const py::handle& obj, const std::string& what, const std::string& field) {
+  if (py::isinstance<py::float_>(obj) || py::isinstance<py::int_>(obj)) return Color(obj.cast<double>());
+  return vec3(obj, what, field);
+}
+
+inline Mat4 mat4(const py::handle& obj, const std::string& what, const std::string& field) {
+  DoubleArray a;
+  try {
+    a = DoubleArray::ensure(obj);
+  } catch (const py::error_already_set&) {
+    fail(what, field + " must be a 4x4 matrix");
+  }
+  if (!a || a.ndim() != 2 || a.shape(0) != 4 || a.shape(1) != 4) fail(what, field + " must be a 4x4 matrix");
+  const double* p = a.data();
+  Mat4 m;
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) {
+      if (!std::isfinite(p[4 * r + c])) fail(what, field + " contains NaN or Inf");
+      m[c][r] = p[4 * r + c];  // numpy is row-major, glm column-major
+    }
+  return m;
+}
+
+// Strict enum from a lower-case name; the error lists the choices.
+template <class E>
+E choice(const std::string& value, std::initializer_list<std::pair<const char*, E>> options, const std::string& what,
+         const std::string& field) {
+  std::string names;
+  for (const auto& [name, e] : options) {
+    if (value == name) return e;
+    names += (names.empty() ? "'" : ", '") + std::string(name) + "'";
+  }
+  fail(what, field + " must be one of " + names + ", not '" + value + "'");
+}
+
+}  // namespace ppm::py_convert

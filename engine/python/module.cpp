@@ -1,0 +1,13 @@
+// The `ppm_core` Python module: progressive photon mapping for Blender.
+#include <pybind11/pybind11.h>
+
+namespace py = pybind11;
+
+void bind_scene(py::module_& m);
+void bind_renderer(py::module_& m);
+
+PYBIND11_MODULE(ppm_core, m) {
+  m.doc() = "Progressive photon mapping core: Scene (builders, intersect), Settings, Renderer.";
+  bind_scene(m);
+  bind_renderer(m);
+}

@@ -1,0 +1,196 @@
+// Python bindings of the settings and the renderer. run() releases the GIL;
+// the progress callback and Ctrl-C checks take it back briefly.
+#include "ppm/renderer.h"
+#include "python/convert.h"
+
+#include <pybind11/functional.h>
+#include <pybind11/stl.h>
+
+#include <functional>
+#include <map>
+
+namespace py = pybind11;
+using namespace ppm;
+using namespace ppm::py_convert;
+
+namespace {
+
+// Every setting by name: how to read it and how to write it from Python.
+struct SettingAccess {
+  std::function<py::object(const Settings&)> get;
+  std::function<void(Settings&, const py::handle&)> set;
+  const char* doc;
+};
+
+template <class T>
+SettingAccess number(T Settings::*field, const char* doc) {
+  return {[field](const Settings& s) { return py::cast(s.*field); },
+          [field](Settings& s, const py::handle& v) { s.*field = v.cast<T>(); }, doc};
+}
+
+template <class E>
+SettingAccess enumeration(E Settings::*field, std::vector<std::pair<const char*, E>> names, const char* doc,
+                          const char* key) {
+  return {[field, names](const Settings& s) {
+            for (const auto& [n, e] : names)
+              if (s.*field == e) return py::cast(std::string(n));
+            return py::cast(std::string("?"));
+          },
+          [field, names, key](Settings& s, const py::handle& v) {
+            const std::string value = v.cast<std::string>();
+            std::string options;
+            for (const auto& [n, e] : names) {
+              if (value == n) {
+                s.*field = e;
+                return;
+              }
+              options += std::string(options.empty() ? "'" : ", '") + n + "'";
+            }
+            throw std::invalid_argument(std::string("settings: ") + key + " must be one of " + options + ", not '" +
+                                        value + "'");
+          },
+          doc};
+}
+
+const std::map<std::string, SettingAccess>& setting_table() {
+  static const std::map<std::string, SettingAccess> table = {
+      {"photons_per_pass", number(&Settings::photons_per_pass, "photons traced per pass")},
+      {"alpha", number(&Settings::alpha, "radius reduction alpha in (0, 1)")},
+      {"threshold", number(&Settings::threshold, "P of the cross-generation rule (1 = classic PPM)")},
+      {"max_bounces", number(&Settings::max_bounces, "longest photon path / eye specular chain")},
+      {"samples_per_pixel", number(&Settings::samples_per_pixel, "jittered eye samples per pixel")},
+      {"seed", number(&Settings::seed, "random seed")},
+      {"threads", number(&Settings::threads, "worker threads, 0 = all cores")},
+      {"initial_radius", number(&Settings::initial_radius, "initial gather radius in metres, 0 = automatic")},
+      {"initial_radius_pixels",
+       number(&Settings::initial_radius_pixels, "automatic initial radius in pixel footprints")},
+      {"progress_interval", number(&Settings::progress_interval, "seconds between progress callbacks")},
+      {"direct_light", enumeration(&Settings::direct_light,
+                                   {{"sampled", DirectLight::Sampled}, {"photons", DirectLight::Photons}},
+                                   "'sampled': light sampling + photons for indirect; 'photons': photons carry all",
+                                   "direct_light")},
+      {"gather", enumeration(&Settings::gather,
+                             {{"hit_points", GatherOrganisation::HitPoints}, {"photons", GatherOrganisation::Photons}},
+                             "which set the grid organises: 'hit_points' (photons query) or 'photons'", "gather")},
+      {"grid", enumeration(&Settings::grid, {{"quantile", GridKind::Quantile}, {"hash", GridKind::Hash}},
+                           "spatial index: 'quantile' grid or 'hash'ed uniform grid", "grid")},
+  };
+  return table;
+}
+
+Settings settings_from(const py::dict& values) {
+  Settings s;
+  const auto& table = setting_table();
+  for (const auto& [key, value] : values) {
+    const std::string name = py::str(key);
+    const auto it = table.find(name);
+    if (it == table.end()) {
+      std::string known;
+      for (const auto& [k, a] : table) known += (known.empty() ? "" : ", ") + k;
+      throw std::invalid_argument("settings: unknown setting '" + name + "' (known: " + known + ")");
+    }
+    try {
+      it->second.set(s, value);
+    } catch (const py::cast_error&) {
+      throw std::invalid_argument("settings: " + name + " has the wrong type");
+    }
+  }
+  s.validate();
+  return s;
+}
+
+py::dict settings_dict(const Settings& s) {
+  py::dict d;
+  for (const auto& [k, a] : setting_table()) d[py::str(k)] = a.get(s);
+  return d;
+}
+
+py::dict stats_dict(const RenderStats& s) {
+  py::dict d;
+  d["passes"] = s.passes;
+  d["photons_emitted"] = s.photons_emitted;
+  d["photons_deposited"] = s.photons_deposited;
+  d["hit_points"] = s.hit_points;
+  d["direct_samples"] = s.direct_samples;
+  d["threads"] = s.threads;
+  d["cancelled"] = s.cancelled;
+  d["memory_bytes"] = s.memory_bytes;
+  d["initial_radius_mean"] = s.initial_radius_mean;
+  d["radius_mean"] = s.radius_mean;
+  py::dict t;
+  t["eye_pass"] = s.eye_seconds;
+  t["direct_light"] = s.direct_seconds;
+  t["photon_trace"] = s.photon.trace_seconds;
+  t["index_build"] = s.photon.index_seconds;
+  t["gather"] = s.photon.gather_seconds;
+  t["progressive_update"] = s.update_seconds;
+  t["total"] = s.total_seconds;
+  d["seconds"] = t;
+  d["skipped"] = s.skipped;
+  return d;
+}
+
+}  // namespace
+
+void bind_renderer(py::module_& m) {
+  py::class_<Settings>(m, "Settings", "Render settings; unknown names are an error.")
+      .def(py::init([](const py::kwargs& kw) { return settings_from(kw); }))
+      .def("as_dict", &settings_dict)
+      .def("__repr__", [](const Settings& s) { return "Settings(" + py::str(settings_dict(s)).cast<std::string>() + ")"; })
+      .def("__getattr__", [](const Settings& s, const std::string& name) {
+        const auto it = setting_table().find(name);
+        if (it == setting_table().end()) throw py::attribute_error("Settings has no setting '" + name + "'");
+        return it->second.get(s);
+      });
+  m.def("default_settings", []() { return settings_dict(Settings{}); }, "The default settings as a dict.");
+
+  py::class_<Renderer>(m, "Renderer", "Progressive photon mapping of a Scene.")
+      .def(py::init([](std::shared_ptr<Scene> scene, const py::object& settings, const py::kwargs& overrides) {
+             if (!scene) throw std::invalid_argument("Renderer: scene is None");
+             py::dict values;
+             if (py::isinstance<Settings>(settings)) values = settings_dict(settings.cast<Settings>());
+             else if (py::isinstance<py::dict>(settings)) values = settings.cast<py::dict>();
+             else if (!settings.is_none()) throw std::invalid_argument("Renderer: settings must be a Settings, a dict or None");
+             for (const auto& [k, v] : overrides) values[k] = v;
+             const Settings s = settings_from(values);
+             scene->build();
+             return std::make_unique<Renderer>(scene, s);
+           }),
+           py::arg("scene"), py::arg("settings") = py::none())
+      .def(
+          "run",
+          [](Renderer& r, uint64_t passes, double seconds, const py::object& callback) {
+            std::function<bool(const Progress&)> poll = [&](const Progress& p) {
+              py::gil_scoped_acquire gil;
+              if (PyErr_CheckSignals() != 0) throw py::error_already_set();  // Ctrl-C cancels
+              if (callback.is_none()) return true;
+              py::dict info;
+              info["passes"] = p.passes;
+              info["photons_emitted"] = p.photons_emitted;
+              info["seconds"] = p.seconds;
+              const py::object result = callback(info);
+              return result.is_none() || result.cast<bool>();
+            };
+            py::gil_scoped_release release;
+            return r.run(passes, seconds, poll);
+          },
+          py::arg("passes") = 0, py::arg("seconds") = 0.0, py::arg("callback") = py::none(),
+          "Runs passes until `passes` are done or `seconds` have passed (0 = no limit for either). "
+          "callback(dict(passes, photons_emitted, seconds)) is called often; returning False cancels. "
+          "Returns the number of passes completed.")
+      .def("cancel", &Renderer::cancel, "Stops a run() in progress (callable from another thread).")
+      .def("image",
+           [](const Renderer& r) {
+             std::vector<float> rgba;
+             {
+               py::gil_scoped_release release;
+               rgba = r.image();
+             }
+             py::array_t<float> out({py::ssize_t(r.height()), py::ssize_t(r.width()), py::ssize_t(4)});
+             std::copy(rgba.begin(), rgba.end(), out.mutable_data());
+             return out;
+           },
+           "Linear RGBA float32 image of shape (H, W, 4), top row first; alpha = 1.")
+      .def("stats", [](const Renderer& r) { return stats_dict(r.stats()); })
+      .def_property_readonly("settings", [](const Renderer& r) { return settings_dict(r.settings()); });
+}

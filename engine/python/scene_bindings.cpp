@@ -1,0 +1,305 @@
+// Python bindings of ppm::Scene: the builder calls and batch ray casting.
+#include "python/convert.h"
+#include "scene/scene.h"
+
+#include <pybind11/stl.h>
+
+#include <thread>
+
+namespace py = pybind11;
+using namespace ppm;
+using namespace ppm::py_convert;
+
+namespace {
+
+uint32_t add_material(Scene& s, const std::string& name, const std::string& kind, const py::object& base_color,
+                      int texture, double roughness, double ior, const py::object& specular_tint,
+                      const py::object& emission) {
+  const std::string what = "material '" + name + "'";
+  Material m;
+  m.name = name;
+  m.kind = choice<MaterialKind>(kind,
+                                {{"diffuse", MaterialKind::Diffuse},
+                                 {"mirror", MaterialKind::Mirror},
+                                 {"metal", MaterialKind::Metal},
+                                 {"glass", MaterialKind::Glass},
+                                 {"emission", MaterialKind::Emission}},
+                                what, "kind");
+  m.base_color = color(base_color, what, "base_color");
+  m.texture = texture;
+  if (texture < -1) fail(what, "texture must be -1 (none) or a texture index");
+  m.roughness = roughness;
+  m.ior = ior;
+  m.specular_tint = color(specular_tint, what, "specular_tint");
+  m.emission = color(emission, what, "emission");
+  return s.add_material(m);
+}
+
+uint32_t add_texture(Scene& s, const std::string& name, const py::object& pixels) {
+  using FloatArray = py::array_t<float, py::array::c_style | py::array::forcecast>;
+  FloatArray a;
+  try {
+    a = FloatArray::ensure(pixels);
+  } catch (const py::error_already_set&) {
+    fail("texture '" + name + "'", "pixels must be a float array");
+  }
+  if (!a || a.ndim() != 3 || a.shape(2) != 4) fail("texture '" + name + "'", "pixels must have shape (H, W, 4)");
+  std::vector<float> rgba(a.data(), a.data() + a.size());
+  return s.add_texture(name, static_cast<int>(a.shape(1)), static_cast<int>(a.shape(0)), std::move(rgba));
+}
+
+std::vector<uint32_t> index_list(const py::handle& obj, const std::string& what, const std::string& field) {
+  using IntArray = py::array_t<int64_t, py::array::c_style | py::array::forcecast>;
+  IntArray a;
+  try {
+    a = IntArray::ensure(obj);
+  } catch (const py::error_already_set&) {
+    fail(what, field + " must be an array of integers");
+  }
+  if (!a) fail(what, field + " must be an array of integers");
+  std::vector<uint32_t> out(a.size());
+  const int64_t* p = a.data();
+  for (size_t i = 0; i < out.size(); ++i) {
+    if (p[i] < 0 || p[i] > 0xffffffffll) fail(what, field + " entry " + std::to_string(i) + " is out of range");
+    out[i] = static_cast<uint32_t>(p[i]);
+  }
+  return out;
+}
+
+void add_mesh(Scene& s, const std::string& name, const py::object& positions, const py::object& triangles,
+              const py::object& normals, const py::object& uvs, const py::object& materials, uint32_t object_id) {
+  const std::string what = "mesh '" + name + "'";
+  MeshInput m;
+  m.name = name;
+  m.object_id = object_id;
+  m.positions = vec3_list(positions, what, "positions");
+  {
+    using IntArray = py::array_t<int64_t, py::array::c_style | py::array::forcecast>;
+    IntArray t;
+    try {
+      t = IntArray::ensure(triangles);
+    } catch (const py::error_already_set&) {
+      fail(what, "triangles must be an integer array of shape (T, 3)");
+    }
+    if (!t || t.ndim() != 2 || t.shape(1) != 3) fail(what, "triangles must be an integer array of shape (T, 3)");
+    m.triangles = index_list(t, what, "triangles");
+  }
+  const size_t nt = m.triangles.size() / 3;
+  if (!normals.is_none()) {
+    DoubleArray n = DoubleArray::ensure(normals);
+    if (n && n.ndim() == 3 && n.shape(1) == 3 && n.shape(2) == 3) n = n.reshape({n.shape(0) * 3, py::ssize_t(3)});
+    m.normals = vec3_list(n, what, "normals");
+    if (m.normals.size() != m.positions.size() && m.normals.size() != 3 * nt)
+      fail(what, "normals must have one row per vertex (V, 3) or per corner (T, 3, 3)");
+  }
+  if (!uvs.is_none()) {
+    DoubleArray u = DoubleArray::ensure(uvs);
+    if (u && u.ndim() == 3 && u.shape(1) == 3 && u.shape(2) == 2) u = u.reshape({u.shape(0) * 3, py::ssize_t(2)});
+    m.uvs = vec2_list(u, what, "uvs");
+    if (m.uvs.size() != m.positions.size() && m.uvs.size() != 3 * nt)
+      fail(what, "uvs must have one row per vertex (V, 2) or per corner (T, 3, 2)");
+  }
+  if (py::isinstance<py::int_>(materials))
+    m.materials = {materials.cast<uint32_t>()};
+  else
+    m.materials = index_list(materials, what, "materials");
+  s.add_mesh(std::move(m));
+}
+
+void add_light(Scene& s, const std::string& kind, const std::string& name, const py::object& power,
+               const py::object& color_obj, const py::object& position, const py::object& direction,
+               const py::object& matrix, const py::object& size, double radius, double spot_angle,
+               double spot_blend, double angle) {
+  const std::string what = "light '" + name + "'";
+  Light l;
+  l.name = name;
+  l.kind = choice<LightKind>(kind,
+                             {{"point", LightKind::Point},
+                              {"sphere", LightKind::Sphere},
+                              {"spot", LightKind::Spot},
+                              {"rectangle", LightKind::Rectangle},
+                              {"disk", LightKind::Disk},
+                              {"sun", LightKind::Sun}},
+                             what, "kind");
+  l.power = color(power, what, "power") * color(color_obj, what, "color");
+  Vec3 u(1, 0, 0), v(0, 1, 0);
+  if (!matrix.is_none()) {
+    // Blender's light matrix: emits along local -Z, size along local X and Y.
+    const Mat4 m = mat4(matrix, what, "matrix");
+    l.position = Vec3(m[3]);
+    l.direction = -Vec3(m[2]);
+    u = Vec3(m[0]);
+    v = Vec3(m[1]);
+  } else {
+    if (!position.is_none()) l.position = vec3(position, what, "position");
+    if (!direction.is_none()) l.direction = vec3(direction, what, "direction");
+    const double len = glm::length(l.direction);
+    if (len > 0.0 && std::isfinite(len)) make_basis(l.direction / len, u, v);
+  }
+  double sx = 1.0, sy = 1.0;
+  if (!size.is_none()) {
+    if (py::isinstance<py::float_>(size) || py::isinstance<py::int_>(size)) {
+      sx = sy = size.cast<double>();
+    } else {
+      const auto pair = size.cast<std::vector<double>>();
+      if (pair.size() != 2) fail(what, "size must be one number or (size_x, size_y)");
+      sx = pair[0];
+      sy = pair[1];
+    }
+  }
+  if (!(sx > 0.0 && sy > 0.0 && std::isfinite(sx) && std::isfinite(sy))) {
+    if (l.kind == LightKind::Rectangle || l.kind == LightKind::Disk) fail(what, "size must be positive");
+  }
+  l.axis_u = u * (0.5 * sx);
+  l.axis_v = v * (0.5 * sy);
+  l.radius = radius;
+  if (l.kind == LightKind::Point && radius > 0.0) l.kind = LightKind::Sphere;  // Blender: a point with a radius
+  if (!std::isfinite(radius) || radius < 0.0) fail(what, "radius must be >= 0");
+  if (!(spot_angle > 0.0 && spot_angle <= 2.0 * kPi)) fail(what, "spot_angle must be in (0, 2*pi]");
+  if (!(spot_blend >= 0.0 && spot_blend <= 1.0)) fail(what, "spot_blend must be in [0, 1]");
+  if (!(angle >= 0.0 && angle < kPi)) fail(what, "angle must be in [0, pi)");
+  l.cos_half_spot = std::cos(0.5 * spot_angle);
+  l.spot_smooth = (1.0 - l.cos_half_spot) * spot_blend;
+  l.cos_sun = std::cos(0.5 * angle);
+  s.add_light(l);
+}
+
+void set_camera(Scene& s, const py::object& matrix, int width, int height, const std::string& projection,
+                double fov, double ortho_scale, const std::string& sensor_fit, double shift_x, double shift_y,
+                double clip_start, double clip_end, double focus_distance, double aperture_radius) {
+  Camera c;
+  c.camera_to_world = mat4(matrix, "camera", "matrix");
+  c.width = width;
+  c.height = height;
+  c.projection = choice<Projection>(
+      projection, {{"perspective", Projection::Perspective}, {"orthographic", Projection::Orthographic}}, "camera",
+      "projection");
+  c.sensor_fit = choice<SensorFit>(
+      sensor_fit, {{"auto", SensorFit::Auto}, {"horizontal", SensorFit::Horizontal}, {"vertical", SensorFit::Vertical}},
+      "camera", "sensor_fit");
+  c.fov = fov;
+  c.ortho_scale = ortho_scale;
+  c.shift_x = shift_x;
+  c.shift_y = shift_y;
+  c.clip_start = clip_start;
+  c.clip_end = clip_end;
+  c.focus_distance = focus_distance;
+  c.aperture_radius = aperture_radius;
+  s.set_camera(c);
+}
+
+py::dict intersect(Scene& s, const py::object& origins, const py::object& directions) {
+  const DoubleArray o = matrix(origins, 3, "intersect", "origins");
+  const DoubleArray d = matrix(directions, 3, "intersect", "directions");
+  if (o.shape(0) != d.shape(0)) fail("intersect", "origins and directions must have the same length");
+  const size_t n = o.shape(0);
+  std::vector<Ray> rays(n);
+  for (size_t i = 0; i < n; ++i) {
+    const Vec3 org(o.data()[3 * i], o.data()[3 * i + 1], o.data()[3 * i + 2]);
+    const Vec3 dir(d.data()[3 * i], d.data()[3 * i + 1], d.data()[3 * i + 2]);
+    const double len = glm::length(dir);
+    if (!is_finite(org)) fail("intersect", "origin " + std::to_string(i) + " is not finite");
+    if (!(len > 0.0) || !std::isfinite(len)) fail("intersect", "direction " + std::to_string(i) + " is zero or not finite");
+    rays[i] = Ray{org, dir / len};
+  }
+  s.build();
+  py::array_t<double> t(n);
+  py::array_t<double> normal({n, size_t(3)});
+  py::array_t<int64_t> prim(n), object(n);
+  double* tp = t.mutable_data();
+  double* np_ = normal.mutable_data();
+  int64_t* pp = prim.mutable_data();
+  int64_t* op = object.mutable_data();
+  {
+    py::gil_scoped_release release;
+    const unsigned threads = std::max(1u, std::min(std::thread::hardware_concurrency(), unsigned(n / 4096 + 1)));
+    auto work = [&](size_t begin, size_t end) {
+      for (size_t i = begin; i < end; ++i) {
+        Hit h;
+        if (s.intersect(rays[i], h)) {
+          tp[i] = h.t;
+          np_[3 * i] = h.geometric_normal.x;
+          np_[3 * i + 1] = h.geometric_normal.y;
+          np_[3 * i + 2] = h.geometric_normal.z;
+          pp[i] = h.primitive;
+          op[i] = h.object;
+        } else {
+          tp[i] = kInf;
+          np_[3 * i] = np_[3 * i + 1] = np_[3 * i + 2] = 0.0;
+          pp[i] = op[i] = -1;
+        }
+      }
+    };
+    std::vector<std::thread> pool;
+    for (unsigned k = 0; k < threads; ++k) pool.emplace_back(work, n * k / threads, n * (k + 1) / threads);
+    for (auto& th : pool) th.join();
+  }
+  py::dict out;
+  out["t"] = t;
+  out["normal"] = normal;
+  out["primitive"] = prim;
+  out["object"] = object;
+  return out;
+}
+
+}  // namespace
+
+void bind_scene(py::module_& m) {
+  py::class_<Scene, std::shared_ptr<Scene>>(m, "Scene", "A scene for the PPM core. World space: metres, Z up.")
+      .def(py::init<>())
+      .def("add_material", &add_material, py::arg("name"), py::arg("kind") = "diffuse",
+           py::arg("base_color") = py::make_tuple(0.8, 0.8, 0.8), py::arg("texture") = -1, py::arg("roughness") = 0.0,
+           py::arg("ior") = 1.45, py::arg("specular_tint") = py::make_tuple(1.0, 1.0, 1.0),
+           py::arg("emission") = py::make_tuple(0.0, 0.0, 0.0),
+           "Adds a material; returns its index. kind: diffuse, mirror, metal, glass, emission. "
+           "emission is radiance in W/(m^2 sr) (Blender colour * strength).")
+      .def("add_texture", &add_texture, py::arg("name"), py::arg("pixels"),
+           "Adds a linear RGBA float texture of shape (H, W, 4), row 0 at the bottom; returns its index.")
+      .def("add_mesh", &add_mesh, py::arg("name"), py::arg("positions"), py::arg("triangles"),
+           py::arg("normals") = py::none(), py::arg("uvs") = py::none(), py::arg("materials") = 0,
+           py::arg("object_id") = 0,
+           "Adds a world-space triangle mesh. normals/uvs per vertex or per corner (T, 3, k); "
+           "materials: one index or one per triangle.")
+      .def("add_sphere",
+           [](Scene& s, const std::string& name, const py::object& center, double radius, uint32_t material,
+              uint32_t object_id) {
+             s.add_sphere(name, vec3(center, "sphere '" + name + "'", "center"), radius, material, object_id);
+           },
+           py::arg("name"), py::arg("center"), py::arg("radius"),
+           py::arg("material"), py::arg("object_id") = 0)
+      .def(
+          "add_bezier_revolve",
+          [](Scene& s, const std::string& name, const py::object& points, const std::string& kind,
+             const py::object& matrix, uint32_t material, uint32_t object_id) {
+            const std::string what = "bezier revolve '" + name + "'";
+            const bool chain = choice<bool>(kind, {{"single", false}, {"chain", true}}, what, "kind");
+            const Mat4 m = matrix.is_none() ? Mat4(1.0) : mat4(matrix, what, "matrix");
+            s.add_bezier_revolve(name, vec2_list(points, what, "points"), chain, m, material, object_id);
+          },
+          py::arg("name"), py::arg("points"), py::arg("kind") = "single", py::arg("matrix") = py::none(),
+          py::arg("material") = 0, py::arg("object_id") = 0,
+          "Adds a surface of revolution: profile points (radius, height) revolved about local Z. "
+          "kind 'single' (one Bezier curve, degree 1-8) or 'chain' (cubic segments, 3k+1 points).")
+      .def("add_light", &add_light, py::arg("kind"), py::arg("name") = "light", py::arg("power") = 100.0,
+           py::arg("color") = py::make_tuple(1.0, 1.0, 1.0), py::arg("position") = py::none(),
+           py::arg("direction") = py::none(), py::arg("matrix") = py::none(), py::arg("size") = py::none(),
+           py::arg("radius") = 0.0, py::arg("spot_angle") = kPi / 4.0, py::arg("spot_blend") = 0.15,
+           py::arg("angle") = 0.0,
+           "Adds a light in Cycles units. point/sphere/spot: power in W (intensity P/(4 pi)); "
+           "rectangle/disk: emitted flux in W; sun: irradiance in W/m^2. Orientation from `matrix` "
+           "(Blender's: emits along local -Z) or from position/direction.")
+      .def("set_camera", &set_camera, py::arg("matrix"), py::arg("width"), py::arg("height"),
+           py::arg("projection") = "perspective", py::arg("fov") = 0.8575560591178853, py::arg("ortho_scale") = 7.0,
+           py::arg("sensor_fit") = "auto", py::arg("shift_x") = 0.0, py::arg("shift_y") = 0.0,
+           py::arg("clip_start") = 1e-3, py::arg("clip_end") = kInf, py::arg("focus_distance") = 10.0,
+           py::arg("aperture_radius") = 0.0,
+           "Sets the camera: camera-to-world matrix (looks down local -Z), image size, field of view "
+           "in radians across the fitted side.")
+      .def("set_background", [](Scene& s, const py::object& c) { s.set_background(color(c, "background", "color")); },
+           py::arg("color"), "Constant background radiance in W/(m^2 sr).")
+      .def("build", &Scene::build, "Builds the BVH (done automatically by Renderer and intersect).")
+      .def("intersect", &intersect, py::arg("origins"), py::arg("directions"),
+           "Casts rays: returns dict(t (inf on miss), normal (geometric), primitive, object (-1 on miss)).")
+      .def_property_readonly("primitive_count", [](Scene& s) { s.build(); return s.primitive_count(); })
+      .def_property_readonly("light_count", [](Scene& s) { s.build(); return s.lights().size(); });
+}

@@ -1,0 +1,43 @@
+// The camera: Blender's conventions (looks down its local -Z, +Y up; the
+// matrix is camera-to-world). The field of view or orthographic scale applies
+// to the "fitted" image side chosen by `sensor_fit` (AUTO = the larger side);
+// shift is in units of that side, as in Blender. Lens data (focus distance,
+// aperture radius) is kept for depth of field.
+#pragma once
+
+#include "geometry/ray.h"
+
+namespace ppm {
+
+enum class Projection : uint8_t { Perspective, Orthographic };
+enum class SensorFit : uint8_t { Auto, Horizontal, Vertical };
+
+struct Camera {
+  Mat4 camera_to_world{1.0};
+  int width = 640, height = 480;
+  Projection projection = Projection::Perspective;
+  SensorFit sensor_fit = SensorFit::Auto;
+  double fov = 0.8575560591178853;  // radians across the fitted side (Blender default 50 mm on 36 mm)
+  double ortho_scale = 7.0;          // metres across the fitted side
+  double shift_x = 0.0, shift_y = 0.0;
+  double clip_start = 1e-3, clip_end = kInf;
+  double focus_distance = 10.0;      // metres
+  double aperture_radius = 0.0;      // metres; 0 = pinhole
+
+  // The ray through image position (px, py) in pixels (x right, y up from the
+  // bottom row). Its origin sits on the near clip plane.
+  Ray generate_ray(double px, double py) const;
+
+  // Size of one pixel at distance 1 from a perspective camera, or in metres
+  // for an orthographic one; sets the initial gather radius.
+  double pixel_footprint() const;
+  Vec3 position() const { return Vec3(camera_to_world[3]); }
+  // Length of the ray direction's component along the view axis (for clipping and depth).
+  Vec3 forward() const { return -glm::normalize(Vec3(camera_to_world[2])); }
+
+ private:
+  double fitted_extent() const;  // size of the fitted side on the plane at distance 1 (or metres)
+  bool fit_horizontal() const;
+};
+
+}  // namespace ppm

@@ -1,0 +1,243 @@
+// Photon emission and direct-light sampling for each light kind (see light.h).
+#include "scene/light.h"
+
+#include "geometry/sphere.h"
+#include "math/sampling.h"
+
+#include <stdexcept>
+
+namespace ppm {
+namespace {
+
+double light_area(const Light& l) {
+  const double a = 4.0 * glm::length(glm::cross(l.axis_u, l.axis_v));
+  return l.kind == LightKind::Disk ? a * kPi / 4.0 : a;
+}
+
+Vec3 sample_area_point(const Light& l, double u1, double u2) {
+  if (l.kind == LightKind::Disk) {
+    const Vec2 d = sample_uniform_disk(u1, u2);
+    return l.position + d.x * l.axis_u + d.y * l.axis_v;
+  }
+  return l.position + (2.0 * u1 - 1.0) * l.axis_u + (2.0 * u2 - 1.0) * l.axis_v;
+}
+
+double smoothstep01(double x) {
+  x = glm::clamp(x, 0.0, 1.0);
+  return x * x * (3.0 - 2.0 * x);
+}
+
+// A point on the disk of radius R perpendicular to `dir` through the scene
+// centre, moved back so rays start outside the scene bounds.
+Vec3 scene_disk_origin(const Light& l, const Vec3& dir, double u1, double u2) {
+  Vec3 t, b;
+  make_basis(dir, t, b);
+  const Vec2 d = sample_uniform_disk(u1, u2) * l.scene_radius;
+  return l.scene_center - dir * (2.0 * l.scene_radius) + d.x * t + d.y * b;
+}
+
+}  // namespace
+
+double spot_attenuation(const Light& l, const Vec3& dir_from_light) {
+  const double c = glm::dot(dir_from_light, l.direction);
+  if (c <= l.cos_half_spot) return 0.0;
+  if (l.spot_smooth <= 0.0) return 1.0;
+  return smoothstep01((c - l.cos_half_spot) / l.spot_smooth);
+}
+
+bool light_is_delta(const Light& l) {
+  return l.kind == LightKind::Point || l.kind == LightKind::Spot ||
+         (l.kind == LightKind::Sun && l.cos_sun >= 1.0);
+}
+
+void prepare_light(Light& l, const Aabb& bounds) {
+  l.scene_center = bounds.empty() ? Vec3(0.0) : bounds.center();
+  l.scene_radius = bounds.empty() ? 1.0 : std::fmax(0.5 * glm::length(bounds.extent()), 1e-12);
+  switch (l.kind) {
+    case LightKind::Point:
+      l.flux = l.power;
+      break;
+    case LightKind::Sphere:
+      l.flux = l.power;
+      l.radiance = l.power / (4.0 * kPi * kPi * l.radius * l.radius);
+      break;
+    case LightKind::Spot: {
+      // Integrate the falloff over the cone (it depends only on the angle).
+      constexpr int kSteps = 2048;
+      double integral = 0.0;
+      for (int i = 0; i < kSteps; ++i) {
+        const double c = l.cos_half_spot + (1.0 - l.cos_half_spot) * (i + 0.5) / kSteps;
+        Light probe = l;
+        probe.direction = Vec3(0, 0, 1);
+        integral += spot_attenuation(probe, Vec3(std::sqrt(std::fmax(0.0, 1 - c * c)), 0.0, c));
+      }
+      l.spot_solid_angle = 2.0 * kPi * (1.0 - l.cos_half_spot) * integral / kSteps;
+      l.flux = l.power / (4.0 * kPi) * l.spot_solid_angle;
+      break;
+    }
+    case LightKind::Rectangle:
+    case LightKind::Disk: {
+      const double area = light_area(l);
+      if (!(area > 0.0)) throw std::invalid_argument("light '" + l.name + "': area is zero");
+      l.flux = l.power;
+      l.radiance = l.power / (kPi * area);
+      break;
+    }
+    case LightKind::Sun: {
+      const double sin2 = 1.0 - l.cos_sun * l.cos_sun;
+      l.radiance = sin2 > 0.0 ? l.power / (kPi * sin2) : Color(0.0);
+      l.flux = l.power * kPi * l.scene_radius * l.scene_radius;
+      break;
+    }
+    case LightKind::Background:
+      l.radiance = l.power;
+      l.flux = l.power * (4.0 * kPi * kPi * l.scene_radius * l.scene_radius);
+      break;
+    case LightKind::Triangle:
+      l.flux = l.radiance * (2.0 * kPi * triangle_area(l.triangle));
+      break;
+  }
+}
+
+PhotonEmission emit_photon(const Light& l, double u1, double u2, double u3, double u4, double u5) {
+  PhotonEmission e;
+  e.flux = l.flux;
+  switch (l.kind) {
+    case LightKind::Point:
+      e.ray = {l.position, sample_uniform_sphere(u1, u2)};
+      break;
+    case LightKind::Sphere: {
+      const Vec3 n = sample_uniform_sphere(u1, u2);
+      e.ray = {l.position + l.radius * n, to_world(sample_cosine_hemisphere(u3, u4), n)};
+      break;
+    }
+    case LightKind::Spot: {
+      const Vec3 d = to_world(sample_uniform_cone(u1, u2, l.cos_half_spot), l.direction);
+      e.ray = {l.position, d};
+      const double cone = 2.0 * kPi * (1.0 - l.cos_half_spot);
+      e.flux = l.power / (4.0 * kPi) * spot_attenuation(l, d) * cone;
+      break;
+    }
+    case LightKind::Rectangle:
+    case LightKind::Disk:
+      e.ray = {sample_area_point(l, u1, u2), to_world(sample_cosine_hemisphere(u3, u4), l.direction)};
+      break;
+    case LightKind::Sun: {
+      const Vec3 d = to_world(sample_uniform_cone(u3, u4, l.cos_sun), l.direction);
+      e.ray = {scene_disk_origin(l, d, u1, u2), d};
+      break;
+    }
+    case LightKind::Background: {
+      const Vec3 d = sample_uniform_sphere(u3, u4);
+      e.ray = {scene_disk_origin(l, d, u1, u2), d};
+      break;
+    }
+    case LightKind::Triangle: {
+      const Vec2 b = sample_uniform_triangle(u1, u2);
+      const Vec3 p = l.triangle.v0 + b.x * l.triangle.e1 + b.y * l.triangle.e2;
+      const Vec3 n = triangle_normal(l.triangle) * (u5 < 0.5 ? 1.0 : -1.0);
+      e.ray = {p, to_world(sample_cosine_hemisphere(u3, u4), n)};
+      break;
+    }
+  }
+  return e;
+}
+
+bool sample_direct(const Light& l, const Vec3& p, const Vec3& n, double u1, double u2, DirectSample& out) {
+  switch (l.kind) {
+    case LightKind::Point:
+    case LightKind::Spot: {
+      const Vec3 d = l.position - p;
+      const double dist2 = glm::dot(d, d);
+      if (!(dist2 > 0.0)) return false;
+      out.distance = std::sqrt(dist2);
+      out.wi = d / out.distance;
+      const double atten = l.kind == LightKind::Spot ? spot_attenuation(l, -out.wi) : 1.0;
+      out.value = l.power * (atten / (4.0 * kPi * dist2));
+      return atten > 0.0;
+    }
+    case LightKind::Sphere: {
+      // Uniform over the cone the sphere subtends (pdf = 1 / solid angle).
+      const Vec3 d = l.position - p;
+      const double dist2 = glm::dot(d, d), r2 = l.radius * l.radius;
+      if (dist2 <= r2) return false;
+      const double dist = std::sqrt(dist2);
+      const double cos_max = std::sqrt(std::fmax(0.0, 1.0 - r2 / dist2));
+      out.wi = to_world(sample_uniform_cone(u1, u2, cos_max), d / dist);
+      double t;
+      if (!intersect_sphere({l.position, l.radius}, {p, out.wi}, kInf, t)) t = dist;  // grazing the rim
+      out.distance = t;
+      out.value = l.radiance * (2.0 * kPi * (1.0 - cos_max));
+      return true;
+    }
+    case LightKind::Rectangle:
+    case LightKind::Disk: {
+      const Vec3 q = sample_area_point(l, u1, u2);
+      const Vec3 d = q - p;
+      const double dist2 = glm::dot(d, d);
+      if (!(dist2 > 0.0)) return false;
+      out.distance = std::sqrt(dist2);
+      out.wi = d / out.distance;
+      const double cos_l = -glm::dot(out.wi, l.direction);
+      if (cos_l <= 0.0) return false;
+      out.value = l.radiance * (cos_l * light_area(l) / dist2);
+      return true;
+    }
+    case LightKind::Sun:
+      out.distance = kInf;
+      if (l.cos_sun >= 1.0) {
+        out.wi = -l.direction;
+        out.value = l.power;  // irradiance on a surface facing the sun
+      } else {
+        out.wi = to_world(sample_uniform_cone(u1, u2, l.cos_sun), -l.direction);
+        out.value = l.radiance * (2.0 * kPi * (1.0 - l.cos_sun));
+      }
+      return true;
+    case LightKind::Background: {
+      const Vec3 local = sample_cosine_hemisphere(u1, u2);
+      if (local.z <= 0.0) return false;
+      out.wi = to_world(local, n);
+      out.distance = kInf;
+      out.value = l.radiance * (kPi / local.z);
+      return true;
+    }
+    case LightKind::Triangle: {
+      const Vec2 b = sample_uniform_triangle(u1, u2);
+      const Vec3 q = l.triangle.v0 + b.x * l.triangle.e1 + b.y * l.triangle.e2;
+      const Vec3 d = q - p;
+      const double dist2 = glm::dot(d, d);
+      if (!(dist2 > 0.0)) return false;
+      out.distance = std::sqrt(dist2);
+      out.wi = d / out.distance;
+      const double cos_l = std::fabs(glm::dot(out.wi, triangle_normal(l.triangle)));
+      out.value = l.radiance * (cos_l * triangle_area(l.triangle) / dist2);
+      return cos_l > 0.0;
+    }
+  }
+  return false;
+}
+
+Color light_seen(const Light& l, const Ray& ray, double tmax, double& t) {
+  switch (l.kind) {
+    case LightKind::Sphere:
+      if (intersect_sphere({l.position, l.radius}, ray, tmax, t)) return l.radiance;
+      return Color(0.0);
+    case LightKind::Rectangle:
+    case LightKind::Disk: {
+      const double denom = glm::dot(ray.direction, l.direction);
+      if (denom >= 0.0) return Color(0.0);  // seen from behind: one-sided
+      t = glm::dot(l.position - ray.origin, l.direction) / denom;
+      if (!(t > 0.0 && t < tmax)) return Color(0.0);
+      const Vec3 q = ray.origin + t * ray.direction - l.position;
+      const double a = glm::dot(q, l.axis_u) / glm::dot(l.axis_u, l.axis_u);
+      const double b = glm::dot(q, l.axis_v) / glm::dot(l.axis_v, l.axis_v);
+      const bool inside = l.kind == LightKind::Disk ? a * a + b * b <= 1.0
+                                                    : std::fabs(a) <= 1.0 && std::fabs(b) <= 1.0;
+      return inside ? l.radiance : Color(0.0);
+    }
+    default:
+      return Color(0.0);
+  }
+}
+
+}  // namespace ppm

@@ -1,0 +1,76 @@
+// Light sources in Cycles' units, and the two things the renderer asks of
+// them: emit a photon (proportional to power) and sample direct light at a
+// point. Conventions (see ARCHITECTURE.md "Units"):
+//   point, sphere, spot: `power` P in W; radiant intensity P/(4 pi) W/sr
+//     (a spot keeps that intensity inside its cone, smoothed by `blend`);
+//   rectangle, disk:     `power` is the emitted flux in W, radiance P/(pi A),
+//     one-sided, along `direction`;
+//   sun:                 `power` is irradiance in W/m^2 on a surface facing it;
+//   background:          `power` is radiance in W/(m^2 sr) from every direction;
+//   emissive triangles come from materials (radiance, both sides).
+#pragma once
+
+#include "geometry/ray.h"
+#include "geometry/triangle.h"
+#include "math/aabb.h"
+
+#include <string>
+
+namespace ppm {
+
+enum class LightKind : uint8_t { Point, Sphere, Spot, Rectangle, Disk, Sun, Background, Triangle };
+
+struct Light {
+  LightKind kind = LightKind::Point;
+  std::string name;
+  Color power{0.0};     // see the file comment for the unit of each kind
+  Vec3 position{0.0};
+  Vec3 direction{0.0, 0.0, -1.0};  // spot axis, area normal (emitting side), sun travel direction
+  Vec3 axis_u{0.0}, axis_v{0.0};   // rectangle/disk: half-size vectors in the light's plane
+  double radius = 0.0;             // sphere
+  double cos_half_spot = -1.0;     // spot: cos of half the spot angle
+  double spot_smooth = 0.0;        // spot: (1 - cos_half_spot) * blend
+  double cos_sun = 1.0;            // sun: cos of half the angular diameter
+  // Emissive triangle.
+  TrianglePrim triangle{};
+  uint32_t primitive = 0;
+
+  // Derived by `prepare_light` once the scene bounds are known.
+  Color radiance{0.0};  // sphere, area, triangle, sun (per sr), background
+  Color flux{0.0};      // total emitted flux, W
+  Vec3 scene_center{0.0};
+  double scene_radius = 0.0;
+  double spot_solid_angle = 0.0;  // integral of the spot falloff over the sphere
+};
+
+struct PhotonEmission {
+  Ray ray;
+  Color flux;  // flux carried by this sample, an unbiased estimate of the light's total
+};
+
+struct DirectSample {
+  Vec3 wi;
+  double distance;  // kInf for lights at infinity
+  Color value;      // radiance / pdf (solid angle); contribution = f * |cos| * value
+};
+
+// Fills the derived fields; throws std::invalid_argument for a light that cannot emit sensibly.
+void prepare_light(Light& light, const Aabb& scene_bounds);
+
+PhotonEmission emit_photon(const Light& light, double u1, double u2, double u3, double u4, double u5);
+
+// `n` is the receiving surface's normal on the side light is gathered from.
+bool sample_direct(const Light& light, const Vec3& p, const Vec3& n, double u1, double u2,
+                   DirectSample& out);
+
+// Is the light delta in position and direction (direct light needs one sample only)?
+bool light_is_delta(const Light& light);
+
+// Radiance seen along a camera or specular ray that reaches a visible light
+// (sphere, rectangle, disk) nearer than tmax; zero otherwise.
+Color light_seen(const Light& light, const Ray& ray, double tmax, double& t);
+
+// Cycles' spot falloff: smoothstep over the blend region.
+double spot_attenuation(const Light& light, const Vec3& dir_from_light);
+
+}  // namespace ppm

@@ -1,0 +1,68 @@
+// Which light to sample: photons pick a light in proportion to its flux (one
+// discrete distribution over every emitter); direct light samples each
+// analytic light once and one emissive triangle chosen by flux. Zero-power
+// lights are left out of both.
+#pragma once
+
+#include "scene/light.h"
+
+#include <algorithm>
+#include <vector>
+
+namespace ppm {
+
+class LightSampler {
+ public:
+  explicit LightSampler(const std::vector<Light>& lights) : lights_(&lights) {
+    double total = 0.0, tri_total = 0.0;
+    for (uint32_t i = 0; i < lights.size(); ++i) {
+      const double w = luminance(lights[i].flux);
+      if (!(w > 0.0)) {
+        ++dropped_;
+        continue;
+      }
+      emitters_.push_back(i);
+      total += w;
+      emit_cdf_.push_back(total);
+      if (lights[i].kind == LightKind::Triangle) {
+        triangles_.push_back(i);
+        tri_total += w;
+        triangle_cdf_.push_back(tri_total);
+      } else {
+        analytic_.push_back(i);
+      }
+    }
+    total_ = total;
+    triangle_total_ = tri_total;
+  }
+
+  bool empty() const { return emitters_.empty(); }
+  size_t dropped() const { return dropped_; }
+  const std::vector<uint32_t>& analytic() const { return analytic_; }
+  bool has_triangles() const { return !triangles_.empty(); }
+
+  // A light for a photon, with its selection probability.
+  uint32_t pick_emitter(double u, double& pdf) const { return pick(emitters_, emit_cdf_, total_, u, pdf); }
+  uint32_t pick_triangle(double u, double& pdf) const {
+    return pick(triangles_, triangle_cdf_, triangle_total_, u, pdf);
+  }
+
+ private:
+  uint32_t pick(const std::vector<uint32_t>& ids, const std::vector<double>& cdf, double total, double u,
+                double& pdf) const {
+    const double target = u * total;
+    size_t i = std::upper_bound(cdf.begin(), cdf.end(), target) - cdf.begin();
+    i = std::min(i, cdf.size() - 1);
+    const double w = cdf[i] - (i > 0 ? cdf[i - 1] : 0.0);
+    pdf = w / total;
+    return ids[i];
+  }
+
+  const std::vector<Light>* lights_;
+  std::vector<uint32_t> emitters_, analytic_, triangles_;
+  std::vector<double> emit_cdf_, triangle_cdf_;
+  double total_ = 0.0, triangle_total_ = 0.0;
+  size_t dropped_ = 0;
+};
+
+}  // namespace ppm

@@ -1,0 +1,394 @@
+// Scene building, validation and ray queries (see scene.h).
+#include "scene/scene.h"
+
+#include <stdexcept>
+#if __has_include("geometry/bezier_revolve.h")
+#include "geometry/bezier_revolve.h"
+#else  // TEMPORARY until the revolve primitive lands
+namespace ppm {
+enum class BezierProfileKind { SingleCurve, CubicChain };
+class BezierRevolve {
+ public:
+  BezierRevolve(std::vector<Vec2>, BezierProfileKind, const Mat4&) { throw std::invalid_argument("not yet"); }
+  size_t segment_count() const { return 0; }
+  Aabb segment_bounds(size_t) const { return {}; }
+  bool intersect_segment(size_t, const Ray&, double, double, Hit&) const { return false; }
+};
+}  // namespace ppm
+#endif
+
+#include <stdexcept>
+
+namespace ppm {
+namespace {
+
+[[noreturn]] void fail(const std::string& what, const std::string& message) {
+  throw std::invalid_argument(what + ": " + message);
+}
+
+std::string quoted(const std::string& kind, const std::string& name) {
+  return kind + " '" + name + "'";
+}
+
+void check_finite(const Vec3& v, const std::string& what, const std::string& field) {
+  if (!is_finite(v)) fail(what, field + " is not finite (NaN or Inf)");
+}
+void check_finite(const Color& c, double lo, const std::string& what, const std::string& field) {
+  check_finite(Vec3(c), what, field);
+  if (c.x < lo || c.y < lo || c.z < lo) fail(what, field + " has a negative component");
+}
+
+}  // namespace
+
+void Scene::ensure_mutable() const {
+  if (renderers_ > 0)
+    throw std::runtime_error("scene: cannot change a scene while a Renderer uses it; build a new Scene");
+}
+
+void Scene::invalidate() {
+  built_ = false;
+}
+
+Scene::Scene() = default;
+Scene::~Scene() = default;
+Scene::Scene(Scene&&) noexcept = default;
+
+uint32_t Scene::add_material(const Material& m) {
+  ensure_mutable();
+  const std::string what = quoted("material", m.name);
+  check_finite(m.base_color, 0.0, what, "base_color");
+  check_finite(m.emission, 0.0, what, "emission");
+  check_finite(m.specular_tint, 0.0, what, "specular_tint");
+  if (!std::isfinite(m.roughness) || m.roughness < 0.0 || m.roughness > 1.0)
+    fail(what, "roughness must be in [0, 1]");
+  if (!std::isfinite(m.ior) || m.ior <= 0.0) fail(what, "ior must be a positive number");
+  if (m.texture >= static_cast<int>(textures_.size())) fail(what, "texture index out of range");
+  materials_.push_back(m);
+  invalidate();
+  return static_cast<uint32_t>(materials_.size() - 1);
+}
+
+uint32_t Scene::add_texture(const std::string& name, int width, int height, std::vector<float> rgba) {
+  ensure_mutable();
+  const std::string what = quoted("texture", name);
+  if (width <= 0 || height <= 0) fail(what, "width and height must be positive");
+  if (rgba.size() != static_cast<size_t>(width) * height * 4) fail(what, "pixel array must be height x width x 4");
+  for (float v : rgba)
+    if (!std::isfinite(v)) fail(what, "pixels contain NaN or Inf");
+  textures_.push_back(Texture{width, height, std::move(rgba)});
+  return static_cast<uint32_t>(textures_.size() - 1);
+}
+
+void Scene::check_material(uint32_t material, const std::string& what) const {
+  if (material >= materials_.size())
+    fail(what, "material index " + std::to_string(material) + " out of range (scene has " +
+                   std::to_string(materials_.size()) + " materials)");
+}
+
+void Scene::add_mesh(MeshInput mesh) {
+  ensure_mutable();
+  const std::string what = quoted("mesh", mesh.name);
+  const size_t nv = mesh.positions.size(), nt = mesh.triangles.size() / 3;
+  if (nt == 0 || mesh.triangles.size() % 3 != 0) fail(what, "has no triangles");
+  for (size_t i = 0; i < nv; ++i)
+    if (!is_finite(mesh.positions[i])) fail(what, "position " + std::to_string(i) + " is not finite");
+  for (size_t i = 0; i < mesh.triangles.size(); ++i)
+    if (mesh.triangles[i] >= nv)
+      fail(what, "triangle " + std::to_string(i / 3) + " uses vertex " + std::to_string(mesh.triangles[i]) +
+                     " but the mesh has " + std::to_string(nv) + " vertices");
+  const bool normals_per_vertex = mesh.normals.size() == nv && nv != 3 * nt;
+  if (!mesh.normals.empty() && mesh.normals.size() != nv && mesh.normals.size() != 3 * nt)
+    fail(what, "normals must be given per vertex or per triangle corner");
+  const bool uvs_per_vertex = mesh.uvs.size() == nv && nv != 3 * nt;
+  if (!mesh.uvs.empty() && mesh.uvs.size() != nv && mesh.uvs.size() != 3 * nt)
+    fail(what, "uvs must be given per vertex or per triangle corner");
+  if (mesh.materials.size() != 1 && mesh.materials.size() != nt)
+    fail(what, "materials must be one index or one per triangle");
+  for (uint32_t m : mesh.materials) check_material(m, what);
+  for (const Vec3& n : mesh.normals)
+    if (!is_finite(n)) fail(what, "normals contain NaN or Inf");
+  for (const Vec2& uv : mesh.uvs)
+    if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) fail(what, "uvs contain NaN or Inf");
+
+  for (size_t t = 0; t < nt; ++t) {
+    const uint32_t* idx = &mesh.triangles[3 * t];
+    const Vec3 &a = mesh.positions[idx[0]], &b = mesh.positions[idx[1]], &c = mesh.positions[idx[2]];
+    triangles_.push_back(TrianglePrim{a, b - a, c - a});
+    TriangleInfo info{mesh.materials.size() == 1 ? mesh.materials[0] : mesh.materials[t], mesh.object_id, -1, -1};
+    if (!mesh.normals.empty()) {
+      info.corners = static_cast<int32_t>(corner_normals_.size());
+      for (int k = 0; k < 3; ++k) {
+        Vec3 n = normals_per_vertex ? mesh.normals[idx[k]] : mesh.normals[3 * t + k];
+        const double len = glm::length(n);
+        n = len > 0.0 ? n / len : triangle_normal(triangles_.back());
+        corner_normals_.push_back(Vec3f(n));
+      }
+    }
+    if (!mesh.uvs.empty()) {
+      info.uvs = static_cast<int32_t>(corner_uvs_.size());
+      for (int k = 0; k < 3; ++k)
+        corner_uvs_.push_back(glm::vec2(uvs_per_vertex ? mesh.uvs[idx[k]] : mesh.uvs[3 * t + k]));
+    }
+    triangle_info_.push_back(info);
+  }
+  invalidate();
+}
+
+void Scene::add_sphere(const std::string& name, const Vec3& center, double radius, uint32_t material,
+                       uint32_t object_id) {
+  ensure_mutable();
+  const std::string what = quoted("sphere", name);
+  check_finite(center, what, "center");
+  if (!std::isfinite(radius) || radius <= 0.0) fail(what, "radius must be a positive number");
+  check_material(material, what);
+  spheres_.push_back(SphereInfo{SpherePrim{center, radius}, material, object_id});
+  invalidate();
+}
+
+void Scene::add_bezier_revolve(const std::string& name, const std::vector<Vec2>& points, bool cubic_chain,
+                               const Mat4& object_to_world, uint32_t material, uint32_t object_id) {
+  ensure_mutable();
+  const std::string what = quoted("bezier revolve", name);
+  check_material(material, what);
+  try {
+    revolves_.push_back(std::make_unique<BezierRevolve>(
+        points, cubic_chain ? BezierProfileKind::CubicChain : BezierProfileKind::SingleCurve, object_to_world));
+  } catch (const std::invalid_argument& e) {
+    fail(what, e.what());
+  }
+  const uint32_t index = static_cast<uint32_t>(revolves_.size() - 1);
+  for (size_t s = 0; s < revolves_.back()->segment_count(); ++s)
+    revolve_segments_.push_back(RevolveSegment{index, static_cast<uint32_t>(s), material, object_id});
+  invalidate();
+}
+
+void Scene::add_light(Light light) {
+  ensure_mutable();
+  const std::string what = quoted("light", light.name);
+  check_finite(light.power, 0.0, what, "power");
+  check_finite(light.position, what, "position");
+  check_finite(light.direction, what, "direction");
+  check_finite(light.axis_u, what, "size");
+  check_finite(light.axis_v, what, "size");
+  const bool needs_direction = light.kind == LightKind::Spot || light.kind == LightKind::Rectangle ||
+                               light.kind == LightKind::Disk || light.kind == LightKind::Sun;
+  if (needs_direction) {
+    const double len = glm::length(light.direction);
+    if (!(len > 0.0)) fail(what, "direction must be non-zero");
+    light.direction /= len;
+  }
+  if (light.kind == LightKind::Sphere && !(light.radius > 0.0 && std::isfinite(light.radius)))
+    fail(what, "radius must be a positive number");
+  if ((light.kind == LightKind::Rectangle || light.kind == LightKind::Disk) &&
+      !(glm::length(glm::cross(light.axis_u, light.axis_v)) > 0.0))
+    fail(what, "size must be positive in both directions");
+  if (light.kind == LightKind::Spot && !(light.cos_half_spot < 1.0 && light.cos_half_spot >= -1.0))
+    fail(what, "spot angle must be in (0, 2*pi]");
+  if (light.kind == LightKind::Spot && !(light.spot_smooth >= 0.0)) fail(what, "spot blend must be >= 0");
+  if (light.kind == LightKind::Sun && !(light.cos_sun > -1.0 && light.cos_sun <= 1.0))
+    fail(what, "sun angle must be in [0, pi)");
+  if (light.kind == LightKind::Background || light.kind == LightKind::Triangle)
+    fail(what, "use set_background or an emissive material for this kind");
+  user_lights_.push_back(light);
+  invalidate();
+}
+
+void Scene::set_camera(const Camera& c) {
+  ensure_mutable();
+  const std::string what = "camera";
+  if (c.width <= 0 || c.height <= 0) fail(what, "width and height must be positive");
+  if (static_cast<double>(c.width) * c.height > 1e9) fail(what, "resolution too large");
+  for (int i = 0; i < 4; ++i) check_finite(Vec3(c.camera_to_world[i]), what, "matrix");
+  if (c.projection == Projection::Perspective && !(c.fov > 0.0 && c.fov < kPi))
+    fail(what, "fov must be in (0, pi) radians");
+  if (c.projection == Projection::Orthographic && !(c.ortho_scale > 0.0 && std::isfinite(c.ortho_scale)))
+    fail(what, "ortho_scale must be a positive number");
+  if (!std::isfinite(c.shift_x) || !std::isfinite(c.shift_y)) fail(what, "shift is not finite");
+  if (!(c.clip_start >= 0.0) || !(c.clip_end > c.clip_start)) fail(what, "need 0 <= clip_start < clip_end");
+  if (!(c.focus_distance > 0.0) || !std::isfinite(c.focus_distance)) fail(what, "focus_distance must be positive");
+  if (!(c.aperture_radius >= 0.0) || !std::isfinite(c.aperture_radius)) fail(what, "aperture_radius must be >= 0");
+  // Orthonormalise: a scaled camera object must not skew the rays.
+  Camera cam = c;
+  const Vec3 back = Vec3(c.camera_to_world[2]), up = Vec3(c.camera_to_world[1]);
+  if (!(glm::length(back) > 0.0) || !(glm::length(glm::cross(up, back)) > 0.0)) fail(what, "matrix is singular");
+  const Vec3 z = glm::normalize(back);
+  const Vec3 x = glm::normalize(glm::cross(up, z));
+  const Vec3 y = glm::cross(z, x);
+  cam.camera_to_world[0] = glm::dvec4(x, 0.0);
+  cam.camera_to_world[1] = glm::dvec4(y, 0.0);
+  cam.camera_to_world[2] = glm::dvec4(z, 0.0);
+  camera_ = cam;
+  has_camera_ = true;
+}
+
+void Scene::set_background(const Color& radiance) {
+  ensure_mutable();
+  check_finite(radiance, 0.0, "background", "radiance");
+  background_ = radiance;
+  invalidate();
+}
+
+void Scene::build() {
+  if (built_) return;
+  prims_.clear();
+  std::vector<Aabb> boxes;
+  boxes.reserve(triangles_.size() + spheres_.size() + revolve_segments_.size());
+  for (uint32_t i = 0; i < triangles_.size(); ++i) {
+    const TrianglePrim& t = triangles_[i];
+    Aabb b;
+    b.grow(t.v0);
+    b.grow(t.v0 + t.e1);
+    b.grow(t.v0 + t.e2);
+    boxes.push_back(b);
+    prims_.push_back({PrimitiveKind::Triangle, i});
+  }
+  for (uint32_t i = 0; i < spheres_.size(); ++i) {
+    const SpherePrim& s = spheres_[i].sphere;
+    boxes.push_back(Aabb{s.center - Vec3(s.radius), s.center + Vec3(s.radius)});
+    prims_.push_back({PrimitiveKind::Sphere, i});
+  }
+  for (uint32_t i = 0; i < revolve_segments_.size(); ++i) {
+    const RevolveSegment& r = revolve_segments_[i];
+    boxes.push_back(revolves_[r.revolve]->segment_bounds(r.segment));
+    prims_.push_back({PrimitiveKind::BezierRevolve, i});
+  }
+  bvh_.build(boxes);
+  const Aabb bounds = bvh_.bounds();
+  offset_floor_ = bounds.empty() ? 1e-12 : 1e-10 * max_abs(bounds.extent()) + 1e-300;
+
+  lights_.clear();
+  Aabb light_bounds = bounds;
+  for (const Light& l : user_lights_)
+    if (l.kind != LightKind::Sun) light_bounds.grow(l.position);
+  for (Light l : user_lights_) {
+    prepare_light(l, light_bounds);
+    lights_.push_back(l);
+  }
+  if (max_component(background_) > 0.0) {
+    Light l;
+    l.kind = LightKind::Background;
+    l.name = "background";
+    l.power = background_;
+    prepare_light(l, light_bounds);
+    lights_.push_back(l);
+  }
+  for (uint32_t i = 0; i < triangles_.size(); ++i) {
+    const Material& m = materials_[triangle_info_[i].material];
+    if (!m.emits() || triangle_area(triangles_[i]) <= 0.0) continue;
+    Light l;
+    l.kind = LightKind::Triangle;
+    l.name = m.name;
+    l.triangle = triangles_[i];
+    l.primitive = i;
+    l.radiance = m.emission;
+    prepare_light(l, light_bounds);
+    lights_.push_back(l);
+  }
+  built_ = true;
+}
+
+bool Scene::intersect_prim(uint32_t prim, const Ray& ray, double& tmax, Hit& scratch) const {
+  const PrimRef ref = prims_[prim];
+  switch (ref.kind) {
+    case PrimitiveKind::Triangle: {
+      double t, b1, b2;
+      if (!intersect_triangle(triangles_[ref.index], ray, tmax, t, b1, b2)) return false;
+      tmax = t;
+      scratch.t = t;
+      scratch.primitive = prim;
+      scratch.uv = Vec2(b1, b2);  // barycentrics until fill_hit
+      return true;
+    }
+    case PrimitiveKind::Sphere: {
+      double t;
+      if (!intersect_sphere(spheres_[ref.index].sphere, ray, tmax, t)) return false;
+      tmax = t;
+      scratch.t = t;
+      scratch.primitive = prim;
+      return true;
+    }
+    case PrimitiveKind::BezierRevolve: {
+      const RevolveSegment& r = revolve_segments_[ref.index];
+      Hit h;
+      if (!revolves_[r.revolve]->intersect_segment(r.segment, ray, 0.0, tmax, h)) return false;
+      tmax = h.t;
+      scratch = h;
+      scratch.primitive = prim;
+      return true;
+    }
+  }
+  return false;
+}
+
+bool Scene::intersect(const Ray& ray, Hit& hit, double tmax) const {
+  Hit scratch;
+  bvh_.closest(ray.origin, ray.direction, tmax,
+               [&](uint32_t prim, double& t) { return intersect_prim(prim, ray, t, scratch); });
+  if (!scratch.found()) return false;
+  hit = scratch;
+  fill_hit(ray, hit, scratch.uv.x, scratch.uv.y);
+  return true;
+}
+
+bool Scene::occluded(const Ray& ray, double distance) const {
+  Hit scratch;
+  return bvh_.any(ray.origin, ray.direction, distance,
+                  [&](uint32_t prim, double& t) { return intersect_prim(prim, ray, t, scratch); });
+}
+
+void Scene::fill_hit(const Ray& ray, Hit& hit, double b1, double b2) const {
+  const PrimRef ref = prims_[hit.primitive];
+  switch (ref.kind) {
+    case PrimitiveKind::Triangle: {
+      const TrianglePrim& t = triangles_[ref.index];
+      const TriangleInfo& info = triangle_info_[ref.index];
+      const double b0 = 1.0 - b1 - b2;
+      hit.position = t.v0 + b1 * t.e1 + b2 * t.e2;
+      hit.geometric_normal = triangle_normal(t);
+      hit.shading_normal = hit.geometric_normal;
+      if (info.corners >= 0) {
+        const Vec3f* n = &corner_normals_[info.corners];
+        const Vec3 ns = b0 * Vec3(n[0]) + b1 * Vec3(n[1]) + b2 * Vec3(n[2]);
+        const double len = glm::length(ns);
+        if (len > 0.0) hit.shading_normal = ns / len;
+        // Keep the shading normal in the geometric hemisphere (flipped winding).
+        if (glm::dot(hit.shading_normal, hit.geometric_normal) < 0.0) hit.geometric_normal = -hit.geometric_normal;
+      }
+      hit.uv = Vec2(0.0);
+      if (info.uvs >= 0) {
+        const glm::vec2* uv = &corner_uvs_[info.uvs];
+        hit.uv = b0 * Vec2(uv[0]) + b1 * Vec2(uv[1]) + b2 * Vec2(uv[2]);
+      }
+      hit.material = info.material;
+      hit.object = info.object;
+      break;
+    }
+    case PrimitiveKind::Sphere: {
+      const SphereInfo& s = spheres_[ref.index];
+      const Vec3 n = glm::normalize(ray.origin + hit.t * ray.direction - s.sphere.center);
+      hit.position = s.sphere.center + s.sphere.radius * n;  // on the surface, not off by t's error
+      hit.geometric_normal = hit.shading_normal = n;
+      hit.uv = Vec2(0.5 + std::atan2(n.y, n.x) / (2.0 * kPi), 0.5 + std::asin(glm::clamp(n.z, -1.0, 1.0)) / kPi);
+      hit.material = s.material;
+      hit.object = s.object;
+      break;
+    }
+    case PrimitiveKind::BezierRevolve: {
+      const RevolveSegment& r = revolve_segments_[ref.index];
+      hit.material = r.material;
+      hit.object = r.object;
+      break;
+    }
+  }
+}
+
+SurfacePoint Scene::surface_point(const Hit& hit) const {
+  const Material& m = materials_[hit.material];
+  SurfacePoint sp;
+  sp.ng = hit.geometric_normal;
+  sp.ns = hit.shading_normal;
+  sp.albedo = m.texture >= 0 ? textures_[m.texture].lookup(hit.uv) * m.base_color : m.base_color;
+  return sp;
+}
+
+}  // namespace ppm

@@ -1,0 +1,125 @@
+// The scene: geometry (triangle meshes, spheres, Bézier revolves) under one
+// BVH, materials, textures, lights, camera. Builder calls validate their input
+// and throw std::invalid_argument naming the object and the field; `build()`
+// freezes the scene for rendering and ray casting.
+#pragma once
+
+#include "geometry/bvh.h"
+#include "geometry/ray.h"
+#include "geometry/sphere.h"
+#include "geometry/triangle.h"
+#include "scene/bsdf.h"
+#include "scene/camera.h"
+#include "scene/light.h"
+#include "scene/material.h"
+#include "scene/texture.h"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace ppm {
+
+class BezierRevolve;
+
+// Plain arrays describing one mesh in world space, as the exporter produces them.
+struct MeshInput {
+  std::string name;
+  std::vector<Vec3> positions;
+  std::vector<uint32_t> triangles;       // 3 vertex indices per triangle
+  std::vector<Vec3> normals;             // empty (flat), one per vertex, or 3 per triangle (corners)
+  std::vector<Vec2> uvs;                 // empty, one per vertex, or 3 per triangle (corners)
+  std::vector<uint32_t> materials;       // one per triangle, or a single value for all
+  uint32_t object_id = 0;
+};
+
+class Scene {
+ public:
+  Scene();
+  ~Scene();
+  Scene(Scene&&) noexcept;
+
+  uint32_t add_material(const Material& m);
+  uint32_t add_texture(const std::string& name, int width, int height, std::vector<float> rgba);
+  void add_mesh(MeshInput mesh);
+  void add_sphere(const std::string& name, const Vec3& center, double radius, uint32_t material,
+                  uint32_t object_id);
+  void add_bezier_revolve(const std::string& name, const std::vector<Vec2>& points, bool cubic_chain,
+                          const Mat4& object_to_world, uint32_t material, uint32_t object_id);
+  void add_light(Light light);
+  void set_camera(const Camera& camera);
+  void set_background(const Color& radiance);
+
+  // A renderer reads the scene while it lives: builders refuse to change it then.
+  void attach_renderer() const { ++renderers_; }
+  void detach_renderer() const { --renderers_; }
+
+  // Builds the BVH and prepares the lights. Idempotent; builders called after it rebuild.
+  void build();
+  bool built() const { return built_; }
+
+  // Closest hit with 0 < t < tmax; fills the hit record.
+  bool intersect(const Ray& ray, Hit& hit, double tmax = kInf) const;
+  // Is anything in the way over (0, distance)?
+  bool occluded(const Ray& ray, double distance) const;
+
+  SurfacePoint surface_point(const Hit& hit) const;
+  double offset_floor() const { return offset_floor_; }  // see ray_offset()
+
+  const Material& material(uint32_t id) const { return materials_[id]; }
+  const std::vector<Material>& materials() const { return materials_; }
+  const std::vector<Texture>& textures() const { return textures_; }
+  const std::vector<Light>& lights() const { return lights_; }
+  const Camera& camera() const { return camera_; }
+  bool has_camera() const { return has_camera_; }
+  Aabb bounds() const { return bvh_.bounds(); }
+  size_t triangle_count() const { return triangles_.size(); }
+  size_t primitive_count() const { return prims_.size(); }
+
+ private:
+  struct PrimRef {
+    PrimitiveKind kind;
+    uint32_t index;  // into triangles_, spheres_ or revolve segments
+  };
+  struct TriangleInfo {
+    uint32_t material, object;
+    int32_t corners;  // index of the first of 3 corner normals, -1 = flat
+    int32_t uvs;      // index of the first of 3 corner UVs, -1 = none
+  };
+  struct SphereInfo {
+    SpherePrim sphere;
+    uint32_t material, object;
+  };
+  struct RevolveSegment {
+    uint32_t revolve, segment, material, object;
+  };
+
+  void check_material(uint32_t material, const std::string& what) const;
+  void invalidate();
+  void ensure_mutable() const;
+  bool intersect_prim(uint32_t prim, const Ray& ray, double& tmax, Hit& scratch) const;
+  void fill_hit(const Ray& ray, Hit& hit, double b1, double b2) const;
+
+  std::vector<Material> materials_;
+  std::vector<Texture> textures_;
+  std::vector<TrianglePrim> triangles_;
+  std::vector<TriangleInfo> triangle_info_;
+  std::vector<Vec3f> corner_normals_;
+  std::vector<glm::vec2> corner_uvs_;
+  std::vector<SphereInfo> spheres_;
+  std::vector<std::unique_ptr<BezierRevolve>> revolves_;
+  std::vector<RevolveSegment> revolve_segments_;
+  std::vector<Light> user_lights_;
+  std::vector<Light> lights_;  // user lights + background + emissive triangles, prepared
+  Color background_{0.0};
+  Camera camera_;
+  bool has_camera_ = false;
+
+  std::vector<PrimRef> prims_;
+  Bvh bvh_;
+  double offset_floor_ = 1e-12;
+  bool built_ = false;
+  mutable int renderers_ = 0;
+};
+
+}  // namespace ppm
