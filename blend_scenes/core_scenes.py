@@ -65,9 +65,9 @@ def cornell_3spheres(width=640, height=480, light="sphere") -> ppm_core.Scene:
     scene.add_sphere("glass_ball", (0.45, -0.25, 0.35), 0.35, glass, object_id=11)
     scene.add_sphere("matte_ball", (-0.3, 0.55, 1.45), 0.25, matte, object_id=12)
     if light == "sphere":
-        scene.add_light("sphere", name="lamp", power=120.0, position=(0.0, 0.0, 1.3), radius=0.05)
+        scene.add_light("sphere", name="lamp", power=25.0, position=(0.0, 0.0, 1.3), radius=0.05)
     else:
-        scene.add_light("point", name="lamp", power=120.0, position=(0.0, 0.0, 1.3))
+        scene.add_light("point", name="lamp", power=25.0, position=(0.0, 0.0, 1.3))
     fov = 2.0 * math.atan(0.5 * 36.0 / 40.0)
     scene.set_camera(look_at((0.0, -4.4, 1.0), (0.0, 0.0, 1.0)), width, height, fov=fov)
     return scene

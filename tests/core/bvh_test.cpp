@@ -1,0 +1,150 @@
+// The BVH must return exactly the nearest hit that brute force finds, on
+// random triangle soups, on degenerate input (coincident centroids, flat
+// sheets, zero-area triangles), and for rays along the box faces.
+#include "geometry/bvh.h"
+#include "geometry/triangle.h"
+#include "math/rng.h"
+
+#include <gtest/gtest.h>
+
+#include <vector>
+
+namespace ppm {
+namespace {
+
+struct Soup {
+  std::vector<TrianglePrim> tris;
+  Bvh bvh;
+  void build() {
+    std::vector<Aabb> boxes;
+    for (const auto& t : tris) {
+      Aabb b;
+      b.grow(t.v0);
+      b.grow(t.v0 + t.e1);
+      b.grow(t.v0 + t.e2);
+      boxes.push_back(b);
+    }
+    bvh.build(boxes);
+  }
+  // Nearest (t, index) by the BVH and by brute force.
+  std::pair<double, int> bvh_hit(const Ray& r) const {
+    double tmax = kInf;
+    int best = -1;
+    bvh.closest(r.origin, r.direction, tmax, [&](uint32_t p, double& tm) {
+      double t, b1, b2;
+      if (!intersect_triangle(tris[p], r, tm, t, b1, b2)) return false;
+      tm = t;
+      best = static_cast<int>(p);
+      return true;
+    });
+    return {best >= 0 ? tmax : kInf, best};
+  }
+  std::pair<double, int> brute_hit(const Ray& r) const {
+    double tmax = kInf;
+    int best = -1;
+    for (size_t i = 0; i < tris.size(); ++i) {
+      double t, b1, b2;
+      if (intersect_triangle(tris[i], r, tmax, t, b1, b2)) {
+        tmax = t;
+        best = static_cast<int>(i);
+      }
+    }
+    return {tmax, best};
+  }
+};
+
+Vec3 random_point(Rng& rng, double scale) {
+  return scale * Vec3(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5);
+}
+
+Ray random_ray(Rng& rng, double scale) {
+  const Vec3 o = random_point(rng, 3.0 * scale);
+  const Vec3 target = random_point(rng, scale);
+  return Ray{o, glm::normalize(target - o)};
+}
+
+void expect_agree(const Soup& soup, Rng& rng, double scale, int rays) {
+  int hits = 0;
+  for (int i = 0; i < rays; ++i) {
+    const Ray r = random_ray(rng, scale);
+    const auto a = soup.bvh_hit(r), b = soup.brute_hit(r);
+    ASSERT_EQ(a.first, b.first) << "ray " << i;
+    hits += b.second >= 0;
+  }
+  EXPECT_GT(hits, rays / 20) << "test rays should hit something";
+}
+
+TEST(Bvh, MatchesBruteForceOnRandomTriangles) {
+  for (double scale : {1e-3, 1.0, 1e4}) {
+    Rng rng(1, 2, static_cast<uint64_t>(scale * 1000));
+    Soup soup;
+    for (int i = 0; i < 3000; ++i) {
+      const Vec3 c = random_point(rng, scale);
+      soup.tris.push_back({c, random_point(rng, 0.05 * scale), random_point(rng, 0.05 * scale)});
+    }
+    soup.build();
+    expect_agree(soup, rng, scale, 3000);
+  }
+}
+
+TEST(Bvh, CoincidentCentroidsAndFlatSheet) {
+  Rng rng(3, 4, 5);
+  Soup soup;
+  for (int i = 0; i < 2000; ++i) {  // all centred on the origin, different sizes
+    const double s = 0.1 + rng.uniform();
+    soup.tris.push_back({Vec3(-s, -s, 0.0) * 0.5, Vec3(s, 0.0, 0.0), Vec3(0.0, s, rng.uniform() * 0.01)});
+  }
+  for (int i = 0; i < 2000; ++i) {  // a flat sheet: zero extent along z
+    const Vec3 c(rng.uniform() * 2 - 1, rng.uniform() * 2 - 1, 0.25);
+    soup.tris.push_back({c, Vec3(0.02, 0, 0), Vec3(0, 0.02, 0)});
+  }
+  soup.tris.push_back({Vec3(0.1, 0.1, 0.1), Vec3(0.0), Vec3(0.0)});  // zero-area
+  soup.build();
+  expect_agree(soup, rng, 2.0, 3000);
+  // Depth stays bounded even though SAH cannot split coincident centroids.
+  EXPECT_LT(soup.bvh.nodes().size(), 4 * soup.tris.size());
+}
+
+TEST(Bvh, AxisAlignedRaysAlongFaces) {
+  Soup soup;
+  soup.tris.push_back({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)});
+  soup.tris.push_back({Vec3(2, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)});
+  soup.build();
+  // Ray straight down onto the first triangle: direction has two zero components.
+  const Ray down{Vec3(0.25, 0.25, 5.0), Vec3(0, 0, -1)};
+  EXPECT_DOUBLE_EQ(soup.bvh_hit(down).first, 5.0);
+  // Ray lying in the plane z = 0 between the triangles' boxes misses cleanly.
+  const Ray along{Vec3(-1, 5, 0), Vec3(1, 0, 0)};
+  EXPECT_EQ(soup.bvh_hit(along).second, -1);
+}
+
+TEST(Bvh, AnyHitAgreesWithClosest) {
+  Rng rng(7, 7, 7);
+  Soup soup;
+  for (int i = 0; i < 1000; ++i)
+    soup.tris.push_back({random_point(rng, 1.0), random_point(rng, 0.1), random_point(rng, 0.1)});
+  soup.build();
+  for (int i = 0; i < 2000; ++i) {
+    const Ray r = random_ray(rng, 1.0);
+    const double t = soup.brute_hit(r).first;
+    const double limit = 0.5 + rng.uniform() * 3.0;
+    const bool blocked = soup.bvh.any(r.origin, r.direction, limit, [&](uint32_t p, double& tm) {
+      double tt, b1, b2;
+      return intersect_triangle(soup.tris[p], r, tm, tt, b1, b2);
+    });
+    ASSERT_EQ(blocked, t < limit) << "ray " << i;
+  }
+}
+
+TEST(Bvh, RejectsNonFiniteBoxes) {
+  Bvh bvh;
+  Aabb bad;
+  bad.grow(Vec3(0.0));
+  bad.grow(Vec3(std::nan(""), 0.0, 0.0));
+  bad.hi.x = std::nan("");
+  EXPECT_THROW(bvh.build({bad}), std::invalid_argument);
+  EXPECT_NO_THROW(bvh.build({}));
+}
+
+}  // namespace
+}  // namespace ppm
