@@ -85,6 +85,14 @@ void Scene::check_material(uint32_t material, const std::string& what) const {
                    std::to_string(materials_.size()) + " materials)");
 }
 
+// Emission is sampled as light only on triangles; on a sphere or revolve it
+// would glow without lighting anything, so refuse it rather than be wrong.
+void Scene::check_not_emissive(uint32_t material, const std::string& what) const {
+  if (materials_[material].emits())
+    fail(what, "emissive material '" + materials_[material].name +
+                   "' is supported on meshes only (use a sphere light, or tessellate)");
+}
+
 void Scene::add_mesh(MeshInput mesh) {
   ensure_mutable();
   const std::string what = quoted("mesh", mesh.name);
@@ -141,6 +149,7 @@ void Scene::add_sphere(const std::string& name, const Vec3& center, double radiu
   check_finite(center, what, "center");
   if (!std::isfinite(radius) || radius <= 0.0) fail(what, "radius must be a positive number");
   check_material(material, what);
+  check_not_emissive(material, what);
   spheres_.push_back(SphereInfo{SpherePrim{center, radius}, material, object_id});
   invalidate();
 }
@@ -150,6 +159,7 @@ void Scene::add_bezier_revolve(const std::string& name, const std::vector<Vec2>&
   ensure_mutable();
   const std::string what = quoted("bezier revolve", name);
   check_material(material, what);
+  check_not_emissive(material, what);
   try {
     revolves_.push_back(std::make_unique<BezierRevolve>(
         points, cubic_chain ? BezierProfileKind::CubicChain : BezierProfileKind::SingleCurve, object_to_world));

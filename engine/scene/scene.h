@@ -95,6 +95,7 @@ class Scene {
   };
 
   void check_material(uint32_t material, const std::string& what) const;
+  void check_not_emissive(uint32_t material, const std::string& what) const;
   void invalidate();
   void ensure_mutable() const;
   bool intersect_prim(uint32_t prim, const Ray& ray, double& tmax, Hit& scratch) const;

@@ -50,6 +50,7 @@ def test_bad_mesh(scene, kwargs, message):
         (lambda s: s.add_sphere("ball", (0, 0, 0), -1.0, 0), "radius must be a positive"),
         (lambda s: s.add_sphere("ball", (0, 0, 0), 1.0, 3), "material index 3"),
         (lambda s: s.add_sphere("ball", (0, 0), 1.0, 0), "center must be 3 numbers"),
+        (lambda s: s.add_sphere("sun", (0, 0, 0), 1.0, s.add_material("hot", emission=1.0)), "supported on meshes only"),
         (lambda s: s.add_material("m", "plastic"), "kind must be one of"),
         (lambda s: s.add_material("m", roughness=2.0), "roughness must be in [0, 1]"),
         (lambda s: s.add_material("m", ior=0.0), "ior must be a positive"),

@@ -1,0 +1,147 @@
+"""Every light kind against an analytic answer, in both direct-light modes.
+
+A diffuse plane (albedo rho) seen from straight above by an orthographic
+camera; the radiance of a plane point is rho E / pi for irradiance E.
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+import ppm_core
+
+RHO = 0.5
+
+
+def plane_scene(width=16, height=16, extent=2.0):
+    scene = ppm_core.Scene()
+    mat = scene.add_material("plane", "diffuse", base_color=(RHO, RHO, RHO))
+    # Small enough that the photons land near the camera's view; the top of a
+    # plane sees the whole upper hemisphere whatever its size.
+    c = np.array([[-3, -3, 0], [3, -3, 0], [3, 3, 0], [-3, 3, 0]], dtype=float)
+    scene.add_mesh("plane", c, np.array([[0, 1, 2], [0, 2, 3]]), materials=mat)
+    camera = np.eye(4)
+    camera[2, 3] = 0.5
+    scene.set_camera(camera, width, height, projection="orthographic", ortho_scale=extent, clip_start=0.0)
+    return scene
+
+
+def render(scene, passes, **settings):
+    r = ppm_core.Renderer(scene, threads=2, **settings)
+    r.run(passes=passes)
+    return r.image()[..., 0]
+
+
+@pytest.mark.parametrize("mode,passes,tol", [("sampled", 1, 1e-6), ("photons", 40, 0.03)])
+def test_sun(mode, passes, tol):
+    scene = plane_scene()
+    elevation = math.radians(60)
+    direction = (0.0, -math.cos(elevation), -math.sin(elevation))
+    scene.add_light("sun", power=3.0, direction=direction)
+    image = render(scene, passes, direct_light=mode, photons_per_pass=50_000, initial_radius=0.3)
+    expected = RHO * 3.0 * math.sin(elevation) / math.pi
+    assert image.mean() == pytest.approx(expected, rel=tol)
+
+
+@pytest.mark.parametrize("mode,passes,tol", [("sampled", 60, 0.01), ("photons", 40, 0.03)])
+def test_soft_sun(mode, passes, tol):
+    scene = plane_scene()
+    scene.add_light("sun", power=3.0, direction=(0, 0, -1), angle=math.radians(10))
+    image = render(scene, passes, direct_light=mode, photons_per_pass=50_000, initial_radius=0.3)
+    assert image.mean() == pytest.approx(RHO * 3.0 / math.pi, rel=tol)
+
+
+@pytest.mark.parametrize("mode,passes,tol", [("sampled", 40, 0.01), ("photons", 40, 0.03)])
+def test_background(mode, passes, tol):
+    scene = plane_scene()
+    scene.set_background((0.2, 0.2, 0.2))
+    image = render(scene, passes, direct_light=mode, photons_per_pass=50_000, initial_radius=0.3,
+                   samples_per_pixel=16)
+    assert image.mean() == pytest.approx(RHO * 0.2, rel=tol)
+
+
+def disk_irradiance(radiance, a, h):
+    return math.pi * radiance * a * a / (h * h + a * a)
+
+
+@pytest.mark.parametrize("mode,passes,tol", [("sampled", 60, 0.01), ("photons", 60, 0.03)])
+def test_disk_and_rectangle_lights_on_axis(mode, passes, tol):
+    # Small view of the plane right under the light, where E is nearly constant.
+    for kind in ("disk", "rectangle"):
+        scene = plane_scene(8, 8, extent=0.02)
+        scene.add_light(kind, power=10.0, position=(0, 0, 1.0), direction=(0, 0, -1), size=0.5)
+        image = render(scene, passes, direct_light=mode, photons_per_pass=100_000, initial_radius=0.05)
+        area = math.pi * 0.25**2 if kind == "disk" else 0.25
+        L = 10.0 / (math.pi * area)
+        if kind == "disk":
+            expected_e = disk_irradiance(L, 0.25, 1.0)
+        else:  # square of side 2b on-axis at height h (Lambert's formula)
+            b, h = 0.25, 1.0
+            t = b / math.sqrt(b * b + h * h)
+            expected_e = 4 * L * t * math.atan(b / math.sqrt(b * b + h * h))
+        assert image.mean() == pytest.approx(RHO * expected_e / math.pi, rel=tol), kind
+
+
+@pytest.mark.parametrize("mode,passes,tol", [("sampled", 1, 1e-6), ("photons", 60, 0.04)])
+def test_spot_inside_and_outside_the_cone(mode, passes, tol):
+    scene = plane_scene(16, 16, extent=4.0)
+    # 60-degree cone pointing down from h = 1: the cone's edge is at r = tan(30 deg) = 0.577.
+    scene.add_light("spot", power=100.0, position=(0, 0, 1.0), direction=(0, 0, -1),
+                    spot_angle=math.radians(60), spot_blend=0.0)
+    image = render(scene, passes, direct_light=mode, photons_per_pass=100_000, initial_radius=0.03)
+    centre = image[7:9, 7:9].mean()  # pixels within 0.25 of the axis
+    x = (np.arange(16) + 0.5) / 16 * 4.0 - 2.0
+    X, Y = np.meshgrid(x, x)
+    point_law = RHO / math.pi * 100.0 / (4 * math.pi) / (X**2 + Y**2 + 1.0) ** 1.5
+    assert centre == pytest.approx(point_law[7:9, 7:9].mean(), rel=max(tol, 0.02))
+    assert image[0, 0] == 0.0 and image[-1, -1] == 0.0  # corners are outside the cone
+
+
+@pytest.mark.parametrize("mode,passes,tol", [("sampled", 40, 0.01), ("photons", 60, 0.03)])
+def test_sphere_light_matches_point_light_from_afar(mode, passes, tol):
+    # A sphere light of radius a at height h gives E = I cos / d^2 exactly
+    # (outside the sphere it radiates like a point source of the same intensity).
+    scene = plane_scene(8, 8, extent=0.02)
+    scene.add_light("point", power=100.0, position=(0, 0, 1.0), radius=0.3)
+    image = render(scene, passes, direct_light=mode, photons_per_pass=100_000, initial_radius=0.05)
+    assert image.mean() == pytest.approx(RHO / math.pi * 100.0 / (4 * math.pi), rel=tol)
+
+
+def icosphere(subdivisions=3):
+    t = (1 + 5**0.5) / 2
+    v = [(-1, t, 0), (1, t, 0), (-1, -t, 0), (1, -t, 0), (0, -1, t), (0, 1, t), (0, -1, -t), (0, 1, -t),
+         (t, 0, -1), (t, 0, 1), (-t, 0, -1), (-t, 0, 1)]
+    f = [(0, 11, 5), (0, 5, 1), (0, 1, 7), (0, 7, 10), (0, 10, 11), (1, 5, 9), (5, 11, 4), (11, 10, 2),
+         (10, 7, 6), (7, 1, 8), (3, 9, 4), (3, 4, 2), (3, 2, 6), (3, 6, 8), (3, 8, 9), (4, 9, 5), (2, 4, 11),
+         (6, 2, 10), (8, 6, 7), (9, 8, 1)]
+    verts = [np.array(p, float) / np.linalg.norm(p) for p in v]
+    for _ in range(subdivisions):
+        cache, nf = {}, []
+
+        def mid(a, b):
+            key = (min(a, b), max(a, b))
+            if key not in cache:
+                m = verts[a] + verts[b]
+                verts.append(m / np.linalg.norm(m))
+                cache[key] = len(verts) - 1
+            return cache[key]
+
+        for a, b, c in f:
+            ab, bc, ca = mid(a, b), mid(b, c), mid(c, a)
+            nf += [(a, ab, ca), (b, bc, ab), (c, ca, bc), (ab, bc, ca)]
+        f = nf
+    return np.array(verts), np.array(f)
+
+
+@pytest.mark.parametrize("mode", ["sampled", "photons"])
+def test_glowing_closed_room_is_emission_over_one_minus_albedo(mode):
+    # Inside a closed room whose walls emit Le and reflect rho, L = Le / (1 - rho) everywhere.
+    verts, faces = icosphere(2)
+    scene = ppm_core.Scene()
+    wall = scene.add_material("glow", "diffuse", base_color=(RHO,) * 3, emission=(0.3, 0.3, 0.3))
+    scene.add_mesh("room", verts, faces, materials=wall)
+    camera = np.eye(4)
+    scene.set_camera(camera, 16, 16, fov=math.radians(60))
+    image = render(scene, 60, direct_light=mode, photons_per_pass=50_000, max_bounces=40)
+    assert image.mean() == pytest.approx(0.3 / (1 - RHO), rel=0.02)
