@@ -5,6 +5,7 @@
 #include "ppm/parallel.h"
 
 #include <cmath>
+#include <limits>
 
 namespace ppm {
 namespace {
@@ -132,12 +133,13 @@ bool eye_pass(const Scene& scene, const Settings& settings, const EyePassOptions
     const LightKind k = scene.lights()[i].kind;
     if (k == LightKind::Sphere || k == LightKind::Rectangle || k == LightKind::Disk) tracer.visible_lights.push_back(i);
   }
-  const int W = cam.width, H = cam.height, spp = settings.samples_per_pixel;
+  const int W = cam.width, H = cam.height, spp = options.samples_per_pixel;
   const int grid = static_cast<int>(std::floor(std::sqrt(static_cast<double>(spp))));
   const size_t chunks = (H + kRowsPerChunk - 1) / kRowsPerChunk;
   std::vector<ChunkOutput> outputs(chunks);
   out.emitted.assign(static_cast<size_t>(W) * H, Color(0.0));
   std::vector<uint32_t> counts(static_cast<size_t>(W) * H, 0);
+  if (options.record_depth) out.depth.assign(static_cast<size_t>(W) * H, std::numeric_limits<float>::infinity());
 
   auto work = [&](int, size_t chunk) {
     ChunkOutput& o = outputs[chunk];
@@ -145,17 +147,28 @@ bool eye_pass(const Scene& scene, const Settings& settings, const EyePassOptions
       for (int x = 0; x < W; ++x) {
         const uint32_t pixel = static_cast<uint32_t>(y) * W + x;  // row 0 = bottom
         const size_t before = o.points.size();
+        double depth_sum = 0.0;
+        int depth_count = 0;
         for (int s = 0; s < spp; ++s) {
-          Rng rng(settings.seed, kEyeStream, static_cast<uint64_t>(pixel) * spp + s);
+          Rng rng(settings.seed, kEyeStream + options.generation, static_cast<uint64_t>(pixel) * spp + s);
           // Stratified on a grid x grid lattice for the first grid^2 samples, then uniform.
           double jx = rng.uniform(), jy = rng.uniform();
           if (s < grid * grid) {
             jx = (s % grid + jx) / grid;
             jy = (s / grid + jy) / grid;
           }
-          const Ray ray = cam.generate_ray(x + jx, y + jy);
+          const double lu = rng.uniform(), lv = rng.uniform();
+          const Ray ray = options.lens ? cam.generate_lens_ray(x + jx, y + jy, lu, lv) : cam.generate_ray(x + jx, y + jy);
+          if (options.record_depth) {
+            Hit first;
+            if (scene.intersect(ray, first)) {
+              depth_sum += cam.depth_of(first.position);
+              ++depth_count;
+            }
+          }
           tracer.trace(ray, Color(1.0 / spp), rng, pixel, o, out.emitted[pixel]);
         }
+        if (depth_count > 0) out.depth[pixel] = static_cast<float>(depth_sum / depth_count);
         counts[pixel] = static_cast<uint32_t>(o.points.size() - before);
       }
   };

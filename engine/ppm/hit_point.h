@@ -46,6 +46,7 @@ struct HitPoints {
   std::vector<HitPointStats> stats;
   std::vector<uint32_t> pixel_begin;  // hit points of pixel p: [pixel_begin[p], pixel_begin[p+1])
   std::vector<Color> emitted;         // per pixel: emission and background seen along eye paths
+  std::vector<float> depth;           // per pixel: mean view-axis depth of the first hit (inf: none); optional
   size_t size() const { return points.size(); }
 };
 

@@ -37,6 +37,8 @@ class PhotonPass {
            std::atomic<bool>& cancel, const std::function<bool()>& poll, PhotonPassCounters& counters);
 
   size_t memory_bytes() const;
+  // The hit points changed (stochastic PPM): rebuild the hit-point index before the next pass.
+  void reset_index() { index_built_ = false; }
 
  private:
   struct Photon {

@@ -4,7 +4,9 @@
 #include "ppm/direct_light.h"
 #include "ppm/eye_pass.h"
 #include "ppm/progressive.h"
+#include "post/dof_post.h"
 
+#include <algorithm>
 #include <chrono>
 #include <stdexcept>
 #include <thread>
@@ -39,16 +41,65 @@ Renderer::Renderer(std::shared_ptr<const Scene> scene, const Settings& settings)
       photon_pass_(settings_, threads_) {
   stats_.threads = threads_;
   stats_.skipped = analysis_.skipped;
+  decide_depth_of_field();
+  if (settings_.hit_points == HitPointMode::Stochastic && !analysis_.resample_direct) {
+    analysis_.resample_direct = true;  // new hit points every pass need new direct samples
+    auto& sk = stats_.skipped;
+    sk.erase(std::remove_if(sk.begin(), sk.end(), [](const std::string& x) { return x.rfind("direct light resampling", 0) == 0; }),
+             sk.end());
+  }
   scene_->attach_renderer();
 }
 
 Renderer::~Renderer() { scene_->detach_renderer(); }
 
+// Depth of field costs a depth buffer and a blur (POST) or lens sampling
+// (LENS); skip both when it is off or cannot blur anything by a pixel.
+void Renderer::decide_depth_of_field() {
+  const Camera& cam = scene_->camera();
+  if (settings_.dof_mode == DofMode::Off) {
+    stats_.skipped.push_back("depth of field: off (no depth buffer, blur or lens sampling)");
+    return;
+  }
+  const Aabb b = scene_->bounds();
+  double near = kInf, far = 0.0;
+  for (int i = 0; i < 8 && !b.empty(); ++i) {
+    const Vec3 corner((i & 1) ? b.hi.x : b.lo.x, (i & 2) ? b.hi.y : b.lo.y, (i & 4) ? b.hi.z : b.lo.z);
+    const double z = cam.depth_of(corner);
+    near = std::fmin(near, z);
+    far = std::fmax(far, z);
+  }
+  if (b.empty() || far <= 0.0 || max_coc_pixels(cam, near, far) < 1.0) {
+    stats_.skipped.push_back("depth of field: circle of confusion under a pixel over the scene's depth range");
+    return;
+  }
+  dof_post_ = settings_.dof_mode == DofMode::Post;
+  dof_lens_ = settings_.dof_mode == DofMode::Lens;
+}
+
+EyePassOptions Renderer::eye_options(uint64_t generation) const {
+  EyePassOptions o;
+  o.threads = threads_;
+  o.follow_specular = analysis_.follow_specular;
+  o.use_textures = analysis_.use_textures;
+  o.samples_per_pixel = settings_.hit_points == HitPointMode::Stochastic ? 1 : settings_.samples_per_pixel;
+  o.generation = generation;
+  o.lens = dof_lens_;
+  o.record_depth = dof_post_ && depth_.empty();
+  return o;
+}
+
 bool Renderer::ensure_eye_pass(const std::function<bool()>& poll) {
   if (eye_done_) return true;
+  if (settings_.hit_points == HitPointMode::Stochastic) {
+    const Camera& cam = scene_->camera();
+    pixels_.assign(static_cast<size_t>(cam.width) * cam.height, PixelStats{});
+    eye_done_ = true;
+    return true;
+  }
   const auto t0 = Clock::now();
-  EyePassOptions options{threads_, analysis_.follow_specular, analysis_.use_textures};
-  if (!eye_pass(*scene_, settings_, options, hit_points_, cancel_, poll)) return false;
+  if (!eye_pass(*scene_, settings_, eye_options(0), hit_points_, cancel_, poll)) return false;
+  if (!hit_points_.depth.empty()) depth_.swap(hit_points_.depth);
   eye_done_ = true;
   stats_.eye_seconds = since(t0);
   stats_.hit_points = hit_points_.size();
@@ -90,6 +141,64 @@ bool Renderer::one_pass(const std::function<bool()>& poll) {
   return completed;
 }
 
+bool Renderer::stochastic_pass(const std::function<bool()>& poll) {
+  const uint64_t pass = stats_.passes;
+  auto t0 = Clock::now();
+  HitPoints fresh;
+  if (!eye_pass(*scene_, settings_, eye_options(pass + 1), fresh, cancel_, poll)) return false;
+  stats_.eye_seconds += since(t0);
+  // Every hit point gathers with its pixel's current radius.
+  const size_t pixel_count = pixels_.size();
+  for (size_t p = 0; p < pixel_count; ++p)
+    for (uint32_t i = fresh.pixel_begin[p]; i < fresh.pixel_begin[p + 1]; ++i) {
+      if (pixels_[p].r2 == 0.0) pixels_[p].r2 = fresh.points[i].r2;
+      fresh.points[i].r2 = pixels_[p].r2;
+    }
+  // Photons and direct light into the fresh hit points; a cancel drops the whole pass.
+  PhotonPassCounters counters = stats_.photon;
+  photon_pass_.reset_index();
+  if (analysis_.trace_photons && !photon_pass_.run(*scene_, lights_, pass, fresh, cancel_, poll, counters))
+    return false;
+  if (!analysis_.trace_photons) counters.emitted += settings_.photons_per_pass;
+  if (analysis_.sample_direct) {
+    t0 = Clock::now();
+    if (!direct_light_pass(*scene_, lights_, settings_, pass, threads_, fresh, cancel_, poll)) return false;
+    stats_.direct_seconds += since(t0);
+  }
+  // Fold the pass into the pixels: the same cross-generation rule, per pixel.
+  t0 = Clock::now();
+  for (size_t p = 0; p < pixel_count; ++p) {
+    PixelStats& px = pixels_[p];
+    for (uint32_t i = fresh.pixel_begin[p]; i < fresh.pixel_begin[p + 1]; ++i) {
+      px.m += fresh.stats[i].m;
+      px.tau_m += fresh.stats[i].tau_m;
+      px.direct += fresh.stats[i].direct;
+    }
+    px.emitted += fresh.emitted[p];
+    HitPoint radius;
+    radius.r2 = px.r2;
+    HitPointStats s;
+    s.n = px.n;
+    s.m = px.m;
+    s.tau = px.tau;
+    s.tau_m = px.tau_m;
+    progressive_update(radius, s, settings_.alpha, settings_.threshold);
+    px.r2 = radius.r2;
+    px.n = s.n;
+    px.m = s.m;
+    px.tau = s.tau;
+    px.tau_m = s.tau_m;
+  }
+  if (!fresh.depth.empty()) depth_.swap(fresh.depth);
+  stats_.update_seconds += since(t0);
+  stats_.photon = counters;
+  if (analysis_.sample_direct) ++stats_.direct_samples;
+  stats_.hit_points = fresh.size();
+  hit_points_ = std::move(fresh);
+  ++stats_.passes;
+  return true;
+}
+
 uint64_t Renderer::run(uint64_t passes, double seconds, const std::function<bool(const Progress&)>& poll) {
   if (passes == 0 && !(seconds > 0.0)) throw std::invalid_argument("run: give passes > 0 or seconds > 0");
   if (!(seconds >= 0.0)) throw std::invalid_argument("run: seconds must be >= 0");
@@ -105,7 +214,7 @@ uint64_t Renderer::run(uint64_t passes, double seconds, const std::function<bool
   bool ok = ensure_eye_pass(inner_poll);
   while (ok && (passes == 0 || stats_.passes - start < passes)) {
     if (seconds > 0.0 && since(t0) >= seconds) break;
-    ok = one_pass(inner_poll);
+    ok = settings_.hit_points == HitPointMode::Stochastic ? stochastic_pass(inner_poll) : one_pass(inner_poll);
     if (ok && poll && !poll(Progress{stats_.passes, stats_.photon.emitted, since(t0)})) ok = false;
   }
   const bool timed_out = seconds > 0.0 && since(t0) >= seconds;
@@ -120,15 +229,24 @@ std::vector<float> Renderer::image() const {
   std::vector<float> rgba(static_cast<size_t>(W) * H * 4, 0.0f);
   if (!eye_done_) return rgba;
   const double emitted = static_cast<double>(stats_.photon.emitted);
+  const bool stochastic = settings_.hit_points == HitPointMode::Stochastic;
   const double direct_scale = stats_.direct_samples > 0 ? 1.0 / stats_.direct_samples : 0.0;
+  const double pass_scale = stats_.passes > 0 ? 1.0 / stats_.passes : 0.0;
   for (int y = 0; y < H; ++y)
     for (int x = 0; x < W; ++x) {
       const size_t p = static_cast<size_t>(y) * W + x;
-      Color c = hit_points_.emitted[p];
-      for (uint32_t i = hit_points_.pixel_begin[p]; i < hit_points_.pixel_begin[p + 1]; ++i) {
-        const HitPointStats& s = hit_points_.stats[i];
-        c += s.direct * direct_scale;
-        if (analysis_.trace_photons) c += photon_radiance(hit_points_.points[i], s, emitted);
+      Color c(0.0);
+      if (stochastic) {
+        const PixelStats& px = pixels_[p];
+        c = px.emitted * pass_scale + px.direct * direct_scale;
+        if (analysis_.trace_photons && px.r2 > 0.0 && emitted > 0.0) c += (px.tau + px.tau_m) / (kPi * px.r2 * emitted);
+      } else {
+        c = hit_points_.emitted[p];
+        for (uint32_t i = hit_points_.pixel_begin[p]; i < hit_points_.pixel_begin[p + 1]; ++i) {
+          const HitPointStats& s = hit_points_.stats[i];
+          c += s.direct * direct_scale;
+          if (analysis_.trace_photons) c += photon_radiance(hit_points_.points[i], s, emitted);
+        }
       }
       float* out = &rgba[(static_cast<size_t>(H - 1 - y) * W + x) * 4];  // top row first
       out[0] = static_cast<float>(c.x);
@@ -136,6 +254,13 @@ std::vector<float> Renderer::image() const {
       out[2] = static_cast<float>(c.z);
       out[3] = 1.0f;
     }
+  if (dof_post_ && depth_.size() == static_cast<size_t>(W) * H) {
+    std::vector<float> depth(depth_.size());
+    for (int y = 0; y < H; ++y)  // to top row first, like the image
+      std::copy_n(&depth_[static_cast<size_t>(H - 1 - y) * W], W, &depth[static_cast<size_t>(y) * W]);
+    rgba = settings_.dof_post_preset == DofPostPreset::ReportThirds ? dof_post_report_thirds(rgba, depth, W, H)
+                                                                    : dof_post_thin_lens(rgba, depth, cam, settings_.dof_max_radius);
+  }
   return rgba;
 }
 
@@ -144,9 +269,15 @@ RenderStats Renderer::stats() const {
   s.photons_emitted = stats_.photon.emitted;
   s.photons_deposited = stats_.photon.deposited;
   double sum = 0.0;
-  for (const HitPoint& h : hit_points_.points) sum += std::sqrt(h.r2);
-  s.radius_mean = hit_points_.size() ? sum / hit_points_.size() : 0.0;
-  s.memory_bytes = photon_pass_.memory_bytes() + hit_points_.points.capacity() * sizeof(HitPoint) +
+  size_t count = 0;
+  if (settings_.hit_points == HitPointMode::Stochastic) {
+    for (const PixelStats& px : pixels_)
+      if (px.r2 > 0.0) sum += std::sqrt(px.r2), ++count;
+  } else {
+    for (const HitPoint& h : hit_points_.points) sum += std::sqrt(h.r2), ++count;
+  }
+  s.radius_mean = count ? sum / count : 0.0;
+  s.memory_bytes = pixels_.capacity() * sizeof(PixelStats) + depth_.capacity() * sizeof(float) + photon_pass_.memory_bytes() + hit_points_.points.capacity() * sizeof(HitPoint) +
                    hit_points_.shading.capacity() * sizeof(HitPointShading) +
                    hit_points_.stats.capacity() * sizeof(HitPointStats) +
                    hit_points_.pixel_begin.capacity() * sizeof(uint32_t) + hit_points_.emitted.capacity() * sizeof(Color);

@@ -9,8 +9,10 @@
 // A pass cancelled half-way is discarded, so the image always reflects whole passes.
 #pragma once
 
+#include "ppm/eye_pass.h"
 #include "ppm/hit_point.h"
 #include "ppm/photon_pass.h"
+#include "ppm/pixel_stats.h"
 #include "ppm/scene_analysis.h"
 #include "ppm/settings.h"
 #include "scene/light_sampler.h"
@@ -73,14 +75,20 @@ class Renderer {
 
  private:
   bool ensure_eye_pass(const std::function<bool()>& poll);
-  bool one_pass(const std::function<bool()>& poll);
+  bool one_pass(const std::function<bool()>& poll);        // fixed hit points (PPM)
+  bool stochastic_pass(const std::function<bool()>& poll); // new hit points every pass (SPPM)
+  void decide_depth_of_field();
+  EyePassOptions eye_options(uint64_t generation) const;
 
   std::shared_ptr<const Scene> scene_;
   Settings settings_;
   int threads_;
   LightSampler lights_;
   SceneAnalysis analysis_;
-  HitPoints hit_points_;
+  HitPoints hit_points_;              // fixed: the render's; stochastic: the latest pass's
+  std::vector<PixelStats> pixels_;    // stochastic only
+  std::vector<float> depth_;          // per pixel, bottom row first like the eye pass (POST only)
+  bool dof_post_ = false, dof_lens_ = false;
   PhotonPass photon_pass_;
   bool eye_done_ = false;
   std::atomic<bool> cancel_{false};

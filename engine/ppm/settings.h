@@ -16,6 +16,15 @@ enum class GatherOrganisation : uint8_t {
   Photons,    // each pass's photons in the grid, each hit point queries it
 };
 enum class GridKind : uint8_t { Quantile, Hash };
+enum class HitPointMode : uint8_t {
+  Fixed,       // PPM: one eye pass, hit points kept for the whole render
+  Stochastic,  // SPPM (Hachisuka & Jensen 2009): new eye samples every pass, statistics kept per pixel
+};
+enum class DofMode : uint8_t { Off, Post, Lens };
+enum class DofPostPreset : uint8_t {
+  ThinLens,      // circle of confusion from the thin-lens equation, depth-aware gather
+  ReportThirds,  // the 2019 report: nearest third of pixels 5x5 box, middle third 3x3
+};
 
 struct Settings {
   uint64_t photons_per_pass = 200000;
@@ -31,6 +40,10 @@ struct Settings {
   GatherOrganisation gather = GatherOrganisation::Photons;  // measured faster: bench/throughput.py
   GridKind grid = GridKind::Quantile;
   double progress_interval = 0.1;   // seconds between progress callbacks inside a pass
+  HitPointMode hit_points = HitPointMode::Fixed;
+  DofMode dof_mode = DofMode::Off;
+  DofPostPreset dof_post_preset = DofPostPreset::ThinLens;
+  int dof_max_radius = 32;          // POST: largest blur radius in pixels
 
   // Throws std::invalid_argument naming the setting when a value is out of range.
   void validate() const;

@@ -166,7 +166,8 @@ void add_light(Scene& s, const std::string& kind, const std::string& name, const
 
 void set_camera(Scene& s, const py::object& matrix, int width, int height, const std::string& projection,
                 double fov, double ortho_scale, const std::string& sensor_fit, double shift_x, double shift_y,
-                double clip_start, double clip_end, double focus_distance, double aperture_radius) {
+                double clip_start, double clip_end, double focus_distance, double aperture_radius,
+                double focal_length) {
   Camera c;
   c.camera_to_world = mat4(matrix, "camera", "matrix");
   c.width = width;
@@ -185,6 +186,7 @@ void set_camera(Scene& s, const py::object& matrix, int width, int height, const
   c.clip_end = clip_end;
   c.focus_distance = focus_distance;
   c.aperture_radius = aperture_radius;
+  c.focal_length = focal_length;
   s.set_camera(c);
 }
 
@@ -292,9 +294,10 @@ void bind_scene(py::module_& m) {
            py::arg("projection") = "perspective", py::arg("fov") = 0.8575560591178853, py::arg("ortho_scale") = 7.0,
            py::arg("sensor_fit") = "auto", py::arg("shift_x") = 0.0, py::arg("shift_y") = 0.0,
            py::arg("clip_start") = 1e-3, py::arg("clip_end") = kInf, py::arg("focus_distance") = 10.0,
-           py::arg("aperture_radius") = 0.0,
+           py::arg("aperture_radius") = 0.0, py::arg("focal_length") = 0.0,
            "Sets the camera: camera-to-world matrix (looks down local -Z), image size, field of view "
-           "in radians across the fitted side.")
+           "in radians across the fitted side. Depth of field: focus_distance and aperture_radius in "
+           "metres, focal_length in metres (0: focus distance >> focal length).")
       .def("set_background", [](Scene& s, const py::object& c) { s.set_background(color(c, "background", "color")); },
            py::arg("color"), "Constant background radiance in W/(m^2 sr).")
       .def("build", &Scene::build, "Builds the BVH (done automatically by Renderer and intersect).")

@@ -1,6 +1,8 @@
 // Primary ray generation (see camera.h).
 #include "scene/camera.h"
 
+#include "math/sampling.h"
+
 namespace ppm {
 
 bool Camera::fit_horizontal() const {
@@ -37,6 +39,31 @@ Ray Camera::generate_ray(double px, double py) const {
     ray.origin = origin + x * glm::normalize(right) + y * glm::normalize(up) + ray.direction * clip_start;
   }
   return ray;
+}
+
+Ray Camera::generate_lens_ray(double px, double py, double lens_u, double lens_v) const {
+  Ray pinhole = generate_ray(px, py);
+  if (aperture_radius <= 0.0 || projection != Projection::Perspective) return pinhole;
+  const Vec3 eye = position(), fwd = forward();
+  // Where the pinhole ray meets the plane of focus.
+  const double t_focus = focus_distance / glm::dot(pinhole.direction, fwd);
+  const Vec3 focus_point = eye + pinhole.direction * t_focus;
+  const Vec2 d = sample_uniform_disk(lens_u, lens_v) * aperture_radius;
+  const Vec3 lens_point = eye + d.x * Vec3(camera_to_world[0]) + d.y * Vec3(camera_to_world[1]);
+  Ray ray;
+  ray.direction = glm::normalize(focus_point - lens_point);
+  ray.origin = lens_point + ray.direction * (clip_start / glm::dot(ray.direction, fwd));
+  return ray;
+}
+
+double Camera::coc_pixels(double z) const {
+  if (aperture_radius <= 0.0 || projection != Projection::Perspective || !(z > 0.0)) return 0.0;
+  // Sensor CoC = A f / (S - f) * |z - S| / z; in pixels divide by the sensor
+  // pixel size, f * extent / size. Without f, S >> f is assumed.
+  const double S = focus_distance;
+  const double thin = focal_length > 0.0 && focal_length < S ? S / (S - focal_length) : 1.0;
+  const double pixels_per_radian = 1.0 / pixel_footprint();
+  return 2.0 * aperture_radius * thin * std::fabs(1.0 / S - 1.0 / z) * pixels_per_radian;
 }
 
 }  // namespace ppm

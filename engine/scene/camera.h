@@ -23,10 +23,20 @@ struct Camera {
   double clip_start = 1e-3, clip_end = kInf;
   double focus_distance = 10.0;      // metres
   double aperture_radius = 0.0;      // metres; 0 = pinhole
+  double focal_length = 0.0;         // metres, for the exact circle of confusion; 0 = focus >> focal length
 
   // The ray through image position (px, py) in pixels (x right, y up from the
   // bottom row). Its origin sits on the near clip plane.
   Ray generate_ray(double px, double py) const;
+  // The same through a thin lens: (lens_u, lens_v) in [0,1)^2 pick a point on
+  // the aperture disk; rays through one pixel meet on the focal plane.
+  Ray generate_lens_ray(double px, double py, double lens_u, double lens_v) const;
+
+  // Diameter in pixels of the circle of confusion of a point at depth z
+  // (distance along the view axis), by the thin-lens equation.
+  double coc_pixels(double z) const;
+  // Distance along the view axis of a point.
+  double depth_of(const Vec3& p) const { return glm::dot(p - position(), forward()); }
 
   // Size of one pixel at distance 1 from a perspective camera, or in metres
   // for an orthographic one; sets the initial gather radius.

@@ -217,6 +217,7 @@ void Scene::set_camera(const Camera& c) {
   if (!(c.clip_start >= 0.0) || !(c.clip_end > c.clip_start)) fail(what, "need 0 <= clip_start < clip_end");
   if (!(c.focus_distance > 0.0) || !std::isfinite(c.focus_distance)) fail(what, "focus_distance must be positive");
   if (!(c.aperture_radius >= 0.0) || !std::isfinite(c.aperture_radius)) fail(what, "aperture_radius must be >= 0");
+  if (!(c.focal_length >= 0.0) || !std::isfinite(c.focal_length)) fail(what, "focal_length must be >= 0");
   // Orthonormalise: a scaled camera object must not skew the rays.
   Camera cam = c;
   const Vec3 back = Vec3(c.camera_to_world[2]), up = Vec3(c.camera_to_world[1]);
