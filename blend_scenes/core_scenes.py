@@ -54,8 +54,11 @@ def cornell_box(scene, size=2.0, object_id_start=0, with_front=False):
     return {"white": white, "red": red, "blue": blue}
 
 
-def cornell_3spheres(width=640, height=480, light="sphere") -> ppm_core.Scene:
-    """The report's figure 1: mirror, glass and diffuse spheres, light in the box's centre."""
+def cornell_3spheres(width=640, height=480, light="sphere", aperture_radius=0.0) -> ppm_core.Scene:
+    """The report's figure 1: mirror, glass and diffuse spheres, light in the box's centre.
+
+    With `aperture_radius` > 0 the camera focuses on the box's front edge (the
+    report's figure 3 puts the focal plane there)."""
     scene = ppm_core.Scene()
     cornell_box(scene)
     mirror = scene.add_material("mirror", "mirror", base_color=(0.95, 0.95, 0.95))
@@ -69,7 +72,8 @@ def cornell_3spheres(width=640, height=480, light="sphere") -> ppm_core.Scene:
     else:
         scene.add_light("point", name="lamp", power=25.0, position=(0.0, 0.0, 1.3))
     fov = 2.0 * math.atan(0.5 * 36.0 / 40.0)
-    scene.set_camera(look_at((0.0, -4.4, 1.0), (0.0, 0.0, 1.0)), width, height, fov=fov)
+    scene.set_camera(look_at((0.0, -4.4, 1.0), (0.0, 0.0, 1.0)), width, height, fov=fov,
+                     focus_distance=3.4, aperture_radius=aperture_radius, focal_length=0.04)
     return scene
 
 
