@@ -39,10 +39,9 @@ class BezierRevolve {
   // uv = (profile parameter over the whole profile, angle / 2pi in [0, 1)).
   bool intersect_segment(size_t s, const Ray& ray, double tmin, double tmax, Hit& hit) const;
 
-  // Local profile at global parameter u in [0, 1]: (r, z) and d(r, z)/dt of
-  // the segment holding u (t = that segment's own parameter).
-  Vec2 profile_point(double u) const;
-
+ private:
+  // Per-segment data in the local frame; heights are stored relative to the
+  // middle of the segment's height range so coefficients stay small.
   struct Segment {
     int n = 0;                        // degree
     double r[kMaxDegree + 1] = {};    // radii
@@ -59,13 +58,13 @@ class BezierRevolve {
     Aabb bounds;
   };
 
- private:
   struct LocalRay;
   struct Candidate;
 
   Segment make_segment(const Vec2* p, int n) const;
   bool local_ray(const Segment& g, const Ray& ray, double tmin, double tmax, LocalRay& lr) const;
   void solve(const Segment& g, const LocalRay& lr, Candidate& best) const;
+  void start_newton(const Segment& g, const LocalRay& lr, double t, Candidate& best) const;
   void try_candidate(const Segment& g, const LocalRay& lr, double t, double s,
                      Candidate& best) const;
   Vec3 local_normal(const Segment& g, double t, double x, double y) const;

@@ -2,10 +2,13 @@
 // products, degree elevation, subdivision and a root finder that cannot skip a
 // root. The finder subdivides with de Casteljau, discards intervals whose
 // coefficients all share one sign (convex hull), solves intervals where the
-// polynomial is monotone by bracketed Newton, and splits unimodal intervals at
-// their extremum so that roots of even multiplicity (no sign change: a ray
-// touching a surface) are reported when the extremum lies within the caller's
-// noise bound. Fixed-size arrays only: nothing allocates.
+// polynomial is monotone (no sign change among the derivative's coefficients)
+// by bracketed Newton, and splits unimodal intervals (one sign change) where
+// the polynomial is clearly past zero or else at its extremum, so that roots
+// of even multiplicity (no sign change: a ray touching a surface) are reported
+// when the extremum lies within the caller's noise bound. Fixed-size arrays
+// only: nothing allocates. Work is capped at 4096 intervals (reached only by
+// polynomials that are noise over a wide range).
 #pragma once
 
 namespace ppm {
@@ -32,14 +35,17 @@ double bernstein_default_tolerance(const double* c, int n);
 
 struct BernsteinRoots {
   int count = 0;
-  double t[kMaxBernsteinDegree];  // ascending, in [0, 1]
+  double t[kMaxBernsteinDegree];      // ascending, in [0, 1]
+  bool multiple[kMaxBernsteinDegree];  // no sign change resolvable within tol:
+                                       // a touching root or a merged cluster
 };
 
-// All roots of the polynomial in [0, 1]. `tol` bounds the absolute error of
-// the coefficients: an interval whose coefficients all exceed tol in one sign
-// holds no root, and a local extremum with |value| <= tol is a (double) root.
-// Roots closer than the noise allows to separate (|p| <= tol between them)
-// are reported once.
+// All roots of the polynomial in [0, 1] (n <= 16). `tol` bounds the absolute
+// error of the coefficients: an interval whose coefficients all exceed tol in
+// one sign holds no root, and a local extremum with |value| <= tol is a
+// (double) root, reported at the extremum. Roots that the noise cannot
+// separate (|p| <= tol midway, closer than 1e-3) are reported once, flagged
+// multiple. Simple roots are accurate to about the rounding of p over |p'|.
 void bernstein_roots(const double* c, int n, double tol, BernsteinRoots& out);
 
 }  // namespace ppm

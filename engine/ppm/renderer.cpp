@@ -202,6 +202,11 @@ bool Renderer::stochastic_pass(const std::function<bool()>& poll) {
 uint64_t Renderer::run(uint64_t passes, double seconds, const std::function<bool(const Progress&)>& poll) {
   if (passes == 0 && !(seconds > 0.0)) throw std::invalid_argument("run: give passes > 0 or seconds > 0");
   if (!(seconds >= 0.0)) throw std::invalid_argument("run: seconds must be >= 0");
+  if (running_.exchange(true)) throw std::runtime_error("run: this renderer is already running");
+  struct Done {
+    std::atomic<bool>& flag;
+    ~Done() { flag = false; }
+  } done{running_};
   cancel_ = false;
   stats_.cancelled = false;
   const auto t0 = Clock::now();
@@ -223,7 +228,17 @@ uint64_t Renderer::run(uint64_t passes, double seconds, const std::function<bool
   return stats_.passes - start;
 }
 
+namespace {
+void refuse_while_running(const std::atomic<bool>& running, const char* what) {
+  if (running)
+    throw std::runtime_error(std::string(what) +
+                             ": not available while run() is in progress; use the callback's info, or call it "
+                             "between runs (e.g. run(passes=1) in a loop)");
+}
+}  // namespace
+
 std::vector<float> Renderer::image() const {
+  refuse_while_running(running_, "image()");
   const Camera& cam = scene_->camera();
   const int W = cam.width, H = cam.height;
   std::vector<float> rgba(static_cast<size_t>(W) * H * 4, 0.0f);
@@ -265,6 +280,7 @@ std::vector<float> Renderer::image() const {
 }
 
 RenderStats Renderer::stats() const {
+  refuse_while_running(running_, "stats()");
   RenderStats s = stats_;
   s.photons_emitted = stats_.photon.emitted;
   s.photons_deposited = stats_.photon.deposited;

@@ -62,7 +62,9 @@ class Renderer {
   // Thread-safe: stops the current run within one poll interval.
   void cancel() { cancel_ = true; }
 
-  // Linear RGBA, rows from the top of the image, alpha = 1.
+  // Linear RGBA, rows from the top of the image, alpha = 1. Like stats(), it
+  // throws std::runtime_error if called while run() is in progress (from the
+  // progress callback or another thread): the passes are writing the data.
   std::vector<float> image() const;
   RenderStats stats() const;
   const Settings& settings() const { return settings_; }
@@ -92,6 +94,7 @@ class Renderer {
   PhotonPass photon_pass_;
   bool eye_done_ = false;
   std::atomic<bool> cancel_{false};
+  std::atomic<bool> running_{false};  // image()/stats() refuse to read while a pass writes
   RenderStats stats_;
 };
 

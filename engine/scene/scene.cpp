@@ -1,21 +1,7 @@
 // Scene building, validation and ray queries (see scene.h).
 #include "scene/scene.h"
 
-#include <stdexcept>
-#if __has_include("geometry/bezier_revolve.h")
 #include "geometry/bezier_revolve.h"
-#else  // TEMPORARY until the revolve primitive lands
-namespace ppm {
-enum class BezierProfileKind { SingleCurve, CubicChain };
-class BezierRevolve {
- public:
-  BezierRevolve(std::vector<Vec2>, BezierProfileKind, const Mat4&) { throw std::invalid_argument("not yet"); }
-  size_t segment_count() const { return 0; }
-  Aabb segment_bounds(size_t) const { return {}; }
-  bool intersect_segment(size_t, const Ray&, double, double, Hit&) const { return false; }
-};
-}  // namespace ppm
-#endif
 
 #include <stdexcept>
 

@@ -104,3 +104,19 @@ def test_stats_report_work_and_memory_stays_flat():
     assert later["memory_bytes"] <= first["memory_bytes"] * 1.05
     assert later["radius_mean"] < first["radius_mean"]
     assert set(later["seconds"]) >= {"eye_pass", "photon_trace", "direct_light", "progressive_update"}
+
+
+def test_reading_the_image_during_a_run_is_a_clear_error():
+    renderer = ppm_core.Renderer(core_scenes.cornell_3spheres(64, 48), photons_per_pass=10_000)
+    errors = []
+
+    def callback(info):
+        try:
+            renderer.image()
+        except RuntimeError as e:
+            errors.append(str(e))
+        return False
+
+    renderer.run(passes=3, callback=callback)
+    assert errors and "while run() is in progress" in errors[0]
+    assert renderer.image().shape == (48, 64, 4)  # fine between runs
