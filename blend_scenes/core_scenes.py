@@ -93,3 +93,57 @@ def closed_sphere_with_point_light(radius=1.0, albedo=0.5, power=100.0, width=32
 
 def expected_closed_sphere_radiance(radius, albedo, power):
     return albedo * power / (4.0 * math.pi**2 * radius**2 * (1.0 - albedo))
+
+
+def bezier_point(points, t):
+    """Point(s) of the Bezier curve with control points `points` (n+1, 2) at parameter(s) t (de Casteljau)."""
+    p = np.repeat(np.asarray(points, dtype=float)[None], np.size(t), axis=0)
+    t = np.reshape(t, (-1, 1))
+    while p.shape[1] > 1:
+        p = (1 - t)[..., None] * p[:, :-1] + t[..., None] * p[:, 1:]
+    return p[:, 0]
+
+
+def tessellate_revolve(points, kind="single", matrix=None, profile_steps=400, angle_steps=720):
+    """A triangle mesh of the surface of revolution (for cross-checks); returns positions, triangles."""
+    points = np.asarray(points, dtype=float)
+    if kind == "single":
+        profile = bezier_point(points, np.linspace(0.0, 1.0, profile_steps + 1))
+    else:
+        segments = (len(points) - 1) // 3
+        per = max(2, profile_steps // segments)
+        parts = [bezier_point(points[3 * k:3 * k + 4], np.linspace(0, 1, per + 1)[:-1]) for k in range(segments)]
+        profile = np.vstack(parts + [points[-1:]])
+    theta = np.linspace(0.0, 2 * np.pi, angle_steps, endpoint=False)
+    r, z = profile[:, 0:1], profile[:, 1:2]
+    pos = np.stack([r * np.cos(theta), r * np.sin(theta), np.repeat(z, angle_steps, axis=1)], axis=-1).reshape(-1, 3)
+    if matrix is not None:
+        m = np.asarray(matrix, dtype=float)
+        pos = pos @ m[:3, :3].T + m[:3, 3]
+    rows, cols = len(profile), angle_steps
+    i, j = np.meshgrid(np.arange(rows - 1), np.arange(cols), indexing="ij")
+    a, b = i * cols + j, i * cols + (j + 1) % cols
+    c, d = (i + 1) * cols + (j + 1) % cols, (i + 1) * cols + j
+    tris = np.concatenate([np.stack([a, b, c], -1).reshape(-1, 3), np.stack([a, c, d], -1).reshape(-1, 3)])
+    return pos, tris
+
+
+VASE_PROFILE = [(0.0, 0.0), (0.35, 0.0), (0.55, 0.15), (0.45, 0.45), (0.2, 0.65), (0.2, 0.85),
+                (0.3, 0.95)]  # one degree-6 curve: closed base on the axis, open rim
+
+
+def bezier_vase(width=640, height=480) -> ppm_core.Scene:
+    """The report's figure 2, done better: a glass vase (a revolved degree-6 Bezier
+    profile) on a table, lit by a small sphere light, with caustics on the table."""
+    scene = ppm_core.Scene()
+    table = scene.add_material("table", "diffuse", base_color=(0.7, 0.65, 0.55))
+    wall = scene.add_material("wall", "diffuse", base_color=(0.6, 0.6, 0.65))
+    glass = scene.add_material("glass", "glass", base_color=(0.95, 0.97, 1.0), ior=1.5)
+    quad(scene, "table", [(-3, -3, 0), (3, -3, 0), (3, 3, 0), (-3, 3, 0)], table, object_id=0)
+    quad(scene, "wall", [(-3, 2, 0), (3, 2, 0), (3, 2, 3), (-3, 2, 3)], wall, object_id=1)
+    scene.add_bezier_revolve("vase", VASE_PROFILE, kind="single", matrix=np.eye(4), material=glass, object_id=2)
+    scene.add_light("sphere", name="lamp", power=60.0, position=(-1.2, -0.8, 1.6), radius=0.05)
+    scene.set_background(0.05)
+    fov = 2.0 * math.atan(0.5 * 36.0 / 50.0)
+    scene.set_camera(look_at((0.0, -3.2, 1.4), (0.0, 0.0, 0.45)), width, height, fov=fov)
+    return scene

@@ -21,6 +21,7 @@ import ppm_core  # noqa: E402
 
 SCENES = {
     "cornell_3spheres": core_scenes.cornell_3spheres,
+    "bezier_vase": core_scenes.bezier_vase,
 }
 
 

@@ -150,7 +150,10 @@ void Scene::add_bezier_revolve(const std::string& name, const std::vector<Vec2>&
     revolves_.push_back(std::make_unique<BezierRevolve>(
         points, cubic_chain ? BezierProfileKind::CubicChain : BezierProfileKind::SingleCurve, object_to_world));
   } catch (const std::invalid_argument& e) {
-    fail(what, e.what());
+    std::string message = e.what();
+    const std::string prefix = "BezierRevolve: ";
+    if (message.rfind(prefix, 0) == 0) message.erase(0, prefix.size());
+    fail(what, message);
   }
   const uint32_t index = static_cast<uint32_t>(revolves_.size() - 1);
   for (size_t s = 0; s < revolves_.back()->segment_count(); ++s)
