@@ -4,7 +4,7 @@ PY := .venv/bin/python
 ENGINE_SOURCES := $(shell find engine -name '*.cpp' -o -name '*.h') CMakeLists.txt pyproject.toml
 JOBS ?= $(shell nproc)
 
-.PHONY: setup build demo test test-cpp test-python bench lint clean
+.PHONY: setup build demo test test-cpp test-python bench bench-cpp lint clean
 
 setup: .venv/.setup-done build
 
@@ -22,7 +22,7 @@ build: .venv/.ppm_core-installed
 demo: setup
 	$(PY) blend_scenes/render_core_scene.py cornell_3spheres --output out/cornell_3spheres.exr --seconds 20
 
-test: setup test-cpp test-python
+test: setup test-cpp test-python test-addon
 
 test-cpp: .venv/.setup-done
 	cmake -S . -B build/tests -G Ninja -DPPM_BUILD_TESTS=ON -DPPM_BUILD_PYTHON=OFF -DCMAKE_BUILD_TYPE=Release >/dev/null
@@ -32,11 +32,31 @@ test-cpp: .venv/.setup-done
 test-python: build
 	$(PY) -m pytest -q tests/core
 
-bench: setup
+# Benchmarks: figures and the commands behind them are in bench/README.md.
+bench: setup bench-cpp
+	build/bench/bezier_bench
+	build/bench/grid_bench
 	$(PY) bench/throughput.py
+
+bench-cpp: .venv/.setup-done
+	cmake -S . -B build/bench -G Ninja -DPPM_BUILD_BENCH=ON -DPPM_BUILD_PYTHON=OFF -DCMAKE_BUILD_TYPE=Release >/dev/null
+	cmake --build build/bench -j $(JOBS)
 
 lint:
 	$(PY) -m ruff check . || true
 
 clean:
 	rm -rf build out
+
+# The Blender add-on: the installable zip (with the compiled core inside) -> out/ppm_render-<version>.zip.
+.PHONY: addon test-addon blend-scenes
+addon: build
+	$(PY) addon/build_addon.py --out out
+
+# Add-on tests: bpy 5.0 (tests/addon), Debian's Blender 3.4 from a shell (tests/cli), the GUI under Xvfb (tests/gui).
+test-addon: build
+	$(PY) -m pytest -q tests/addon tests/cli tests/gui
+
+# Rebuild the bundled .blend files with Blender 3.4, so that both 3.4 and 5.0 open them.
+blend-scenes: setup
+	blender -b --factory-startup --python-exit-code 1 -P blend_scenes/build_blend_scenes.py

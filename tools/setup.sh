@@ -6,6 +6,9 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 DEBIAN_PACKAGES=(build-essential cmake ninja-build libglm-dev libgtest-dev googletest)
+# The add-on's tests: Debian's Blender 3.4 (embeds the system Python 3.11, so it gets numpy from
+# python3-numpy) and Xvfb for the GUI test.
+DEBIAN_PACKAGES+=(blender python3-numpy xvfb)
 
 missing=()
 for p in "${DEBIAN_PACKAGES[@]}"; do

@@ -1,0 +1,165 @@
+"""The PPM RenderEngine: F12 and animation renders through ppm_core.
+
+`render()` runs once per view layer: export the evaluated depsgraph, then run
+photon passes while the render window shows the image about once a second,
+the progress bar and stats move, and Esc stops the core within a poll
+interval (0.1 s), keeping the passes done so far. Every failure ends in
+`report({'ERROR'})` so it reaches the user (and makes bpy.ops.render.render
+raise in scripts); the render result is always closed.
+"""
+
+import time
+
+import bpy
+import numpy as np
+
+from . import core, export, passes
+from .export.camera import Frame
+from .properties import core_settings
+
+DISPLAY_INTERVAL = 1.0  # seconds between refreshes of the render window
+
+
+def write_pixels(result, rgba):
+    """Copies a (H, W, 4) top-row-first image into the Combined pass (Blender rows run bottom-up)."""
+    pixels = np.ascontiguousarray(rgba[::-1], dtype=np.float32)
+    rect = result.layers[0].passes["Combined"].rect
+    try:
+        rect.foreach_set(pixels.ravel())  # Blender 4.x+/5.0 want a flat array
+    except (TypeError, ValueError, RuntimeError):
+        rect.foreach_set(pixels.reshape(-1, 4))  # 3.4 wants (pixels, channels)
+
+
+def stats_line(passes, total, photons, seconds):
+    minutes, secs = divmod(int(seconds), 60)
+    return f"Pass {passes}/{total} | {photons / 1e6:.1f} M photons | {minutes:02d}:{secs:02d}"
+
+
+class ProgressiveDisplay:
+    """Runs the photon passes one run(passes=1) at a time (the core's image() is only readable
+    between runs) and, between them, refreshes the render window about once a second. During a
+    pass the core calls back every 0.1 s: that is where Esc is noticed and stats move."""
+
+    def __init__(self, engine, renderer, result, settings):
+        self.engine, self.renderer, self.result = engine, renderer, result
+        self.total = settings.passes
+        self.time_limit = settings.time_limit
+        self.start = time.monotonic()
+        self.last_display = None
+        self.stopped = False
+        self.passes = 0
+        self.photons = 0
+        self.shown = -1  # passes in the displayed image
+
+    def cancelled(self):
+        return self.engine.test_break()  # Esc in the render window
+
+    def elapsed(self):
+        return time.monotonic() - self.start
+
+    def __call__(self, info):
+        """The core's progress callback; False cancels the pass in progress."""
+        if self.cancelled():
+            self.stopped = True
+            return False
+        self.report(info["passes"], info["photons_emitted"])
+        return True
+
+    def report(self, passes, photons):
+        fraction = passes / self.total
+        if self.time_limit > 0:
+            fraction = max(fraction, self.elapsed() / self.time_limit)
+        self.engine.update_progress(min(fraction, 1.0))
+        self.engine.update_stats("", stats_line(passes, self.total, photons, self.elapsed()))
+
+    def run(self):
+        """Passes until the pass count, the time limit or Esc, whichever comes first."""
+        while self.passes < self.total and not self.stopped:
+            remaining = self.time_limit - self.elapsed() if self.time_limit > 0 else 0.0
+            if self.time_limit > 0 and remaining <= 0.0:
+                break
+            self.renderer.run(passes=1, callback=self)
+            stats = self.renderer.stats()
+            self.passes, self.photons = stats["passes"], stats["photons_emitted"]
+            now = time.monotonic()
+            if self.last_display is None or now - self.last_display >= DISPLAY_INTERVAL:
+                self.show()
+                self.last_display = now
+        if self.shown != self.passes:
+            self.show()
+        self.report(self.passes, self.photons)
+
+    def show(self):
+        if bpy.app.background:  # no render window: the terminal shows progress instead
+            print("PPM:", stats_line(self.passes, self.total, self.photons, self.elapsed()), flush=True)
+        write_pixels(self.result, self.renderer.image())
+        self.engine.update_result(self.result)
+        self.shown = self.passes
+
+
+class PPMRenderEngine(bpy.types.RenderEngine):
+    bl_idname = "PPM"
+    bl_label = "PPM"
+    bl_use_preview = False
+    bl_use_shading_nodes_custom = False  # keep Principled BSDF and the standard node menus
+    bl_use_postprocess = True
+
+    def render(self, depsgraph):
+        scene = depsgraph.scene
+        frame = Frame.from_render_settings(scene.render)
+        try:
+            ppm_core = core.load()
+            self.update_stats("", "Exporting scene")
+            ppm_scene, camera_args = export.build_scene(ppm_core, depsgraph, frame, self.warn)
+            renderer = ppm_core.Renderer(ppm_scene, **core_settings(scene.ppm))
+        except Exception as error:  # noqa: BLE001 - every failure must reach the user
+            self.fail(error)
+            return
+        # The result covers the render border only: coordinates are relative to the border.
+        result = self.begin_result(0, 0, frame.window_width, frame.window_height, layer=depsgraph.view_layer.name)
+        try:
+            self.write_data_passes(depsgraph.view_layer, result, ppm_scene, camera_args)
+            self.run(renderer, result, scene.ppm)
+        except Exception as error:  # noqa: BLE001
+            self.fail(error)
+        finally:
+            self.end_result(result)
+
+    def run(self, renderer, result, settings):
+        display = ProgressiveDisplay(self, renderer, result, settings)
+        display.run()
+        if display.stopped:
+            self.update_stats("", stats_line(display.passes, settings.passes, display.photons, display.elapsed())
+                              + " | cancelled")
+
+    def update_render_passes(self, scene=None, renderlayer=None):
+        """Declares the passes this engine writes, so the compositor and the result list them."""
+        self.register_pass(scene, renderlayer, "Combined", 4, "RGBA", "COLOR")
+        if renderlayer.use_pass_z:
+            self.register_pass(scene, renderlayer, "Depth", 1, "Z", "VALUE")
+        if renderlayer.use_pass_normal:
+            self.register_pass(scene, renderlayer, "Normal", 3, "XYZ", "VECTOR")
+
+    def write_data_passes(self, view_layer, result, ppm_scene, camera_args):
+        if not (view_layer.use_pass_z or view_layer.use_pass_normal):
+            return
+        depth, normal = passes.depth_and_normal(ppm_scene, camera_args)
+        passes.write_pass(result, "Depth", depth)
+        passes.write_pass(result, "Normal", normal)
+
+    def warn(self, message):
+        self.report({'WARNING'}, f"PPM: {message}")
+
+    def fail(self, error):
+        message = f"PPM: {error}"
+        if hasattr(self, "error_set"):
+            self.error_set(message)
+        self.report({'ERROR'}, message)
+
+
+def register():
+    bpy.utils.register_class(PPMRenderEngine)
+
+
+def unregister():
+    bpy.utils.unregister_class(PPMRenderEngine)

@@ -1,0 +1,97 @@
+"""The evaluated depsgraph -> one ppm_core.Scene.
+
+Walks `depsgraph.object_instances` once (real objects, particles, collection
+instances, Geometry Nodes instances), copying each instance's matrix because
+Blender reuses the instance records, and hands every data kind to its own
+module: mesh, material, light, camera, world, bezier. Curves come twice in
+the depsgraph (the CURVE object and a MESH instance of its evaluated
+geometry): a revolve curve is exported exactly and its MESH instance (the
+Screw preview) skipped; any other curve is exported through that MESH instance.
+"""
+
+import numpy as np
+
+from . import bezier, camera, light, material, mesh, world
+
+GEOMETRY_TYPES = {"MESH", "CURVE", "SURFACE", "META", "FONT", "CURVES", "POINTCLOUD", "VOLUME"}
+CURVE_TYPES = {"CURVE", "SURFACE", "FONT"}
+
+
+class Exporter:
+    """State of one export: the core scene, materials, mesh cache, warnings and object ids."""
+
+    def __init__(self, core_module, warn):
+        self.scene = core_module.Scene()
+        self.warn = warn
+        self.materials = material.MaterialExporter(self.scene, warn)
+        self.meshes = {}
+        self.next_id = 0
+        self.triangles = 0
+        self.curves_with_mesh = set()
+        self.plain_curves = []
+
+    def object_id(self):
+        self.next_id += 1
+        return self.next_id - 1
+
+    def slot_materials(self, obj):
+        slots = [self.materials.index(slot.material) for slot in obj.material_slots]
+        return slots or [self.materials.index(None)]
+
+    def add_geometry(self, obj, matrix, name):
+        key = (obj.data.as_pointer() if obj.data is not None else obj.as_pointer(),
+               tuple(s.material.name if s.material else "" for s in obj.material_slots))
+        if key not in self.meshes:
+            self.meshes[key] = mesh.MeshData.from_object(obj)
+        data = self.meshes[key]
+        if data is not None:
+            data.add_to_scene(self.scene, name, matrix, self.slot_materials(obj), self.object_id())
+            self.triangles += len(data.triangles)
+
+    def add_revolve(self, obj, matrix, name):
+        slots = self.slot_materials(obj)
+        index = self.materials.without_emission(slots[0], f"'{name}'")
+        bezier.add_revolve(self.scene, name, obj, matrix, index, self.object_id(), self.warn)
+
+    def visit(self, instance):
+        """Exports one depsgraph instance."""
+        obj = instance.object
+        parent = instance.instance_object if instance.is_instance else None
+        matrix = np.array(instance.matrix_world, dtype=float)  # copy: the record is reused
+        name = obj.name if parent is None else f"{parent.name}/{obj.name}.{self.next_id}"
+        if obj.type == "LIGHT":
+            light.add_light(self.scene, name, obj.data, matrix, self.warn)
+        elif parent is not None and parent.type in CURVE_TYPES and parent.original == obj.original:
+            # The evaluated geometry of a curve, listed as a MESH instance of the curve itself.
+            self.curves_with_mesh.add(parent.original.name)
+            if not bezier.is_revolve(parent):
+                self.add_geometry(obj, matrix, name)
+        elif bezier.is_revolve(obj):
+            self.add_revolve(obj, matrix, name)
+        elif obj.type in CURVE_TYPES and parent is None:
+            self.plain_curves.append((obj, matrix, name))  # exported later unless a MESH instance shows up
+        elif obj.type in GEOMETRY_TYPES:
+            if parent is None and not getattr(instance, "show_self", True):
+                return
+            self.add_geometry(obj, matrix, name)
+
+    def finish_curves(self):
+        for obj, matrix, name in self.plain_curves:
+            if obj.original.name not in self.curves_with_mesh:
+                self.add_geometry(obj, matrix, name)
+
+
+def build_scene(core_module, depsgraph, frame, warn):
+    """(ppm_core.Scene, camera arguments) of the evaluated depsgraph, seen through the scene camera in `frame`."""
+    scene = depsgraph.scene
+    if scene.camera is None:
+        raise ValueError(f"scene '{scene.name}' has no active camera")
+    exporter = Exporter(core_module, warn)
+    for instance in depsgraph.object_instances:
+        exporter.visit(instance)
+    exporter.finish_curves()
+    world.add_world(exporter.scene, scene.world, warn)
+    camera_object = scene.camera.evaluated_get(depsgraph)
+    camera_args = camera.camera_arguments(camera_object, frame, warn, scene.ppm.dof_mode)
+    exporter.scene.set_camera(**camera_args)
+    return exporter.scene, camera_args

@@ -1,0 +1,113 @@
+"""Blender camera -> core camera, as Cycles interprets it (blender/camera.cpp).
+
+Field of view from lens and sensor (sensor fit AUTO measures the sensor width
+across the larger image side), orthographic scale, shift in units of the
+fitted side, clipping, and depth-of-field data (focus distance or a focus
+object's distance along the view axis; aperture radius = lens * 1e-3 /
+(2 f-stop), 1 / (2 f-stop) for orthographic cameras).
+
+A render border is rendered as a smaller camera whose pixels are the same as
+the full frame's: same pixel footprint, shifted to the border's centre.
+"""
+
+import math
+
+import numpy as np
+
+
+class Frame:
+    """Pixel sizes of one render: the full frame and the window actually rendered."""
+
+    def __init__(self, width, height, x=0, y=0, window_width=None, window_height=None):
+        self.width, self.height = width, height
+        self.x, self.y = x, y  # window origin in pixels from the bottom-left
+        self.window_width = width if window_width is None else window_width
+        self.window_height = height if window_height is None else window_height
+
+    @classmethod
+    def from_render_settings(cls, render):
+        scale = render.resolution_percentage / 100.0
+        width = max(1, int(render.resolution_x * scale))
+        height = max(1, int(render.resolution_y * scale))
+        if not render.use_border:
+            return cls(width, height)
+        x0, x1 = int(render.border_min_x * width), int(render.border_max_x * width)
+        y0, y1 = int(render.border_min_y * height), int(render.border_max_y * height)
+        return cls(width, height, x0, y0, max(1, x1 - x0), max(1, y1 - y0))
+
+
+def _fit_horizontal(sensor_fit, width, height):
+    if sensor_fit == "HORIZONTAL":
+        return True
+    if sensor_fit == "VERTICAL":
+        return False
+    return width >= height
+
+
+def _fitted_extent(cam, fit_horizontal):
+    """Width of the fitted image side on the plane at distance 1 (or in metres for ortho)."""
+    if cam.type == "ORTHO":
+        return cam.ortho_scale
+    sensor = cam.sensor_height if cam.sensor_fit == "VERTICAL" else cam.sensor_width
+    return sensor / cam.lens  # = 2 tan(fov / 2)
+
+
+def _camera_to_world(matrix):
+    """World matrix without scale (Cycles ignores a camera's scale)."""
+    m = np.array(matrix, dtype=float)
+    for axis in range(3):
+        m[:3, axis] /= np.linalg.norm(m[:3, axis])
+    return m
+
+
+def focus_distance(cam, matrix):
+    """Cycles' focus distance: the focus object's distance along the view axis, else dof.focus_distance."""
+    dof = cam.dof
+    if dof.focus_object is None:
+        return float(dof.focus_distance)
+    m = _camera_to_world(matrix)
+    target = np.array(dof.focus_object.matrix_world.translation, dtype=float)
+    return float(abs(np.dot(target - m[:3, 3], -m[:3, 2])))
+
+
+def aperture_radius(cam):
+    dof = cam.dof
+    if not dof.use_dof or dof.aperture_fstop <= 0.0:
+        return 0.0
+    if cam.type == "ORTHO":
+        return 1.0 / (2.0 * dof.aperture_fstop)
+    return cam.lens * 1e-3 / (2.0 * dof.aperture_fstop)
+
+
+def camera_arguments(camera_object, frame, warn, dof_mode="OFF"):
+    """Keyword arguments for Scene.set_camera for `frame` (full frame or border window).
+
+    The aperture goes to the core only when scene.ppm.dof_mode asks for depth of field.
+    """
+    cam = camera_object.data
+    if cam.type == "PANO":
+        warn(f"camera '{camera_object.name}': panoramic cameras are not supported; rendered as perspective")
+    fit_h = _fit_horizontal(cam.sensor_fit, frame.width, frame.height)
+    extent = _fitted_extent(cam, fit_h)
+    pixel = extent / (frame.width if fit_h else frame.height)
+    # Window centre on the image plane, in the same units as `extent`.
+    cx = (frame.x + 0.5 * frame.window_width - 0.5 * frame.width) * pixel + cam.shift_x * extent
+    cy = (frame.y + 0.5 * frame.window_height - 0.5 * frame.height) * pixel + cam.shift_y * extent
+    window_extent = pixel * frame.window_width  # the window is fitted horizontally, same pixel size
+    args = {
+        "matrix": _camera_to_world(camera_object.matrix_world),
+        "width": frame.window_width,
+        "height": frame.window_height,
+        "sensor_fit": "horizontal",
+        "shift_x": cx / window_extent,
+        "shift_y": cy / window_extent,
+        "clip_start": float(cam.clip_start),
+        "clip_end": float(cam.clip_end),
+        "focus_distance": max(focus_distance(cam, camera_object.matrix_world), 1e-6),
+        "aperture_radius": aperture_radius(cam) if dof_mode != "OFF" else 0.0,
+    }
+    if cam.type == "ORTHO":
+        args.update(projection="orthographic", ortho_scale=window_extent)
+    else:
+        args.update(projection="perspective", fov=2.0 * math.atan(0.5 * window_extent))
+    return args

@@ -1,0 +1,103 @@
+"""Blender lights -> core lights, in the units of the running Blender's Cycles.
+
+The core takes point/sphere/spot power in W (intensity P/4pi), area lights as
+emitted flux (radiance P/(pi A)) and sun irradiance in W/m^2 (see the core's
+README). Blender's conventions, measured against Cycles of each version:
+- point and spot: intensity P/(4 pi) in 3.4 and 5.0 -> power passes through;
+- area: radiance P/(4A) in 3.x, P/(pi A) in 4.x+ (P/pi without `normalize`)
+  -> we compute Blender's radiance and hand the core flux = radiance * pi * A;
+- sun: strength = irradiance;
+- Blender 5 without `normalize`: radiance P/pi for area and sphere lights, and a sun's
+  irradiance scaled by its disk's area pi tan^2(angle/2).
+Blender 5's `exposure` multiplies everything by 2^exposure. A is the light's
+area after the object's scale (Cycles scales the size by the matrix, and so
+does the core when given the matrix).
+"""
+
+import math
+
+import bpy
+import numpy as np
+
+AREA_RADIANCE_IS_OVER_PI = bpy.app.version >= (4, 0, 0)
+
+
+def _strength(light):
+    """Blender's colour * energy * 2^exposure as an RGB triple."""
+    scale = light.energy * 2.0 ** getattr(light, "exposure", 0.0)
+    return tuple(float(c) * scale for c in light.color)
+
+
+def _normalized(light):
+    return getattr(light, "normalize", True)
+
+
+def _area_size(light):
+    """(size_x, size_y, is_disk) of an area light in its local units."""
+    shape = light.shape
+    sx = light.size
+    sy = light.size_y if shape in ("RECTANGLE", "ELLIPSE") else light.size
+    return sx, sy, shape in ("DISK", "ELLIPSE")
+
+
+def area_flux(light, matrix):
+    """The core's flux for a Blender area light so that its radiance is Cycles'."""
+    sx, sy, disk = _area_size(light)
+    m = np.asarray(matrix, dtype=float)
+    area = sx * np.linalg.norm(m[:3, 0]) * sy * np.linalg.norm(m[:3, 1])
+    if disk:
+        area *= math.pi / 4.0
+    if not area > 0.0:
+        raise ValueError("area light has zero size")
+    strength = np.array(_strength(light))
+    if AREA_RADIANCE_IS_OVER_PI:
+        radiance = strength / (math.pi * area) if _normalized(light) else strength / math.pi
+    else:
+        radiance = strength / (4.0 * area)
+    return tuple(radiance * math.pi * area), (sx, sy), disk
+
+
+def _sphere_power(light, radius):
+    """Point/spot power. Without `normalize` (5.0), Cycles gives a sphere light the radiance P/pi
+    (measured, like area lights), i.e. intensity P r^2: the core's power is then 4 pi r^2 P."""
+    strength = _strength(light)
+    if radius > 0.0 and not _normalized(light):
+        return tuple(c * 4.0 * math.pi * radius * radius for c in strength)
+    return strength
+
+
+def _sun_irradiance(light):
+    """Sun strength is irradiance; without `normalize` (5.0) Cycles multiplies it by the sun disk's
+    area on the unit-distance plane, pi tan^2(angle/2) (measured; a sharp sun stays normalised)."""
+    strength = _strength(light)
+    half = 0.5 * float(light.angle)
+    if half > 0.0 and not _normalized(light):
+        return tuple(c * math.pi * math.tan(half) ** 2 for c in strength)
+    return strength
+
+
+def add_light(core_scene, name, light, matrix, warn):
+    """Adds one Blender light (data `light`, world `matrix`) to the core scene."""
+    m = np.array(matrix, dtype=float)
+    kind = light.type
+    if kind == "POINT":
+        radius = float(light.shadow_soft_size)
+        core_scene.add_light("point", name=name, power=_sphere_power(light, radius), matrix=m, radius=radius)
+    elif kind == "SPOT":
+        radius = float(light.shadow_soft_size)
+        if radius > 0.0:
+            warn(f"light '{name}': spot radius {radius:g} m is rendered as a point (sharp shadows)")
+        core_scene.add_light("spot", name=name, power=_sphere_power(light, radius), matrix=m,
+                             spot_angle=float(light.spot_size), spot_blend=float(light.spot_blend))
+    elif kind == "AREA":
+        if getattr(light, "spread", math.pi) < math.pi - 1e-6:
+            warn(f"light '{name}': area light spread below 180 degrees is not supported; rendered as 180")
+        try:
+            flux, size, disk = area_flux(light, m)
+        except ValueError as error:
+            raise ValueError(f"light '{name}': {error}") from None
+        core_scene.add_light("disk" if disk else "rectangle", name=name, power=flux, matrix=m, size=size)
+    elif kind == "SUN":
+        core_scene.add_light("sun", name=name, power=_sun_irradiance(light), matrix=m, angle=float(light.angle))
+    else:
+        warn(f"light '{name}': type {kind} is not supported; skipped")

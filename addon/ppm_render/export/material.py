@@ -1,0 +1,205 @@
+"""Blender materials -> core materials.
+
+Reads the shader node connected to the active Material Output's Surface:
+Principled BSDF (Blender 3.x and 4.x+ socket names), Diffuse, Glossy
+(Anisotropic in 4.x), Glass and Emission BSDFs, and an Image Texture linked
+to the base colour. The core has one lobe per material, so a Principled BSDF
+becomes glass if Transmission >= 0.5, else metal if Metallic >= 0.5, else
+diffuse (its dielectric specular layer is dropped). Anything else (another
+node, a linked input we cannot read) falls back to a diffuse surface of the
+material's viewport colour, with one warning naming the material and node.
+"""
+
+import bpy
+import numpy as np
+
+DEFAULT_GREY = (0.8, 0.8, 0.8)
+
+# Principled BSDF socket names: Blender 4.0+ first, 3.x second.
+PRINCIPLED_SOCKETS = {
+    "transmission": ("Transmission Weight", "Transmission"),
+    "emission": ("Emission Color", "Emission"),
+    "emission_strength": ("Emission Strength",),
+}
+
+
+def _socket(node, *names):
+    for name in names:
+        socket = node.inputs.get(name)
+        if socket is not None:
+            return socket
+    return None
+
+
+def _value(node, *names, default=0.0):
+    socket = _socket(node, *names)
+    if socket is None:
+        return default
+    value = socket.default_value
+    try:
+        return tuple(value)[:3]
+    except TypeError:
+        return float(value)
+
+
+def _surface_node(material):
+    """The node feeding the active material output's Surface socket, or None."""
+    tree = material.node_tree
+    if tree is None:
+        return None
+    outputs = [n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial"]
+    active = [n for n in outputs if n.is_active_output and n.target in ("ALL", "CYCLES")] or outputs
+    if not active:
+        return None
+    links = active[0].inputs["Surface"].links
+    return links[0].from_node if links else None
+
+
+def srgb_to_linear(c):
+    return np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4)
+
+
+def image_pixels(image):
+    """Linear RGBA float32 (H, W, 4), row 0 at the bottom (Blender's and the core's order)."""
+    w, h = image.size
+    if w == 0 or h == 0 or len(image.pixels) != w * h * 4:
+        raise ValueError(f"image '{image.name}' has no pixels (missing file?)")
+    pixels = np.empty(w * h * 4, dtype=np.float32)
+    image.pixels.foreach_get(pixels)
+    pixels = pixels.reshape(h, w, 4)
+    # Byte images come back as stored (sRGB-encoded); float images are already linear.
+    if not image.is_float and image.colorspace_settings.name in ("sRGB", "sRGB 2.1"):
+        pixels[..., :3] = srgb_to_linear(pixels[..., :3])
+    return np.ascontiguousarray(pixels)
+
+
+class MaterialExporter:
+    """Adds each Blender material to the core once; remembers its index."""
+
+    def __init__(self, core_scene, warn):
+        self.scene = core_scene
+        self.warn = warn
+        self.indices = {}
+        self.emissive = set()
+        self.textures = {}
+        self.default = None
+        self.non_emissive = {}
+
+    def index(self, material):
+        """Core material index for a Blender material (None = default grey)."""
+        if material is None:
+            if self.default is None:
+                self.default = self.scene.add_material("default", "diffuse", base_color=DEFAULT_GREY)
+            return self.default
+        key = material.name_full if hasattr(material, "name_full") else material.name
+        if key not in self.indices:
+            params = self.describe(material)
+            self.indices[key] = self.scene.add_material(material.name, **params)
+            if any(c > 0.0 for c in params.get("emission", (0, 0, 0))):
+                self.emissive.add(self.indices[key])
+                self.non_emissive[self.indices[key]] = {**params, "emission": (0.0, 0.0, 0.0)}
+        return self.indices[key]
+
+    def without_emission(self, index, what):
+        """A copy of material `index` without emission, for surfaces the core cannot make emissive."""
+        if index not in self.emissive:
+            return index
+        self.warn(f"{what}: emission is not supported on Bezier revolve surfaces; rendered without it")
+        params = self.non_emissive[index]
+        return self.scene.add_material(f"{what} (no emission)", **params)
+
+    def describe(self, material):
+        """Keyword arguments for Scene.add_material."""
+        node = _surface_node(material) if _uses_nodes(material) else None
+        if node is None:
+            return {"kind": "diffuse", "base_color": tuple(material.diffuse_color)[:3]}
+        handler = NODE_HANDLERS.get(node.bl_idname)
+        if handler is None:
+            self.warn(f"material '{material.name}': node '{node.name}' ({node.bl_idname}) is not supported; "
+                      "rendered as diffuse in the material's viewport colour")
+            return {"kind": "diffuse", "base_color": tuple(material.diffuse_color)[:3]}
+        return handler(self, material, node)
+
+    def base_color(self, material, node, socket_name):
+        """(colour, texture index) of a colour socket: its value, or an Image Texture linked to it."""
+        socket = _socket(node, socket_name)
+        if socket is None:
+            return DEFAULT_GREY, -1
+        if not socket.links:
+            return tuple(socket.default_value)[:3], -1
+        source = socket.links[0].from_node
+        if source.bl_idname == "ShaderNodeTexImage" and source.image is not None:
+            try:
+                return (1.0, 1.0, 1.0), self.texture(source.image)
+            except ValueError as error:
+                self.warn(f"material '{material.name}': node '{source.name}': {error}; using the socket's colour")
+                return tuple(socket.default_value)[:3], -1
+        self.warn(f"material '{material.name}': node '{source.name}' ({source.bl_idname}) linked to "
+                  f"'{socket_name}' is not supported; using the socket's colour")
+        return tuple(socket.default_value)[:3], -1
+
+    def texture(self, image):
+        key = image.name_full if hasattr(image, "name_full") else image.name
+        if key not in self.textures:
+            self.textures[key] = self.scene.add_texture(image.name, image_pixels(image))
+        return self.textures[key]
+
+
+def _uses_nodes(material):
+    # Blender 5.0 deprecates use_nodes (nodes are always used); 3.x still honours it.
+    if material.node_tree is None:
+        return False
+    return True if bpy.app.version >= (5, 0, 0) else material.use_nodes
+
+
+def _emission(node, color_names, strength_names):
+    color = _value(node, *color_names, default=(0.0, 0.0, 0.0))
+    strength = _value(node, *strength_names, default=1.0)
+    return tuple(float(c) * strength for c in color)
+
+
+def _principled(exporter, material, node):
+    color, texture = exporter.base_color(material, node, "Base Color")
+    metallic = _value(node, "Metallic")
+    roughness = _value(node, "Roughness", default=0.5)
+    transmission = _value(node, *PRINCIPLED_SOCKETS["transmission"])
+    ior = _value(node, "IOR", default=1.45)
+    emission = _emission(node, PRINCIPLED_SOCKETS["emission"], PRINCIPLED_SOCKETS["emission_strength"])
+    if transmission >= 0.5:
+        return {"kind": "glass", "base_color": color, "ior": ior, "roughness": roughness, "emission": emission}
+    if metallic >= 0.5:
+        return {"kind": "metal", "base_color": color, "roughness": roughness, "emission": emission}
+    return {"kind": "diffuse", "base_color": color, "texture": texture, "emission": emission}
+
+
+def _diffuse(exporter, material, node):
+    color, texture = exporter.base_color(material, node, "Color")
+    return {"kind": "diffuse", "base_color": color, "texture": texture}
+
+
+def _glossy(exporter, material, node):
+    color = _value(node, "Color", default=(1.0, 1.0, 1.0))
+    roughness = _value(node, "Roughness", default=0.0)
+    if roughness <= 0.0:
+        return {"kind": "mirror", "base_color": color}
+    return {"kind": "metal", "base_color": color, "roughness": roughness}
+
+
+def _glass(exporter, material, node):
+    return {"kind": "glass", "base_color": _value(node, "Color", default=(1.0, 1.0, 1.0)),
+            "ior": _value(node, "IOR", default=1.45), "roughness": _value(node, "Roughness")}
+
+
+def _emission_node(exporter, material, node):
+    return {"kind": "emission", "base_color": (0.0, 0.0, 0.0),
+            "emission": _emission(node, ("Color",), ("Strength",))}
+
+
+NODE_HANDLERS = {
+    "ShaderNodeBsdfPrincipled": _principled,
+    "ShaderNodeBsdfDiffuse": _diffuse,
+    "ShaderNodeBsdfGlossy": _glossy,
+    "ShaderNodeBsdfAnisotropic": _glossy,
+    "ShaderNodeBsdfGlass": _glass,
+    "ShaderNodeEmission": _emission_node,
+}

@@ -1,0 +1,70 @@
+"""Settings the user edits: `scene.ppm` (render settings handed to the core) and
+`object.ppm` (the revolve flag). Names match the core's settings keys so that
+scripts can set them and `core_settings` is a plain copy."""
+
+import bpy
+from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, PointerProperty
+
+
+class PPMSceneSettings(bpy.types.PropertyGroup):
+    photons_per_pass: IntProperty(
+        name="Photons per Pass", default=200_000, min=1000, soft_max=10_000_000,
+        description="Photons traced in each photon pass")
+    passes: IntProperty(
+        name="Passes", default=200, min=1, soft_max=100_000,
+        description="Photon passes; the render ends after these or the time limit, whichever comes first")
+    time_limit: FloatProperty(
+        name="Time Limit", default=0.0, min=0.0, unit='TIME_ABSOLUTE', subtype='TIME_ABSOLUTE',
+        description="Seconds of rendering per view layer (0 = no limit)")
+    alpha: FloatProperty(
+        name="Alpha", default=0.7, min=0.01, max=1.0,
+        description="Radius reduction: the fraction of new photons kept each pass (Hachisuka 2008)")
+    threshold: IntProperty(
+        name="Threshold (P)", default=10, min=1, soft_max=1000,
+        description="Photons a hit point gathers before its radius shrinks; 1 = classic PPM")
+    max_bounces: IntProperty(
+        name="Max Bounces", default=12, min=1, max=1024,
+        description="Longest photon path and eye specular chain")
+    samples_per_pixel: IntProperty(
+        name="Samples per Pixel", default=4, min=1, soft_max=64,
+        description="Jittered eye samples per pixel (anti-aliasing)")
+    seed: IntProperty(name="Seed", default=0, min=0, description="Random seed; same seed and threads give the same image")
+    threads: IntProperty(name="Threads", default=0, min=0, max=1024, description="Worker threads (0 = all cores)")
+    dof_mode: EnumProperty(
+        name="Depth of Field",
+        items=[('OFF', "Off", "Pinhole camera, everything sharp"),
+               ('POST', "Post Process", "Blur the finished image by depth"),
+               ('LENS', "Lens", "Sample the camera aperture")],
+        default='OFF', description="How the camera's depth of field is rendered")
+
+
+class PPMObjectSettings(bpy.types.PropertyGroup):
+    revolve: BoolProperty(
+        name="Bezier Revolve", default=False,
+        description="Render this curve as the exact surface of revolution of its Bezier profile about local Z")
+
+
+# The core's settings keys that scene.ppm carries one-to-one.
+CORE_KEYS = ("photons_per_pass", "alpha", "threshold", "max_bounces", "samples_per_pixel", "seed", "threads")
+
+
+def core_settings(settings):
+    """The keyword arguments for ppm_core.Renderer from scene.ppm."""
+    return {key: getattr(settings, key) for key in CORE_KEYS}
+
+
+classes = (PPMSceneSettings, PPMObjectSettings)
+
+
+def register():
+    for cls in classes:
+        bpy.utils.register_class(cls)
+    bpy.types.Scene.ppm = PointerProperty(type=PPMSceneSettings)
+    bpy.types.Object.ppm = PointerProperty(type=PPMObjectSettings)
+
+
+def unregister():
+    del bpy.types.Object.ppm
+    del bpy.types.Scene.ppm
+    for cls in reversed(classes):
+        bpy.utils.unregister_class(cls)

@@ -1,0 +1,114 @@
+"""Renders a .blend file with the PPM engine, from a shell.
+
+    blender -b scene.blend --python-exit-code 1 -P render.py -- --output out.exr [--passes N]
+            [--time-limit S] [--resolution W H] [--photons N] [--seed N]
+    python render.py scene.blend --output out.exr [...]        # with the bpy module (pip install bpy)
+
+Registers the add-on from this checkout unless an installed PPM add-on is
+already active, renders the scene camera with write_still, prints progress
+and exits non-zero with a readable message on failure. The output format
+follows the extension: .exr (32-bit float, linear) or .png (8-bit, view transform).
+"""
+
+import argparse
+import glob
+import os
+import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+def make_core_importable():
+    """Blender 3.4 from Debian has no numpy and no ppm_core: borrow this checkout's .venv (same Python 3.11)."""
+    for site in glob.glob(os.path.join(HERE, ".venv", "lib", "python3*", "site-packages")):
+        if site not in sys.path:
+            sys.path.append(site)  # appended: Blender's own modules keep priority
+
+
+def parse_arguments(argv, need_blend):
+    parser = argparse.ArgumentParser(prog="render.py", description="Render a .blend file with the PPM engine.")
+    if need_blend:
+        parser.add_argument("blend", help=".blend file to render")
+    parser.add_argument("--output", required=True, help="output image (.exr or .png)")
+    parser.add_argument("--passes", type=int, help="photon passes (default: the scene's setting)")
+    parser.add_argument("--time-limit", type=float, help="seconds (default: the scene's setting)")
+    parser.add_argument("--resolution", type=int, nargs=2, metavar=("W", "H"), help="image size in pixels")
+    parser.add_argument("--photons", type=int, help="photons per pass")
+    parser.add_argument("--seed", type=int, help="random seed")
+    parser.add_argument("--samples", type=int, help="eye samples per pixel")
+    return parser.parse_args(argv)
+
+
+def ensure_addon(bpy):
+    if hasattr(bpy.types.Scene, "ppm"):  # an installed PPM add-on is already registered
+        return
+    sys.path.insert(0, os.path.join(HERE, "addon"))
+    import ppm_render
+
+    ppm_render.register()
+
+
+def configure(bpy, scene, args):
+    scene.render.engine = "PPM"
+    settings = scene.ppm
+    for name, value in (("passes", args.passes), ("time_limit", args.time_limit),
+                        ("photons_per_pass", args.photons), ("seed", args.seed), ("samples_per_pixel", args.samples)):
+        if value is not None:
+            setattr(settings, name, value)
+    if args.resolution:
+        scene.render.resolution_x, scene.render.resolution_y = args.resolution
+        scene.render.resolution_percentage = 100
+    output = os.path.abspath(args.output)
+    os.makedirs(os.path.dirname(output), exist_ok=True)
+    image = scene.render.image_settings
+    if output.lower().endswith(".exr"):
+        image.file_format, image.color_depth, image.color_mode = "OPEN_EXR", "32", "RGBA"
+    elif output.lower().endswith(".png"):
+        image.file_format, image.color_mode = "PNG", "RGBA"
+    else:
+        raise ValueError(f"output '{args.output}': use a .exr or .png file name")
+    scene.render.filepath = output
+    scene.render.use_file_extension = False
+    return output
+
+
+def render(argv, in_blender):
+    import bpy
+
+    args = parse_arguments(argv, need_blend=not in_blender)
+    if in_blender and not bpy.data.filepath:
+        raise ValueError("no .blend file was loaded (missing or unreadable file?): "
+                         "blender -b scene.blend -P render.py -- --output out.exr")
+    if not in_blender:
+        if not os.path.isfile(args.blend):
+            raise ValueError(f"'{args.blend}' does not exist")
+        bpy.ops.wm.open_mainfile(filepath=os.path.abspath(args.blend))
+    make_core_importable()
+    ensure_addon(bpy)
+    scene = bpy.context.scene
+    output = configure(bpy, scene, args)
+    print(f"render.py: {bpy.data.filepath} -> {output} (Blender {bpy.app.version_string})", flush=True)
+    bpy.ops.render.render(write_still=True)  # the engine's report({'ERROR'}) raises RuntimeError here
+    if not os.path.isfile(output):
+        raise RuntimeError(f"Blender wrote no image to {output}")
+    print(f"render.py: wrote {output}", flush=True)
+
+
+def main():
+    # Inside Blender, sys.argv is Blender's command line; as a script it starts with render.py.
+    in_blender = os.path.basename(sys.argv[0]) != os.path.basename(__file__)
+    if in_blender:
+        argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
+    else:
+        argv = sys.argv[1:]
+    try:
+        render(argv, in_blender)
+    except SystemExit:
+        raise
+    except Exception as error:  # noqa: BLE001 - a readable message and a failing exit code
+        print(f"render.py: error: {error}", file=sys.stderr, flush=True)
+        sys.exit(1)
+
+
+if __name__ == "__main__":
+    main()

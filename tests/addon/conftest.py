@@ -1,0 +1,46 @@
+"""bpy (Blender 5.0 as a module) with the add-on registered from this checkout."""
+
+import os
+import sys
+
+import pytest
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+sys.path.insert(0, os.path.join(ROOT, "addon"))
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+
+bpy = pytest.importorskip("bpy")
+import ppm_render
+
+SCENES_DIR = os.path.join(ROOT, "blend_scenes")
+
+
+@pytest.fixture(autouse=True)
+def registered():
+    """A factory-fresh Blender with the add-on registered for every test."""
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    if not hasattr(bpy.types.Scene, "ppm"):
+        ppm_render.register()
+    yield
+
+
+def read_exr(path):
+    """(H, W, 4) float32, top row first, via OpenImageIO (the house's image I/O outside Blender)."""
+    import OpenImageIO as oiio
+
+    buf = oiio.ImageBuf(path)
+    assert not buf.has_error, buf.geterror()
+    return buf.get_pixels(oiio.FLOAT)
+
+
+def render_file(scene, path, **ppm):
+    """Renders the scene with PPM to an EXR and returns its pixels."""
+    scene.render.engine = "PPM"
+    for key, value in ppm.items():
+        setattr(scene.ppm, key, value)
+    scene.render.image_settings.file_format = "OPEN_EXR"
+    scene.render.image_settings.color_depth = "32"
+    scene.render.use_file_extension = False
+    scene.render.filepath = str(path)
+    bpy.ops.render.render(write_still=True)
+    return read_exr(str(path))

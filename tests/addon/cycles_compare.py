@@ -1,0 +1,252 @@
+"""PPM against Cycles, light kind by light kind, in the running Blender.
+
+One .blend per light kind: a diffuse floor (albedo 0.5) seen from straight
+above by a perspective camera, lit by a single light kind (point, sphere,
+spot, area square/disk/rectangle/ellipse, sun, emissive mesh, world). The
+lights sit behind the camera or out of frame so only the floor is compared. Two
+camera variants (orthographic with shift; vertical sensor fit with shift and a
+tilt) under the point light check that the camera looks where Cycles' does;
+a single plane has no indirect light, so both renderers compute the same
+integral. The same saved file is rendered by Cycles (no clamping, no
+denoising, no adaptive sampling, fixed seed) and by PPM; the mean radiance of
+4x3 image blocks must agree within 3%.
+
+    .venv/bin/python tests/addon/cycles_compare.py [--json out.json]            # Blender 5.0 (bpy)
+    blender -b --factory-startup --python-exit-code 1 -P tests/addon/cycles_compare.py -- [--json out.json]
+"""
+
+import argparse
+import glob
+import json
+import math
+import os
+import sys
+import tempfile
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+for site in glob.glob(os.path.join(ROOT, ".venv", "lib", "python3*", "site-packages")):
+    if site not in sys.path:
+        sys.path.append(site)
+sys.path.insert(0, os.path.join(ROOT, "addon"))
+
+import bpy
+import numpy as np
+import ppm_render
+
+WIDTH, HEIGHT = 64, 48
+BLOCKS = (3, 4)  # rows, columns
+ALBEDO = 0.5
+TOLERANCE = 0.03
+KINDS = ("point", "sphere", "spot", "area_square", "area_rectangle", "area_disk", "area_ellipse",
+         "sun", "emissive_mesh", "world", "camera_ortho_shift", "camera_vertical_fit_shift")
+# Blender 5 light `exposure` and `normalize` (the sphere without Cycles' soft falloff, see the README).
+KINDS_5 = ("area_exposure_unnormalized", "sphere_exposure_unnormalized", "sun_exposure_unnormalized")
+
+
+def kinds_for_this_blender():
+    return KINDS + (KINDS_5 if bpy.app.version >= (5, 0, 0) else ())
+
+
+def reset():
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    if not hasattr(bpy.types.Scene, "ppm"):
+        ppm_render.register()
+
+
+def diffuse_material(name, rgb):
+    mat = bpy.data.materials.new(name)
+    if mat.node_tree is None or bpy.app.version < (5, 0, 0):
+        mat.use_nodes = True
+    nodes = mat.node_tree.nodes
+    nodes.clear()
+    out = nodes.new("ShaderNodeOutputMaterial")
+    bsdf = nodes.new("ShaderNodeBsdfDiffuse")
+    bsdf.inputs["Color"].default_value = (*rgb, 1.0)
+    mat.node_tree.links.new(bsdf.outputs[0], out.inputs["Surface"])
+    return mat
+
+
+def emission_material(name, rgb, strength):
+    mat = diffuse_material(name, (0, 0, 0))
+    nodes = mat.node_tree.nodes
+    nodes.remove(next(n for n in nodes if n.bl_idname == "ShaderNodeBsdfDiffuse"))
+    em = nodes.new("ShaderNodeEmission")
+    em.inputs["Color"].default_value = (*rgb, 1.0)
+    em.inputs["Strength"].default_value = strength
+    out = next(n for n in nodes if n.bl_idname == "ShaderNodeOutputMaterial")
+    mat.node_tree.links.new(em.outputs[0], out.inputs["Surface"])
+    return mat
+
+
+def plane(name, half, z, material, flip=False):
+    mesh = bpy.data.meshes.new(name)
+    corners = [(-half, -half, z), (half, -half, z), (half, half, z), (-half, half, z)]
+    mesh.from_pydata(corners, [], [(3, 2, 1, 0) if flip else (0, 1, 2, 3)])
+    mesh.materials.append(material)
+    obj = bpy.data.objects.new(name, mesh)
+    bpy.context.scene.collection.objects.link(obj)
+    return obj
+
+
+def add_light(kind, energy, location, rotation=(0.0, 0.0, 0.0), **props):
+    data = bpy.data.lights.new(kind, kind)
+    data.energy = energy
+    for key, value in props.items():
+        setattr(data, key, value)
+    obj = bpy.data.objects.new(kind, data)
+    obj.location, obj.rotation_euler = location, rotation
+    bpy.context.scene.collection.objects.link(obj)
+    return obj
+
+
+def set_world(strength):
+    world = bpy.data.worlds.new("World")
+    if world.node_tree is None or bpy.app.version < (5, 0, 0):
+        world.use_nodes = True
+    bg = next(n for n in world.node_tree.nodes if n.bl_idname == "ShaderNodeBackground")
+    bg.inputs["Color"].default_value = (1.0, 1.0, 1.0, 1.0)
+    bg.inputs["Strength"].default_value = strength
+    bpy.context.scene.world = world
+
+
+def build(kind):
+    """The scene for one light kind; the camera at z = 1.5 looks straight down at the floor."""
+    reset()
+    scene = bpy.context.scene
+    plane("floor", 10.0, 0.0, diffuse_material("floor", (ALBEDO,) * 3))
+    cam = bpy.data.objects.new("camera", bpy.data.cameras.new("camera"))
+    cam.data.lens, cam.data.sensor_width = 30.0, 36.0
+    cam.location = (0.1, -0.2, 1.5)  # off-centre so the image is not symmetric
+    scene.collection.objects.link(cam)
+    scene.camera = cam
+    set_world(0.0) if kind != "world" else set_world(0.5)
+    tilt = (math.radians(25), 0.0, math.radians(30))  # a tilted area light: its cosine falloff shows
+    if kind == "camera_ortho_shift":  # the point light's falloff tells where the camera looks
+        cam.data.type, cam.data.ortho_scale, cam.data.shift_x, cam.data.shift_y = "ORTHO", 1.7, 0.2, -0.1
+    elif kind == "camera_vertical_fit_shift":
+        cam.data.sensor_fit, cam.data.sensor_height, cam.data.shift_y = "VERTICAL", 20.0, 0.25
+        cam.rotation_euler = (math.radians(15), 0.0, math.radians(10))
+    if kind == "point" or kind.startswith("camera_"):
+        add_light("POINT", 100.0, (0.3, 0.2, 2.2), shadow_soft_size=0.0)
+    elif kind == "sphere":
+        add_light("POINT", 100.0, (0.3, 0.2, 2.2), shadow_soft_size=0.3)
+    elif kind == "spot":
+        add_light("SPOT", 300.0, (0.0, 0.0, 2.5), spot_size=math.radians(40), spot_blend=0.3, shadow_soft_size=0.0)
+    elif kind == "area_exposure_unnormalized":
+        add_light("AREA", 50.0, (0.2, 0.1, 2.0), tilt, shape="RECTANGLE", size=0.8, size_y=0.4,
+                  exposure=1.5, normalize=False)
+    elif kind == "sphere_exposure_unnormalized":
+        add_light("POINT", 100.0, (0.3, 0.2, 2.2), shadow_soft_size=0.3, exposure=-0.5, normalize=False,
+                  use_soft_falloff=False)
+    elif kind.startswith("area_"):
+        shape = kind[5:].upper()
+        add_light("AREA", 50.0, (0.2, 0.1, 2.0), tilt, shape=shape, size=0.8, size_y=0.4)
+    elif kind == "sun_exposure_unnormalized":
+        add_light("SUN", 200.0, (0, 0, 5), (math.radians(30), 0.0, math.radians(20)), angle=math.radians(5),
+                  exposure=0.7, normalize=False)
+    elif kind == "sun":
+        add_light("SUN", 2.0, (0, 0, 5), (math.radians(30), 0.0, math.radians(20)), angle=math.radians(5))
+    elif kind == "emissive_mesh":
+        panel = plane("panel", 0.4, 2.0, emission_material("glow", (1.0, 0.9, 0.8), 3.0), flip=True)
+        panel.rotation_euler = (math.radians(20), 0.0, 0.0)
+    render = scene.render
+    render.resolution_x, render.resolution_y, render.resolution_percentage = WIDTH, HEIGHT, 100
+    render.image_settings.file_format, render.image_settings.color_depth = "OPEN_EXR", "32"
+    render.use_file_extension = False
+    render.film_transparent = False
+    return scene
+
+
+def configure_cycles(scene, samples):
+    """Cycles as a reference (see ../shared/BLENDER_NOTES.md): no clamping, denoising or adaptivity."""
+    scene.render.engine = "CYCLES"
+    c = scene.cycles
+    c.device = "CPU"
+    c.samples = samples
+    c.use_adaptive_sampling = False
+    c.use_denoising = False
+    c.seed = 1
+    c.sample_clamp_direct = c.sample_clamp_indirect = 0.0
+    c.blur_glossy = 0.0
+    c.caustics_reflective = c.caustics_refractive = True
+    c.max_bounces = 4
+    scene.render.threads_mode = "FIXED"
+    scene.render.threads = 2
+
+
+def configure_ppm(scene, passes):
+    scene.render.engine = "PPM"
+    scene.ppm.passes = passes
+    scene.ppm.photons_per_pass = 20_000
+    scene.ppm.samples_per_pixel = 4
+    scene.ppm.seed = 1
+    scene.ppm.threads = 2
+
+
+def render_to_array(scene, path):
+    """Renders with write_still and reads the EXR back with Blender (no pixels in background mode otherwise)."""
+    scene.render.filepath = path
+    bpy.ops.render.render(write_still=True)
+    image = bpy.data.images.load(path, check_existing=False)
+    try:
+        pixels = np.empty(WIDTH * HEIGHT * 4, dtype=np.float32)
+        image.pixels.foreach_get(pixels)
+    finally:
+        bpy.data.images.remove(image)
+    return pixels.reshape(HEIGHT, WIDTH, 4)[..., :3]
+
+
+def block_means(rgb):
+    rows, cols = BLOCKS
+    h, w = HEIGHT // rows, WIDTH // cols
+    luminance = rgb.mean(axis=2)
+    return np.array([[luminance[r * h:(r + 1) * h, c * w:(c + 1) * w].mean() for c in range(cols)]
+                     for r in range(rows)])
+
+
+def compare(kind, workdir, samples=256, passes=32):
+    """Cycles and PPM block means for one light kind, rendered from the same saved .blend."""
+    build(kind)
+    blend = os.path.join(workdir, f"{kind}.blend")
+    bpy.ops.wm.save_as_mainfile(filepath=blend)
+    results = {}
+    for engine in ("CYCLES", "PPM"):
+        bpy.ops.wm.open_mainfile(filepath=blend)
+        scene = bpy.context.scene
+        configure_cycles(scene, samples) if engine == "CYCLES" else configure_ppm(scene, passes)
+        results[engine] = block_means(render_to_array(scene, os.path.join(workdir, f"{kind}_{engine}.exr")))
+    cycles, ppm = results["CYCLES"], results["PPM"]
+    relative = (ppm - cycles) / np.maximum(cycles, 1e-12)
+    return {"kind": kind, "blender": bpy.app.version_string, "cycles_mean": float(cycles.mean()),
+            "ppm_mean": float(ppm.mean()), "mean_error": float(ppm.mean() / cycles.mean() - 1.0),
+            "max_block_error": float(np.abs(relative).max()), "blocks_cycles": cycles.round(5).tolist(),
+            "blocks_ppm": ppm.round(5).tolist()}
+
+
+def main():
+    argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else \
+        (sys.argv[1:] if os.path.basename(sys.argv[0]) == os.path.basename(__file__) else [])
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--json")
+    parser.add_argument("--kinds", nargs="*", default=list(kinds_for_this_blender()))
+    parser.add_argument("--samples", type=int, default=256)
+    args = parser.parse_args(argv)
+    rows = []
+    with tempfile.TemporaryDirectory() as workdir:
+        for kind in args.kinds:
+            row = compare(kind, workdir, samples=args.samples)
+            rows.append(row)
+            print(f"cycles_compare: Blender {row['blender']} {kind:15s} cycles {row['cycles_mean']:.5f} "
+                  f"ppm {row['ppm_mean']:.5f} mean {100 * row['mean_error']:+.2f}% "
+                  f"worst block {100 * row['max_block_error']:.2f}%", flush=True)
+    if args.json:
+        with open(args.json, "w") as f:
+            json.dump(rows, f, indent=1)
+    failed = [r["kind"] for r in rows if r["max_block_error"] > TOLERANCE]
+    if failed:
+        print(f"cycles_compare: more than {100 * TOLERANCE:.0f}% off: {', '.join(failed)}", flush=True)
+        sys.exit(1)
+
+
+if __name__ == "__main__":
+    main()

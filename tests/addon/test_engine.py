@@ -1,0 +1,238 @@
+"""Engine behaviour: settings reach the core, time limit, cancel, border, errors and warnings."""
+
+import math
+import time
+
+import numpy as np
+import pytest
+from conftest import bpy, render_file
+from ppm_render import core, engine, export
+from ppm_render.export import material as material_export
+from ppm_render.properties import CORE_KEYS
+
+ppm_core = core.load()
+
+
+def simple_scene(width=40, height=30):
+    scene = bpy.context.scene
+    mesh = bpy.data.meshes.new("floor")
+    mesh.from_pydata([(-5, -5, 0), (5, -5, 0), (5, 5, 0), (-5, 5, 0)], [], [(0, 1, 2, 3)])
+    scene.collection.objects.link(bpy.data.objects.new("floor", mesh))
+    sun = bpy.data.objects.new("sun", bpy.data.lights.new("sun", "SUN"))
+    sun.data.energy = 2.0
+    scene.collection.objects.link(sun)
+    lamp = bpy.data.objects.new("lamp", bpy.data.lights.new("lamp", "POINT"))
+    lamp.location = (0.5, 0.3, 1.0)
+    scene.collection.objects.link(lamp)
+    cam = bpy.data.objects.new("cam", bpy.data.cameras.new("cam"))
+    cam.location = (0.0, 0.0, 3.0)
+    scene.collection.objects.link(cam)
+    scene.camera = cam
+    scene.render.resolution_x, scene.render.resolution_y, scene.render.resolution_percentage = width, height, 100
+    scene.render.engine = "PPM"
+    return scene
+
+
+class Spy:
+    """Stands in for the ppm_core module and records the Renderer the engine makes."""
+
+    def __init__(self):
+        self.renderers, self.kwargs = [], []
+        self.Scene = ppm_core.Scene
+
+    def Renderer(self, scene, **kwargs):
+        self.kwargs.append(kwargs)
+        self.renderers.append(ppm_core.Renderer(scene, **kwargs))
+        return self.renderers[-1]
+
+
+@pytest.fixture
+def spy(monkeypatch):
+    s = Spy()
+    monkeypatch.setattr(engine.core, "load", lambda: s)
+    return s
+
+
+def test_settings_reach_the_core(spy, tmp_path):
+    scene = simple_scene()
+    values = {"photons_per_pass": 12_345, "alpha": 0.55, "threshold": 3, "max_bounces": 5,
+              "samples_per_pixel": 2, "seed": 17, "threads": 1}
+    render_file(scene, tmp_path / "a.exr", passes=3, **values)
+    renderer = spy.renderers[-1]
+    for key, value in values.items():
+        assert renderer.settings[key] == pytest.approx(value), key
+    assert set(spy.kwargs[-1]) == set(CORE_KEYS)
+    stats = renderer.stats()
+    assert stats["passes"] == 3
+    assert stats["photons_emitted"] == 3 * 12_345
+
+
+def test_time_limit_ends_the_render(spy, tmp_path):
+    scene = simple_scene(160, 120)
+    start = time.monotonic()
+    render_file(scene, tmp_path / "t.exr", passes=100_000, time_limit=1.0, photons_per_pass=50_000)
+    assert time.monotonic() - start < 4.0
+    assert 0 < spy.renderers[-1].stats()["passes"] < 100_000
+
+
+def test_escape_cancels_quickly_and_keeps_the_image(spy, monkeypatch, tmp_path):
+    scene = simple_scene(160, 120)
+    start = time.monotonic()
+    # Blender's test_break() cannot be patched on the RNA class; the display's hook can.
+    monkeypatch.setattr(engine.ProgressiveDisplay, "cancelled", lambda self: time.monotonic() - start > 1.0)
+    image = render_file(scene, tmp_path / "c.exr", passes=100_000, photons_per_pass=50_000)
+    assert time.monotonic() - start < 2.5  # cancelled within the poll interval, not at the pass count
+    assert spy.renderers[-1].stats()["cancelled"]
+    assert image[..., :3].mean() > 0.01  # the passes done so far are kept
+
+
+def test_display_refreshes_about_once_a_second(monkeypatch, tmp_path):
+    scene = simple_scene(160, 120)
+    shown = []
+    original = engine.ProgressiveDisplay.show
+    monkeypatch.setattr(engine.ProgressiveDisplay, "show", lambda self: (shown.append(time.monotonic()), original(self)))
+    render_file(scene, tmp_path / "p.exr", passes=100_000, time_limit=3.2, photons_per_pass=20_000)
+    gaps = np.diff(shown[:-1])  # the last call is the final image
+    assert len(shown) >= 3 and (gaps >= 0.99).all() and (gaps < 2.0).all(), gaps
+
+
+def test_border_and_resolution_percentage(tmp_path):
+    scene = simple_scene(80, 60)
+    scene.render.resolution_percentage = 50
+    full = render_file(scene, tmp_path / "full.exr", passes=1, samples_per_pixel=4)
+    assert full.shape == (30, 40, 4)
+    r = scene.render
+    r.use_border, r.use_crop_to_border = True, True
+    r.border_min_x, r.border_max_x, r.border_min_y, r.border_max_y = 0.25, 0.75, 0.5, 1.0
+    crop = render_file(scene, tmp_path / "crop.exr", passes=1, samples_per_pixel=4)
+    assert crop.shape == (15, 20, 4)
+    # The top half (border y 0.5..1 from the bottom), columns 10..30: same pixels as the full frame.
+    np.testing.assert_allclose(crop[..., :3], full[:15, 10:30, :3], rtol=0.02, atol=1e-4)
+
+
+def test_errors_reach_the_user():
+    scene = simple_scene()
+    area = bpy.data.objects.new("flat", bpy.data.lights.new("flat", "AREA"))
+    area.data.size = 0.0  # Blender allows it; the core refuses a light without area
+    scene.collection.objects.link(area)
+    with pytest.raises(RuntimeError, match="PPM: .*flat"):
+        bpy.ops.render.render()
+
+
+def test_core_errors_reach_the_user(monkeypatch):
+    simple_scene()
+
+    def broken(*args, **kwargs):
+        raise ValueError("mesh 'floor': something precise")
+
+    monkeypatch.setattr(engine.export, "build_scene", broken)
+    with pytest.raises(RuntimeError, match="something precise"):
+        bpy.ops.render.render()
+
+
+def test_unsupported_node_warns_once_naming_material_and_node():
+    mat = bpy.data.materials.new("odd")
+    if mat.node_tree is None or bpy.app.version < (5, 0, 0):
+        mat.use_nodes = True
+    tree = mat.node_tree
+    toon = tree.nodes.new("ShaderNodeBsdfToon")
+    out = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial")
+    tree.links.new(toon.outputs[0], out.inputs["Surface"])
+    warnings = []
+    exporter = material_export.MaterialExporter(ppm_core.Scene(), warnings.append)
+    first = exporter.index(mat)
+    assert exporter.index(mat) == first
+    assert len(warnings) == 1 and "odd" in warnings[0] and toon.name in warnings[0]
+
+
+def principled(**inputs):
+    mat = bpy.data.materials.new("p")
+    if mat.node_tree is None or bpy.app.version < (5, 0, 0):
+        mat.use_nodes = True
+    bsdf = next(n for n in mat.node_tree.nodes if n.bl_idname == "ShaderNodeBsdfPrincipled")
+    for name, value in inputs.items():
+        bsdf.inputs[name].default_value = value
+    return material_export.MaterialExporter(ppm_core.Scene(), print).describe(mat)
+
+
+def test_principled_mapping_uses_the_blender_4_socket_names():
+    assert principled(**{"Base Color": (0.2, 0.3, 0.4, 1.0)})["kind"] == "diffuse"
+    metal = principled(Metallic=1.0, Roughness=0.2)
+    assert metal["kind"] == "metal" and metal["roughness"] == pytest.approx(0.2)
+    glass = principled(**{"Transmission Weight": 1.0, "IOR": 1.33})
+    assert glass["kind"] == "glass" and glass["ior"] == pytest.approx(1.33)
+    glow = principled(**{"Emission Color": (1.0, 0.5, 0.0, 1.0), "Emission Strength": 4.0})
+    assert glow["emission"] == pytest.approx((4.0, 2.0, 0.0))
+
+
+def test_instances_are_exported_with_their_own_matrices():
+    scene = simple_scene()
+    coll = bpy.data.collections.new("things")
+    scene.collection.children.link(coll)
+    mesh = bpy.data.meshes.new("tri")
+    mesh.from_pydata([(0, 0, 0), (0.2, 0, 0), (0, 0.2, 0)], [], [(0, 1, 2)])
+    coll.objects.link(bpy.data.objects.new("tri", mesh))
+    bpy.context.view_layer.layer_collection.children["things"].exclude = True
+    for i in range(3):
+        empty = bpy.data.objects.new(f"inst{i}", None)
+        empty.instance_type, empty.instance_collection = "COLLECTION", coll
+        empty.location = (i, 0.0, 1.0)
+        scene.collection.objects.link(empty)
+    exporter = export.Exporter(ppm_core, print)
+    for instance in bpy.context.evaluated_depsgraph_get().object_instances:
+        exporter.visit(instance)
+    assert exporter.triangles == 2 + 3  # the floor quad + three instanced triangles
+    exporter.scene.set_camera(np.eye(4), 4, 4)
+    origins = np.array([[i + 0.05, 0.05, 2.0] for i in range(3)])
+    hits = exporter.scene.intersect(origins, np.tile([0.0, 0.0, -1.0], (3, 1)))
+    np.testing.assert_allclose(hits["t"], 1.0, atol=1e-6)
+
+
+def test_a_million_triangles_export_in_seconds():
+    bpy.ops.mesh.primitive_grid_add(x_subdivisions=708, y_subdivisions=708, size=2.0)
+    obj = bpy.context.object
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    start = time.monotonic()
+    exporter = export.Exporter(ppm_core, print)
+    exporter.add_geometry(obj.evaluated_get(depsgraph), np.eye(4), "grid")
+    seconds = time.monotonic() - start
+    assert exporter.triangles >= 1_000_000
+    assert seconds < 3.0, f"{exporter.triangles} triangles took {seconds:.2f} s"
+
+
+def test_stats_line_format():
+    assert engine.stats_line(12, 200, 3.1e6, 12.4) == "Pass 12/200 | 3.1 M photons | 00:12"
+
+
+def test_camera_matches_cycles_fov_rules():
+    from ppm_render.export.camera import Frame, camera_arguments
+
+    cam = bpy.data.objects.new("c", bpy.data.cameras.new("c"))
+    cam.data.lens, cam.data.sensor_width, cam.data.sensor_height = 50.0, 36.0, 24.0
+    cam.data.sensor_fit = "VERTICAL"
+    cam.data.shift_y = 0.1
+    args = camera_arguments(cam, Frame(300, 200), print)
+    # Vertical fit: 24 mm across 200 px; the core gets the same pixels fitted horizontally.
+    assert 2 * math.tan(args["fov"] / 2) == pytest.approx(24.0 / 50.0 * 300 / 200)
+    assert args["shift_y"] * (24.0 / 50.0 * 300 / 200) == pytest.approx(0.1 * 24.0 / 50.0)
+    cam.data.dof.use_dof, cam.data.dof.aperture_fstop = True, 2.0
+    assert camera_arguments(cam, Frame(300, 200), print, "LENS")["aperture_radius"] == pytest.approx(0.0125)
+    assert camera_arguments(cam, Frame(300, 200), print, "OFF")["aperture_radius"] == 0.0
+
+
+def test_standard_panels_open_to_the_engine_and_close_on_unregister():
+    import ppm_render
+    from ppm_render import ui
+
+    names = ("RENDER_PT_format", "RENDER_PT_output", "DATA_PT_lens", "DATA_PT_camera_dof", "MATERIAL_PT_preview")
+    panels = [getattr(bpy.types, n) for n in names]
+    assert all("PPM" in p.COMPAT_ENGINES for p in panels)
+    assert engine.PPMRenderEngine.bl_use_shading_nodes_custom is False
+    opened = [p for p in ui._standard_panels() if "PPM" in p.COMPAT_ENGINES]
+    assert len(opened) >= 20
+    ppm_render.unregister()
+    try:
+        assert not any("PPM" in p.COMPAT_ENGINES for p in ui._standard_panels())
+        assert not hasattr(bpy.types.Scene, "ppm")
+    finally:
+        ppm_render.register()

@@ -1,0 +1,92 @@
+"""Depth and Normal passes, when the view layer enables them, agree with Cycles' passes.
+
+Runs inside Blender 3.4 (the bpy 5.0 module writes only Combined into multilayer EXRs, even
+for Cycles, so the passes cannot be read back there):
+
+    blender -b --factory-startup --python-exit-code 1 -P tests/cli/passes_compare.py -- OUT_DIR
+
+Writes OUT_DIR/passes.json with the agreement figures; test_passes.py checks them.
+"""
+
+import glob
+import json
+import math
+import os
+import sys
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+for site in glob.glob(os.path.join(ROOT, ".venv", "lib", "python3*", "site-packages")):
+    if site not in sys.path:
+        sys.path.append(site)
+sys.path.insert(0, os.path.join(ROOT, "addon"))
+
+import bpy
+import numpy as np
+import OpenImageIO as oiio
+import ppm_render
+
+
+def scene_with_passes():
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    if not hasattr(bpy.types.Scene, "ppm"):
+        ppm_render.register()
+    scene = bpy.context.scene
+    mesh = bpy.data.meshes.new("floor")
+    mesh.from_pydata([(-20, -20, 0), (20, -20, 0), (20, 20, 0), (-20, 20, 0)], [], [(0, 1, 2, 3)])
+    scene.collection.objects.link(bpy.data.objects.new("floor", mesh))
+    bpy.ops.mesh.primitive_uv_sphere_add(radius=0.6, location=(0.3, 0.8, 0.6), segments=64, ring_count=32)
+    bpy.ops.object.shade_smooth()
+    cam = bpy.data.objects.new("cam", bpy.data.cameras.new("cam"))
+    cam.location, cam.rotation_euler = (0.0, -3.0, 2.5), (math.radians(55), 0.0, 0.0)
+    cam.data.shift_x = 0.05
+    scene.collection.objects.link(cam)
+    scene.camera = cam
+    r = scene.render
+    r.resolution_x, r.resolution_y, r.resolution_percentage = 48, 36, 100
+    r.image_settings.file_format = "OPEN_EXR_MULTILAYER"
+    r.use_file_extension = False
+    layer = bpy.context.view_layer
+    layer.use_pass_z = layer.use_pass_normal = True
+    return scene
+
+
+def read_pass(path, prefix, channels):
+    buf = oiio.ImageBuf(str(path))
+    names = buf.spec().channelnames
+    index = [next(i for i, n in enumerate(names) if n.endswith(f"{prefix}.{c}")) for c in channels]
+    return buf.get_pixels(oiio.FLOAT)[..., index]
+
+
+def render(scene, engine, path):
+    scene.render.engine = engine
+    if engine == "CYCLES":
+        scene.cycles.samples, scene.cycles.use_denoising = 16, False
+        scene.cycles.use_adaptive_sampling = False
+        scene.cycles.filter_width = 0.01  # samples at pixel centres, like the pass rays
+    else:
+        scene.ppm.passes, scene.ppm.photons_per_pass = 1, 1000
+    scene.render.filepath = str(path)
+    bpy.ops.render.render(write_still=True)
+    return read_pass(path, "Depth", "Z")[..., 0], read_pass(path, "Normal", "XYZ")
+
+
+
+def main():
+    out = sys.argv[sys.argv.index("--") + 1]
+    scene = scene_with_passes()
+    scene.cycles.use_denoising = False
+    depth_c, normal_c = render(scene, "CYCLES", os.path.join(out, "cycles.exr"))
+    depth_p, normal_p = render(scene, "PPM", os.path.join(out, "ppm.exr"))
+    # Away from silhouettes (where a pixel's samples straddle two depths) the passes should agree.
+    neighbours = np.stack([np.roll(depth_c, s, a) for s in (-1, 1) for a in (0, 1)])
+    smooth = np.abs(depth_c - np.median(neighbours, axis=0)) < 0.05
+    dots = (normal_p * normal_c).sum(axis=-1)[smooth]
+    figures = {"shape": list(depth_p.shape), "smooth_fraction": float(smooth.mean()),
+               "max_depth_error": float(np.abs(depth_p[smooth] / depth_c[smooth] - 1).max()),
+               "median_normal_dot": float(np.median(dots)), "normals_within_11deg": float((dots > 0.98).mean())}
+    with open(os.path.join(out, "passes.json"), "w") as f:
+        json.dump(figures, f)
+    print("passes_compare:", figures, flush=True)
+
+
+main()
