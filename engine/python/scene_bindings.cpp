@@ -109,7 +109,7 @@ void add_mesh(Scene& s, const std::string& name, const py::object& positions, co
 void add_light(Scene& s, const std::string& kind, const std::string& name, const py::object& power,
                const py::object& color_obj, const py::object& position, const py::object& direction,
                const py::object& matrix, const py::object& size, double radius, double spot_angle,
-               double spot_blend, double angle) {
+               double spot_blend, double angle, bool spot_cosine_falloff, bool soft_falloff) {
   const std::string what = "light '" + name + "'";
   Light l;
   l.name = name;
@@ -161,6 +161,8 @@ void add_light(Scene& s, const std::string& kind, const std::string& name, const
   l.cos_half_spot = std::cos(0.5 * spot_angle);
   l.spot_smooth = (1.0 - l.cos_half_spot) * spot_blend;
   l.cos_sun = std::cos(0.5 * angle);
+  l.spot_cosine_falloff = spot_cosine_falloff;
+  l.soft_falloff = soft_falloff;
   s.add_light(l);
 }
 
@@ -286,8 +288,9 @@ void bind_scene(py::module_& m) {
            py::arg("color") = py::make_tuple(1.0, 1.0, 1.0), py::arg("position") = py::none(),
            py::arg("direction") = py::none(), py::arg("matrix") = py::none(), py::arg("size") = py::none(),
            py::arg("radius") = 0.0, py::arg("spot_angle") = kPi / 4.0, py::arg("spot_blend") = 0.15,
-           py::arg("angle") = 0.0,
-           "Adds a light in Cycles units. point/sphere/spot: power in W (intensity P/(4 pi)); "
+           py::arg("angle") = 0.0, py::arg("spot_cosine_falloff") = false, py::arg("soft_falloff") = false,
+           "Adds a light in Cycles units. spot_cosine_falloff: Cycles 3.x's extra cos factor on spots; "
+           "soft_falloff: Cycles' sphere-light falloff I cos/(d^2 + r^2) for direct light. point/sphere/spot: power in W (intensity P/(4 pi)); "
            "rectangle/disk: emitted flux in W; sun: irradiance in W/m^2. Orientation from `matrix` "
            "(Blender's: emits along local -Z) or from position/direction.")
       .def("set_camera", &set_camera, py::arg("matrix"), py::arg("width"), py::arg("height"),

@@ -36,13 +36,35 @@ Vec3 scene_disk_origin(const Light& l, const Vec3& dir, double u1, double u2) {
   return l.scene_center - dir * (2.0 * l.scene_radius) + d.x * t + d.y * b;
 }
 
+// Soft falloff: a disk of the sphere's radius through its centre, facing p,
+// with the sphere's radiance I / (pi r^2); on axis E = I / (d^2 + r^2) (Cycles).
+bool sample_soft_sphere(const Light& l, const Vec3& p, double u1, double u2, DirectSample& out) {
+  const Vec3 to_p = p - l.position;
+  const double len = glm::length(to_p);
+  if (!(len > 0.0)) return false;
+  const Vec3 n = to_p / len;
+  Vec3 t, b;
+  make_basis(n, t, b);
+  const Vec2 d = sample_uniform_disk(u1, u2) * l.radius;
+  const Vec3 q = l.position + d.x * t + d.y * b;
+  const Vec3 wi = q - p;
+  const double dist2 = glm::dot(wi, wi);
+  out.distance = std::sqrt(dist2);
+  out.wi = wi / out.distance;
+  const double cos_l = -glm::dot(out.wi, n);
+  if (cos_l <= 0.0) return false;
+  out.value = l.radiance * (cos_l * kPi * l.radius * l.radius / dist2);
+  return true;
+}
+
 }  // namespace
 
 double spot_attenuation(const Light& l, const Vec3& dir_from_light) {
   const double c = glm::dot(dir_from_light, l.direction);
   if (c <= l.cos_half_spot) return 0.0;
-  if (l.spot_smooth <= 0.0) return 1.0;
-  return smoothstep01((c - l.cos_half_spot) / l.spot_smooth);
+  const double cosine = l.spot_cosine_falloff ? c : 1.0;
+  if (l.spot_smooth <= 0.0) return cosine;
+  return cosine * smoothstep01((c - l.cos_half_spot) / l.spot_smooth);
 }
 
 bool light_is_delta(const Light& l) {
@@ -157,6 +179,7 @@ bool sample_direct(const Light& l, const Vec3& p, const Vec3& n, double u1, doub
       return atten > 0.0;
     }
     case LightKind::Sphere: {
+      if (l.soft_falloff) return sample_soft_sphere(l, p, u1, u2, out);
       // Uniform over the cone the sphere subtends (pdf = 1 / solid angle).
       const Vec3 d = l.position - p;
       const double dist2 = glm::dot(d, d), r2 = l.radius * l.radius;

@@ -31,6 +31,12 @@ struct Light {
   double cos_half_spot = -1.0;     // spot: cos of half the spot angle
   double spot_smooth = 0.0;        // spot: (1 - cos_half_spot) * blend
   double cos_sun = 1.0;            // sun: cos of half the angular diameter
+  // Cycles 3.x multiplies a spot's intensity by the cosine to its axis (4.0 dropped it).
+  bool spot_cosine_falloff = false;
+  // Cycles' soft falloff for sphere lights (the only behaviour before 4.0, the
+  // default since): direct light as from a disk of the sphere's radius facing
+  // the receiver, irradiance I cos / (d^2 + r^2) instead of I cos / d^2.
+  bool soft_falloff = false;
   // Emissive triangle.
   TrianglePrim triangle{};
   uint32_t primitive = 0;

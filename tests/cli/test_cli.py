@@ -74,11 +74,6 @@ def test_broken_input_fails_with_a_readable_message(case, tmp_path):
         assert "render.py: error:" in run.stderr
 
 
-# Blender 3.4's Cycles multiplies a spot light by the cosine to its axis (spot_attenuation returns
-# dot(dir, N) * smoothstep); the core's spot, like Cycles 4.0+, has no such factor. See addon/README.md.
-SPOT_34 = "core spot has no Blender 3.x cosine falloff (core change requested)"
-
-
 def test_blender_34_agrees_with_its_cycles(tmp_path):
     report = tmp_path / "cycles34.json"
     run = blender("--factory-startup", "--python-exit-code", "1", "-P",
@@ -87,10 +82,8 @@ def test_blender_34_agrees_with_its_cycles(tmp_path):
     print(run.stdout[-3000:])
     rows = {row["kind"]: row for row in json.loads(report.read_text())}
     assert set(rows) >= {"point", "sphere", "spot", "area_square", "area_disk", "sun", "emissive_mesh", "world"}
-    bad = {k: r["max_block_error"] for k, r in rows.items() if r["max_block_error"] > 0.03 and k != "spot"}
+    bad = {k: r["max_block_error"] for k, r in rows.items() if r["max_block_error"] > 0.03}
     assert not bad, bad
-    if rows["spot"]["max_block_error"] > 0.03:
-        pytest.xfail(f"{SPOT_34}: worst block {100 * rows['spot']['max_block_error']:.1f}%")
 
 
 def test_python_mode_reports_a_missing_file(tmp_path):

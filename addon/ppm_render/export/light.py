@@ -20,6 +20,13 @@ import bpy
 import numpy as np
 
 AREA_RADIANCE_IS_OVER_PI = bpy.app.version >= (4, 0, 0)
+# Cycles 3.x multiplies a spot's intensity by the cosine to its axis; 4.0 dropped the factor.
+SPOT_COSINE_FALLOFF = bpy.app.version < (4, 0, 0)
+
+
+def _soft_falloff(light):
+    """Cycles' soft falloff of sphere lights: the only behaviour before 4.0, a light option since."""
+    return bpy.app.version < (4, 0, 0) or bool(getattr(light, "use_soft_falloff", True))
 
 
 def _strength(light):
@@ -82,13 +89,15 @@ def add_light(core_scene, name, light, matrix, warn):
     kind = light.type
     if kind == "POINT":
         radius = float(light.shadow_soft_size)
-        core_scene.add_light("point", name=name, power=_sphere_power(light, radius), matrix=m, radius=radius)
+        core_scene.add_light("point", name=name, power=_sphere_power(light, radius), matrix=m, radius=radius,
+                             soft_falloff=_soft_falloff(light))
     elif kind == "SPOT":
         radius = float(light.shadow_soft_size)
         if radius > 0.0:
             warn(f"light '{name}': spot radius {radius:g} m is rendered as a point (sharp shadows)")
         core_scene.add_light("spot", name=name, power=_sphere_power(light, radius), matrix=m,
-                             spot_angle=float(light.spot_size), spot_blend=float(light.spot_blend))
+                             spot_angle=float(light.spot_size), spot_blend=float(light.spot_blend),
+                             spot_cosine_falloff=SPOT_COSINE_FALLOFF)
     elif kind == "AREA":
         if getattr(light, "spread", math.pi) < math.pi - 1e-6:
             warn(f"light '{name}': area light spread below 180 degrees is not supported; rendered as 180")
