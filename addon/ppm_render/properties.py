@@ -49,8 +49,15 @@ CORE_KEYS = ("photons_per_pass", "alpha", "threshold", "max_bounces", "samples_p
 
 
 def core_settings(settings):
-    """The keyword arguments for ppm_core.Renderer from scene.ppm."""
-    return {key: getattr(settings, key) for key in CORE_KEYS}
+    """The keyword arguments for ppm_core.Renderer from scene.ppm.
+
+    LENS depth of field regenerates the hit points every pass (stochastic PPM):
+    fixed hit points would freeze one lens sample per eye sample."""
+    args = {key: getattr(settings, key) for key in CORE_KEYS}
+    args["dof_mode"] = settings.dof_mode.lower()
+    if settings.dof_mode == 'LENS':
+        args["hit_points"] = "stochastic"
+    return args
 
 
 classes = (PPMSceneSettings, PPMObjectSettings)

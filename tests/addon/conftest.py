@@ -9,8 +9,8 @@ ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 sys.path.insert(0, os.path.join(ROOT, "addon"))
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
-bpy = pytest.importorskip("bpy")
-import ppm_render
+import bpy  # noqa: E402  (installed by make setup; a missing bpy must fail, not skip)
+import ppm_render  # noqa: E402
 
 SCENES_DIR = os.path.join(ROOT, "blend_scenes")
 

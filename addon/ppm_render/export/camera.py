@@ -109,5 +109,6 @@ def camera_arguments(camera_object, frame, warn, dof_mode="OFF"):
     if cam.type == "ORTHO":
         args.update(projection="orthographic", ortho_scale=window_extent)
     else:
-        args.update(projection="perspective", fov=2.0 * math.atan(0.5 * window_extent))
+        args.update(projection="perspective", fov=2.0 * math.atan(0.5 * window_extent),
+                    focal_length=float(cam.lens) * 1e-3)
     return args
