@@ -194,15 +194,33 @@ TEST(QuantileGrid, PlanarSpheresAllXEqual) {
   std::vector<Vec3> centers = random_points(n, 10, Vec3(0.0), Vec3(1.0));
   for (Vec3& c : centers) c.x = 1.0;
   const std::vector<double> radii = random_radii(n, 11, 0.002, 0.01);
-  QuantileGrid grid;
+  QuantileGrid grid(0.25);
   grid.build(centers, radii);
   EXPECT_EQ(grid.slab_count(0), 1u);
-  // Cells are ~0.006 wide here (2 centres per cell) and spheres up to 0.02
-  // across: about 9 references per sphere; anything far above is an explosion.
+  // The count target alone would cut ~450 slabs per axis (0.002 wide) and list
+  // each sphere (up to 0.02 across) in ~44 cells; slabs are kept at least a
+  // mean radius (0.006) wide instead: about 9.5 references per sphere.
   EXPECT_LE(grid.reference_count(), 12 * n);
   std::vector<Vec3> queries = random_points(2000, 12, Vec3(1.0, 0.0, 0.0), Vec3(1.0, 1.0, 1.0));
   for (size_t i = 0; i < 500; ++i) queries.push_back(centers[i] + Vec3(radii[i], 0.0, 0.0));
   for (const Vec3& p : queries) expect_point_query_exact(grid, centers, radii, p);
+}
+
+TEST(QuantileGrid, PointsOnALineGetAllTheSlabs) {
+  // y and z are constant: the whole cell budget goes to x.
+  const size_t n = 20000;
+  std::vector<Vec3> points = random_points(n, 28, Vec3(0.0), Vec3(1.0));
+  for (Vec3& p : points) p.y = p.z = 0.5;
+  QuantileGrid grid(2.0);
+  grid.build(points, {});
+  EXPECT_EQ(grid.slab_count(1), 1u);
+  EXPECT_EQ(grid.slab_count(2), 1u);
+  EXPECT_GE(grid.slab_count(0), n / 4);
+  EXPECT_LE(grid.cell_count(), static_cast<size_t>(1.1 * n / 2.0) + 1);
+  for (size_t q = 0; q < 200; ++q) expect_box_query_exact(grid, points, points[q * 13], 0.001 * (q % 4));
+  const std::vector<double> radii = random_radii(n, 29, 0.0, 0.002);
+  grid.build(points, radii);
+  for (size_t q = 0; q < 500; ++q) expect_point_query_exact(grid, points, radii, points[q * 7] + Vec3(0.0, 0.001, 0.0));
 }
 
 TEST(QuantileGrid, ThreeWallsOfABox) {
@@ -223,6 +241,31 @@ TEST(QuantileGrid, ThreeWallsOfABox) {
   const std::vector<Vec3> photons = three_walls(3000, 16);
   for (const Vec3& p : photons) expect_point_query_exact(grid, points, radii, p);
   for (size_t i = 0; i < 300; ++i) expect_point_query_exact(grid, points, radii, points[i]);
+}
+
+TEST(QuantileGrid, WallsSitInsideSlabs) {
+  // Walls x = 0 and x = 1 plus a filled interior: many quantiles land on the
+  // wall values, yet neither may become a split, or every small sphere on the
+  // wall would straddle two slabs.
+  const size_t n = 30000;
+  std::vector<Vec3> points = random_points(n, 27, Vec3(0.0), Vec3(1.0));
+  for (size_t i = 0; i < n; ++i)
+    if (i % 5 < 2) points[i].x = double(i % 5);  // 40% on the walls x = 0 and x = 1
+  QuantileGrid grid(2.0);
+  grid.build(points, {});
+  expect_strictly_increasing_splits(grid);
+  for (double s : grid.splits(0)) {
+    EXPECT_GT(s, 0.0);
+    EXPECT_LT(s, 1.0 - 1e-3);
+  }
+  std::vector<double> radii(n, 1e-4);
+  grid.build(points, radii);
+  const uint32_t wall_slab = grid.slab_index(0, 1.0);
+  for (size_t i = 1; i < n; i += 5) {
+    EXPECT_EQ(grid.slab_index(0, points[i].x - 1e-4), wall_slab);
+    EXPECT_EQ(grid.slab_index(0, points[i].x + 1e-4), wall_slab);
+  }
+  for (size_t i = 0; i < 2000; ++i) expect_point_query_exact(grid, points, radii, points[i]);
 }
 
 TEST(QuantileGrid, HeavyDuplicates) {
