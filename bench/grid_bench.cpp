@@ -7,9 +7,8 @@
 // "ns/q sort" repeats the queries with the items (hit points or photons) stored
 // in Morton order, as a caller could keep them.
 //
-// Build and run (from /work/main):
-//   g++ -std=c++17 -O3 -DNDEBUG -Wall -Wextra -I/work/main/engine bench/grid_bench.cpp
-//       engine/ppm/quantile_grid.cpp engine/ppm/hash_grid.cpp -o /tmp/grid_bench && /tmp/grid_bench
+// Build and run (from /work/main; one line):
+// g++ -std=c++17 -O3 -DNDEBUG -Wall -Wextra -I/work/main/engine bench/grid_bench.cpp engine/ppm/quantile_grid.cpp engine/ppm/hash_grid.cpp -o /tmp/grid_bench && /tmp/grid_bench
 #include "math/rng.h"
 #include "ppm/hash_grid.h"
 #include "ppm/quantile_grid.h"

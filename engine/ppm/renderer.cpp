@@ -69,7 +69,7 @@ void Renderer::decide_depth_of_field() {
     near = std::fmin(near, z);
     far = std::fmax(far, z);
   }
-  if (b.empty() || far <= 0.0 || max_coc_pixels(cam, near, far) < 1.0) {
+  if (settings_.scene_analysis && (b.empty() || far <= 0.0 || max_coc_pixels(cam, near, far) < 1.0)) {
     stats_.skipped.push_back("depth of field: circle of confusion under a pixel over the scene's depth range");
     return;
   }

@@ -5,6 +5,9 @@ namespace ppm {
 
 SceneAnalysis analyse_scene(const Scene& scene, const LightSampler& lights, const Settings& settings) {
   SceneAnalysis a;
+  a.sample_direct = settings.direct_light == DirectLight::Sampled && !lights.empty();
+  a.trace_photons = !lights.empty();  // not a skip: there is nothing to emit from
+  if (!settings.scene_analysis) return a;  // everything else on, for measuring what the skips save
   bool any_specular = false, any_receiver = false, any_scatter = false;
   for (const Material& m : scene.materials()) {
     any_specular |= is_specular(m);

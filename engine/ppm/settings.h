@@ -44,6 +44,7 @@ struct Settings {
   DofMode dof_mode = DofMode::Off;
   DofPostPreset dof_post_preset = DofPostPreset::ThinLens;
   int dof_max_radius = 32;          // POST: largest blur radius in pixels
+  bool scene_analysis = true;       // false: do all the work even where the scene cannot use it (benchmarks)
 
   // Throws std::invalid_argument naming the setting when a value is out of range.
   void validate() const;

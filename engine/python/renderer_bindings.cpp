@@ -86,6 +86,7 @@ const std::map<std::string, SettingAccess>& setting_table() {
                                       "POST blur: 'thin_lens' circle of confusion or the report's 'report_thirds'",
                                       "dof_post_preset")},
       {"dof_max_radius", number(&Settings::dof_max_radius, "POST: largest blur radius in pixels")},
+      {"scene_analysis", number(&Settings::scene_analysis, "skip work the scene cannot use (False: benchmarks)")},
       {"grid", enumeration(&Settings::grid, {{"quantile", GridKind::Quantile}, {"hash", GridKind::Hash}},
                            "spatial index: 'quantile' grid or 'hash'ed uniform grid", "grid")},
   };

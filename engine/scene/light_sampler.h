@@ -7,6 +7,7 @@
 #include "scene/light.h"
 
 #include <algorithm>
+#include <stdexcept>
 #include <vector>
 
 namespace ppm {
@@ -41,7 +42,7 @@ class LightSampler {
   const std::vector<uint32_t>& analytic() const { return analytic_; }
   bool has_triangles() const { return !triangles_.empty(); }
 
-  // A light for a photon, with its selection probability.
+  // A light for a photon, with its selection probability. Only for a non-empty sampler.
   uint32_t pick_emitter(double u, double& pdf) const { return pick(emitters_, emit_cdf_, total_, u, pdf); }
   uint32_t pick_triangle(double u, double& pdf) const {
     return pick(triangles_, triangle_cdf_, triangle_total_, u, pdf);
@@ -50,6 +51,7 @@ class LightSampler {
  private:
   uint32_t pick(const std::vector<uint32_t>& ids, const std::vector<double>& cdf, double total, double u,
                 double& pdf) const {
+    if (cdf.empty()) throw std::logic_error("LightSampler: no light to pick from");
     const double target = u * total;
     size_t i = std::upper_bound(cdf.begin(), cdf.end(), target) - cdf.begin();
     i = std::min(i, cdf.size() - 1);
