@@ -6,6 +6,7 @@
 // checks that point items (and point queries over spheres) are visited once.
 #include "ppm/hash_grid.h"
 
+#include "grid_test_helpers.h"
 #include "math/rng.h"
 
 #include <gtest/gtest.h>
@@ -19,90 +20,7 @@
 namespace ppm {
 namespace {
 
-
-std::vector<Vec3> random_points(size_t n, uint64_t seed, const Vec3& lo, const Vec3& hi) {
-  std::vector<Vec3> points(n);
-  for (size_t i = 0; i < n; ++i) {
-    Rng rng(seed, 1, i);
-    const double x = rng.uniform(), y = rng.uniform(), z = rng.uniform();
-    points[i] = lo + Vec3(x, y, z) * (hi - lo);
-  }
-  return points;
-}
-
-std::vector<double> random_radii(size_t n, uint64_t seed, double rmin, double rmax) {
-  std::vector<double> radii(n);
-  for (size_t i = 0; i < n; ++i) radii[i] = rmin + (rmax - rmin) * Rng(seed, 2, i).uniform();
-  return radii;
-}
-
-// Points on the walls x = 0, y = 0 and z = 0 of the unit box, n / 3 each.
-std::vector<Vec3> three_walls(size_t n, uint64_t seed) {
-  std::vector<Vec3> points = random_points(n, seed, Vec3(0.0), Vec3(1.0));
-  for (size_t i = 0; i < n; ++i) points[i][i % 3] = 0.0;
-  return points;
-}
-
-bool within(const Vec3& p, const Vec3& c, double r) {
-  const Vec3 d = p - c;
-  return glm::dot(d, d) <= r * r;
-}
-
-// Mode A: the spheres containing p, through the index and by brute force.
-void expect_point_query_exact(const HashGrid& grid, const std::vector<Vec3>& centers,
-                              const std::vector<double>& radii, const Vec3& p) {
-  std::vector<uint32_t> candidates, found, expected;
-  grid.for_each_candidate_at(p, [&](uint32_t i) { candidates.push_back(i); });
-  std::sort(candidates.begin(), candidates.end());
-  ASSERT_TRUE(std::adjacent_find(candidates.begin(), candidates.end()) == candidates.end())
-      << "item visited twice at p = " << p.x << " " << p.y << " " << p.z;
-  for (uint32_t i : candidates) {
-    ASSERT_LT(i, centers.size());
-    if (within(p, centers[i], radii[i])) found.push_back(i);
-  }
-  for (uint32_t i = 0; i < centers.size(); ++i)
-    if (within(p, centers[i], radii[i])) expected.push_back(i);
-  EXPECT_EQ(found, expected) << "p = " << p.x << " " << p.y << " " << p.z;
-}
-
-// Mode B: the points within r of c, through a box query and by brute force.
-void expect_box_query_exact(const HashGrid& grid, const std::vector<Vec3>& points,
-                            const Vec3& c, double r) {
-  std::vector<uint32_t> candidates, found, expected;
-  grid.for_each_candidate_in_box(c - r, c + r, [&](uint32_t i) { candidates.push_back(i); });
-  std::sort(candidates.begin(), candidates.end());
-  ASSERT_TRUE(std::adjacent_find(candidates.begin(), candidates.end()) == candidates.end())
-      << "point visited twice for c = " << c.x << " " << c.y << " " << c.z << " r = " << r;
-  for (uint32_t i : candidates) {
-    ASSERT_LT(i, points.size());
-    if (within(points[i], c, r)) found.push_back(i);
-  }
-  for (uint32_t i = 0; i < points.size(); ++i)
-    if (within(points[i], c, r)) expected.push_back(i);
-  EXPECT_EQ(found, expected) << "c = " << c.x << " " << c.y << " " << c.z << " r = " << r;
-}
-
-// Mode A box query: every sphere meeting the box must be a candidate.
-void expect_sphere_box_superset(const HashGrid& grid, const std::vector<Vec3>& centers,
-                                const std::vector<double>& radii, const Vec3& lo, const Vec3& hi) {
-  std::vector<char> seen(centers.size(), 0);
-  grid.for_each_candidate_in_box(lo, hi, [&](uint32_t i) {
-    ASSERT_LT(i, centers.size());
-    seen[i] = 1;
-  });
-  for (size_t i = 0; i < centers.size(); ++i) {
-    const Vec3 d = glm::clamp(centers[i], lo, hi) - centers[i];
-    if (glm::dot(d, d) <= radii[i] * radii[i]) {
-      EXPECT_TRUE(seen[i]) << "sphere " << i << " missed";
-    }
-  }
-}
-
-size_t count_candidates_in_box(const HashGrid& grid, const Vec3& lo, const Vec3& hi) {
-  size_t count = 0;
-  grid.for_each_candidate_in_box(lo, hi, [&](uint32_t) { ++count; });
-  return count;
-}
+using namespace grid_test;
 
 TEST(HashGrid, RandomPointsBoxQueriesMatchBruteForce) {
   const std::vector<Vec3> points = random_points(4000, 2, Vec3(0.0), Vec3(1.0));
