@@ -4,7 +4,8 @@
 
 Renders cornell_3spheres at 160x120: a long reference (alpha 0.7, P 10,
 different seed), then each candidate for a fixed wall time, and prints the
-relative RMSE against the reference (mean over 3 seeds). Lower is better.
+relative RMSE of 4x4 block means against the reference, light pixels masked
+(mean over seeds). Lower is better.
 """
 
 from __future__ import annotations
@@ -29,23 +30,38 @@ def render(seconds, seed, **settings):
     return r.image()[..., :3]
 
 
+def blocks(image, k=4):
+    h, w = image.shape[0] // k * k, image.shape[1] // k * k
+    return image[:h, :w].reshape(h // k, k, w // k, k, -1).mean(axis=(1, 3))
+
+
 def rel_rmse(image, reference):
-    return float(np.sqrt(np.mean((image - reference) ** 2)) / np.mean(reference))
+    """Relative RMSE of 4x4 block means, leaving out blocks that see the light.
+
+    Different seeds jitter the eye samples differently, so single pixels on
+    edges (worst: the visible light, radiance ~250) differ by anti-aliasing
+    noise that no number of photon passes removes; block means and the mask
+    keep the measure on the photon estimate that alpha and P control."""
+    a, b = blocks(image), blocks(reference)
+    keep = b.max(axis=-1) < 10.0 * np.median(b)
+    return float(np.sqrt(np.mean((a[keep] - b[keep]) ** 2)) / np.mean(b[keep]))
 
 
 def main():
     p = argparse.ArgumentParser()
-    p.add_argument("--seconds", type=float, default=8.0)
-    p.add_argument("--reference-seconds", type=float, default=240.0)
+    p.add_argument("--seconds", type=float, default=5.0)
+    p.add_argument("--reference-seconds", type=float, default=90.0)
+    p.add_argument("--seeds", type=int, default=2)
     args = p.parse_args()
     reference = render(args.reference_seconds, 1000, alpha=0.7, threshold=10)
-    print(f"reference: {args.reference_seconds:.0f} s; candidates: {args.seconds:.0f} s each, 3 seeds\n")
+    seeds = range(1, args.seeds + 1)
+    print(f"reference: {args.reference_seconds:.0f} s; candidates: {args.seconds:.0f} s each, {args.seeds} seeds\n")
     print("| alpha | P | relative RMSE |")
     print("|---|---|---|")
     for alpha in (0.5, 2 / 3, 0.7, 0.8):
         for threshold in (1, 10):
             errors = [rel_rmse(render(args.seconds, seed, alpha=alpha, threshold=threshold), reference)
-                      for seed in (1, 2, 3)]
+                      for seed in seeds]
             print(f"| {alpha:.3f} | {threshold} | {np.mean(errors):.4f} |", flush=True)
 
 
