@@ -36,6 +36,13 @@ class PPMSceneSettings(bpy.types.PropertyGroup):
                ('POST', "Post Process", "Blur the finished image by depth"),
                ('LENS', "Lens", "Sample the camera aperture")],
         default='OFF', description="How the camera's depth of field is rendered")
+    hit_points: EnumProperty(
+        name="Hit Points",
+        items=[('AUTO', "Auto", "Stochastic with Lens depth of field, fixed otherwise"),
+               ('FIXED', "Fixed", "One eye pass (PPM): fastest per pass, anti-aliasing from samples per pixel"),
+               ('STOCHASTIC', "Stochastic", "New eye samples every pass (SPPM): converges anti-aliasing, "
+                                           "glossy surfaces and lens blur")],
+        default='AUTO', description="Keep the eye pass's hit points, or draw new ones every pass")
 
 
 class PPMObjectSettings(bpy.types.PropertyGroup):
@@ -51,12 +58,12 @@ CORE_KEYS = ("photons_per_pass", "alpha", "threshold", "max_bounces", "samples_p
 def core_settings(settings):
     """The keyword arguments for ppm_core.Renderer from scene.ppm.
 
-    LENS depth of field regenerates the hit points every pass (stochastic PPM):
-    fixed hit points would freeze one lens sample per eye sample."""
+    AUTO picks stochastic hit points for LENS depth of field: fixed hit points
+    would freeze one lens sample per eye sample."""
     args = {key: getattr(settings, key) for key in CORE_KEYS}
     args["dof_mode"] = settings.dof_mode.lower()
-    if settings.dof_mode == 'LENS':
-        args["hit_points"] = "stochastic"
+    stochastic = settings.hit_points == 'STOCHASTIC' or (settings.hit_points == 'AUTO' and settings.dof_mode == 'LENS')
+    args["hit_points"] = "stochastic" if stochastic else "fixed"
     return args
 
 

@@ -74,6 +74,7 @@ class RENDER_PT_ppm_camera(PPMRenderPanel, bpy.types.Panel):
         layout.use_property_split = True
         settings = context.scene.ppm
         layout.prop(settings, "dof_mode")
+        layout.prop(settings, "hit_points")
         layout.prop(settings, "seed")
         layout.prop(settings, "threads")
 
