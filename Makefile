@@ -42,8 +42,8 @@ bench-cpp: .venv/.setup-done
 	cmake -S . -B build/bench -G Ninja -DPPM_BUILD_BENCH=ON -DPPM_BUILD_PYTHON=OFF -DCMAKE_BUILD_TYPE=Release >/dev/null
 	cmake --build build/bench -j $(JOBS)
 
-lint:
-	$(PY) -m ruff check . || true
+lint: .venv/.setup-done
+	$(PY) -m ruff check .
 
 clean:
 	rm -rf build out

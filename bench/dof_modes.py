@@ -23,6 +23,7 @@ import numpy as np
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(ROOT, "addon"))
 import bpy  # noqa: E402
+
 import ppm_render  # noqa: E402
 
 W, H = 320, 240
@@ -105,7 +106,8 @@ def main():
                               (False, [("OFF", "fixed"), ("OFF", "stochastic")])):
         reference, ref_seconds = cycles_reference(use_dof, args.cycles_samples, workdir)
         masks = regions(reference)
-        print(f"\nDoF {'on' if use_dof else 'off'}: Cycles reference {args.cycles_samples} spp in {ref_seconds:.0f} s\n")
+        state = "on" if use_dof else "off"
+        print(f"\nDoF {state}: Cycles reference {args.cycles_samples} spp in {ref_seconds:.0f} s\n")
         print("| mode | hit points | seconds | rel. RMSE all | edges | highlights | rest |")
         print("|---|---|---|---|---|---|---|")
         for dof_mode, hit_points in variants:

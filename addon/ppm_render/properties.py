@@ -28,7 +28,8 @@ class PPMSceneSettings(bpy.types.PropertyGroup):
     samples_per_pixel: IntProperty(
         name="Samples per Pixel", default=4, min=1, soft_max=64,
         description="Jittered eye samples per pixel (anti-aliasing)")
-    seed: IntProperty(name="Seed", default=0, min=0, description="Random seed; same seed and threads give the same image")
+    seed: IntProperty(name="Seed", default=0, min=0,
+                      description="Random seed; same seed and threads give the same image")
     threads: IntProperty(name="Threads", default=0, min=0, max=1024, description="Worker threads (0 = all cores)")
     dof_mode: EnumProperty(
         name="Depth of Field",

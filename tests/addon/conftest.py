@@ -10,6 +10,7 @@ sys.path.insert(0, os.path.join(ROOT, "addon"))
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
 import bpy  # noqa: E402  (installed by make setup; a missing bpy must fail, not skip)
+
 import ppm_render  # noqa: E402
 
 SCENES_DIR = os.path.join(ROOT, "blend_scenes")

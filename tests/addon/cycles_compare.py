@@ -31,6 +31,7 @@ sys.path.insert(0, os.path.join(ROOT, "addon"))
 
 import bpy
 import numpy as np
+
 import ppm_render
 
 WIDTH, HEIGHT = 64, 48

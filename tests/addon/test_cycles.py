@@ -4,8 +4,9 @@ The mean radiance of 4x3 image blocks must agree within 3% (see cycles_compare.p
 The numbers are the proof that light units and the camera match; no factor is tuned by eye.
 """
 
-import cycles_compare
 import pytest
+
+import cycles_compare
 from conftest import bpy  # noqa: F401 - registers the add-on
 
 

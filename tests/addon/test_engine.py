@@ -5,6 +5,7 @@ import time
 
 import numpy as np
 import pytest
+
 from conftest import bpy, render_file
 from ppm_render import core, engine, export
 from ppm_render.export import material as material_export
@@ -91,7 +92,8 @@ def test_display_refreshes_about_once_a_second(monkeypatch, tmp_path):
     scene = simple_scene(160, 120)
     shown = []
     original = engine.ProgressiveDisplay.show
-    monkeypatch.setattr(engine.ProgressiveDisplay, "show", lambda self: (shown.append(time.monotonic()), original(self)))
+    monkeypatch.setattr(engine.ProgressiveDisplay, "show",
+                        lambda self: (shown.append(time.monotonic()), original(self)))
     render_file(scene, tmp_path / "p.exr", passes=100_000, time_limit=3.2, photons_per_pass=20_000)
     gaps = np.diff(shown[:-1])  # the last call is the final image
     assert len(shown) >= 3 and (gaps >= 0.99).all() and (gaps < 2.0).all(), gaps

@@ -30,8 +30,8 @@ def test_zip_installs_as_an_extension_and_renders(tmp_path):
     scene = os.path.join(SCENES_DIR, "bezier_vase.blend")
     script = f"ZIP, SCENE, OUT = {zip_path!r}, {scene!r}, {str(out)!r}\n" + SCRIPT
     env = {**os.environ, "BLENDER_USER_RESOURCES": str(tmp_path / "user")}
-    run = subprocess.run([sys.executable, "-c", script], check=False, capture_output=True, text=True, timeout=300, env=env,
-                         cwd=str(tmp_path))
+    run = subprocess.run([sys.executable, "-c", script], check=False, capture_output=True, text=True, timeout=300,
+                         env=env, cwd=str(tmp_path))
     assert run.returncode == 0, run.stdout[-3000:] + run.stderr[-3000:]
     core_line = next(line for line in run.stdout.splitlines() if line.startswith("CORE"))
     assert str(tmp_path / "user") in core_line  # the core inside the extension, not the .venv's

@@ -5,6 +5,7 @@ import math
 
 import numpy as np
 import pytest
+
 from conftest import bpy, render_file
 from ppm_render import core, export
 from ppm_render.export import bezier

@@ -4,6 +4,7 @@ import os
 
 import numpy as np
 import pytest
+
 from conftest import SCENES_DIR, bpy, render_file
 
 SCENES = ("cornell_3spheres", "bezier_vase", "cornell_dof", "showcase")

@@ -23,6 +23,7 @@ sys.path.insert(0, os.path.join(ROOT, "addon"))
 import bpy
 import numpy as np
 import OpenImageIO as oiio
+
 import ppm_render
 
 

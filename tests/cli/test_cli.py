@@ -41,8 +41,8 @@ def test_blender_34_renders_a_bundled_scene(tmp_path):
     assert np.isfinite(image).all() and 0.02 < image[..., :3].mean() < 10
     # The same file through the bpy module (Blender 5.0) and the same core gives the same picture.
     out5 = tmp_path / "cornell5.exr"
-    run5 = subprocess.run([sys.executable, RENDER, SCENE, "--output", str(out5), *ARGS], check=False, capture_output=True,
-                          text=True, timeout=300, cwd=ROOT)
+    run5 = subprocess.run([sys.executable, RENDER, SCENE, "--output", str(out5), *ARGS], check=False,
+                          capture_output=True, text=True, timeout=300, cwd=ROOT)
     assert run5.returncode == 0, run5.stderr[-2000:]
     image5 = read_exr(out5)
     assert image[..., :3].mean() == pytest.approx(image5[..., :3].mean(), rel=0.02)

@@ -119,7 +119,7 @@ def icosphere(subdivisions=3):
     for _ in range(subdivisions):
         cache, nf = {}, []
 
-        def mid(a, b):
+        def mid(a, b, cache=cache):
             key = (min(a, b), max(a, b))
             if key not in cache:
                 m = verts[a] + verts[b]
