@@ -162,6 +162,12 @@ bool PhotonPass::run_photon_index(Grid& grid, const Scene& scene, const LightSam
     grid.build(photon_positions_, kNoRadii, std::fmax(2.0 * std::sqrt(mean_radius(hp)), 1e-300));
   else
     grid.build(photon_positions_, kNoRadii);
+  // Store the photons in the grid's cell order: a hit point's candidates then
+  // sit next to each other in memory instead of all over the pass's array.
+  const std::vector<uint32_t> old_of_new = grid.relabel_in_cell_order();
+  sorted_photons_.resize(photons_.size());
+  for (size_t i = 0; i < old_of_new.size(); ++i) sorted_photons_[i] = photons_[old_of_new[i]];
+  photons_.swap(sorted_photons_);
   counters.index_seconds += seconds_since(t0);
 
   t0 = std::chrono::steady_clock::now();
@@ -198,7 +204,8 @@ size_t PhotonPass::memory_bytes() const {
   for (const auto& v : m_acc_) bytes += v.capacity() * sizeof(uint32_t);
   for (const auto& v : tau_acc_) bytes += v.capacity() * sizeof(Vec3f);
   for (const auto& v : photon_buffers_) bytes += v.capacity() * sizeof(Photon);
-  bytes += photons_.capacity() * sizeof(Photon) + photon_positions_.capacity() * sizeof(Vec3);
+  bytes += (photons_.capacity() + sorted_photons_.capacity()) * sizeof(Photon) +
+           photon_positions_.capacity() * sizeof(Vec3);
   bytes += centers_.capacity() * sizeof(Vec3) + radii_.capacity() * sizeof(double);
   return bytes;
 }

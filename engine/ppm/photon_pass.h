@@ -71,6 +71,7 @@ class PhotonPass {
   // Per-thread photon buffers and the merged list (Photons organisation).
   std::vector<std::vector<Photon>> photon_buffers_;
   std::vector<Photon> photons_;
+  std::vector<Photon> sorted_photons_;  // scratch for the reorder into cell order
   std::vector<Vec3> photon_positions_;
   std::vector<Vec3> centers_;
   std::vector<double> radii_;

@@ -85,6 +85,16 @@ class QuantileGrid {
   size_t item_count() const { return item_count_; }
   size_t cell_count() const { return cell_begin_.size() - 1; }
   size_t reference_count() const { return items_.size(); }
+
+  // Point items only (mode B): relabels the items 0..n-1 in the order the
+  // cells store them and returns, for each new label, the old one. A caller
+  // that reorders its own data by it reads a cell's items from contiguous
+  // memory, which is what the gather's time goes to.
+  std::vector<uint32_t> relabel_in_cell_order() {
+    std::vector<uint32_t> old_of_new(items_);
+    for (uint32_t i = 0; i < items_.size(); ++i) items_[i] = i;
+    return old_of_new;
+  }
   size_t memory_bytes() const;
   size_t nonempty_cell_count() const;
   double target_items_per_cell() const { return target_; }
