@@ -31,6 +31,7 @@ struct EyeTracer {
   const Settings& settings;
   const EyePassOptions& options;
   std::vector<uint32_t> visible_lights;
+  Color background;  // radiance of rays that escape
   double footprint;
   bool orthographic;
 
@@ -83,7 +84,7 @@ struct EyeTracer {
       const bool found = scene.intersect(v.ray, hit, v.depth == 0 ? tmax0 : kInf);
       if (see_lights(v.ray, found ? hit.t : kInf, v.throughput, emitted)) continue;
       if (!found) {
-        emitted += v.throughput * background();
+        emitted += v.throughput * background;
         continue;
       }
       const Material& m = scene.material(hit.material);
@@ -114,12 +115,6 @@ struct EyeTracer {
       }
     }
   }
-
-  Color background() const {
-    for (const Light& l : scene.lights())
-      if (l.kind == LightKind::Background) return l.radiance;
-    return Color(0.0);
-  }
 };
 
 }  // namespace
@@ -127,11 +122,12 @@ struct EyeTracer {
 bool eye_pass(const Scene& scene, const Settings& settings, const EyePassOptions& options, HitPoints& out,
               std::atomic<bool>& cancel, const std::function<bool()>& poll) {
   const Camera& cam = scene.camera();
-  EyeTracer tracer{scene, settings, options, {}, cam.pixel_footprint(),
+  EyeTracer tracer{scene, settings, options, {}, Color(0.0), cam.pixel_footprint(),
                    cam.projection == Projection::Orthographic};
   for (uint32_t i = 0; i < scene.lights().size(); ++i) {
     const LightKind k = scene.lights()[i].kind;
     if (k == LightKind::Sphere || k == LightKind::Rectangle || k == LightKind::Disk) tracer.visible_lights.push_back(i);
+    if (k == LightKind::Background) tracer.background = scene.lights()[i].radiance;
   }
   const int W = cam.width, H = cam.height, spp = options.samples_per_pixel;
   const int grid = static_cast<int>(std::floor(std::sqrt(static_cast<double>(spp))));

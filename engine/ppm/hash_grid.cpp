@@ -1,6 +1,7 @@
 // Build of the hashed uniform grid: bounds and cell dimensions, then a counting
 // sort of (item, cell) references into hash buckets.
 #include "ppm/hash_grid.h"
+#include "ppm/grid_input.h"
 
 #include "math/aabb.h"
 
@@ -14,7 +15,7 @@
 namespace ppm {
 namespace {
 
-constexpr uint64_t kMaxIndex = std::numeric_limits<uint32_t>::max();
+constexpr uint64_t kMaxIndex = kMaxGridIndex;
 constexpr double kMaxCellsPerAxis = double((1u << 21) - 1);  // 21-bit key fields
 
 void check_input(const std::vector<Vec3>& centers, const std::vector<double>& radii,
@@ -22,16 +23,7 @@ void check_input(const std::vector<Vec3>& centers, const std::vector<double>& ra
   const std::string who = "HashGrid::build: ";
   if (!(cell_size > 0.0 && cell_size < kInf))
     throw std::invalid_argument(who + "cell_size must be finite and > 0");
-  if (centers.size() > kMaxIndex) throw std::length_error(who + "too many items");
-  if (!radii.empty() && radii.size() != centers.size())
-    throw std::invalid_argument(who + "radii.size() != centers.size()");
-  for (size_t i = 0; i < centers.size(); ++i) {
-    if (!is_finite(centers[i]))
-      throw std::invalid_argument(who + "center of item " + std::to_string(i) + " is not finite");
-    if (!radii.empty() && !(radii[i] >= 0.0 && radii[i] < kInf))
-      throw std::invalid_argument(who + "radius of item " + std::to_string(i) +
-                                  " is negative or not finite");
-  }
+  check_grid_items(who, centers, radii);
 }
 
 // Half-extent of an item's box: the radius widened by a few ulps so a point

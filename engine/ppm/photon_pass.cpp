@@ -44,7 +44,7 @@ PhotonPass::PhotonPass(const Settings& settings, int threads)
     : settings_(settings), threads_(threads), m_acc_(threads), tau_acc_(threads), deposits_(threads),
       photon_buffers_(threads) {}
 
-double PhotonPass::mean_radius(const HitPoints& hp) const {
+double PhotonPass::mean_r2(const HitPoints& hp) const {
   double sum = 0.0;
   for (const HitPoint& h : hp.points) sum += h.r2;
   return hp.size() ? sum / hp.size() : 0.0;
@@ -58,12 +58,12 @@ void PhotonPass::build_hit_point_index(const HitPoints& hp, PhotonPassCounters& 
     centers_[i] = hp.points[i].position;
     radii_[i] = std::sqrt(hp.points[i].r2);
   }
-  const double mean_r2 = mean_radius(hp);
+  const double current_mean_r2 = mean_r2(hp);
   if (settings_.grid == GridKind::Quantile)
     quantile_.build(centers_, radii_);
   else
-    hash_.build(centers_, radii_, std::fmax(2.0 * std::sqrt(mean_r2), 1e-300));
-  indexed_mean_r2_ = mean_r2;
+    hash_.build(centers_, radii_, std::fmax(2.0 * std::sqrt(current_mean_r2), 1e-300));
+  indexed_mean_r2_ = current_mean_r2;
   index_built_ = true;
   counters.index_seconds += seconds_since(t0);
 }
@@ -71,7 +71,7 @@ void PhotonPass::build_hit_point_index(const HitPoints& hp, PhotonPassCounters& 
 bool PhotonPass::run(const Scene& scene, const LightSampler& lights, uint64_t pass, HitPoints& hp,
                      std::atomic<bool>& cancel, const std::function<bool()>& poll, PhotonPassCounters& counters) {
   if (settings_.gather == GatherOrganisation::HitPoints) {
-    if (!index_built_ || mean_radius(hp) < kReindexRatio * indexed_mean_r2_) build_hit_point_index(hp, counters);
+    if (!index_built_ || mean_r2(hp) < kReindexRatio * indexed_mean_r2_) build_hit_point_index(hp, counters);
     return settings_.grid == GridKind::Quantile
                ? run_hit_point_index(quantile_, scene, lights, pass, hp, cancel, poll, counters)
                : run_hit_point_index(hash_, scene, lights, pass, hp, cancel, poll, counters);
@@ -159,7 +159,7 @@ bool PhotonPass::run_photon_index(Grid& grid, const Scene& scene, const LightSam
   for (size_t i = 0; i < photons_.size(); ++i) photon_positions_[i] = photons_[i].position;
   static const std::vector<double> kNoRadii;
   if constexpr (std::is_same_v<Grid, HashGrid>)
-    grid.build(photon_positions_, kNoRadii, std::fmax(2.0 * std::sqrt(mean_radius(hp)), 1e-300));
+    grid.build(photon_positions_, kNoRadii, std::fmax(2.0 * std::sqrt(mean_r2(hp)), 1e-300));
   else
     grid.build(photon_positions_, kNoRadii);
   // Store the photons in the grid's cell order: a hit point's candidates then

@@ -56,7 +56,7 @@ class PhotonPass {
                         HitPoints& hp, std::atomic<bool>& cancel, const std::function<bool()>& poll,
                         PhotonPassCounters& counters);
   void build_hit_point_index(const HitPoints& hp, PhotonPassCounters& counters);
-  double mean_radius(const HitPoints& hp) const;
+  double mean_r2(const HitPoints& hp) const;
 
   Settings settings_;
   int threads_;

@@ -4,16 +4,13 @@
 // light are running sums over passes.
 #pragma once
 
-#include "math/types.h"
+#include "ppm/hit_point.h"
 
 namespace ppm {
 
 struct PixelStats {
   double r2 = 0.0;       // 0 until the pixel's first hit point sets the initial radius
-  double n = 0.0;
-  uint32_t m = 0;
-  Color tau{0.0}, tau_m{0.0};
-  Color direct{0.0};     // sum over passes
+  HitPointStats stats;   // n, m, tau, tau_m as for a fixed hit point; direct: sum over passes
   Color emitted{0.0};    // sum over passes
 };
 

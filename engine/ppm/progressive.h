@@ -10,11 +10,11 @@
 
 namespace ppm {
 
-inline void progressive_update(HitPoint& h, HitPointStats& s, double alpha, uint32_t threshold) {
+inline void progressive_update(double& r2, HitPointStats& s, double alpha, uint32_t threshold) {
   if (s.m < threshold || s.m == 0) return;
   const double m = static_cast<double>(s.m);
   const double ratio = (s.n + alpha * m) / (s.n + m);
-  h.r2 *= ratio;
+  r2 *= ratio;
   s.tau = (s.tau + s.tau_m) * ratio;
   s.n += alpha * m;
   s.m = 0;
@@ -25,9 +25,9 @@ inline void progressive_update(HitPoint& h, HitPointStats& s, double alpha, uint
 // (tau_m, m) photons were gathered at the current radius r, exactly like
 // those already in tau, so they belong in the estimate: leaving them out would
 // darken every hit point that waits for P photons while N_emitted grows.
-inline Color photon_radiance(const HitPoint& h, const HitPointStats& s, double photons_emitted) {
-  if (photons_emitted <= 0.0 || h.r2 <= 0.0) return Color(0.0);
-  return (s.tau + s.tau_m) / (kPi * h.r2 * photons_emitted);
+inline Color photon_radiance(double r2, const HitPointStats& s, double photons_emitted) {
+  if (photons_emitted <= 0.0 || r2 <= 0.0) return Color(0.0);
+  return (s.tau + s.tau_m) / (kPi * r2 * photons_emitted);
 }
 
 }  // namespace ppm

@@ -2,6 +2,7 @@
 // recursion) over a sample of the coordinates, then a counting sort of items
 // (or of sphere references) into CSR cells. O(n) overall.
 #include "ppm/quantile_grid.h"
+#include "ppm/grid_input.h"
 
 #include "math/rng.h"
 
@@ -15,27 +16,13 @@
 namespace ppm {
 namespace {
 
-constexpr uint64_t kMaxIndex = std::numeric_limits<uint32_t>::max();
+constexpr uint64_t kMaxIndex = kMaxGridIndex;
 // Cells never outnumber items by more than this, so memory stays O(n) even for
 // tiny targets.
 constexpr double kMaxCellsPerItem = 8.0;
 constexpr double kMaxCells = 2147483648.0;  // keeps cell indices in uint32
 constexpr uint32_t kSamplesPerSlab = 128;
 constexpr double kMinSlabWidthInRadii = 1.0;
-
-void check_input(const std::vector<Vec3>& centers, const std::vector<double>& radii) {
-  const std::string who = "QuantileGrid::build: ";
-  if (centers.size() > kMaxIndex) throw std::length_error(who + "too many items");
-  if (!radii.empty() && radii.size() != centers.size())
-    throw std::invalid_argument(who + "radii.size() != centers.size()");
-  for (size_t i = 0; i < centers.size(); ++i) {
-    if (!is_finite(centers[i]))
-      throw std::invalid_argument(who + "center of item " + std::to_string(i) + " is not finite");
-    if (!radii.empty() && !(radii[i] >= 0.0 && radii[i] < kInf))
-      throw std::invalid_argument(who + "radius of item " + std::to_string(i) +
-                                  " is negative or not finite");
-  }
-}
 
 // Places the order statistics at positions pos[0..npos) (increasing) of
 // data[first, last) where a full sort would put them.
@@ -189,7 +176,7 @@ QuantileGrid::QuantileGrid(double target_items_per_cell) : target_(target_items_
 }
 
 void QuantileGrid::build(const std::vector<Vec3>& centers, const std::vector<double>& radii) {
-  check_input(centers, radii);
+  check_grid_items("QuantileGrid::build: ", centers, radii);
   try {
     item_count_ = centers.size();
     choose_splits(centers, min_slab_width(radii));

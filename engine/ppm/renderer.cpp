@@ -42,12 +42,6 @@ Renderer::Renderer(std::shared_ptr<const Scene> scene, const Settings& settings)
   stats_.threads = threads_;
   stats_.skipped = analysis_.skipped;
   decide_depth_of_field();
-  if (settings_.hit_points == HitPointMode::Stochastic && !analysis_.resample_direct) {
-    analysis_.resample_direct = true;  // new hit points every pass need new direct samples
-    auto& sk = stats_.skipped;
-    sk.erase(std::remove_if(sk.begin(), sk.end(), [](const std::string& x) { return x.rfind("direct light resampling", 0) == 0; }),
-             sk.end());
-  }
   scene_->attach_renderer();
 }
 
@@ -135,7 +129,7 @@ bool Renderer::one_pass(const std::function<bool()>& poll) {
   }
   const auto t0 = Clock::now();
   for (size_t i = 0; i < hit_points_.size(); ++i)
-    progressive_update(hit_points_.points[i], hit_points_.stats[i], settings_.alpha, settings_.threshold);
+    progressive_update(hit_points_.points[i].r2, hit_points_.stats[i], settings_.alpha, settings_.threshold);
   stats_.update_seconds += since(t0);
   ++stats_.passes;
   return completed;
@@ -170,24 +164,12 @@ bool Renderer::stochastic_pass(const std::function<bool()>& poll) {
   for (size_t p = 0; p < pixel_count; ++p) {
     PixelStats& px = pixels_[p];
     for (uint32_t i = fresh.pixel_begin[p]; i < fresh.pixel_begin[p + 1]; ++i) {
-      px.m += fresh.stats[i].m;
-      px.tau_m += fresh.stats[i].tau_m;
-      px.direct += fresh.stats[i].direct;
+      px.stats.m += fresh.stats[i].m;
+      px.stats.tau_m += fresh.stats[i].tau_m;
+      px.stats.direct += fresh.stats[i].direct;
     }
     px.emitted += fresh.emitted[p];
-    HitPoint radius;
-    radius.r2 = px.r2;
-    HitPointStats s;
-    s.n = px.n;
-    s.m = px.m;
-    s.tau = px.tau;
-    s.tau_m = px.tau_m;
-    progressive_update(radius, s, settings_.alpha, settings_.threshold);
-    px.r2 = radius.r2;
-    px.n = s.n;
-    px.m = s.m;
-    px.tau = s.tau;
-    px.tau_m = s.tau_m;
+    progressive_update(px.r2, px.stats, settings_.alpha, settings_.threshold);
   }
   if (!fresh.depth.empty()) depth_.swap(fresh.depth);
   stats_.update_seconds += since(t0);
@@ -253,14 +235,14 @@ std::vector<float> Renderer::image() const {
       Color c(0.0);
       if (stochastic) {
         const PixelStats& px = pixels_[p];
-        c = px.emitted * pass_scale + px.direct * direct_scale;
-        if (analysis_.trace_photons && px.r2 > 0.0 && emitted > 0.0) c += (px.tau + px.tau_m) / (kPi * px.r2 * emitted);
+        c = px.emitted * pass_scale + px.stats.direct * direct_scale;
+        if (analysis_.trace_photons && px.r2 > 0.0) c += photon_radiance(px.r2, px.stats, emitted);
       } else {
         c = hit_points_.emitted[p];
         for (uint32_t i = hit_points_.pixel_begin[p]; i < hit_points_.pixel_begin[p + 1]; ++i) {
           const HitPointStats& s = hit_points_.stats[i];
           c += s.direct * direct_scale;
-          if (analysis_.trace_photons) c += photon_radiance(hit_points_.points[i], s, emitted);
+          if (analysis_.trace_photons) c += photon_radiance(hit_points_.points[i].r2, s, emitted);
         }
       }
       float* out = &rgba[(static_cast<size_t>(H - 1 - y) * W + x) * 4];  // top row first

@@ -34,7 +34,8 @@ SceneAnalysis analyse_scene(const Scene& scene, const LightSampler& lights, cons
   bool all_delta = true;
   for (uint32_t l : lights.analytic()) all_delta &= light_is_delta(scene.lights()[l]);
   all_delta &= !lights.has_triangles();
-  if (a.sample_direct && all_delta) {
+  // Stochastic hit points are new every pass and need a new direct sample each time.
+  if (a.sample_direct && all_delta && settings.hit_points == HitPointMode::Fixed) {
     a.resample_direct = false;
     a.skipped.push_back("direct light resampling: only point, spot and hard sun lights (one exact sample)");
   }
