@@ -34,10 +34,10 @@ Color light_contribution(const Scene& scene, const Light& light, const HitPoint&
 }  // namespace
 
 bool direct_light_pass(const Scene& scene, const LightSampler& lights, const Settings& settings,
-                       uint64_t pass, int threads, HitPoints& hp, std::atomic<bool>& cancel,
-                       const std::function<bool()>& poll) {
+                       uint64_t pass, int threads, HitPoints& hp, std::vector<Color>& sums,
+                       std::atomic<bool>& cancel, const std::function<bool()>& poll) {
   const size_t n = hp.size(), chunks = (n + kChunk - 1) / kChunk;
-  std::vector<Color> sums(n);  // written in full before being added, so a cancel leaves stats untouched
+  sums.resize(n);  // every entry is written below before any is added
   auto work = [&](int, size_t chunk) {
     for (size_t i = chunk * kChunk; i < std::min(n, (chunk + 1) * kChunk); ++i) {
       Rng rng(settings.seed, kDirectStream + pass, i);
@@ -55,10 +55,10 @@ bool direct_light_pass(const Scene& scene, const LightSampler& lights, const Set
       sums[i] = sum;
     }
   };
-  if (!parallel_chunks(std::max(1, std::min<int>(threads, static_cast<int>(chunks))), chunks, work, cancel, poll,
-                       settings.progress_interval))
-    return false;
-  for (size_t i = 0; i < n; ++i) hp.stats[i].direct += sums[i];
+  if (!parallel_chunks(threads, chunks, work, cancel, poll, settings.progress_interval)) return false;
+  parallel_for(threads, n, [&](size_t begin, size_t end) {
+    for (size_t i = begin; i < end; ++i) hp.stats[i].direct += sums[i];
+  });
   return true;
 }
 

@@ -11,11 +11,14 @@
 
 #include <atomic>
 #include <functional>
+#include <vector>
 
 namespace ppm {
 
+// `scratch` holds the pass's sums until the pass completes (a cancelled pass
+// adds nothing); the caller keeps it across passes so that no pass allocates.
 bool direct_light_pass(const Scene& scene, const LightSampler& lights, const Settings& settings,
-                       uint64_t pass, int threads, HitPoints& hit_points, std::atomic<bool>& cancel,
-                       const std::function<bool()>& poll);
+                       uint64_t pass, int threads, HitPoints& hit_points, std::vector<Color>& scratch,
+                       std::atomic<bool>& cancel, const std::function<bool()>& poll);
 
 }  // namespace ppm

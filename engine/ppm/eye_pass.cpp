@@ -168,28 +168,30 @@ bool eye_pass(const Scene& scene, const Settings& settings, const EyePassOptions
         counts[pixel] = static_cast<uint32_t>(o.points.size() - before);
       }
   };
-  const int threads = std::max(1, std::min<int>(options.threads, static_cast<int>(chunks)));
-  if (!parallel_chunks(threads, chunks, work, cancel, poll, settings.progress_interval)) return false;
+  if (!parallel_chunks(options.threads, chunks, work, cancel, poll, settings.progress_interval)) return false;
 
-  size_t total = 0;
-  for (const ChunkOutput& o : outputs) total += o.points.size();
-  out.points.clear();
-  out.shading.clear();
-  out.points.reserve(total);
-  out.shading.reserve(total);
-  for (ChunkOutput& o : outputs) {
-    const uint32_t base = static_cast<uint32_t>(out.shading.size());
-    for (HitPoint hp : o.points) {
-      hp.shading += base;
-      out.points.push_back(hp);
+  // Concatenate the chunks in order, each copied by whichever thread takes it.
+  std::vector<size_t> first(chunks + 1, 0);
+  for (size_t c = 0; c < chunks; ++c) first[c + 1] = first[c] + outputs[c].points.size();
+  const size_t total = first[chunks];
+  out.points.resize(total);
+  out.shading.resize(total);
+  out.stats.resize(total);
+  std::atomic<bool> never{false};
+  parallel_chunks(options.threads, chunks, [&](int, size_t c) {
+    ChunkOutput& o = outputs[c];
+    for (size_t k = 0; k < o.points.size(); ++k) {
+      HitPoint hp = o.points[k];
+      hp.shading += static_cast<uint32_t>(first[c]);
+      out.points[first[c] + k] = hp;
+      out.shading[first[c] + k] = o.shading[k];
+      out.stats[first[c] + k] = HitPointStats{};
     }
-    out.shading.insert(out.shading.end(), o.shading.begin(), o.shading.end());
     ChunkOutput().points.swap(o.points);
     ChunkOutput().shading.swap(o.shading);
-  }
+  }, never, nullptr, 0.0);
   out.pixel_begin.assign(counts.size() + 1, 0);
   for (size_t p = 0; p < counts.size(); ++p) out.pixel_begin[p + 1] = out.pixel_begin[p] + counts[p];
-  out.stats.assign(total, HitPointStats{});
   return true;
 }
 

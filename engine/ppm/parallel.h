@@ -1,11 +1,21 @@
-// Static, interleaved work sharing: chunk c runs on thread c % threads, so the
-// split (and with it every per-thread sum) is the same on every run. The
-// calling thread does not work; it waits and calls `poll` every `interval`
-// seconds so Python can show progress and ask to cancel.
+// Work sharing for the render passes.
+//
+// parallel_chunks: chunks are handed out one at a time from a shared counter,
+// so a thread that drew cheap chunks takes more of them (static splits left a
+// thread idle at the end of every pass). Callers keep results per chunk, never
+// per thread, so the image does not depend on which thread ran what. The
+// calling thread does not work; it sleeps until the workers finish, waking
+// every `interval` seconds to call `poll` so Python can show progress and
+// cancel.
+//
+// parallel_for: the short steps between passes (merging, committing sums),
+// split into one contiguous range per thread, not cancellable.
 #pragma once
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <condition_variable>
 #include <cstddef>
 #include <exception>
 #include <functional>
@@ -19,43 +29,61 @@ namespace ppm {
 // already). Exceptions from workers are rethrown on the calling thread.
 inline bool parallel_chunks(int threads, size_t chunks, const std::function<void(int, size_t)>& work,
                             std::atomic<bool>& cancel, const std::function<bool()>& poll, double interval) {
-  std::atomic<int> running{threads};
+  threads = std::max(1, std::min<int>(threads, static_cast<int>(std::min<size_t>(chunks, 1u << 16))));
+  std::atomic<size_t> next{0};
   std::exception_ptr error;
-  std::mutex error_mutex;
+  std::mutex mutex;  // guards error, running and the wake-up
+  std::condition_variable finished;
+  int running = threads;
   std::vector<std::thread> pool;
   pool.reserve(threads);
   for (int t = 0; t < threads; ++t) {
     pool.emplace_back([&, t]() {
       try {
-        for (size_t c = t; c < chunks && !cancel.load(std::memory_order_relaxed); c += threads) work(t, c);
+        for (size_t c; !cancel.load(std::memory_order_relaxed) && (c = next.fetch_add(1)) < chunks;) work(t, c);
       } catch (...) {
-        std::lock_guard<std::mutex> lock(error_mutex);
+        std::lock_guard<std::mutex> lock(mutex);
         if (!error) error = std::current_exception();
         cancel = true;
       }
-      running.fetch_sub(1);
+      std::lock_guard<std::mutex> lock(mutex);
+      if (--running == 0) finished.notify_one();
     });
   }
-  auto last = std::chrono::steady_clock::now();
-  while (running.load() > 0) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(2));
-    const auto now = std::chrono::steady_clock::now();
-    if (poll && std::chrono::duration<double>(now - last).count() >= interval) {
-      last = now;
-      bool keep_going = true;
-      try {
-        keep_going = poll();
-      } catch (...) {
-        std::lock_guard<std::mutex> lock(error_mutex);
-        if (!error) error = std::current_exception();
-        keep_going = false;
-      }
-      if (!keep_going) cancel = true;
+  const auto wait = std::chrono::duration<double>(poll ? std::max(interval, 1e-3) : 3600.0);
+  for (;;) {
+    {
+      std::unique_lock<std::mutex> lock(mutex);
+      if (finished.wait_for(lock, wait, [&] { return running == 0; })) break;
     }
+    if (!poll) continue;
+    bool keep_going = true;
+    try {
+      keep_going = poll();
+    } catch (...) {
+      std::lock_guard<std::mutex> lock(mutex);
+      if (!error) error = std::current_exception();
+      keep_going = false;
+    }
+    if (!keep_going) cancel = true;
   }
   for (auto& th : pool) th.join();
   if (error) std::rethrow_exception(error);
   return !cancel.load();
+}
+
+// fn(begin, end) over [0, n) in at most `threads` contiguous ranges; small n
+// runs on the calling thread. Exceptions are rethrown on the calling thread.
+inline void parallel_for(int threads, size_t n, const std::function<void(size_t, size_t)>& fn) {
+  constexpr size_t kMinPerThread = 16384;
+  const size_t parts = std::max<size_t>(1, std::min<size_t>(threads, n / kMinPerThread));
+  if (parts == 1) {
+    fn(0, n);
+    return;
+  }
+  std::atomic<bool> never{false};
+  parallel_chunks(static_cast<int>(parts), parts, [&](int, size_t p) { fn(n * p / parts, n * (p + 1) / parts); },
+                  never, nullptr, 0.0);
 }
 
 }  // namespace ppm

@@ -41,8 +41,7 @@ inline bool photon_weight(const Scene& scene, const HitPoints& hp, uint32_t i, c
 }  // namespace
 
 PhotonPass::PhotonPass(const Settings& settings, int threads)
-    : settings_(settings), threads_(threads), m_acc_(threads), tau_acc_(threads), deposits_(threads),
-      photon_buffers_(threads) {}
+    : settings_(settings), threads_(threads), m_acc_(threads), tau_acc_(threads), deposits_(threads) {}
 
 double PhotonPass::mean_r2(const HitPoints& hp) const {
   double sum = 0.0;
@@ -87,18 +86,19 @@ bool PhotonPass::run_hit_point_index(const Grid& grid, const Scene& scene, const
                                      const std::function<bool()>& poll, PhotonPassCounters& counters) {
   const auto t0 = std::chrono::steady_clock::now();
   const size_t n = hp.size();
-  for (int t = 0; t < threads_; ++t) {
-    m_acc_[t].assign(n, 0u);
-    tau_acc_[t].assign(n, Vec3f(0.0f));
-    deposits_[t] = 0;
-  }
   const uint64_t photons = settings_.photons_per_pass;
-  const size_t chunks = (photons + kPhotonChunk - 1) / kPhotonChunk;
-  auto work = [&](int thread, size_t chunk) {
-    uint32_t* m = m_acc_[thread].data();
-    Vec3f* tau = tau_acc_[thread].data();
+  // One block of photons per thread, each with its own accumulator: a block's
+  // sums do not depend on which thread ran it.
+  const int blocks = std::max(1, std::min<int>(threads_, static_cast<int>((photons + kPhotonChunk - 1) / kPhotonChunk)));
+  auto work = [&](int, size_t block) {
+    m_acc_[block].assign(n, 0u);
+    tau_acc_[block].assign(n, Vec3f(0.0f));
+    uint32_t* m = m_acc_[block].data();
+    Vec3f* tau = tau_acc_[block].data();
     uint64_t deposits = 0;
-    for (uint64_t i = chunk * kPhotonChunk; i < std::min<uint64_t>(photons, (chunk + 1) * kPhotonChunk); ++i) {
+    const uint64_t first = photons * block / blocks, last = photons * (block + 1) / blocks;
+    for (uint64_t i = first; i < last; ++i) {
+      if ((i - first) % kPhotonChunk == 0 && cancel.load(std::memory_order_relaxed)) return;
       Rng rng(settings_.seed, kPhotonStream + pass, i);
       deposits += trace_photon(scene, lights, settings_, rng, [&](const Vec3& pos, const Vec3& dir, const Color& flux) {
         const Vec3f d(dir), f(flux);
@@ -110,20 +110,21 @@ bool PhotonPass::run_hit_point_index(const Grid& grid, const Scene& scene, const
         });
       });
     }
-    deposits_[thread] += deposits;
+    deposits_[block] = deposits;
   };
-  const int threads = std::max(1, std::min<int>(threads_, static_cast<int>(chunks)));
-  if (!parallel_chunks(threads, chunks, work, cancel, poll, settings_.progress_interval)) return false;
-  for (int t = 0; t < threads; ++t) {  // merge in thread order: deterministic sums
-    const uint32_t* m = m_acc_[t].data();
-    const Vec3f* tau = tau_acc_[t].data();
-    for (size_t i = 0; i < n; ++i) {
-      if (m[i] == 0) continue;
-      hp.stats[i].m += m[i];
-      hp.stats[i].tau_m += Color(tau[i]);
+  if (!parallel_chunks(blocks, blocks, work, cancel, poll, settings_.progress_interval)) return false;
+  parallel_for(threads_, n, [&](size_t begin, size_t end) {
+    for (int b = 0; b < blocks; ++b) {  // block order: deterministic sums
+      const uint32_t* m = m_acc_[b].data();
+      const Vec3f* tau = tau_acc_[b].data();
+      for (size_t i = begin; i < end; ++i) {
+        if (m[i] == 0) continue;
+        hp.stats[i].m += m[i];
+        hp.stats[i].tau_m += Color(tau[i]);
+      }
     }
-    counters.deposited += deposits_[t];
-  }
+  });
+  for (int b = 0; b < blocks; ++b) counters.deposited += deposits_[b];
   counters.emitted += photons;
   counters.trace_seconds += seconds_since(t0);
   return true;
@@ -136,11 +137,12 @@ bool PhotonPass::run_photon_index(Grid& grid, const Scene& scene, const LightSam
   auto t0 = std::chrono::steady_clock::now();
   const uint64_t photons = settings_.photons_per_pass;
   const size_t chunks = (photons + kPhotonChunk - 1) / kPhotonChunk;
-  // Buffers per chunk would keep photon order independent of the thread count;
-  // per thread is enough for "same seed + same threads = same image".
-  for (auto& b : photon_buffers_) b.clear();
-  auto trace = [&](int thread, size_t chunk) {
-    auto& buffer = photon_buffers_[thread];
+  // One buffer per chunk (kept across passes): merged in chunk order, the
+  // photon list is the same whichever thread traced which chunk.
+  if (chunk_photons_.size() < chunks) chunk_photons_.resize(chunks);
+  auto trace = [&](int, size_t chunk) {
+    auto& buffer = chunk_photons_[chunk];
+    buffer.clear();
     for (uint64_t i = chunk * kPhotonChunk; i < std::min<uint64_t>(photons, (chunk + 1) * kPhotonChunk); ++i) {
       Rng rng(settings_.seed, kPhotonStream + pass, i);
       trace_photon(scene, lights, settings_, rng, [&](const Vec3& pos, const Vec3& dir, const Color& flux) {
@@ -148,52 +150,78 @@ bool PhotonPass::run_photon_index(Grid& grid, const Scene& scene, const LightSam
       });
     }
   };
-  const int trace_threads = std::max(1, std::min<int>(threads_, static_cast<int>(chunks)));
-  if (!parallel_chunks(trace_threads, chunks, trace, cancel, poll, settings_.progress_interval)) return false;
+  if (!parallel_chunks(threads_, chunks, trace, cancel, poll, settings_.progress_interval)) return false;
   photons_.clear();
-  for (auto& b : photon_buffers_) photons_.insert(photons_.end(), b.begin(), b.end());
+  for (size_t c = 0; c < chunks; ++c) photons_.insert(photons_.end(), chunk_photons_[c].begin(), chunk_photons_[c].end());
   counters.trace_seconds += seconds_since(t0);
 
   t0 = std::chrono::steady_clock::now();
-  photon_positions_.resize(photons_.size());
-  for (size_t i = 0; i < photons_.size(); ++i) photon_positions_[i] = photons_[i].position;
+  const size_t count = photons_.size();
+  traced_positions_.resize(count);
+  for (size_t i = 0; i < count; ++i) traced_positions_[i] = photons_[i].position;
   static const std::vector<double> kNoRadii;
   if constexpr (std::is_same_v<Grid, HashGrid>)
-    grid.build(photon_positions_, kNoRadii, std::fmax(2.0 * std::sqrt(mean_r2(hp)), 1e-300));
+    grid.build(traced_positions_, kNoRadii, std::fmax(2.0 * std::sqrt(mean_r2(hp)), 1e-300));
   else
-    grid.build(photon_positions_, kNoRadii);
+    grid.build(traced_positions_, kNoRadii, threads_);
   // Store the photons in the grid's cell order: a hit point's candidates then
   // sit next to each other in memory instead of all over the pass's array.
   const std::vector<uint32_t> old_of_new = grid.relabel_in_cell_order();
-  sorted_photons_.resize(photons_.size());
-  for (size_t i = 0; i < old_of_new.size(); ++i) sorted_photons_[i] = photons_[old_of_new[i]];
-  photons_.swap(sorted_photons_);
+  positions_.resize(count);
+  arrivals_.resize(count);
+  parallel_for(threads_, count, [&](size_t begin, size_t end) {
+    for (size_t i = begin; i < end; ++i) {
+      const Photon& p = photons_[old_of_new[i]];
+      positions_[i] = p.position;
+      arrivals_[i] = Arrival{p.direction, p.flux};
+    }
+  });
   counters.index_seconds += seconds_since(t0);
 
   t0 = std::chrono::steady_clock::now();
   const size_t n = hp.size(), hchunks = (n + kHitPointChunk - 1) / kHitPointChunk;
-  std::vector<uint32_t> m(n, 0);
-  std::vector<Color> tau(n, Color(0.0));
+  gathered_m_.resize(n);
+  gathered_tau_.resize(n);
   auto gather = [&](int, size_t chunk) {
+    const Vec3* position = positions_.data();
+    const Arrival* arrival = arrivals_.data();
     for (size_t i = chunk * kHitPointChunk; i < std::min(n, (chunk + 1) * kHitPointChunk); ++i) {
       const HitPoint& h = hp.points[i];
-      const Vec3 r(std::sqrt(h.r2));
-      grid.for_each_candidate_in_box(h.position - r, h.position + r, [&](uint32_t p) {
-        const Photon& ph = photons_[p];
-        Vec3f w;
-        if (!photon_weight(scene, hp, static_cast<uint32_t>(i), ph.position, ph.direction, w)) return;
-        ++m[i];
-        tau[i] += Color(w * ph.flux);
-      });
+      const Vec3 center = h.position;
+      const double r2 = h.r2, r = std::sqrt(r2);
+      uint32_t m = 0;
+      Color tau(0.0);
+      if (!h.glossy) {
+        // Diffuse: the weight is the same for every photon, so sum the flux and weigh once.
+        const Vec3f normal = h.normal;
+        Color flux(0.0);
+        grid.for_each_candidate_in_box(center - r, center + r, [&](uint32_t p) {
+          const Vec3 d = position[p] - center;
+          if (glm::dot(d, d) > r2 || glm::dot(normal, arrival[p].direction) >= 0.0f) return;
+          ++m;
+          flux += Color(arrival[p].flux);
+        });
+        tau = flux * Color(h.weight);
+      } else {
+        grid.for_each_candidate_in_box(center - r, center + r, [&](uint32_t p) {
+          Vec3f w;
+          if (!photon_weight(scene, hp, static_cast<uint32_t>(i), position[p], arrival[p].direction, w)) return;
+          ++m;
+          tau += Color(w * arrival[p].flux);
+        });
+      }
+      gathered_m_[i] = m;
+      gathered_tau_[i] = tau;
     }
   };
-  const int gather_threads = std::max(1, std::min<int>(threads_, static_cast<int>(hchunks)));
-  if (!parallel_chunks(gather_threads, hchunks, gather, cancel, poll, settings_.progress_interval)) return false;
-  for (size_t i = 0; i < n; ++i) {
-    hp.stats[i].m += m[i];
-    hp.stats[i].tau_m += tau[i];
-  }
-  counters.deposited += photons_.size();
+  if (!parallel_chunks(threads_, hchunks, gather, cancel, poll, settings_.progress_interval)) return false;
+  parallel_for(threads_, n, [&](size_t begin, size_t end) {
+    for (size_t i = begin; i < end; ++i) {
+      hp.stats[i].m += gathered_m_[i];
+      hp.stats[i].tau_m += gathered_tau_[i];
+    }
+  });
+  counters.deposited += count;
   counters.emitted += photons;
   counters.gather_seconds += seconds_since(t0);
   return true;
@@ -203,9 +231,10 @@ size_t PhotonPass::memory_bytes() const {
   size_t bytes = quantile_.memory_bytes() + hash_.memory_bytes();
   for (const auto& v : m_acc_) bytes += v.capacity() * sizeof(uint32_t);
   for (const auto& v : tau_acc_) bytes += v.capacity() * sizeof(Vec3f);
-  for (const auto& v : photon_buffers_) bytes += v.capacity() * sizeof(Photon);
-  bytes += (photons_.capacity() + sorted_photons_.capacity()) * sizeof(Photon) +
-           photon_positions_.capacity() * sizeof(Vec3);
+  for (const auto& v : chunk_photons_) bytes += v.capacity() * sizeof(Photon);
+  bytes += photons_.capacity() * sizeof(Photon) + (traced_positions_.capacity() + positions_.capacity()) * sizeof(Vec3) +
+           arrivals_.capacity() * sizeof(Arrival);
+  bytes += gathered_m_.capacity() * sizeof(uint32_t) + gathered_tau_.capacity() * sizeof(Color);
   bytes += centers_.capacity() * sizeof(Vec3) + radii_.capacity() * sizeof(double);
   return bytes;
 }

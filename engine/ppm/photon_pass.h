@@ -2,10 +2,12 @@
 // into the hit points' pending statistics (m, tau_m). Two organisations, both
 // over either spatial index (quantile grid or hashed grid):
 //   HitPoints: the index holds the hit points as spheres; every photon looks up
-//     the hit points around it and adds to per-thread accumulators that are
-//     summed in thread order after the pass (no locks, deterministic);
-//   Photons:   the pass's photons are stored, indexed, and every hit point
-//     gathers the photons inside its radius.
+//     the hit points around it and adds to one accumulator per block of
+//     photons (as many blocks as threads), summed in block order after the
+//     pass (no locks, deterministic);
+//   Photons:   the pass's photons are stored in the index's cell order and
+//     every hit point gathers the photons inside its radius (the default: no
+//     scattered writes).
 #pragma once
 
 #include "ppm/hash_grid.h"
@@ -46,6 +48,12 @@ class PhotonPass {
     Vec3f direction;
     Vec3f flux;
   };
+  // What the gather reads once a photon passed the distance test; positions
+  // live in their own array so the test streams through 24 bytes a photon.
+  struct Arrival {
+    Vec3f direction;
+    Vec3f flux;
+  };
 
   template <class Grid>
   bool run_hit_point_index(const Grid& grid, const Scene& scene, const LightSampler& lights, uint64_t pass,
@@ -64,15 +72,20 @@ class PhotonPass {
   HashGrid hash_;
   double indexed_mean_r2_ = 0.0;  // mean r^2 when the hit-point index was last built
   bool index_built_ = false;
-  // Per-thread accumulators (HitPoints organisation).
+  // Per-block accumulators (HitPoints organisation).
   std::vector<std::vector<uint32_t>> m_acc_;
   std::vector<std::vector<Vec3f>> tau_acc_;
   std::vector<uint64_t> deposits_;
-  // Per-thread photon buffers and the merged list (Photons organisation).
-  std::vector<std::vector<Photon>> photon_buffers_;
+  // Photons organisation: photons per chunk as traced, merged in chunk order,
+  // then stored in cell order as positions + arrivals.
+  std::vector<std::vector<Photon>> chunk_photons_;
   std::vector<Photon> photons_;
-  std::vector<Photon> sorted_photons_;  // scratch for the reorder into cell order
-  std::vector<Vec3> photon_positions_;
+  std::vector<Vec3> traced_positions_;  // grid input, in traced order
+  std::vector<Vec3> positions_;         // cell order
+  std::vector<Arrival> arrivals_;       // cell order
+  // One pass's gather per hit point, added to the statistics once the pass completes.
+  std::vector<uint32_t> gathered_m_;
+  std::vector<Color> gathered_tau_;
   std::vector<Vec3> centers_;
   std::vector<double> radii_;
 };

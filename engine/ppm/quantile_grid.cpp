@@ -3,6 +3,7 @@
 // (or of sphere references) into CSR cells. O(n) overall.
 #include "ppm/quantile_grid.h"
 #include "ppm/grid_input.h"
+#include "ppm/parallel.h"
 
 #include "math/rng.h"
 
@@ -175,13 +176,13 @@ QuantileGrid::QuantileGrid(double target_items_per_cell) : target_(target_items_
     throw std::invalid_argument("QuantileGrid: target_items_per_cell must be finite and > 0");
 }
 
-void QuantileGrid::build(const std::vector<Vec3>& centers, const std::vector<double>& radii) {
+void QuantileGrid::build(const std::vector<Vec3>& centers, const std::vector<double>& radii, int threads) {
   check_grid_items("QuantileGrid::build: ", centers, radii);
   try {
     item_count_ = centers.size();
     choose_splits(centers, min_slab_width(radii));
     if (radii.empty()) {
-      fill_points(centers);
+      fill_points(centers, threads);
     } else {
       fill_spheres(centers, radii);
     }
@@ -228,21 +229,43 @@ void QuantileGrid::choose_splits(const std::vector<Vec3>& centers, double min_wi
     }
     if (!short_axis) break;
   }
+  for (int a = 0; a < 3; ++a) build_lookup(a);
   const size_t cells = size_t(dims_[0]) * dims_[1] * dims_[2];
   cell_begin_.assign(cells + 1, 0);
+}
+
+void QuantileGrid::build_lookup(int axis) {
+  const std::vector<double>& s = splits_[axis];
+  SlabLookup& lookup = lookup_[axis];
+  lookup = SlabLookup{};
+  if (s.empty()) return;
+  // Four buckets per slab: most buckets then hold no split or one.
+  const uint32_t buckets = static_cast<uint32_t>(std::min<size_t>(4 * (s.size() + 1), kMaxIndex / 2));
+  lookup.origin = s.front();
+  const double span = s.back() - s.front();
+  // A zero or overflowing span leaves scale 0 (one bucket in effect): still exact, just a full search.
+  lookup.scale = span > 0.0 && std::isfinite(span) && std::isfinite(buckets / span) ? buckets / span : 0.0;
+  lookup.last = buckets - 1;
+  lookup.limit = static_cast<double>(lookup.last);
+  lookup.first.assign(size_t(buckets) + 1, 0);
+  for (double v : s) ++lookup.first[lookup.bucket(v) + 1];
+  for (size_t b = 1; b < lookup.first.size(); ++b) lookup.first[b] += lookup.first[b - 1];
 }
 
 // Counting sort of points into cells. Counts go to cell_begin_[c], an
 // inclusive prefix sum turns them into cell ends, and a backward fill leaves
 // cell starts behind while keeping items in increasing order within a cell.
-void QuantileGrid::fill_points(const std::vector<Vec3>& centers) {
+void QuantileGrid::fill_points(const std::vector<Vec3>& centers, int threads) {
   const size_t n = centers.size();
   std::vector<uint32_t> cell_of(n);
-  for (size_t i = 0; i < n; ++i) {
-    const Vec3& p = centers[i];
-    cell_of[i] = (slab_index(2, p.z) * dims_[1] + slab_index(1, p.y)) * dims_[0] + slab_index(0, p.x);
-    ++cell_begin_[cell_of[i]];
-  }
+  // The slab searches are the expensive part, and independent per point.
+  parallel_for(threads, n, [&](size_t begin, size_t end) {
+    for (size_t i = begin; i < end; ++i) {
+      const Vec3& p = centers[i];
+      cell_of[i] = (slab_index(2, p.z) * dims_[1] + slab_index(1, p.y)) * dims_[0] + slab_index(0, p.x);
+    }
+  });
+  for (size_t i = 0; i < n; ++i) ++cell_begin_[cell_of[i]];
   for (size_t c = 1; c < cell_begin_.size(); ++c) cell_begin_[c] += cell_begin_[c - 1];
   items_.assign(n, 0);
   for (size_t i = n; i-- > 0;) items_[--cell_begin_[cell_of[i]]] = static_cast<uint32_t>(i);
@@ -289,6 +312,7 @@ size_t QuantileGrid::memory_bytes() const {
   size_t bytes = sizeof(*this) + cell_begin_.capacity() * sizeof(uint32_t) +
                  items_.capacity() * sizeof(uint32_t);
   for (const auto& s : splits_) bytes += s.capacity() * sizeof(double);
+  for (const auto& l : lookup_) bytes += l.first.capacity() * sizeof(uint32_t);
   return bytes;
 }
 

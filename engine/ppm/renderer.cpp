@@ -3,6 +3,7 @@
 
 #include "ppm/direct_light.h"
 #include "ppm/eye_pass.h"
+#include "ppm/parallel.h"
 #include "ppm/progressive.h"
 #include "post/dof_post.h"
 
@@ -123,13 +124,15 @@ bool Renderer::one_pass(const std::function<bool()>& poll) {
   bool completed = true;
   if (analysis_.sample_direct && (analysis_.resample_direct || stats_.direct_samples == 0)) {
     const auto t0 = Clock::now();
-    completed = direct_light_pass(*scene_, lights_, settings_, pass, threads_, hit_points_, cancel_, poll);
+    completed = direct_light_pass(*scene_, lights_, settings_, pass, threads_, hit_points_, direct_sums_, cancel_, poll);
     if (completed) ++stats_.direct_samples;
     stats_.direct_seconds += since(t0);
   }
   const auto t0 = Clock::now();
-  for (size_t i = 0; i < hit_points_.size(); ++i)
-    progressive_update(hit_points_.points[i].r2, hit_points_.stats[i], settings_.alpha, settings_.threshold);
+  parallel_for(threads_, hit_points_.size(), [&](size_t begin, size_t end) {
+    for (size_t i = begin; i < end; ++i)
+      progressive_update(hit_points_.points[i].r2, hit_points_.stats[i], settings_.alpha, settings_.threshold);
+  });
   stats_.update_seconds += since(t0);
   ++stats_.passes;
   return completed;
@@ -138,7 +141,7 @@ bool Renderer::one_pass(const std::function<bool()>& poll) {
 bool Renderer::stochastic_pass(const std::function<bool()>& poll) {
   const uint64_t pass = stats_.passes;
   auto t0 = Clock::now();
-  HitPoints fresh;
+  HitPoints& fresh = spare_hit_points_;  // reused: no pass allocates hit points once sizes settle
   if (!eye_pass(*scene_, settings_, eye_options(pass + 1), fresh, cancel_, poll)) return false;
   stats_.eye_seconds += since(t0);
   // Every hit point gathers with its pixel's current radius.
@@ -156,27 +159,29 @@ bool Renderer::stochastic_pass(const std::function<bool()>& poll) {
   if (!analysis_.trace_photons) counters.emitted += settings_.photons_per_pass;
   if (analysis_.sample_direct) {
     t0 = Clock::now();
-    if (!direct_light_pass(*scene_, lights_, settings_, pass, threads_, fresh, cancel_, poll)) return false;
+    if (!direct_light_pass(*scene_, lights_, settings_, pass, threads_, fresh, direct_sums_, cancel_, poll)) return false;
     stats_.direct_seconds += since(t0);
   }
   // Fold the pass into the pixels: the same cross-generation rule, per pixel.
   t0 = Clock::now();
-  for (size_t p = 0; p < pixel_count; ++p) {
-    PixelStats& px = pixels_[p];
-    for (uint32_t i = fresh.pixel_begin[p]; i < fresh.pixel_begin[p + 1]; ++i) {
-      px.stats.m += fresh.stats[i].m;
-      px.stats.tau_m += fresh.stats[i].tau_m;
-      px.stats.direct += fresh.stats[i].direct;
+  parallel_for(threads_, pixel_count, [&](size_t begin, size_t end) {
+    for (size_t p = begin; p < end; ++p) {
+      PixelStats& px = pixels_[p];
+      for (uint32_t i = fresh.pixel_begin[p]; i < fresh.pixel_begin[p + 1]; ++i) {
+        px.stats.m += fresh.stats[i].m;
+        px.stats.tau_m += fresh.stats[i].tau_m;
+        px.stats.direct += fresh.stats[i].direct;
+      }
+      px.emitted += fresh.emitted[p];
+      progressive_update(px.r2, px.stats, settings_.alpha, settings_.threshold);
     }
-    px.emitted += fresh.emitted[p];
-    progressive_update(px.r2, px.stats, settings_.alpha, settings_.threshold);
-  }
+  });
   if (!fresh.depth.empty()) depth_.swap(fresh.depth);
   stats_.update_seconds += since(t0);
   stats_.photon = counters;
   if (analysis_.sample_direct) ++stats_.direct_samples;
   stats_.hit_points = fresh.size();
-  hit_points_ = std::move(fresh);
+  std::swap(hit_points_, spare_hit_points_);
   ++stats_.passes;
   return true;
 }
@@ -211,6 +216,12 @@ uint64_t Renderer::run(uint64_t passes, double seconds, const std::function<bool
 }
 
 namespace {
+size_t memory_bytes(const HitPoints& h) {
+  return h.points.capacity() * sizeof(HitPoint) + h.shading.capacity() * sizeof(HitPointShading) +
+         h.stats.capacity() * sizeof(HitPointStats) + h.pixel_begin.capacity() * sizeof(uint32_t) +
+         h.emitted.capacity() * sizeof(Color) + h.depth.capacity() * sizeof(float);
+}
+
 void refuse_while_running(const std::atomic<bool>& running, const char* what) {
   if (running)
     throw std::runtime_error(std::string(what) +
@@ -275,10 +286,9 @@ RenderStats Renderer::stats() const {
     for (const HitPoint& h : hit_points_.points) sum += std::sqrt(h.r2), ++count;
   }
   s.radius_mean = count ? sum / count : 0.0;
-  s.memory_bytes = pixels_.capacity() * sizeof(PixelStats) + depth_.capacity() * sizeof(float) + photon_pass_.memory_bytes() + hit_points_.points.capacity() * sizeof(HitPoint) +
-                   hit_points_.shading.capacity() * sizeof(HitPointShading) +
-                   hit_points_.stats.capacity() * sizeof(HitPointStats) +
-                   hit_points_.pixel_begin.capacity() * sizeof(uint32_t) + hit_points_.emitted.capacity() * sizeof(Color);
+  s.memory_bytes = pixels_.capacity() * sizeof(PixelStats) + depth_.capacity() * sizeof(float) +
+                   photon_pass_.memory_bytes() + memory_bytes(hit_points_) + memory_bytes(spare_hit_points_) +
+                   direct_sums_.capacity() * sizeof(Color);
   return s;
 }
 

@@ -88,10 +88,12 @@ class Renderer {
   LightSampler lights_;
   SceneAnalysis analysis_;
   HitPoints hit_points_;              // fixed: the render's; stochastic: the latest pass's
+  HitPoints spare_hit_points_;        // stochastic: the pass being made
   std::vector<PixelStats> pixels_;    // stochastic only
   std::vector<float> depth_;          // per pixel, bottom row first like the eye pass (POST only)
   bool dof_post_ = false, dof_lens_ = false;
   PhotonPass photon_pass_;
+  std::vector<Color> direct_sums_;  // direct_light_pass scratch, kept across passes
   bool eye_done_ = false;
   std::atomic<bool> cancel_{false};
   std::atomic<bool> running_{false};  // image()/stats() refuse to read while a pass writes

@@ -52,6 +52,31 @@ TEST(QuantileGrid, SlabIndexMatchesUpperBound) {
   }
 }
 
+// Splits crowded into a tiny part of their range (coordinates spread over 12
+// orders of magnitude) put many splits in one lookup bucket and leave most
+// buckets empty; the lookup must still give exactly upper_bound's answer.
+TEST(QuantileGrid, SlabIndexExactWithCrowdedSplits) {
+  std::vector<Vec3> points = random_points(20000, 7, Vec3(0.0), Vec3(1.0));
+  for (Vec3& p : points) p = Vec3(std::pow(10.0, 12.0 * p.x - 6.0), -std::pow(10.0, 8.0 * p.y), p.z * 1e-300);
+  QuantileGrid grid(1.0);
+  grid.build(points, {});
+  for (int a = 0; a < 3; ++a) {
+    const std::vector<double>& s = grid.splits(a);
+    std::vector<double> probes = {-kInf, kInf, 0.0, -0.0, 1e300, -1e300};
+    for (double v : s) {
+      probes.push_back(v);
+      probes.push_back(std::nextafter(v, -kInf));
+      probes.push_back(std::nextafter(v, kInf));
+    }
+    for (const Vec3& p : points) probes.push_back(p[a]);
+    for (double x : probes) {
+      const auto expected = std::upper_bound(s.begin(), s.end(), x) - s.begin();
+      ASSERT_EQ(grid.slab_index(a, x), static_cast<uint32_t>(expected)) << "axis " << a << ", x = " << x;
+    }
+    EXPECT_EQ(grid.slab_index(a, std::nan("")), 0u);
+  }
+}
+
 TEST(QuantileGrid, RandomPointsBoxQueriesMatchBruteForce) {
   const std::vector<Vec3> points = random_points(4000, 2, Vec3(0.0), Vec3(1.0));
   const std::vector<Vec3> queries = random_points(300, 3, Vec3(-0.1), Vec3(1.1));
