@@ -1,18 +1,24 @@
 """Core throughput on the Cornell box with a glass and a mirror sphere at 640x480.
 
-    .venv/bin/python bench/throughput.py [--quick]
+    .venv/bin/python bench/throughput.py [--quick] [--parts eye photons variants memory]
 
-Reports, for 1 and 2 threads: eye rays per second (eye pass), photon paths
-per second including the gather into hit points, for each gather organisation
-(hit points indexed / photons indexed) and each grid (quantile / hash); and
-resident memory after pass 1 and pass 1000. Prints markdown tables.
+Prints markdown tables:
+- eye: eye rays per second of the eye pass on 1 and 2 threads (median of 3);
+- photons: photon paths per second including the index build and the gather
+  into the hit points, with the default settings, on 1 and 2 threads, and the
+  time per pass of each step;
+- variants: the other gather organisation and grid, on 2 threads;
+- memory: resident memory after passes 1, 100, 1,000 and 10,000 of a smaller
+  render (160x120, 2,000 photons per pass, so 10,000 passes take about two
+  minutes), in a fresh process so the peak is its own.
 """
 
 from __future__ import annotations
 
 import argparse
 import os
-import resource
+import statistics
+import subprocess
 import sys
 import time
 
@@ -20,78 +26,104 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 import core_scenes  # noqa: E402
 import ppm_core  # noqa: E402
 
-
-def rss_mb() -> float:
-    with open("/proc/self/statm") as f:
-        return int(f.read().split()[1]) * os.sysconf("SC_PAGE_SIZE") / 2**20
+W, H = 640, 480
+STEPS = ("photon_trace", "index_build", "gather", "direct_light", "progressive_update")
 
 
-def photon_throughput(threads, gather, grid, photons, passes):
-    scene = core_scenes.cornell_3spheres(640, 480)
-    r = ppm_core.Renderer(scene, threads=threads, photons_per_pass=photons, gather=gather, grid=grid,
-                          direct_light="sampled")
-    r.run(passes=1)  # eye pass + first pass (index build) not timed below
+def proc_status_mb(field: str) -> float:
+    with open("/proc/self/status") as f:
+        for line in f:
+            if line.startswith(field + ":"):
+                return int(line.split()[1]) / 1024
+    raise RuntimeError(f"{field} not in /proc/self/status")
+
+
+def eye_rays_per_second(threads, spp=4, repeats=3):
+    rates = []
+    for _ in range(repeats):
+        r = ppm_core.Renderer(core_scenes.cornell_3spheres(W, H), threads=threads, photons_per_pass=1,
+                              samples_per_pixel=spp)
+        r.run(passes=1)
+        rates.append(W * H * spp / r.stats()["seconds"]["eye_pass"])
+    return statistics.median(rates)
+
+
+def photon_throughput(threads, photons, passes, **settings):
+    r = ppm_core.Renderer(core_scenes.cornell_3spheres(W, H), threads=threads, photons_per_pass=photons,
+                          direct_light="sampled", **settings)
+    r.run(passes=1)  # eye pass and first pass (first index build, buffer growth) not timed
     s0 = r.stats()
     start = time.perf_counter()
     r.run(passes=passes)
     wall = time.perf_counter() - start
     s1 = r.stats()
-    photon_s = sum(s1["seconds"][k] - s0["seconds"][k] for k in ("photon_trace", "index_build", "gather"))
-    return {
-        "paths_per_s": (s1["photons_emitted"] - s0["photons_emitted"]) / photon_s,
-        "wall_per_pass": wall / passes,
-        "eye_s": s0["seconds"]["eye_pass"],
-        "hit_points": s0["hit_points"],
-    }
+    step = {k: (s1["seconds"][k] - s0["seconds"][k]) / passes for k in STEPS}
+    photon_s = step["photon_trace"] + step["index_build"] + step["gather"]
+    return {"paths_per_s": photons / photon_s, "wall_per_pass": wall / passes, "step": step,
+            "hit_points": s0["hit_points"]}
 
 
-def eye_rays_per_second(threads, spp=4):
-    scene = core_scenes.cornell_3spheres(640, 480)
-    r = ppm_core.Renderer(scene, threads=threads, photons_per_pass=1, samples_per_pixel=spp)
-    r.run(passes=1)
-    return 640 * 480 * spp / r.stats()["seconds"]["eye_pass"]
-
-
-def memory_over_passes(passes_list, photons):
-    scene = core_scenes.cornell_3spheres(640, 480)
-    r = ppm_core.Renderer(scene, threads=2, photons_per_pass=photons)
-    rows, done = [], 0
-    for target in passes_list:
+def memory_child(marks):
+    """Runs in its own process: one renderer for max(marks) passes."""
+    r = ppm_core.Renderer(core_scenes.cornell_3spheres(160, 120), threads=2, photons_per_pass=2_000, seed=5)
+    done, start = 0, time.perf_counter()
+    for target in marks:
         r.run(passes=target - done)
         done = target
-        rows.append((target, rss_mb(), r.stats()["memory_bytes"] / 2**20))
-    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
-    return rows, peak
+        s = r.stats()
+        print(f"| {target} | {proc_status_mb('VmRSS'):.1f} | {proc_status_mb('VmHWM'):.1f} | "
+              f"{s['memory_bytes'] / 2**20:.2f} | {s['radius_mean']:.3e} | {time.perf_counter() - start:.0f} |",
+              flush=True)
 
 
 def main():
     parser = argparse.ArgumentParser()
-    parser.add_argument("--quick", action="store_true", help="fewer passes (for a smoke run)")
+    parser.add_argument("--quick", action="store_true", help="fewer passes (a smoke run)")
+    parser.add_argument("--parts", nargs="+", default=["eye", "photons", "variants", "memory"],
+                        choices=["eye", "photons", "variants", "memory"])
+    parser.add_argument("--memory-child", nargs="+", type=int, help=argparse.SUPPRESS)
     args = parser.parse_args()
-    photons, passes = (50_000, 2) if args.quick else (200_000, 5)
-    print(f"machine: {os.cpu_count()} cores; {photons} photons per pass, {passes} timed passes\n")
+    if args.memory_child:
+        memory_child(args.memory_child)
+        return
+    photons, passes = (50_000, 2) if args.quick else (200_000, 6)
+    print(f"machine: {os.cpu_count()} cores; cornell_3spheres {W}x{H}; {photons} photons per pass, "
+          f"{passes} timed passes\n")
 
-    print("| threads | eye rays/s (4 spp) |")
-    print("|---|---|")
-    for t in (1, 2):
-        print(f"| {t} | {eye_rays_per_second(t) / 1e6:.2f} M |")
+    if "eye" in args.parts:
+        one, two = eye_rays_per_second(1), eye_rays_per_second(2)
+        print("| threads | eye rays/s (4 spp, incl. specular chains) |")
+        print("|---|---|")
+        print(f"| 1 | {one / 1e6:.2f} M |")
+        print(f"| 2 | {two / 1e6:.2f} M |")
+        print(f"\neye pass scaling 1 -> 2 threads: {two / one:.2f}x\n", flush=True)
 
-    print("\n| threads | gather organisation | grid | photon paths/s (trace + gather) | s per pass |")
-    print("|---|---|---|---|---|")
-    for gather in ("hit_points", "photons"):
-        for grid in ("quantile", "hash"):
-            for t in (1, 2):
-                r = photon_throughput(t, gather, grid, photons, passes)
-                print(f"| {t} | {gather} | {grid} | {r['paths_per_s'] / 1e6:.3f} M | {r['wall_per_pass']:.3f} |",
-                      flush=True)
+    if "photons" in args.parts:
+        rows = {t: photon_throughput(t, photons, passes) for t in (1, 2)}
+        print(f"hit points: {rows[1]['hit_points']}\n")
+        print("| threads | photon paths/s (trace + index + gather) | s/pass | " + " | ".join(STEPS) + " |")
+        print("|---|---|---|" + "---|" * len(STEPS))
+        for t, r in rows.items():
+            steps = " | ".join(f"{r['step'][k]:.3f}" for k in STEPS)
+            print(f"| {t} | {r['paths_per_s'] / 1e6:.3f} M | {r['wall_per_pass']:.3f} | {steps} |")
+        scaling = rows[2]["paths_per_s"] / rows[1]["paths_per_s"]
+        per_step = ", ".join(f"{k} {rows[1]['step'][k] / max(rows[2]['step'][k], 1e-9):.2f}x" for k in STEPS)
+        print(f"\nphoton pass scaling 1 -> 2 threads: {scaling:.2f}x; per step: {per_step}\n", flush=True)
 
-    marks = [1, 10, 100] if args.quick else [1, 100, 1000]
-    rows, peak = memory_over_passes(marks, 10_000)
-    print("\n| after pass | resident MB | core-reported MB |")
-    print("|---|---|---|")
-    for p, rss, core in rows:
-        print(f"| {p} | {rss:.0f} | {core:.1f} |")
-    print(f"\npeak resident: {peak:.0f} MB")
+    if "variants" in args.parts:
+        print("| gather organisation | grid | photon paths/s, 2 threads | s/pass |")
+        print("|---|---|---|---|")
+        for gather in ("photons", "hit_points"):
+            for grid in ("quantile", "hash"):
+                r = photon_throughput(2, photons, passes, gather=gather, grid=grid)
+                print(f"| {gather} | {grid} | {r['paths_per_s'] / 1e6:.3f} M | {r['wall_per_pass']:.3f} |", flush=True)
+        print()
+
+    if "memory" in args.parts:
+        marks = [1, 10, 100] if args.quick else [1, 100, 1000, 10000]
+        print("| after pass | resident MB | peak resident MB | core-reported MB | mean radius | seconds |")
+        print("|---|---|---|---|---|---|", flush=True)
+        subprocess.run([sys.executable, os.path.abspath(__file__), "--memory-child", *map(str, marks)], check=True)
 
 
 if __name__ == "__main__":

@@ -37,7 +37,7 @@ Renderer::Renderer(std::shared_ptr<const Scene> scene, const Settings& settings)
     : scene_(std::move(scene)),
       settings_((settings.validate(), settings)),
       threads_(resolve_threads(settings.threads)),
-      lights_(checked(scene_).lights()),
+      lights_(checked(scene_).lights(), settings_.scene_analysis),
       analysis_(analyse_scene(*scene_, lights_, settings_)),
       photon_pass_(settings_, threads_) {
   stats_.threads = threads_;

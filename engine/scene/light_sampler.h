@@ -1,7 +1,8 @@
 // Which light to sample: photons pick a light in proportion to its flux (one
 // discrete distribution over every emitter); direct light samples each
 // analytic light once and one emissive triangle chosen by flux. Zero-power
-// lights are left out of both.
+// lights are left out of both (unless `drop_zero_power` is false, which the
+// renderer's scene_analysis=False uses to measure what leaving them out saves).
 #pragma once
 
 #include "scene/light.h"
@@ -14,13 +15,13 @@ namespace ppm {
 
 class LightSampler {
  public:
-  explicit LightSampler(const std::vector<Light>& lights) : lights_(&lights) {
+  explicit LightSampler(const std::vector<Light>& lights, bool drop_zero_power = true) : lights_(&lights) {
     double total = 0.0, tri_total = 0.0;
     for (uint32_t i = 0; i < lights.size(); ++i) {
       const double w = luminance(lights[i].flux);
       if (!(w > 0.0)) {
         ++dropped_;
-        continue;
+        if (drop_zero_power) continue;
       }
       emitters_.push_back(i);
       total += w;
@@ -37,10 +38,11 @@ class LightSampler {
     triangle_total_ = tri_total;
   }
 
-  bool empty() const { return emitters_.empty(); }
+  // No light with power (zero-power lights kept for measuring do not count).
+  bool empty() const { return !(total_ > 0.0); }
   size_t dropped() const { return dropped_; }
   const std::vector<uint32_t>& analytic() const { return analytic_; }
-  bool has_triangles() const { return !triangles_.empty(); }
+  bool has_triangles() const { return triangle_total_ > 0.0; }
 
   // A light for a photon, with its selection probability. Only for a non-empty sampler.
   uint32_t pick_emitter(double u, double& pdf) const { return pick(emitters_, emit_cdf_, total_, u, pdf); }
@@ -51,10 +53,11 @@ class LightSampler {
  private:
   uint32_t pick(const std::vector<uint32_t>& ids, const std::vector<double>& cdf, double total, double u,
                 double& pdf) const {
-    if (cdf.empty()) throw std::logic_error("LightSampler: no light to pick from");
+    if (!(total > 0.0)) throw std::logic_error("LightSampler: no light with power to pick from");
     const double target = u * total;
     size_t i = std::upper_bound(cdf.begin(), cdf.end(), target) - cdf.begin();
     i = std::min(i, cdf.size() - 1);
+    while (i > 0 && !(cdf[i] > cdf[i - 1])) --i;  // u * total rounded up to total: the last light with power
     const double w = cdf[i] - (i > 0 ? cdf[i - 1] : 0.0);
     pdf = w / total;
     return ids[i];
