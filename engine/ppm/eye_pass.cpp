@@ -177,8 +177,7 @@ bool eye_pass(const Scene& scene, const Settings& settings, const EyePassOptions
   out.points.resize(total);
   out.shading.resize(total);
   out.stats.resize(total);
-  std::atomic<bool> never{false};
-  parallel_chunks(options.threads, chunks, [&](int, size_t c) {
+  parallel_each(options.threads, chunks, [&](size_t c) {
     ChunkOutput& o = outputs[c];
     for (size_t k = 0; k < o.points.size(); ++k) {
       HitPoint hp = o.points[k];
@@ -189,7 +188,7 @@ bool eye_pass(const Scene& scene, const Settings& settings, const EyePassOptions
     }
     ChunkOutput().points.swap(o.points);
     ChunkOutput().shading.swap(o.shading);
-  }, never, nullptr, 0.0);
+  });
   out.pixel_begin.assign(counts.size() + 1, 0);
   for (size_t p = 0; p < counts.size(); ++p) out.pixel_begin[p + 1] = out.pixel_begin[p] + counts[p];
   return true;

@@ -8,8 +8,8 @@
 // every `interval` seconds to call `poll` so Python can show progress and
 // cancel.
 //
-// parallel_for: the short steps between passes (merging, committing sums),
-// split into one contiguous range per thread, not cancellable.
+// parallel_for / parallel_each: the short steps between passes (merging,
+// committing sums), not cancellable.
 #pragma once
 
 #include <algorithm>
@@ -72,6 +72,13 @@ inline bool parallel_chunks(int threads, size_t chunks, const std::function<void
   return !cancel.load();
 }
 
+// fn(k) for every k in [0, count), handed out one at a time as in
+// parallel_chunks, for uneven items (copying chunks of varying size); not cancellable.
+inline void parallel_each(int threads, size_t count, const std::function<void(size_t)>& fn) {
+  std::atomic<bool> never{false};
+  parallel_chunks(threads, count, [&](int, size_t k) { fn(k); }, never, nullptr, 0.0);
+}
+
 // fn(begin, end) over [0, n) in at most `threads` contiguous ranges; small n
 // runs on the calling thread. Exceptions are rethrown on the calling thread.
 inline void parallel_for(int threads, size_t n, const std::function<void(size_t, size_t)>& fn) {
@@ -81,9 +88,7 @@ inline void parallel_for(int threads, size_t n, const std::function<void(size_t,
     fn(0, n);
     return;
   }
-  std::atomic<bool> never{false};
-  parallel_chunks(static_cast<int>(parts), parts, [&](int, size_t p) { fn(n * p / parts, n * (p + 1) / parts); },
-                  never, nullptr, 0.0);
+  parallel_each(static_cast<int>(parts), parts, [&](size_t p) { fn(n * p / parts, n * (p + 1) / parts); });
 }
 
 }  // namespace ppm

@@ -151,14 +151,23 @@ bool PhotonPass::run_photon_index(Grid& grid, const Scene& scene, const LightSam
     }
   };
   if (!parallel_chunks(threads_, chunks, trace, cancel, poll, settings_.progress_interval)) return false;
-  photons_.clear();
-  for (size_t c = 0; c < chunks; ++c) photons_.insert(photons_.end(), chunk_photons_[c].begin(), chunk_photons_[c].end());
+  // Concatenate in chunk order (each chunk copied by whichever thread takes it).
+  chunk_first_.resize(chunks + 1);
+  chunk_first_[0] = 0;
+  for (size_t c = 0; c < chunks; ++c) chunk_first_[c + 1] = chunk_first_[c] + chunk_photons_[c].size();
+  const size_t count = chunk_first_[chunks];
+  photons_.resize(count);
+  traced_positions_.resize(count);
+  parallel_each(threads_, chunks, [&](size_t c) {
+    const std::vector<Photon>& buffer = chunk_photons_[c];
+    for (size_t k = 0; k < buffer.size(); ++k) {
+      photons_[chunk_first_[c] + k] = buffer[k];
+      traced_positions_[chunk_first_[c] + k] = buffer[k].position;
+    }
+  });
   counters.trace_seconds += seconds_since(t0);
 
   t0 = std::chrono::steady_clock::now();
-  const size_t count = photons_.size();
-  traced_positions_.resize(count);
-  for (size_t i = 0; i < count; ++i) traced_positions_[i] = photons_[i].position;
   static const std::vector<double> kNoRadii;
   if constexpr (std::is_same_v<Grid, HashGrid>)
     grid.build(traced_positions_, kNoRadii, std::fmax(2.0 * std::sqrt(mean_r2(hp)), 1e-300));

@@ -79,6 +79,7 @@ class PhotonPass {
   // Photons organisation: photons per chunk as traced, merged in chunk order,
   // then stored in cell order as positions + arrivals.
   std::vector<std::vector<Photon>> chunk_photons_;
+  std::vector<size_t> chunk_first_;     // where each chunk's photons start in photons_
   std::vector<Photon> photons_;
   std::vector<Vec3> traced_positions_;  // grid input, in traced order
   std::vector<Vec3> positions_;         // cell order

@@ -77,10 +77,17 @@ def test_same_seed_same_threads_same_image(gather):
     assert not np.array_equal(a, c)
 
 
-def test_thread_count_changes_only_rounding():
-    # Photon i always uses the same random stream, so 1 and 2 threads differ
-    # only in the order of floating-point sums.
-    a, b = render(7, 1), render(7, 2)
+@pytest.mark.parametrize("hit_points", ["fixed", "stochastic"])
+def test_thread_count_does_not_change_the_image(hit_points):
+    # Photon i always uses the same random stream and every result is kept per
+    # chunk, never per thread, so the image is the same to the last bit.
+    a, b = render(7, 1, hit_points=hit_points), render(7, 2, hit_points=hit_points)
+    assert np.array_equal(a, b)
+
+
+def test_thread_count_changes_only_rounding_when_hit_points_are_indexed():
+    # Indexing hit points sums per block of photons, one block per thread.
+    a, b = render(7, 1, gather="hit_points"), render(7, 2, gather="hit_points")
     np.testing.assert_allclose(a, b, rtol=1e-4, atol=1e-6)
 
 
