@@ -139,6 +139,9 @@ bool eye_pass(const Scene& scene, const Settings& settings, const EyePassOptions
 
   auto work = [&](int, size_t chunk) {
     ChunkOutput& o = outputs[chunk];
+    // About one hit point per eye sample: reserving saves the regrowth copies and their page faults.
+    o.points.reserve(size_t(kRowsPerChunk) * W * spp);
+    o.shading.reserve(size_t(kRowsPerChunk) * W * spp);
     for (int y = static_cast<int>(chunk) * kRowsPerChunk; y < std::min(H, (static_cast<int>(chunk) + 1) * kRowsPerChunk); ++y)
       for (int x = 0; x < W; ++x) {
         const uint32_t pixel = static_cast<uint32_t>(y) * W + x;  // row 0 = bottom
