@@ -1,115 +1,118 @@
-// Binned SAH build of the BVH (see bvh.h).
+// Collapse of the binary SAH tree into the 4-wide BVH (see bvh.h).
 #include "geometry/bvh.h"
 
-#include <algorithm>
-#include <numeric>
-#include <stdexcept>
+#include "geometry/bvh_build.h"
+#include "math/float_bounds.h"
+
+#include <cfloat>
+#include <cmath>
+#include <limits>
 
 namespace ppm {
 namespace {
 
-constexpr int kBins = 16;
-constexpr uint32_t kMaxLeaf = 4;
-constexpr int kMaxDepth = 60;  // traversal stack holds 64
+constexpr float kFloatInf = std::numeric_limits<float>::infinity();
 
-struct Bin {
-  Aabb box;
-  uint32_t count = 0;
+// Leaves of the binary tree become leaf children of the 4-wide nodes.
+constexpr uint32_t kMaxLeaf = 4;
+
+class Collapser {
+ public:
+  Collapser(const BinaryBvh& tree, HugePageVector<BvhNode>& nodes) : tree_(tree), nodes_(nodes) {}
+
+  // Emits a 4-wide node for binary node `b`, then its inner children.
+  uint32_t emit(uint32_t b) {
+    // Greedily open the inner child with the largest surface area until
+    // there are four: the children most rays would enter anyway are the
+    // ones worth replacing by their own children.
+    uint32_t kids[4];
+    int n = 0;
+    if (tree_.nodes[b].is_leaf()) {
+      kids[n++] = b;  // a single-leaf tree: the root holds the leaf
+    } else {
+      kids[n++] = b + 1;
+      kids[n++] = tree_.nodes[b].first;
+    }
+    while (n < 4) {
+      int widest = -1;
+      double area = -1.0;
+      for (int k = 0; k < n; ++k) {
+        const BinaryBvhNode& c = tree_.nodes[kids[k]];
+        if (!c.is_leaf() && c.box.half_area() > area) {
+          area = c.box.half_area();
+          widest = k;
+        }
+      }
+      if (widest < 0) break;
+      const uint32_t open = kids[widest];
+      kids[widest] = open + 1;
+      kids[n++] = tree_.nodes[open].first;
+    }
+
+    const uint32_t index = static_cast<uint32_t>(nodes_.size());
+    nodes_.emplace_back();
+    BvhNode& node = nodes_[index];
+    for (int k = 0; k < 4; ++k) {
+      for (int a = 0; a < 3; ++a) {
+        node.box[2 * a][k] = kFloatInf;
+        node.box[2 * a + 1][k] = -kFloatInf;
+      }
+      node.child[k] = 0;
+      node.count[k] = 0;
+    }
+    for (int k = 0; k < n; ++k) {
+      const BinaryBvhNode& c = tree_.nodes[kids[k]];
+      for (int a = 0; a < 3; ++a) {
+        node.box[2 * a][k] = float_down(c.box.lo[a]);
+        node.box[2 * a + 1][k] = float_up(c.box.hi[a]);
+      }
+      if (c.is_leaf()) {
+        node.child[k] = c.first;
+        node.count[k] = c.count;
+      }
+    }
+    for (int k = 0; k < n; ++k) {
+      if (tree_.nodes[kids[k]].is_leaf()) continue;
+      const uint32_t child = emit(kids[k]);  // may reallocate nodes_
+      nodes_[index].child[k] = child;
+    }
+    return index;
+  }
+
+ private:
+  const BinaryBvh& tree_;
+  HugePageVector<BvhNode>& nodes_;
 };
 
 }  // namespace
 
-void Bvh::build(const std::vector<Aabb>& boxes) {
-  nodes_.clear();
-  prim_order_.resize(boxes.size());
-  std::iota(prim_order_.begin(), prim_order_.end(), 0u);
-  if (boxes.empty()) return;
-  std::vector<Vec3> centers(boxes.size());
-  for (size_t i = 0; i < boxes.size(); ++i) {
-    if (!is_finite(boxes[i].lo) || !is_finite(boxes[i].hi))
-      throw std::invalid_argument("BVH: primitive " + std::to_string(i) + " has a non-finite bounding box");
-    centers[i] = boxes[i].center();
+BvhRay::BvhRay(const Vec3& origin, const Vec3& dir) {
+  in_range = max_abs(origin) <= kFloatRange;
+  for (int a = 0; a < 3; ++a) {
+    const bool positive = !std::signbit(dir[a]);
+    // A zero or tiny component gives +-inf (by its sign), handled in the slab test.
+    const double inv_d = 1.0 / dir[a];
+    inv[a] = std::fabs(inv_d) <= FLT_MAX ? static_cast<float>(inv_d) : (positive ? kFloatInf : -kFloatInf);
+    near[a] = 2 * a + (positive ? 0 : 1);
+    far[a] = 2 * a + (positive ? 1 : 0);
+    // Entry distances must not come out too large: moving towards +a that
+    // means an origin no smaller than the true one; exit distances the reverse.
+    org_near[a] = positive ? float_up(origin[a]) : float_down(origin[a]);
+    org_far[a] = positive ? float_down(origin[a]) : float_up(origin[a]);
   }
-  nodes_.reserve(2 * boxes.size() / kMaxLeaf + 2);
-  build_node(boxes, centers, 0, static_cast<uint32_t>(boxes.size()), 0);
 }
 
-uint32_t Bvh::build_node(const std::vector<Aabb>& boxes, const std::vector<Vec3>& centers,
-                         uint32_t begin, uint32_t end, int depth) {
-  const uint32_t index = static_cast<uint32_t>(nodes_.size());
-  nodes_.push_back(BvhNode{});
-  Aabb box, cbox;
-  for (uint32_t i = begin; i < end; ++i) {
-    box.grow(boxes[prim_order_[i]]);
-    cbox.grow(centers[prim_order_[i]]);
-  }
-  nodes_[index].box = box;
-  const uint32_t count = end - begin;
-  auto make_leaf = [&]() {
-    nodes_[index].first = begin;
-    nodes_[index].count = count;
-    return index;
-  };
-  const int axis = cbox.longest_axis();
-  const double lo = cbox.lo[axis], extent = cbox.hi[axis] - cbox.lo[axis];
-  if (count <= kMaxLeaf || depth >= kMaxDepth) return make_leaf();
-  if (!(extent > 0.0)) {
-    // All centroids coincide: SAH cannot separate them; halve by index so the
-    // tree stays balanced instead of making one huge leaf.
-    const uint32_t split = begin + count / 2;
-    build_node(boxes, centers, begin, split, depth + 1);
-    nodes_[index].first = build_node(boxes, centers, split, end, depth + 1);
-    nodes_[index].count = 0;
-    return index;
-  }
-
-  // Bin centroids along the longest axis and sweep for the cheapest split.
-  Bin bins[kBins];
-  const double scale = kBins / extent;
-  auto bin_of = [&](uint32_t prim) {
-    return std::min(kBins - 1, static_cast<int>((centers[prim][axis] - lo) * scale));
-  };
-  for (uint32_t i = begin; i < end; ++i) {
-    Bin& b = bins[bin_of(prim_order_[i])];
-    b.box.grow(boxes[prim_order_[i]]);
-    ++b.count;
-  }
-  double right_area[kBins];
-  uint32_t right_count[kBins];
-  Aabb acc;
-  uint32_t n = 0;
-  for (int i = kBins - 1; i > 0; --i) {
-    acc.grow(bins[i].box);
-    n += bins[i].count;
-    right_area[i] = acc.half_area();
-    right_count[i] = n;
-  }
-  double best_cost = kInf;
-  int best_split = -1;
-  acc = Aabb{};
-  n = 0;
-  for (int i = 1; i < kBins; ++i) {
-    acc.grow(bins[i - 1].box);
-    n += bins[i - 1].count;
-    if (n == 0 || right_count[i] == 0) continue;
-    const double cost = acc.half_area() * n + right_area[i] * right_count[i];
-    if (cost < best_cost) {
-      best_cost = cost;
-      best_split = i;
-    }
-  }
-  // SAH: intersecting a primitive costs about as much as a box test.
-  const double leaf_cost = box.half_area() * count;
-  if (best_split < 0 || (count <= kMaxLeaf && best_cost >= leaf_cost)) return make_leaf();
-
-  uint32_t* mid = std::partition(prim_order_.data() + begin, prim_order_.data() + end,
-                                 [&](uint32_t prim) { return bin_of(prim) < best_split; });
-  const uint32_t split = static_cast<uint32_t>(mid - prim_order_.data());
-  build_node(boxes, centers, begin, split, depth + 1);
-  const uint32_t right = build_node(boxes, centers, split, end, depth + 1);
-  nodes_[index].first = right;
-  nodes_[index].count = 0;
-  return index;
+void Bvh::build(const std::vector<Aabb>& boxes) {
+  nodes_.clear();
+  bounds_ = Aabb{};
+  in_float_range_ = true;
+  BinaryBvh tree = build_binary_bvh(boxes, kMaxLeaf);
+  prim_order_ = std::move(tree.order);
+  if (tree.nodes.empty()) return;
+  bounds_ = tree.nodes[0].box;
+  in_float_range_ = max_abs(bounds_.lo) <= kFloatRange && max_abs(bounds_.hi) <= kFloatRange;
+  nodes_.reserve(tree.nodes.size() / 2 + 1);
+  Collapser(tree, nodes_).emit(0);
 }
 
 }  // namespace ppm

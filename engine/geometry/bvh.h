@@ -1,22 +1,51 @@
-// Bounding volume hierarchy over primitive boxes, built with binned SAH
-// (Wald 2007) and stored as a flat array of 32-byte-aligned nodes in depth-first
-// order (left child follows its parent). Traversal is a template over the
-// caller's primitive test so the scene dispatches on primitive kind without
-// virtual calls.
+// Four-wide bounding volume hierarchy over primitive boxes: a binned SAH
+// binary tree (bvh_build.h) collapsed so each node holds up to four children,
+// whose boxes one SIMD pass tests together (structure-of-arrays layout).
+//
+// Boxes are stored in float rounded outward: a node is 128 bytes (two cache
+// lines) where double boxes would take 224. The slab test runs in
+// float too, with the rounding handled so that it never rejects a box the
+// double ray touches (bvh_slab.h); the primitive test decides the final hit
+// in double.
+//
+// Traversal is a template over the caller's primitive test so the scene
+// dispatches on primitive kind without virtual calls. The test receives a
+// leaf *slot*: a position in prim_order(), so callers can keep per-primitive
+// data in leaf order, where a leaf's primitives are contiguous in memory.
 #pragma once
 
+#include "geometry/bvh_slab.h"
+#include "geometry/huge_pages.h"
 #include "math/aabb.h"
+#include "math/float_bounds.h"
 
 #include <cstdint>
 #include <vector>
 
 namespace ppm {
 
-struct BvhNode {
-  Aabb box;
-  uint32_t first;  // leaf: first index into prim_order; inner: index of the right child
-  uint32_t count;  // leaf: primitive count; inner: 0
-  bool is_leaf() const { return count > 0; }
+// A hint to start loading memory that will soon be read (no effect elsewhere).
+inline void prefetch(const void* p) {
+#if defined(__GNUC__)
+  __builtin_prefetch(p);
+#else
+  (void)p;
+#endif
+}
+
+// Index of the lowest set bit of a non-zero mask.
+inline int lowest_bit(unsigned mask) {
+#if defined(__GNUC__)
+  return __builtin_ctz(mask);
+#else
+  int k = 0;
+  while (!(mask >> k & 1u)) ++k;
+  return k;
+#endif
+}
+
+struct NoPrefetch {
+  void operator()(uint32_t, uint32_t) const {}
 };
 
 class Bvh {
@@ -24,65 +53,83 @@ class Bvh {
   // Builds over `boxes` (one per primitive). Boxes must be finite.
   void build(const std::vector<Aabb>& boxes);
 
-  const std::vector<BvhNode>& nodes() const { return nodes_; }
+  const HugePageVector<BvhNode>& nodes() const { return nodes_; }
+  // prim_order()[slot] is the primitive at a leaf slot.
   const std::vector<uint32_t>& prim_order() const { return prim_order_; }
-  Aabb bounds() const { return nodes_.empty() ? Aabb{} : nodes_[0].box; }
+  Aabb bounds() const { return bounds_; }  // exact (double) bounds of all primitives
 
-  // Closest-hit traversal. `test(prim, tmax)` intersects one primitive and,
-  // on a closer hit, lowers tmax and returns true.
-  template <class Test>
-  void closest(const Vec3& origin, const Vec3& dir, double& tmax, Test&& test) const;
+  // Closest-hit traversal, nearest child first. `test(slot, tmax)` intersects
+  // the primitive at that slot and, on a closer hit, lowers tmax.
+  // `prefetch(first, count)` is called as soon as a leaf's box is hit, before
+  // the leaf is tested: the caller can start loading the leaf's data then.
+  template <class Test, class Prefetch = NoPrefetch>
+  void closest(const Vec3& origin, const Vec3& dir, double& tmax, Test&& test, Prefetch&& prefetch = {}) const;
 
-  // Any-hit traversal for shadow rays: true as soon as `test(prim, tmax)` reports a hit.
+  // Any-hit traversal for shadow rays: true as soon as `test(slot, tmax)`
+  // reports a hit with t < tmax.
   template <class Test>
   bool any(const Vec3& origin, const Vec3& dir, double tmax, Test&& test) const;
 
  private:
-  uint32_t build_node(const std::vector<Aabb>& boxes, const std::vector<Vec3>& centers,
-                      uint32_t begin, uint32_t end, int depth);
-
-  std::vector<BvhNode> nodes_;
+  HugePageVector<BvhNode> nodes_;  // root at 0
   std::vector<uint32_t> prim_order_;
+  Aabb bounds_;
+  bool in_float_range_ = true;  // all boxes within kFloatRange (see bvh_slab.h)
 };
 
-inline Vec3 safe_inverse(const Vec3& d) {
-  // Zero components become huge finite values of the right sign, not inf, so
-  // 0 * inv never yields NaN in the slab test.
-  auto inv = [](double x) { return std::fabs(x) > 1e-300 ? 1.0 / x : std::copysign(1e300, x); };
-  return Vec3(inv(d.x), inv(d.y), inv(d.z));
-}
-
-template <class Test>
-void Bvh::closest(const Vec3& origin, const Vec3& dir, double& tmax, Test&& test) const {
+template <class Test, class Prefetch>
+void Bvh::closest(const Vec3& origin, const Vec3& dir, double& tmax, Test&& test, Prefetch&& prefetch_leaf) const {
   if (nodes_.empty()) return;
-  const Vec3 inv = safe_inverse(dir);
-  uint32_t stack[64];
+  const BvhRay r(origin, dir);
+  if (!r.in_range || !in_float_range_) {  // beyond what the float slab test covers
+    for (uint32_t s = 0; s < prim_order_.size(); ++s) test(s, tmax);
+    return;
+  }
+  float tmax_f = float_up(tmax);
+  struct Entry {
+    uint32_t index, count;  // as in BvhNode: count > 0 is a leaf
+    float t;                // entry distance, to skip it once a closer hit is known
+  };
+  Entry stack[3 * 64 + 1];  // the binary tree is at most 60 deep; each level adds at most 3
   int top = 0;
-  uint32_t node = 0;
-  if (slab_entry(nodes_[0].box, origin, inv, tmax) == kInf) return;
+  Entry cur{0, 0, 0.0f};
   for (;;) {
-    const BvhNode& n = nodes_[node];
-    if (n.is_leaf()) {
-      for (uint32_t i = n.first; i < n.first + n.count; ++i) test(prim_order_[i], tmax);
-    } else {
-      uint32_t a = node + 1, b = n.first;
-      double ta = slab_entry(nodes_[a].box, origin, inv, tmax);
-      double tb = slab_entry(nodes_[b].box, origin, inv, tmax);
-      if (ta > tb) {
-        std::swap(a, b);
-        std::swap(ta, tb);
-      }
-      if (ta != kInf) {
-        if (tb != kInf) stack[top++] = b;
-        node = a;
+    if (cur.count == 0) {
+      const BvhNode& n = nodes_[cur.index];
+      float t[4];
+      const unsigned mask = intersect_children(n, r, tmax_f, t);
+      if (mask != 0) {
+        // Push the hit children sorted so the nearest is on top, then pop it
+        // to continue there. Random rays miss the cache on most nodes and
+        // leaves, so each hit child's memory is requested now, in parallel.
+        const int base = top;
+        for (unsigned bits = mask; bits != 0; bits &= bits - 1) {
+          const int k = lowest_bit(bits);
+          const Entry e{n.child[k], n.count[k], t[k]};
+          if (e.count == 0) {
+            const char* p = reinterpret_cast<const char*>(&nodes_[e.index]);
+            prefetch(p);
+            prefetch(p + 64);
+          } else {
+            prefetch_leaf(e.index, e.count);
+          }
+          int j = top++;
+          for (; j > base && stack[j - 1].t < e.t; --j) stack[j] = stack[j - 1];
+          stack[j] = e;
+        }
+        cur = stack[--top];
         continue;
       }
+    } else {
+      const double before = tmax;
+      for (uint32_t s = cur.index; s < cur.index + cur.count; ++s) test(s, tmax);
+      if (tmax != before) tmax_f = float_up(tmax);
     }
-    // Pop, skipping nodes that a closer hit has since ruled out.
+    // Pop, skipping children that a closer hit has since ruled out.
     for (;;) {
       if (top == 0) return;
-      node = stack[--top];
-      if (slab_entry(nodes_[node].box, origin, inv, tmax) != kInf) break;
+      cur = stack[--top];
+      if (cur.t <= tmax_f * kSlabSlack + kSlabTiny) break;
     }
   }
 }
@@ -90,21 +137,31 @@ void Bvh::closest(const Vec3& origin, const Vec3& dir, double& tmax, Test&& test
 template <class Test>
 bool Bvh::any(const Vec3& origin, const Vec3& dir, double tmax, Test&& test) const {
   if (nodes_.empty()) return false;
-  const Vec3 inv = safe_inverse(dir);
-  uint32_t stack[64];
+  const BvhRay r(origin, dir);
+  if (!r.in_range || !in_float_range_) {  // beyond what the float slab test covers
+    for (uint32_t s = 0; s < prim_order_.size(); ++s) {
+      double tt = tmax;
+      if (test(s, tt)) return true;
+    }
+    return false;
+  }
+  const float tmax_f = float_up(tmax);
+  uint32_t stack[3 * 64 + 4];  // each level pops one node and pushes at most four
   int top = 0;
   stack[top++] = 0;
   while (top > 0) {
     const BvhNode& n = nodes_[stack[--top]];
-    if (slab_entry(n.box, origin, inv, tmax) == kInf) continue;
-    if (n.is_leaf()) {
-      for (uint32_t i = n.first; i < n.first + n.count; ++i) {
-        double t = tmax;
-        if (test(prim_order_[i], t)) return true;
+    float t[4];
+    for (unsigned bits = intersect_children(n, r, tmax_f, t); bits != 0; bits &= bits - 1) {
+      const int k = lowest_bit(bits);
+      if (n.count[k] == 0) {
+        stack[top++] = n.child[k];
+        continue;
       }
-    } else {
-      stack[top++] = n.first;
-      stack[top++] = static_cast<uint32_t>(&n - nodes_.data()) + 1;
+      for (uint32_t s = n.child[k]; s < n.child[k] + n.count[k]; ++s) {
+        double tt = tmax;
+        if (test(s, tt)) return true;
+      }
     }
   }
   return false;

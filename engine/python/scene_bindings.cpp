@@ -4,6 +4,7 @@
 
 #include <pybind11/stl.h>
 
+#include <atomic>
 #include <thread>
 
 namespace py = pybind11;
@@ -192,19 +193,20 @@ void set_camera(Scene& s, const py::object& matrix, int width, int height, const
   s.set_camera(c);
 }
 
-py::dict intersect(Scene& s, const py::object& origins, const py::object& directions) {
+py::dict intersect(Scene& s, const py::object& origins, const py::object& directions, int threads) {
   const DoubleArray o = matrix(origins, 3, "intersect", "origins");
   const DoubleArray d = matrix(directions, 3, "intersect", "directions");
   if (o.shape(0) != d.shape(0)) fail("intersect", "origins and directions must have the same length");
+  if (threads < 0) fail("intersect", "threads must be >= 0 (0: all hardware threads)");
   const size_t n = o.shape(0);
-  std::vector<Ray> rays(n);
+  const double* op_in = o.data();
+  const double* dp_in = d.data();
   for (size_t i = 0; i < n; ++i) {
-    const Vec3 org(o.data()[3 * i], o.data()[3 * i + 1], o.data()[3 * i + 2]);
-    const Vec3 dir(d.data()[3 * i], d.data()[3 * i + 1], d.data()[3 * i + 2]);
+    const Vec3 org(op_in[3 * i], op_in[3 * i + 1], op_in[3 * i + 2]);
+    const Vec3 dir(dp_in[3 * i], dp_in[3 * i + 1], dp_in[3 * i + 2]);
     const double len = glm::length(dir);
     if (!is_finite(org)) fail("intersect", "origin " + std::to_string(i) + " is not finite");
     if (!(len > 0.0) || !std::isfinite(len)) fail("intersect", "direction " + std::to_string(i) + " is zero or not finite");
-    rays[i] = Ray{org, dir / len};
   }
   s.build();
   py::array_t<double> t(n);
@@ -216,26 +218,38 @@ py::dict intersect(Scene& s, const py::object& origins, const py::object& direct
   int64_t* op = object.mutable_data();
   {
     py::gil_scoped_release release;
-    const unsigned threads = std::max(1u, std::min(std::thread::hardware_concurrency(), unsigned(n / 4096 + 1)));
-    auto work = [&](size_t begin, size_t end) {
-      for (size_t i = begin; i < end; ++i) {
-        Hit h;
-        if (s.intersect(rays[i], h)) {
-          tp[i] = h.t;
-          np_[3 * i] = h.geometric_normal.x;
-          np_[3 * i + 1] = h.geometric_normal.y;
-          np_[3 * i + 2] = h.geometric_normal.z;
-          pp[i] = h.primitive;
-          op[i] = h.object;
-        } else {
-          tp[i] = kInf;
-          np_[3 * i] = np_[3 * i + 1] = np_[3 * i + 2] = 0.0;
-          pp[i] = op[i] = -1;
+    // Rays are read straight from the input arrays (no copied Ray vector) and
+    // handed out in chunks from a shared counter, so a thread slowed by other
+    // load on the machine does not hold the whole batch up.
+    constexpr size_t kChunk = 4096;
+    const unsigned hw = threads > 0 ? unsigned(threads) : std::max(1u, std::thread::hardware_concurrency());
+    const unsigned workers = std::max(1u, std::min(hw, unsigned(n / kChunk + 1)));
+    std::atomic<size_t> next{0};
+    auto work = [&]() {
+      for (size_t begin; (begin = next.fetch_add(kChunk)) < n;) {
+        const size_t end = std::min(n, begin + kChunk);
+        for (size_t i = begin; i < end; ++i) {
+          const Vec3 dir(dp_in[3 * i], dp_in[3 * i + 1], dp_in[3 * i + 2]);
+          const Ray ray{Vec3(op_in[3 * i], op_in[3 * i + 1], op_in[3 * i + 2]), dir / glm::length(dir)};
+          Hit h;
+          if (s.intersect(ray, h)) {
+            tp[i] = h.t;
+            np_[3 * i] = h.geometric_normal.x;
+            np_[3 * i + 1] = h.geometric_normal.y;
+            np_[3 * i + 2] = h.geometric_normal.z;
+            pp[i] = h.primitive;
+            op[i] = h.object;
+          } else {
+            tp[i] = kInf;
+            np_[3 * i] = np_[3 * i + 1] = np_[3 * i + 2] = 0.0;
+            pp[i] = op[i] = -1;
+          }
         }
       }
     };
     std::vector<std::thread> pool;
-    for (unsigned k = 0; k < threads; ++k) pool.emplace_back(work, n * k / threads, n * (k + 1) / threads);
+    for (unsigned k = 1; k < workers; ++k) pool.emplace_back(work);
+    work();  // the calling thread works too
     for (auto& th : pool) th.join();
   }
   py::dict out;
@@ -304,8 +318,9 @@ void bind_scene(py::module_& m) {
       .def("set_background", [](Scene& s, const py::object& c) { s.set_background(color(c, "background", "color")); },
            py::arg("color"), "Constant background radiance in W/(m^2 sr).")
       .def("build", &Scene::build, "Builds the BVH (done automatically by Renderer and intersect).")
-      .def("intersect", &intersect, py::arg("origins"), py::arg("directions"),
-           "Casts rays: returns dict(t (inf on miss), normal (geometric), primitive, object (-1 on miss)).")
+      .def("intersect", &intersect, py::arg("origins"), py::arg("directions"), py::arg("threads") = 0,
+           "Casts rays: returns dict(t (inf on miss), normal (geometric), primitive, object (-1 on miss)). "
+           "threads: 0 uses all hardware threads.")
       .def_property_readonly("primitive_count", [](Scene& s) { s.build(); return s.primitive_count(); })
       .def_property_readonly("light_count", [](Scene& s) { s.build(); return s.lights().size(); });
 }

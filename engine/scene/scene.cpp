@@ -253,6 +253,15 @@ void Scene::build() {
     prims_.push_back({PrimitiveKind::BezierRevolve, i});
   }
   bvh_.build(boxes);
+  const std::vector<uint32_t>& order = bvh_.prim_order();
+  leaf_prims_.resize(order.size());
+  for (size_t slot = 0; slot < order.size(); ++slot) {
+    const PrimRef ref = prims_[order[slot]];
+    LeafPrim& p = leaf_prims_[slot];
+    p.kind = ref.kind;
+    p.index = ref.index;
+    p.tri = ref.kind == PrimitiveKind::Triangle ? triangles_[ref.index] : TrianglePrim{};
+  }
   const Aabb bounds = bvh_.bounds();
   offset_floor_ = bounds.empty() ? 1e-12 : 1e-10 * max_abs(bounds.extent()) + 1e-300;
 
@@ -287,43 +296,48 @@ void Scene::build() {
   built_ = true;
 }
 
-bool Scene::intersect_prim(uint32_t prim, const Ray& ray, double& tmax, Hit& scratch) const {
-  const PrimRef ref = prims_[prim];
-  switch (ref.kind) {
-    case PrimitiveKind::Triangle: {
-      double t, b1, b2;
-      if (!intersect_triangle(triangles_[ref.index], ray, tmax, t, b1, b2)) return false;
-      tmax = t;
-      scratch.t = t;
-      scratch.primitive = prim;
-      scratch.uv = Vec2(b1, b2);  // barycentrics until fill_hit
-      return true;
-    }
-    case PrimitiveKind::Sphere: {
-      double t;
-      if (!intersect_sphere(spheres_[ref.index].sphere, ray, tmax, t)) return false;
-      tmax = t;
-      scratch.t = t;
-      scratch.primitive = prim;
-      return true;
-    }
-    case PrimitiveKind::BezierRevolve: {
-      const RevolveSegment& r = revolve_segments_[ref.index];
-      Hit h;
-      if (!revolves_[r.revolve]->intersect_segment(r.segment, ray, 0.0, tmax, h)) return false;
-      tmax = h.t;
-      scratch = h;
-      scratch.primitive = prim;
-      return true;
-    }
+// Triangles, by far the most common, are tested inline; the rest out of line.
+inline bool Scene::intersect_slot(uint32_t slot, const Ray& ray, double& tmax, Hit& scratch) const {
+  const LeafPrim& p = leaf_prims_[slot];
+  if (p.kind != PrimitiveKind::Triangle) return intersect_non_triangle(slot, ray, tmax, scratch);
+  double t, b1, b2;
+  if (!intersect_triangle(p.tri, ray, tmax, t, b1, b2)) return false;
+  prefetch(&triangle_info_[p.index]);  // fill_hit reads it if this hit stays the closest
+  tmax = t;
+  scratch.t = t;
+  scratch.primitive = slot;
+  scratch.uv = Vec2(b1, b2);  // barycentrics until fill_hit
+  return true;
+}
+
+bool Scene::intersect_non_triangle(uint32_t slot, const Ray& ray, double& tmax, Hit& scratch) const {
+  const LeafPrim& p = leaf_prims_[slot];
+  if (p.kind == PrimitiveKind::Sphere) {
+    double t;
+    if (!intersect_sphere(spheres_[p.index].sphere, ray, tmax, t)) return false;
+    tmax = t;
+    scratch.t = t;
+    scratch.primitive = slot;
+    return true;
   }
-  return false;
+  const RevolveSegment& r = revolve_segments_[p.index];
+  Hit h;
+  if (!revolves_[r.revolve]->intersect_segment(r.segment, ray, 0.0, tmax, h)) return false;
+  tmax = h.t;
+  scratch = h;
+  scratch.primitive = slot;
+  return true;
 }
 
 bool Scene::intersect(const Ray& ray, Hit& hit, double tmax) const {
   Hit scratch;
-  bvh_.closest(ray.origin, ray.direction, tmax,
-               [&](uint32_t prim, double& t) { return intersect_prim(prim, ray, t, scratch); });
+  bvh_.closest(
+      ray.origin, ray.direction, tmax, [&](uint32_t slot, double& t) { return intersect_slot(slot, ray, t, scratch); },
+      [&](uint32_t first, uint32_t count) {  // every cache line the leaf's records touch
+        const uintptr_t end = reinterpret_cast<uintptr_t>(&leaf_prims_[first] + count);
+        for (uintptr_t p = reinterpret_cast<uintptr_t>(&leaf_prims_[first]) & ~uintptr_t(63); p < end; p += 64)
+          prefetch(reinterpret_cast<const void*>(p));
+      });
   if (!scratch.found()) return false;
   hit = scratch;
   fill_hit(ray, hit, scratch.uv.x, scratch.uv.y);
@@ -333,14 +347,19 @@ bool Scene::intersect(const Ray& ray, Hit& hit, double tmax) const {
 bool Scene::occluded(const Ray& ray, double distance) const {
   Hit scratch;
   return bvh_.any(ray.origin, ray.direction, distance,
-                  [&](uint32_t prim, double& t) { return intersect_prim(prim, ray, t, scratch); });
+                  [&](uint32_t slot, double& t) { return intersect_slot(slot, ray, t, scratch); });
 }
 
+// `hit.primitive` holds the leaf slot on entry and the primitive id on return.
 void Scene::fill_hit(const Ray& ray, Hit& hit, double b1, double b2) const {
-  const PrimRef ref = prims_[hit.primitive];
+  const LeafPrim& ref = leaf_prims_[hit.primitive];
+  // Primitive ids number triangles, then spheres, then revolve segments.
+  hit.primitive = ref.index;
+  if (ref.kind != PrimitiveKind::Triangle) hit.primitive += static_cast<uint32_t>(triangles_.size());
+  if (ref.kind == PrimitiveKind::BezierRevolve) hit.primitive += static_cast<uint32_t>(spheres_.size());
   switch (ref.kind) {
     case PrimitiveKind::Triangle: {
-      const TrianglePrim& t = triangles_[ref.index];
+      const TrianglePrim& t = ref.tri;  // already in cache from the test
       const TriangleInfo& info = triangle_info_[ref.index];
       const double b0 = 1.0 - b1 - b2;
       hit.position = t.v0 + b1 * t.e1 + b2 * t.e2;

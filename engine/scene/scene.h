@@ -98,7 +98,19 @@ class Scene {
   void check_not_emissive(uint32_t material, const std::string& what) const;
   void invalidate();
   void ensure_mutable() const;
-  bool intersect_prim(uint32_t prim, const Ray& ray, double& tmax, Hit& scratch) const;
+  // One record per BVH leaf slot (see Bvh::prim_order), in leaf order: a
+  // leaf's primitives sit side by side and a triangle's kind and vertices
+  // share a record, so testing a leaf reads one stretch of memory.
+  struct LeafPrim {
+    TrianglePrim tri;  // triangles only
+    PrimitiveKind kind;
+    uint32_t index;    // into triangles_, spheres_ or revolve_segments_
+  };
+
+  // Tests the primitive at a leaf slot; on a closer hit lowers tmax and
+  // records the slot in scratch.primitive (fill_hit turns it into the id).
+  bool intersect_slot(uint32_t slot, const Ray& ray, double& tmax, Hit& scratch) const;
+  bool intersect_non_triangle(uint32_t slot, const Ray& ray, double& tmax, Hit& scratch) const;
   void fill_hit(const Ray& ray, Hit& hit, double b1, double b2) const;
 
   std::vector<Material> materials_;
@@ -118,6 +130,7 @@ class Scene {
 
   std::vector<PrimRef> prims_;
   Bvh bvh_;
+  HugePageVector<LeafPrim> leaf_prims_;
   double offset_floor_ = 1e-12;
   bool built_ = false;
   mutable int renderers_ = 0;

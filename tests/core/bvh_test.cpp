@@ -30,7 +30,8 @@ struct Soup {
   std::pair<double, int> bvh_hit(const Ray& r) const {
     double tmax = kInf;
     int best = -1;
-    bvh.closest(r.origin, r.direction, tmax, [&](uint32_t p, double& tm) {
+    bvh.closest(r.origin, r.direction, tmax, [&](uint32_t slot, double& tm) {
+      const uint32_t p = bvh.prim_order()[slot];
       double t, b1, b2;
       if (!intersect_triangle(tris[p], r, tm, t, b1, b2)) return false;
       tm = t;
@@ -128,9 +129,9 @@ TEST(Bvh, AnyHitAgreesWithClosest) {
     const Ray r = random_ray(rng, 1.0);
     const double t = soup.brute_hit(r).first;
     const double limit = 0.5 + rng.uniform() * 3.0;
-    const bool blocked = soup.bvh.any(r.origin, r.direction, limit, [&](uint32_t p, double& tm) {
+    const bool blocked = soup.bvh.any(r.origin, r.direction, limit, [&](uint32_t slot, double& tm) {
       double tt, b1, b2;
-      return intersect_triangle(soup.tris[p], r, tm, tt, b1, b2);
+      return intersect_triangle(soup.tris[soup.bvh.prim_order()[slot]], r, tm, tt, b1, b2);
     });
     ASSERT_EQ(blocked, t < limit) << "ray " << i;
   }

@@ -77,6 +77,7 @@ def test_bad_mesh(scene, kwargs, message):
         (lambda s: s.set_background((math.nan, 0, 0)), "background"),
         (lambda s: s.intersect(np.zeros((1, 3)), np.zeros((1, 3))), "direction 0 is zero"),
         (lambda s: s.intersect(np.zeros((2, 3)), np.ones((1, 3))), "same length"),
+        (lambda s: s.intersect(np.zeros((1, 3)), np.ones((1, 3)), threads=-1), "threads must be >= 0"),
     ],
 )
 def test_bad_builder_calls(scene, call, message):

@@ -1,0 +1,42 @@
+"""Scene.intersect: the same answer on any number of threads, and primitive ids
+that follow the order triangles, then spheres, whatever order the BVH keeps."""
+
+import numpy as np
+
+import ppm_core
+
+
+def test_threads_and_primitive_ids():
+    rng = np.random.default_rng(5)
+    s = ppm_core.Scene()
+    m = s.add_material("grey")
+    n = 400  # a soup of small triangles, two meshes, then spheres
+    centres = rng.uniform(-1, 1, size=(n, 3))
+    corners = centres[:, None, :] + rng.normal(scale=0.08, size=(n, 3, 3))
+    tris = np.arange(3 * n).reshape(n, 3)
+    s.add_mesh("a", corners[: n // 2].reshape(-1, 3), tris[: n // 2], materials=m, object_id=1)
+    s.add_mesh("b", corners[n // 2 :].reshape(-1, 3), tris[: n - n // 2], materials=m, object_id=2)
+    for i, c in enumerate(rng.uniform(-1, 1, size=(20, 3))):
+        s.add_sphere(f"s{i}", tuple(c), 0.05, m, object_id=10 + i)
+
+    o = rng.normal(size=(20000, 3))
+    o *= 3.0 / np.linalg.norm(o, axis=1)[:, None]
+    d = rng.uniform(-1, 1, size=o.shape) - o
+    one, two = s.intersect(o, d, threads=1), s.intersect(o, d, threads=2)
+    for key in ("t", "normal", "primitive", "object"):
+        np.testing.assert_array_equal(one[key], two[key])
+    hit = one["primitive"] >= 0
+    assert 0.2 < hit.mean() < 0.95
+    prim, obj = one["primitive"][hit], one["object"][hit]
+    assert ((prim < n // 2) == (obj == 1)).all()
+    assert (((prim >= n // 2) & (prim < n)) == (obj == 2)).all()
+    assert ((prim >= n) == (obj >= 10)).all()
+    np.testing.assert_array_equal(obj[prim >= n], prim[prim >= n] - n + 10)
+
+    # The reported triangle is really hit at t: the hit point lies in its plane.
+    tri_hit = prim < n
+    p = o[hit][tri_hit] + one["t"][hit][tri_hit, None] * (d[hit][tri_hit] / np.linalg.norm(d[hit][tri_hit], axis=1)[:, None])
+    v0 = corners[prim[tri_hit], 0]
+    nrm = np.cross(corners[prim[tri_hit], 1] - v0, corners[prim[tri_hit], 2] - v0)
+    nrm /= np.linalg.norm(nrm, axis=1)[:, None]
+    assert np.abs(np.einsum("ij,ij->i", p - v0, nrm)).max() < 1e-9
