@@ -33,10 +33,16 @@ test-python: build
 	$(PY) -m pytest -q tests/core
 
 # Benchmarks: figures and the commands behind them are in bench/README.md.
-bench: setup bench-cpp
+bench: setup bench-cpp .venv/.bench-deps
 	build/bench/bezier_bench
 	build/bench/grid_bench
 	$(PY) bench/throughput.py
+	$(PY) bench/raycast.py
+	$(PY) bench/skips.py
+
+.venv/.bench-deps: bench/requirements.txt .venv/.setup-done
+	$(PY) -m pip install -q -r bench/requirements.txt
+	touch $@
 
 bench-cpp: .venv/.setup-done
 	cmake -S . -B build/bench -G Ninja -DPPM_BUILD_BENCH=ON -DPPM_BUILD_PYTHON=OFF -DCMAKE_BUILD_TYPE=Release >/dev/null
