@@ -152,7 +152,7 @@ def run_ppm(vertices, tris, origins, dirs, repeats, threads):
     rows = {}
     result = None
     for th in threads:
-        (wall, cpu), result = best_of(repeats, lambda: scene.intersect(o64, d64, threads=th))
+        (wall, cpu), result = best_of(repeats, lambda th=th: scene.intersect(o64, d64, threads=th))
         rows[th] = (wall, cpu if th == 1 else None)
     return dict(add=add_time, build=build, cast=rows, t=result["t"], prim=result["primitive"])
 
@@ -230,8 +230,9 @@ def agreement(p, e, vertices, tris, origins, dirs):
     p_closer = differ & (np.where(hit_p, p["t"], np.inf) < np.where(hit_e, e["t"], np.inf))
     e_closer = differ & ~p_closer
     # The nearer of the two hits is the one the other library missed.
-    explained = int(near_edge_or_grazing(vertices, tris, p["prim"][p_closer], origins[p_closer], dirs[p_closer]).sum()
-                    + near_edge_or_grazing(vertices, tris, e["prim"][e_closer], origins[e_closer], dirs[e_closer]).sum())
+    explained = int(
+        near_edge_or_grazing(vertices, tris, p["prim"][p_closer], origins[p_closer], dirs[p_closer]).sum()
+        + near_edge_or_grazing(vertices, tris, e["prim"][e_closer], origins[e_closer], dirs[e_closer]).sum())
     same_t_other_tri = both & (rel <= 1e-5) & (p["prim"] != e["prim"])
     return dict(rays=len(hit_p), hit_frac=hit_p.mean(), miss_mismatch=int((hit_p != hit_e).sum()),
                 t_off=int((rel > 1e-5).sum()), p_closer=int(p_closer.sum()), e_closer=int(e_closer.sum()),
@@ -295,8 +296,10 @@ def main():
     print("| mesh | triangles | threads | ppm build s | ppm Mrays/s wall (CPU) | Embree build s "
           "| Embree Mrays/s wall (CPU) | Embree / ppm wall (CPU) |")
     print("|---|---|---|---|---|---|---|---|")
+    def cpu(x):
+        return f" ({fmt(x)})" if x is not None else ""
+
     for name, nt, th, pb, pw, pc, eb, ew, ec in perf:
-        cpu = lambda x: f" ({fmt(x)})" if x is not None else ""
         print(f"| {name} | {nt:,} | {th} | {pb:.3f} | {fmt(pw)}{cpu(pc)} | {fmt(eb, '.3f')} "
               f"| {fmt(ew)}{cpu(ec)} | {ratio(ew, pw)}{cpu(None if ec is None or pc is None else ec / pc)} |")
     if agree:

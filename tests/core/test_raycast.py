@@ -35,7 +35,8 @@ def test_threads_and_primitive_ids():
 
     # The reported triangle is really hit at t: the hit point lies in its plane.
     tri_hit = prim < n
-    p = o[hit][tri_hit] + one["t"][hit][tri_hit, None] * (d[hit][tri_hit] / np.linalg.norm(d[hit][tri_hit], axis=1)[:, None])
+    unit = d[hit][tri_hit] / np.linalg.norm(d[hit][tri_hit], axis=1)[:, None]
+    p = o[hit][tri_hit] + one["t"][hit][tri_hit, None] * unit
     v0 = corners[prim[tri_hit], 0]
     nrm = np.cross(corners[prim[tri_hit], 1] - v0, corners[prim[tri_hit], 2] - v0)
     nrm /= np.linalg.norm(nrm, axis=1)[:, None]
