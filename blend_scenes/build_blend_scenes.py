@@ -6,7 +6,8 @@
 Saved with Blender 3.4 (Debian's `blender`), the files open in 3.4 and 5.0
 alike (newer Blenders read older files, not the other way round). The scenes:
 cornell_3spheres (report figure 1), bezier_vase (figure 2), cornell_dof
-(figure 3) and showcase (textured meshes, several light types, instances).
+(figure 3), showcase (textured meshes, several light types, instances) and
+cornell_diffuse (diffuse only, for the accuracy benchmarks against Cycles).
 Geometry mirrors blend_scenes/core_scenes.py where a core scene exists.
 """
 
@@ -312,8 +313,34 @@ def showcase():
     render_settings()
 
 
+def box_corners(center, size, height, angle):
+    """The 8 corners of an upright box (bottom 4 then top 4, counter-clockwise from above), turned by `angle`."""
+    c, s = math.cos(angle), math.sin(angle)
+    h = size / 2.0
+    ring = [(-h, -h), (h, -h), (h, h), (-h, h)]
+    xy = [(center[0] + c * x - s * y, center[1] + s * x + c * y) for x, y in ring]
+    return [(x, y, 0.0) for x, y in xy] + [(x, y, height) for x, y in xy]
+
+
+BOX_FACES = [(0, 3, 2, 1), (4, 5, 6, 7), (0, 1, 5, 4), (1, 2, 6, 5), (2, 3, 7, 6), (3, 0, 4, 7)]
+
+
+def cornell_diffuse():
+    """Diffuse only (accuracy benchmark against Cycles): the Cornell box walls, a tall and a short
+    white block and a square area light under the ceiling; no specular surface, no depth of field.
+    core_scenes.cornell_diffuse has the same geometry."""
+    reset()
+    white = cornell_box()
+    mesh_object("tall_block", box_corners((-0.35, 0.3), 0.6, 1.2, math.radians(20)), BOX_FACES, white)
+    mesh_object("short_block", box_corners((0.4, -0.3), 0.6, 0.6, math.radians(-18)), BOX_FACES, white)
+    light("lamp", "AREA", (0.0, 0.0, 1.98), 60.0, shape="SQUARE", size=0.5)
+    camera((0.0, -4.4, 1.0), (0.0, 0.0, 1.0), lens=40.0)
+    world((0.0, 0.0, 0.0))
+    render_settings()
+
+
 SCENES = {"cornell_3spheres": cornell_3spheres, "bezier_vase": bezier_vase,
-          "cornell_dof": cornell_dof, "showcase": showcase}
+          "cornell_dof": cornell_dof, "showcase": showcase, "cornell_diffuse": cornell_diffuse}
 
 
 def save(path):

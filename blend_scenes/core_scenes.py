@@ -77,6 +77,42 @@ def cornell_3spheres(width=640, height=480, light="sphere", aperture_radius=0.0)
     return scene
 
 
+def box_corners(center, size, height, angle):
+    """The 8 corners of an upright box (bottom 4 then top 4, counter-clockwise from above), turned by `angle`."""
+    c, s = math.cos(angle), math.sin(angle)
+    h = size / 2.0
+    ring = [(-h, -h), (h, -h), (h, h), (-h, h)]
+    xy = [(center[0] + c * x - s * y, center[1] + s * x + c * y) for x, y in ring]
+    return np.array([(x, y, 0.0) for x, y in xy] + [(x, y, height) for x, y in xy])
+
+
+BOX_TRIANGLES = np.array([(0, 3, 2), (0, 2, 1), (4, 5, 6), (4, 6, 7), (0, 1, 5), (0, 5, 4),
+                          (1, 2, 6), (1, 6, 5), (2, 3, 7), (2, 7, 6), (3, 0, 4), (3, 4, 7)])
+
+
+def cornell_diffuse(width=640, height=480, light="area") -> ppm_core.Scene:
+    """Diffuse only, the geometry of blend_scenes/cornell_diffuse.blend: the Cornell box walls, a tall and
+    a short white block and a 0.5 m square light under the ceiling emitting 60 W (radiance 76; the .blend's
+    light has radiance 60, i.e. 47.1 W here: its 60 W in Blender 3.4 units open as 47.1 W in 4+). With
+    light="point" the light is a 60 W point light just below (no area sampling). The benchmarks' and the
+    regression guard's references were made with these values."""
+    scene = ppm_core.Scene()
+    white = cornell_box(scene)["white"]
+    scene.add_mesh("tall_block", box_corners((-0.35, 0.3), 0.6, 1.2, math.radians(20)), BOX_TRIANGLES,
+                   materials=white, object_id=10)
+    scene.add_mesh("short_block", box_corners((0.4, -0.3), 0.6, 0.6, math.radians(-18)), BOX_TRIANGLES,
+                   materials=white, object_id=11)
+    matrix = np.eye(4)
+    matrix[:3, 3] = (0.0, 0.0, 1.98)
+    if light == "area":
+        scene.add_light("rectangle", name="lamp", power=60.0, matrix=matrix, size=0.5)
+    else:
+        scene.add_light("point", name="lamp", power=60.0, position=(0.0, 0.0, 1.9))
+    fov = 2.0 * math.atan(0.5 * 36.0 / 40.0)
+    scene.set_camera(look_at((0.0, -4.4, 1.0), (0.0, 0.0, 1.0)), width, height, fov=fov)
+    return scene
+
+
 def closed_sphere_with_point_light(radius=1.0, albedo=0.5, power=100.0, width=32, height=32):
     """Analytic test scene: a point light at the centre of a closed diffuse sphere.
 
