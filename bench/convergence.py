@@ -1,13 +1,13 @@
 """Error against wall time for every bundled scene, through the add-on.
 
     .venv/bin/python bench/convergence.py [--quick] [--scenes NAME ...] [--times 2 4 8 16 32 64]
-                                          [--modes AUTO STOCHASTIC]
+                                          [--modes FIXED STOCHASTIC]
 
 Renders each blend_scenes/*.blend at 320x240 through the add-on (Blender 5.0
 module, 200,000 photons per pass, 2 threads, seed 7, the file's other
 settings) with the time limit `scene.ppm.time_limit` set to each of --times,
-once per hit-point mode: AUTO (the add-on's default: fixed hit points, PPM,
-unless the camera uses LENS depth of field) and STOCHASTIC (SPPM). Compares
+once per hit-point mode: FIXED (PPM) and STOCHASTIC (SPPM, what the add-on's
+AUTO picks). Compares
 each image with bench/references/{scene}_ppm.exr (bench/references.py; for
 cornell_diffuse also with the Cycles reference) and prints a markdown table
 of RMSE (all pixels, and without the pixels that see a light, whose
@@ -20,7 +20,7 @@ Wall time is that of bpy.ops.render.render (export, eye pass, passes, image
 write), not just the time limit. Run on a quiet machine: the time limit turns
 load into fewer passes. The reference's own noise (estimated from its two
 halves) is printed: errors near it say more about the reference than about the
-render. Full run: about 25 minutes. --quick: 1 and 2 s, AUTO only, about a
+render. Full run: about 25 minutes. --quick: 1 and 2 s, FIXED only, about a
 minute (checks the script).
 """
 
@@ -40,10 +40,7 @@ REGIONS = ("caustic", "walls", "glass", "mirror", "emitter")
 
 def resolved_mode(name, mode):
     """'fixed' or 'stochastic': what the add-on does with hit_points=mode for this file."""
-    if mode != "AUTO":
-        return mode.lower()
-    scene = ac.open_scene(name)
-    return "stochastic" if scene.ppm.dof_mode == "LENS" else "fixed"
+    return "fixed" if mode == "FIXED" else "stochastic"
 
 
 def main():
@@ -51,10 +48,10 @@ def main():
     parser.add_argument("--quick", action="store_true")
     parser.add_argument("--scenes", nargs="+", default=list(ac.SCENES), choices=ac.SCENES)
     parser.add_argument("--times", type=float, nargs="+", default=[2, 4, 8, 16, 32, 64])
-    parser.add_argument("--modes", nargs="+", default=["AUTO", "STOCHASTIC"], choices=["AUTO", "FIXED", "STOCHASTIC"])
+    parser.add_argument("--modes", nargs="+", default=["FIXED", "STOCHASTIC"], choices=["AUTO", "FIXED", "STOCHASTIC"])
     args = parser.parse_args()
     if args.quick:
-        args.times, args.modes = [1, 2], ["AUTO"]
+        args.times, args.modes = [1, 2], ["FIXED"]
         ac.PLOTS_DIR = ac.WORKDIR  # figures of a quick run are not the README's
     results = []
     for name in args.scenes:

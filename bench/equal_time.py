@@ -10,7 +10,7 @@ at 320x240 on 2 threads, renders for each time T:
   denoising or adaptive sampling, caustics on, lights visible to the camera),
   seed 11;
 - the PPM add-on with `ppm.time_limit = T`, 200,000 photons per pass, seed 7,
-  with fixed hit points (the add-on's AUTO here) and with stochastic ones.
+  with fixed hit points and with stochastic ones (the add-on's AUTO).
 Errors against the references of bench/references.py: the PPM reference on
 cornell_3spheres (Cycles would need days there), both the Cycles and the PPM
 reference on cornell_diffuse. Relative MSE overall and by region (caustic
