@@ -10,6 +10,12 @@ struct TrianglePrim {
   Vec3 v0, e1, e2;  // v1 = v0 + e1, v2 = v0 + e2
 };
 
+// Barycentric slack: Möller-Trumbore rounds u and v independently in the two
+// triangles of a shared edge, so a ray through the edge could be rejected by
+// both (measured: 3-15 of 2,424 rays from inside a closed cube aimed at its
+// edges escaped). 1e-12 of the triangle is far below any visible size.
+constexpr double kBarycentricSlack = 1e-12;
+
 // Returns true and sets t, (b1, b2) barycentrics of v1 and v2 for a hit with 0 < t < tmax.
 inline bool intersect_triangle(const TrianglePrim& tri, const Ray& ray, double tmax, double& t,
                                double& b1, double& b2) {
@@ -19,10 +25,10 @@ inline bool intersect_triangle(const TrianglePrim& tri, const Ray& ray, double t
   const double inv = 1.0 / det;
   const Vec3 s = ray.origin - tri.v0;
   const double u = glm::dot(s, p) * inv;
-  if (u < 0.0 || u > 1.0) return false;
+  if (u < -kBarycentricSlack || u > 1.0 + kBarycentricSlack) return false;
   const Vec3 q = glm::cross(s, tri.e1);
   const double v = glm::dot(ray.direction, q) * inv;
-  if (v < 0.0 || u + v > 1.0) return false;
+  if (v < -kBarycentricSlack || u + v > 1.0 + kBarycentricSlack) return false;
   const double tt = glm::dot(tri.e2, q) * inv;
   if (!(tt > 0.0 && tt < tmax)) return false;
   t = tt;

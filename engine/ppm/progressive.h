@@ -10,13 +10,26 @@
 
 namespace ppm {
 
+// The smallest r^2 the update shrinks to (m^2). Far below any radius a scene
+// in range can use (radii start at >= 4e-10 of the scene's extent and shrink
+// like passes^-0.15 for alpha = 0.7), and far above the denormals, so that r^2,
+// tau and pi r^2 N_emitted keep full precision: a radius that would shrink
+// below it stops shrinking and its photons all count (ratio 1: n += m), which
+// keeps the estimate tau / (pi r^2) consistent instead of dividing by zero.
+constexpr double kMinRadius2 = 1e-200;
+
 inline void progressive_update(double& r2, HitPointStats& s, double alpha, uint32_t threshold) {
   if (s.m < threshold || s.m == 0) return;
   const double m = static_cast<double>(s.m);
   const double ratio = (s.n + alpha * m) / (s.n + m);
-  r2 *= ratio;
-  s.tau = (s.tau + s.tau_m) * ratio;
-  s.n += alpha * m;
+  if (r2 * ratio >= kMinRadius2) {
+    r2 *= ratio;
+    s.tau = (s.tau + s.tau_m) * ratio;
+    s.n += alpha * m;
+  } else {
+    s.tau += s.tau_m;
+    s.n += m;
+  }
   s.m = 0;
   s.tau_m = Color(0.0);
 }

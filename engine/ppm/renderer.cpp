@@ -8,6 +8,7 @@
 #include "post/dof_post.h"
 
 #include <algorithm>
+#include <cfloat>
 #include <chrono>
 #include <stdexcept>
 #include <thread>
@@ -27,6 +28,10 @@ const Scene& checked(const std::shared_ptr<const Scene>& scene) {
   if (!scene->has_camera()) throw std::invalid_argument("Renderer: the scene has no camera (call set_camera)");
   return *scene;
 }
+
+// A finite radiance above float range saturates instead of becoming inf (the
+// conversion is undefined behaviour in C++); NaN and inf stay visible.
+float to_float(double v) { return std::isfinite(v) && std::fabs(v) > FLT_MAX ? std::copysign(FLT_MAX, v) : static_cast<float>(v); }
 
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
@@ -235,7 +240,10 @@ std::vector<float> Renderer::image() const {
   const Camera& cam = scene_->camera();
   const int W = cam.width, H = cam.height;
   std::vector<float> rgba(static_cast<size_t>(W) * H * 4, 0.0f);
-  if (!eye_done_) return rgba;
+  if (!eye_done_) {  // black, but alpha = 1 as documented
+    for (size_t i = 3; i < rgba.size(); i += 4) rgba[i] = 1.0f;
+    return rgba;
+  }
   const double emitted = static_cast<double>(stats_.photon.emitted);
   const bool stochastic = settings_.hit_points == HitPointMode::Stochastic;
   const double direct_scale = stats_.direct_samples > 0 ? 1.0 / stats_.direct_samples : 0.0;
@@ -257,9 +265,9 @@ std::vector<float> Renderer::image() const {
         }
       }
       float* out = &rgba[(static_cast<size_t>(H - 1 - y) * W + x) * 4];  // top row first
-      out[0] = static_cast<float>(c.x);
-      out[1] = static_cast<float>(c.y);
-      out[2] = static_cast<float>(c.z);
+      out[0] = to_float(c.x);
+      out[1] = to_float(c.y);
+      out[2] = to_float(c.z);
       out[3] = 1.0f;
     }
   if (dof_post_ && depth_.size() == static_cast<size_t>(W) * H) {

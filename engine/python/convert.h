@@ -20,6 +20,42 @@ using DoubleArray = py::array_t<double, py::array::c_style | py::array::forcecas
   throw std::invalid_argument(what + ": " + msg);
 }
 
+// Strings arrive as str or bytes; bytes need not be UTF-8, and an error message
+// that is not UTF-8 cannot become a Python exception's text (it would turn into
+// a UnicodeDecodeError that hides what was wrong).
+inline bool valid_utf8(const std::string& text) {
+  PyObject* u = PyUnicode_DecodeUTF8(text.data(), static_cast<Py_ssize_t>(text.size()), "strict");
+  if (u == nullptr) {
+    PyErr_Clear();
+    return false;
+  }
+  Py_DECREF(u);
+  return true;
+}
+
+// `text` itself if it is UTF-8, else with every byte >= 0x80 as \xNN.
+inline std::string printable(const std::string& text) {
+  if (valid_utf8(text)) return text;
+  static const char* hex = "0123456789abcdef";
+  std::string out;
+  for (unsigned char c : text) {
+    if (c < 0x80) {
+      out += static_cast<char>(c);
+    } else {
+      out += "\\x";
+      out += hex[c >> 4];
+      out += hex[c & 15];
+    }
+  }
+  return out;
+}
+
+// An object's name: any UTF-8 text (names end up in every error message).
+inline const std::string& checked_name(const std::string& name, const std::string& kind) {
+  if (!valid_utf8(name)) fail(kind + " '" + printable(name) + "'", "the name must be UTF-8 text");
+  return name;
+}
+
 // An (N, cols) array of doubles; `what` and `field` name it in errors.
 inline DoubleArray matrix(const py::handle& obj, int cols, const std::string& what, const std::string& field) {
   DoubleArray a;
@@ -62,10 +98,19 @@ inline Vec3 vec3(const py::handle& obj, const std::string& what, const std::stri
   return Vec3(p[0], p[1], p[2]);
 }
 
-// A colour: 3 numbers, or one number for grey.
+// A colour: 3 numbers, or one number (a Python or numpy scalar, or a 1-element array) for grey.
 inline Color color(const py::handle& obj, const std::string& what, const std::string& field) {
   if (py::isinstance<py::float_>(obj) || py::isinstance<py::int_>(obj)) return Color(obj.cast<double>());
-  return vec3(obj, what, field);
+  DoubleArray a;
+  if (!py::isinstance<py::str>(obj) && !py::isinstance<py::bytes>(obj)) {
+    try {
+      a = DoubleArray::ensure(obj);
+    } catch (const py::error_already_set&) {
+    }
+  }
+  if (!a || (a.size() != 1 && a.size() != 3)) fail(what, field + " must be 3 numbers or one number (grey)");
+  const double* p = a.data();
+  return a.size() == 1 ? Color(p[0]) : Color(p[0], p[1], p[2]);
 }
 
 inline Mat4 mat4(const py::handle& obj, const std::string& what, const std::string& field) {
@@ -95,7 +140,7 @@ E choice(const std::string& value, std::initializer_list<std::pair<const char*, 
     if (value == name) return e;
     names += (names.empty() ? "'" : ", '") + std::string(name) + "'";
   }
-  fail(what, field + " must be one of " + names + ", not '" + value + "'");
+  fail(what, field + " must be one of " + names + ", not '" + printable(value) + "'");
 }
 
 }  // namespace ppm::py_convert

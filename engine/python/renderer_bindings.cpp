@@ -47,7 +47,7 @@ SettingAccess enumeration(E Settings::*field, std::vector<std::pair<const char*,
               options += std::string(options.empty() ? "'" : ", '") + n + "'";
             }
             throw std::invalid_argument(std::string("settings: ") + key + " must be one of " + options + ", not '" +
-                                        value + "'");
+                                        printable(value) + "'");
           },
           doc};
 }
@@ -97,7 +97,7 @@ Settings settings_from(const py::dict& values) {
   Settings s;
   const auto& table = setting_table();
   for (const auto& [key, value] : values) {
-    const std::string name = py::str(key);
+    const std::string name = printable(py::str(key));
     const auto it = table.find(name);
     if (it == table.end()) {
       std::string known;
@@ -111,6 +111,10 @@ Settings settings_from(const py::dict& values) {
     }
   }
   s.validate();
+  // Radii whose square stays finite (r^2 would overflow to inf above ~1e154 m).
+  if (s.initial_radius > kMaxCoordinate)
+    throw std::invalid_argument("settings: initial_radius must be at most 1e30 m");
+  if (s.initial_radius_pixels > 1e6) throw std::invalid_argument("settings: initial_radius_pixels must be at most 1e6");
   return s;
 }
 
@@ -169,6 +173,7 @@ void bind_renderer(py::module_& m) {
              for (const auto& [k, v] : overrides) values[k] = v;
              const Settings s = settings_from(values);
              scene->build();
+             scene->check_energy_range(s.max_bounces);
              return std::make_unique<Renderer>(scene, s);
            }),
            py::arg("scene"), py::arg("settings") = py::none())
@@ -184,7 +189,14 @@ void bind_renderer(py::module_& m) {
               info["photons_emitted"] = p.photons_emitted;
               info["seconds"] = p.seconds;
               const py::object result = callback(info);
-              return result.is_none() || result.cast<bool>();
+              if (result.is_none()) return true;
+              const bool numpy_flag = py::hasattr(result, "dtype") && py::hasattr(result, "ndim") &&
+                                      result.attr("ndim").cast<int>() == 0 &&
+                                      std::string("biu").find(py::str(result.attr("dtype").attr("kind")).cast<std::string>()) != std::string::npos;
+              if (!py::isinstance<py::bool_>(result) && !py::isinstance<py::int_>(result) && !numpy_flag)
+                throw std::invalid_argument("run: the callback must return None, True (go on) or False (cancel), not " +
+                                            std::string(py::str(py::type::of(result).attr("__name__"))));
+              return PyObject_IsTrue(result.ptr()) == 1;
             };
             py::gil_scoped_release release;
             return r.run(passes, seconds, poll);

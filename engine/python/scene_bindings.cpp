@@ -16,7 +16,7 @@ namespace {
 uint32_t add_material(Scene& s, const std::string& name, const std::string& kind, const py::object& base_color,
                       int texture, double roughness, double ior, const py::object& specular_tint,
                       const py::object& emission) {
-  const std::string what = "material '" + name + "'";
+  const std::string what = "material '" + checked_name(name, "material") + "'";
   Material m;
   m.name = name;
   m.kind = choice<MaterialKind>(kind,
@@ -36,32 +36,78 @@ uint32_t add_material(Scene& s, const std::string& name, const std::string& kind
   return s.add_material(m);
 }
 
+// Direction / length without overflow or underflow in the length; false for zero or non-finite.
+bool unit(const Vec3& v, Vec3& out) {
+  const double m = max_abs(v);
+  if (!(m > 0.0) || !std::isfinite(m)) return false;
+  out = glm::normalize(v / m);
+  return true;
+}
+
 uint32_t add_texture(Scene& s, const std::string& name, const py::object& pixels) {
   using FloatArray = py::array_t<float, py::array::c_style | py::array::forcecast>;
+  const std::string what = "texture '" + checked_name(name, "texture") + "'";
+  {
+    // Shape first, before a copy to float32 of something that cannot be a texture.
+    const py::array raw = py::array::ensure(pixels);
+    if (!raw) fail(what, "pixels must be a float array of shape (H, W, 4)");
+    if (raw.ndim() != 3 || raw.shape(2) != 4) fail(what, "pixels must have shape (H, W, 4)");
+    if (raw.shape(0) > (1 << 20) || raw.shape(1) > (1 << 20))
+      fail(what, "width and height must be at most 1048576 pixels");
+    const char kind = raw.dtype().kind();
+    if (kind != 'f' && kind != 'i' && kind != 'u' && kind != 'b')
+      fail(what, std::string("pixels must be real numbers, not dtype kind '") + kind + "'");
+  }
   FloatArray a;
   try {
     a = FloatArray::ensure(pixels);
   } catch (const py::error_already_set&) {
-    fail("texture '" + name + "'", "pixels must be a float array");
+    fail(what, "pixels must be a float array");
   }
-  if (!a || a.ndim() != 3 || a.shape(2) != 4) fail("texture '" + name + "'", "pixels must have shape (H, W, 4)");
+  if (!a || a.ndim() != 3 || a.shape(2) != 4) fail(what, "pixels must have shape (H, W, 4)");
   std::vector<float> rgba(a.data(), a.data() + a.size());
   return s.add_texture(name, static_cast<int>(a.shape(1)), static_cast<int>(a.shape(0)), std::move(rgba));
 }
 
+// Integers in [0, 2^32): integer and boolean arrays as they are; float (and
+// object) arrays only if every entry is a whole number, so that 0.5 or NaN is
+// an error rather than silently truncated to a valid index.
 std::vector<uint32_t> index_list(const py::handle& obj, const std::string& what, const std::string& field) {
   using IntArray = py::array_t<int64_t, py::array::c_style | py::array::forcecast>;
+  const py::array raw = py::array::ensure(obj);
+  if (!raw) fail(what, field + " must be an array of integers");
+  const char kind = raw.dtype().kind();
+  std::vector<uint32_t> out(raw.size());
+  if (kind == 'f' || kind == 'O') {
+    DoubleArray a;
+    try {
+      a = DoubleArray::ensure(raw);
+    } catch (const py::error_already_set&) {
+    }
+    if (!a) fail(what, field + " must be an array of integers");
+    const double* p = a.data();
+    for (size_t i = 0; i < out.size(); ++i) {
+      if (!(p[i] == std::floor(p[i])))
+        fail(what, field + " entry " + std::to_string(i) + " is not an integer");
+      if (p[i] < 0.0 || p[i] > 4294967295.0) fail(what, field + " entry " + std::to_string(i) + " is out of range");
+      out[i] = static_cast<uint32_t>(p[i]);
+    }
+    return out;
+  }
+  if (kind != 'i' && kind != 'u' && kind != 'b')
+    fail(what, field + std::string(" must be an array of integers, not dtype kind '") + kind + "'");
   IntArray a;
   try {
-    a = IntArray::ensure(obj);
+    a = IntArray::ensure(raw);
   } catch (const py::error_already_set&) {
-    fail(what, field + " must be an array of integers");
   }
   if (!a) fail(what, field + " must be an array of integers");
-  std::vector<uint32_t> out(a.size());
   const int64_t* p = a.data();
+  const bool unsigned64 = kind == 'u' && raw.dtype().itemsize() == 8;  // >= 2^63 wrapped to negative
   for (size_t i = 0; i < out.size(); ++i) {
-    if (p[i] < 0 || p[i] > 0xffffffffll) fail(what, field + " entry " + std::to_string(i) + " is out of range");
+    if (p[i] < 0 || p[i] > 0xffffffffll)
+      fail(what, field + " entry " + std::to_string(i) + " is out of range" +
+                     (unsigned64 && p[i] < 0 ? " (above 2^63)" : ""));
     out[i] = static_cast<uint32_t>(p[i]);
   }
   return out;
@@ -69,19 +115,13 @@ std::vector<uint32_t> index_list(const py::handle& obj, const std::string& what,
 
 void add_mesh(Scene& s, const std::string& name, const py::object& positions, const py::object& triangles,
               const py::object& normals, const py::object& uvs, const py::object& materials, uint32_t object_id) {
-  const std::string what = "mesh '" + name + "'";
+  const std::string what = "mesh '" + checked_name(name, "mesh") + "'";
   MeshInput m;
   m.name = name;
   m.object_id = object_id;
   m.positions = vec3_list(positions, what, "positions");
   {
-    using IntArray = py::array_t<int64_t, py::array::c_style | py::array::forcecast>;
-    IntArray t;
-    try {
-      t = IntArray::ensure(triangles);
-    } catch (const py::error_already_set&) {
-      fail(what, "triangles must be an integer array of shape (T, 3)");
-    }
+    const py::array t = py::array::ensure(triangles);
     if (!t || t.ndim() != 2 || t.shape(1) != 3) fail(what, "triangles must be an integer array of shape (T, 3)");
     m.triangles = index_list(t, what, "triangles");
   }
@@ -100,10 +140,7 @@ void add_mesh(Scene& s, const std::string& name, const py::object& positions, co
     if (m.uvs.size() != m.positions.size() && m.uvs.size() != 3 * nt)
       fail(what, "uvs must have one row per vertex (V, 2) or per corner (T, 3, 2)");
   }
-  if (py::isinstance<py::int_>(materials))
-    m.materials = {materials.cast<uint32_t>()};
-  else
-    m.materials = index_list(materials, what, "materials");
+  m.materials = index_list(materials, what, "materials");
   s.add_mesh(std::move(m));
 }
 
@@ -111,7 +148,7 @@ void add_light(Scene& s, const std::string& kind, const std::string& name, const
                const py::object& color_obj, const py::object& position, const py::object& direction,
                const py::object& matrix, const py::object& size, double radius, double spot_angle,
                double spot_blend, double angle, bool spot_cosine_falloff, bool soft_falloff) {
-  const std::string what = "light '" + name + "'";
+  const std::string what = "light '" + checked_name(name, "light") + "'";
   Light l;
   l.name = name;
   l.kind = choice<LightKind>(kind,
@@ -134,19 +171,21 @@ void add_light(Scene& s, const std::string& kind, const std::string& name, const
   } else {
     if (!position.is_none()) l.position = vec3(position, what, "position");
     if (!direction.is_none()) l.direction = vec3(direction, what, "direction");
-    const double len = glm::length(l.direction);
-    if (len > 0.0 && std::isfinite(len)) make_basis(l.direction / len, u, v);
+    Vec3 d;
+    if (unit(l.direction, d)) make_basis(d, u, v);
   }
   double sx = 1.0, sy = 1.0;
   if (!size.is_none()) {
-    if (py::isinstance<py::float_>(size) || py::isinstance<py::int_>(size)) {
-      sx = sy = size.cast<double>();
-    } else {
-      const auto pair = size.cast<std::vector<double>>();
-      if (pair.size() != 2) fail(what, "size must be one number or (size_x, size_y)");
-      sx = pair[0];
-      sy = pair[1];
+    DoubleArray a;
+    if (!py::isinstance<py::str>(size) && !py::isinstance<py::bytes>(size)) {
+      try {
+        a = DoubleArray::ensure(size);
+      } catch (const py::error_already_set&) {
+      }
     }
+    if (!a || (a.size() != 1 && a.size() != 2)) fail(what, "size must be one number or (size_x, size_y)");
+    sx = a.data()[0];
+    sy = a.data()[a.size() - 1];
   }
   if (!(sx > 0.0 && sy > 0.0 && std::isfinite(sx) && std::isfinite(sy))) {
     if (l.kind == LightKind::Rectangle || l.kind == LightKind::Disk) fail(what, "size must be positive");
@@ -204,9 +243,9 @@ py::dict intersect(Scene& s, const py::object& origins, const py::object& direct
   for (size_t i = 0; i < n; ++i) {
     const Vec3 org(op_in[3 * i], op_in[3 * i + 1], op_in[3 * i + 2]);
     const Vec3 dir(dp_in[3 * i], dp_in[3 * i + 1], dp_in[3 * i + 2]);
-    const double len = glm::length(dir);
     if (!is_finite(org)) fail("intersect", "origin " + std::to_string(i) + " is not finite");
-    if (!(len > 0.0) || !std::isfinite(len)) fail("intersect", "direction " + std::to_string(i) + " is zero or not finite");
+    Vec3 unit_dir;
+    if (!unit(dir, unit_dir)) fail("intersect", "direction " + std::to_string(i) + " is zero or not finite");
   }
   s.build();
   py::array_t<double> t(n);
@@ -229,8 +268,9 @@ py::dict intersect(Scene& s, const py::object& origins, const py::object& direct
       for (size_t begin; (begin = next.fetch_add(kChunk)) < n;) {
         const size_t end = std::min(n, begin + kChunk);
         for (size_t i = begin; i < end; ++i) {
-          const Vec3 dir(dp_in[3 * i], dp_in[3 * i + 1], dp_in[3 * i + 2]);
-          const Ray ray{Vec3(op_in[3 * i], op_in[3 * i + 1], op_in[3 * i + 2]), dir / glm::length(dir)};
+          Vec3 dir;
+          unit(Vec3(dp_in[3 * i], dp_in[3 * i + 1], dp_in[3 * i + 2]), dir);  // checked above: succeeds
+          const Ray ray{Vec3(op_in[3 * i], op_in[3 * i + 1], op_in[3 * i + 2]), dir};
           Hit h;
           if (s.intersect(ray, h)) {
             tp[i] = h.t;
@@ -281,7 +321,8 @@ void bind_scene(py::module_& m) {
       .def("add_sphere",
            [](Scene& s, const std::string& name, const py::object& center, double radius, uint32_t material,
               uint32_t object_id) {
-             s.add_sphere(name, vec3(center, "sphere '" + name + "'", "center"), radius, material, object_id);
+             s.add_sphere(name, vec3(center, "sphere '" + checked_name(name, "sphere") + "'", "center"), radius,
+                          material, object_id);
            },
            py::arg("name"), py::arg("center"), py::arg("radius"),
            py::arg("material"), py::arg("object_id") = 0)
@@ -289,7 +330,7 @@ void bind_scene(py::module_& m) {
           "add_bezier_revolve",
           [](Scene& s, const std::string& name, const py::object& points, const std::string& kind,
              const py::object& matrix, uint32_t material, uint32_t object_id) {
-            const std::string what = "bezier revolve '" + name + "'";
+            const std::string what = "bezier revolve '" + checked_name(name, "bezier revolve") + "'";
             const bool chain = choice<bool>(kind, {{"single", false}, {"chain", true}}, what, "kind");
             const Mat4 m = matrix.is_none() ? Mat4(1.0) : mat4(matrix, what, "matrix");
             s.add_bezier_revolve(name, vec2_list(points, what, "points"), chain, m, material, object_id);

@@ -10,7 +10,10 @@ namespace ppm {
 namespace {
 
 double light_area(const Light& l) {
-  const double a = 4.0 * glm::length(glm::cross(l.axis_u, l.axis_v));
+  // Scaled first: for sizes below ~1e-77 m the cross product's squared length underflows.
+  const double su = max_abs(l.axis_u), sv = max_abs(l.axis_v);
+  if (!(su > 0.0 && sv > 0.0)) return 0.0;
+  const double a = 4.0 * su * sv * glm::length(glm::cross(l.axis_u / su, l.axis_v / sv));
   return l.kind == LightKind::Disk ? a * kPi / 4.0 : a;
 }
 
@@ -53,7 +56,9 @@ bool sample_soft_sphere(const Light& l, const Vec3& p, double u1, double u2, Dir
   out.wi = wi / out.distance;
   const double cos_l = -glm::dot(out.wi, n);
   if (cos_l <= 0.0) return false;
-  out.value = l.radiance * (cos_l * kPi * l.radius * l.radius / dist2);
+  // radiance * cos_l * pi r^2 / dist2 with radiance = P / (4 pi^2 r^2), without
+  // forming r^2: a tiny sphere must not turn into inf * 0.
+  out.value = l.power * (cos_l / (4.0 * kPi * dist2));
   return true;
 }
 
@@ -190,7 +195,10 @@ bool sample_direct(const Light& l, const Vec3& p, const Vec3& n, double u1, doub
       double t;
       if (!intersect_sphere({l.position, l.radius}, {p, out.wi}, kInf, t)) t = dist;  // grazing the rim
       out.distance = t;
-      out.value = l.radiance * (2.0 * kPi * (1.0 - cos_max));
+      // radiance * solid angle = P / (4 pi^2 r^2) * 2 pi (1 - cos_max), with
+      // 1 - cos_max = (r^2/d^2) / (1 + cos_max): for a sphere far smaller than
+      // its distance 1 - cos_max rounds to 0 and the light went black.
+      out.value = l.power / (2.0 * kPi * dist2 * (1.0 + cos_max));
       return true;
     }
     case LightKind::Rectangle:

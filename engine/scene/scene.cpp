@@ -3,6 +3,8 @@
 
 #include "geometry/bezier_revolve.h"
 
+#include <cmath>
+#include <sstream>
 #include <stdexcept>
 
 namespace ppm {
@@ -16,12 +18,47 @@ std::string quoted(const std::string& kind, const std::string& name) {
   return kind + " '" + name + "'";
 }
 
+std::string number(double x) {
+  std::ostringstream s;
+  s << x;
+  return s.str();
+}
+
 void check_finite(const Vec3& v, const std::string& what, const std::string& field) {
   if (!is_finite(v)) fail(what, field + " is not finite (NaN or Inf)");
 }
 void check_finite(const Color& c, double lo, const std::string& what, const std::string& field) {
   check_finite(Vec3(c), what, field);
   if (c.x < lo || c.y < lo || c.z < lo) fail(what, field + " has a negative component");
+}
+// A point or offset in metres: finite and within kMaxCoordinate.
+void check_coordinates(const Vec3& v, const std::string& what, const std::string& field) {
+  check_finite(v, what, field);
+  if (max_abs(v) > kMaxCoordinate)
+    fail(what, field + " has a component of magnitude " + number(max_abs(v)) + ", above the supported " +
+                   number(kMaxCoordinate) + " m");
+}
+// Light power, irradiance or radiance: finite, >= 0 and at most kMaxPower.
+void check_power(const Color& c, const std::string& what, const std::string& field) {
+  check_finite(c, 0.0, what, field);
+  if (max_component(c) > kMaxPower)
+    fail(what, field + " " + number(max_component(c)) + " is above the supported " + number(kMaxPower));
+}
+// A radius or size in metres: in [kMinSize, kMaxCoordinate].
+void check_size(double x, const std::string& what, const std::string& field) {
+  if (!std::isfinite(x) || x <= 0.0) fail(what, field + " must be a positive number");
+  if (x < kMinSize || x > kMaxCoordinate)
+    fail(what, field + " " + number(x) + " is outside the supported range [" + number(kMinSize) + ", " +
+                   number(kMaxCoordinate) + "] m");
+}
+
+// v / |v| without overflow or underflow in |v|^2; false for a zero or non-finite v.
+bool safe_normalize(const Vec3& v, Vec3& out) {
+  const double m = max_abs(v);
+  if (!(m > 0.0) || !std::isfinite(m)) return false;
+  const Vec3 s = v / m;
+  out = s / glm::length(s);
+  return true;
 }
 
 }  // namespace
@@ -43,7 +80,7 @@ uint32_t Scene::add_material(const Material& m) {
   ensure_mutable();
   const std::string what = quoted("material", m.name);
   check_finite(m.base_color, 0.0, what, "base_color");
-  check_finite(m.emission, 0.0, what, "emission");
+  check_power(m.emission, what, "emission");
   check_finite(m.specular_tint, 0.0, what, "specular_tint");
   if (!std::isfinite(m.roughness) || m.roughness < 0.0 || m.roughness > 1.0)
     fail(what, "roughness must be in [0, 1]");
@@ -59,9 +96,19 @@ uint32_t Scene::add_texture(const std::string& name, int width, int height, std:
   const std::string what = quoted("texture", name);
   if (width <= 0 || height <= 0) fail(what, "width and height must be positive");
   if (rgba.size() != static_cast<size_t>(width) * height * 4) fail(what, "pixel array must be height x width x 4");
-  for (float v : rgba)
+  float max_rgb = 0.0f;
+  for (size_t i = 0; i < rgba.size(); ++i) {
+    const float v = rgba[i];
     if (!std::isfinite(v)) fail(what, "pixels contain NaN or Inf");
-  textures_.push_back(Texture{width, height, std::move(rgba)});
+    if (i % 4 == 3) continue;  // alpha is not used
+    if (v < 0.0f) {
+      const size_t px = i / 4;
+      fail(what, "pixel (x " + std::to_string(px % width) + ", y " + std::to_string(px / width) + ") has a negative " +
+                     "colour component " + number(v) + " (an albedo cannot be negative)");
+    }
+    max_rgb = std::fmax(max_rgb, v);
+  }
+  textures_.push_back(Texture{width, height, std::move(rgba), max_rgb});
   return static_cast<uint32_t>(textures_.size() - 1);
 }
 
@@ -84,8 +131,10 @@ void Scene::add_mesh(MeshInput mesh) {
   const std::string what = quoted("mesh", mesh.name);
   const size_t nv = mesh.positions.size(), nt = mesh.triangles.size() / 3;
   if (nt == 0 || mesh.triangles.size() % 3 != 0) fail(what, "has no triangles");
-  for (size_t i = 0; i < nv; ++i)
+  for (size_t i = 0; i < nv; ++i) {
     if (!is_finite(mesh.positions[i])) fail(what, "position " + std::to_string(i) + " is not finite");
+    check_coordinates(mesh.positions[i], what, "position " + std::to_string(i));
+  }
   for (size_t i = 0; i < mesh.triangles.size(); ++i)
     if (mesh.triangles[i] >= nv)
       fail(what, "triangle " + std::to_string(i / 3) + " uses vertex " + std::to_string(mesh.triangles[i]) +
@@ -112,9 +161,9 @@ void Scene::add_mesh(MeshInput mesh) {
     if (!mesh.normals.empty()) {
       info.corners = static_cast<int32_t>(corner_normals_.size());
       for (int k = 0; k < 3; ++k) {
-        Vec3 n = normals_per_vertex ? mesh.normals[idx[k]] : mesh.normals[3 * t + k];
-        const double len = glm::length(n);
-        n = len > 0.0 ? n / len : triangle_normal(triangles_.back());
+        Vec3 n;
+        if (!safe_normalize(normals_per_vertex ? mesh.normals[idx[k]] : mesh.normals[3 * t + k], n))
+          n = triangle_normal(triangles_.back());
         corner_normals_.push_back(Vec3f(n));
       }
     }
@@ -132,8 +181,9 @@ void Scene::add_sphere(const std::string& name, const Vec3& center, double radiu
                        uint32_t object_id) {
   ensure_mutable();
   const std::string what = quoted("sphere", name);
-  check_finite(center, what, "center");
+  check_coordinates(center, what, "center");
   if (!std::isfinite(radius) || radius <= 0.0) fail(what, "radius must be a positive number");
+  check_size(radius, what, "radius");
   check_material(material, what);
   check_not_emissive(material, what);
   spheres_.push_back(SphereInfo{SpherePrim{center, radius}, material, object_id});
@@ -155,6 +205,13 @@ void Scene::add_bezier_revolve(const std::string& name, const std::vector<Vec2>&
     if (message.rfind(prefix, 0) == 0) message.erase(0, prefix.size());
     fail(what, message);
   }
+  for (size_t s = 0; s < revolves_.back()->segment_count(); ++s) {
+    const Aabb b = revolves_.back()->segment_bounds(s);
+    if (!is_finite(b.lo) || !is_finite(b.hi) || max_abs(b.lo) > kMaxCoordinate || max_abs(b.hi) > kMaxCoordinate) {
+      revolves_.pop_back();
+      fail(what, "the surface reaches beyond the supported " + number(kMaxCoordinate) + " m from the origin");
+    }
+  }
   const uint32_t index = static_cast<uint32_t>(revolves_.size() - 1);
   for (size_t s = 0; s < revolves_.back()->segment_count(); ++s)
     revolve_segments_.push_back(RevolveSegment{index, static_cast<uint32_t>(s), material, object_id});
@@ -164,25 +221,36 @@ void Scene::add_bezier_revolve(const std::string& name, const std::vector<Vec2>&
 void Scene::add_light(Light light) {
   ensure_mutable();
   const std::string what = quoted("light", light.name);
-  check_finite(light.power, 0.0, what, "power");
-  check_finite(light.position, what, "position");
+  check_power(light.power, what, "power");
+  check_coordinates(light.position, what, "position");
   check_finite(light.direction, what, "direction");
-  check_finite(light.axis_u, what, "size");
-  check_finite(light.axis_v, what, "size");
+  check_coordinates(light.axis_u, what, "size");
+  check_coordinates(light.axis_v, what, "size");
   const bool needs_direction = light.kind == LightKind::Spot || light.kind == LightKind::Rectangle ||
                                light.kind == LightKind::Disk || light.kind == LightKind::Sun;
   if (needs_direction) {
-    const double len = glm::length(light.direction);
-    if (!(len > 0.0)) fail(what, "direction must be non-zero");
-    light.direction /= len;
+    Vec3 d;
+    if (!safe_normalize(light.direction, d)) fail(what, "direction must be non-zero");
+    light.direction = d;
   }
-  if (light.kind == LightKind::Sphere && !(light.radius > 0.0 && std::isfinite(light.radius)))
-    fail(what, "radius must be a positive number");
-  if ((light.kind == LightKind::Rectangle || light.kind == LightKind::Disk) &&
-      !(glm::length(glm::cross(light.axis_u, light.axis_v)) > 0.0))
-    fail(what, "size must be positive in both directions");
+  if (light.kind == LightKind::Sphere) {
+    if (!(light.radius > 0.0 && std::isfinite(light.radius))) fail(what, "radius must be a positive number");
+    check_size(light.radius, what, "radius");
+  }
+  if (light.kind == LightKind::Rectangle || light.kind == LightKind::Disk) {
+    const double su = max_abs(light.axis_u), sv = max_abs(light.axis_v);
+    if (!(su > 0.0 && sv > 0.0)) fail(what, "size must be positive in both directions");
+    check_size(2.0 * su, what, "size along x");
+    check_size(2.0 * sv, what, "size along y");
+    // Area (computed without underflow) at least kMinSize^2, so that the
+    // radiance P / (pi A) stays finite: not a sliver.
+    const double sine = glm::length(glm::cross(light.axis_u / su, light.axis_v / sv));
+    if (!(sine > 0.0)) fail(what, "size must be positive in both directions (the light's axes are parallel)");
+    if (!(4.0 * su * sv * sine >= kMinSize * kMinSize))
+      fail(what, "size: the light's area is below " + number(kMinSize * kMinSize) + " m^2 (a sliver)");
+  }
   if (light.kind == LightKind::Spot && !(light.cos_half_spot < 1.0 && light.cos_half_spot >= -1.0))
-    fail(what, "spot angle must be in (0, 2*pi]");
+    fail(what, "spot angle must be in (0, 2*pi], and large enough that its cosine differs from 1");
   if (light.kind == LightKind::Spot && !(light.spot_smooth >= 0.0)) fail(what, "spot blend must be >= 0");
   if (light.kind == LightKind::Sun && !(light.cos_sun > -1.0 && light.cos_sun <= 1.0))
     fail(what, "sun angle must be in [0, pi)");
@@ -198,21 +266,31 @@ void Scene::set_camera(const Camera& c) {
   if (c.width <= 0 || c.height <= 0) fail(what, "width and height must be positive");
   if (static_cast<double>(c.width) * c.height > 1e9) fail(what, "resolution too large");
   for (int i = 0; i < 4; ++i) check_finite(Vec3(c.camera_to_world[i]), what, "matrix");
+  check_coordinates(c.position(), what, "position (matrix translation)");
   if (c.projection == Projection::Perspective && !(c.fov > 0.0 && c.fov < kPi))
     fail(what, "fov must be in (0, pi) radians");
   if (c.projection == Projection::Orthographic && !(c.ortho_scale > 0.0 && std::isfinite(c.ortho_scale)))
     fail(what, "ortho_scale must be a positive number");
+  if (c.projection == Projection::Orthographic) check_size(c.ortho_scale, what, "ortho_scale");
   if (!std::isfinite(c.shift_x) || !std::isfinite(c.shift_y)) fail(what, "shift is not finite");
+  if (std::fabs(c.shift_x) > 1e3 || std::fabs(c.shift_y) > 1e3)
+    fail(what, "shift must be within +-1000 image widths (Blender allows +-10)");
   if (!(c.clip_start >= 0.0) || !(c.clip_end > c.clip_start)) fail(what, "need 0 <= clip_start < clip_end");
+  if (c.clip_start > kMaxCoordinate) fail(what, "clip_start is above the supported " + number(kMaxCoordinate) + " m");
   if (!(c.focus_distance > 0.0) || !std::isfinite(c.focus_distance)) fail(what, "focus_distance must be positive");
+  if (c.focus_distance > kMaxCoordinate || c.focus_distance < kMinSize)
+    fail(what, "focus_distance is outside the supported range [" + number(kMinSize) + ", " + number(kMaxCoordinate) + "] m");
   if (!(c.aperture_radius >= 0.0) || !std::isfinite(c.aperture_radius)) fail(what, "aperture_radius must be >= 0");
+  if (c.aperture_radius > kMaxCoordinate) fail(what, "aperture_radius is above the supported " + number(kMaxCoordinate) + " m");
   if (!(c.focal_length >= 0.0) || !std::isfinite(c.focal_length)) fail(what, "focal_length must be >= 0");
-  // Orthonormalise: a scaled camera object must not skew the rays.
+  if (c.focal_length > kMaxCoordinate) fail(what, "focal_length is above the supported " + number(kMaxCoordinate) + " m");
+  // Orthonormalise: a scaled camera object must not skew the rays. Normalised
+  // before the cross product, so that huge or tiny scales neither overflow nor underflow.
   Camera cam = c;
-  const Vec3 back = Vec3(c.camera_to_world[2]), up = Vec3(c.camera_to_world[1]);
-  if (!(glm::length(back) > 0.0) || !(glm::length(glm::cross(up, back)) > 0.0)) fail(what, "matrix is singular");
-  const Vec3 z = glm::normalize(back);
-  const Vec3 x = glm::normalize(glm::cross(up, z));
+  Vec3 z, x;
+  if (!safe_normalize(Vec3(c.camera_to_world[2]), z) || !safe_normalize(Vec3(c.camera_to_world[1]), x) ||
+      !safe_normalize(glm::cross(x, z), x))
+    fail(what, "matrix is singular");
   const Vec3 y = glm::cross(z, x);
   cam.camera_to_world[0] = glm::dvec4(x, 0.0);
   cam.camera_to_world[1] = glm::dvec4(y, 0.0);
@@ -223,7 +301,7 @@ void Scene::set_camera(const Camera& c) {
 
 void Scene::set_background(const Color& radiance) {
   ensure_mutable();
-  check_finite(radiance, 0.0, "background", "radiance");
+  check_power(radiance, "background", "radiance");
   background_ = radiance;
   invalidate();
 }
@@ -294,6 +372,52 @@ void Scene::build() {
     lights_.push_back(l);
   }
   built_ = true;
+}
+
+void Scene::check_energy_range(int max_bounces) const {
+  // Photons carry the total flux of all lights (then split by the pick
+  // probability), scaled at each scattering by weight / survival, which is at
+  // most the largest colour component above 1: flux <= total * gain^bounces.
+  double total = 0.0, largest = 0.0;
+  const Light* brightest = nullptr;
+  for (const Light& l : lights_) {
+    const double f = max_component(l.flux);
+    if (!std::isfinite(f))
+      fail(quoted("light", l.name), "its emitted flux overflows (the scene is too large for its power)");
+    total += f;
+    if (f > largest) largest = f, brightest = &l;
+  }
+  if (!std::isfinite(total) || total > kMaxFlux) {
+    const std::string grows = brightest->kind == LightKind::Sun || brightest->kind == LightKind::Background
+                                  ? " (a sun's or background's flux grows with the scene's area)"
+                                  : "";
+    throw std::invalid_argument("light '" + brightest->name + "': the lights emit " + number(total) +
+                                " W in all, above the supported " + number(kMaxFlux) + " W" + grows);
+  }
+  if (total > 0.0 && total < kMinFlux)
+    throw std::invalid_argument("light '" + brightest->name + "': the lights emit only " + number(total) +
+                                " W in all, below the supported " + number(kMinFlux) +
+                                " W (photon flux is float32: it would round to zero)");
+  double gain = 1.0;
+  const Material* greedy = nullptr;
+  for (const Material& m : materials_) {
+    if (m.kind == MaterialKind::Metal || m.kind == MaterialKind::Emission) continue;  // metal Fresnel is clamped to 1
+    double g = max_component(m.base_color);
+    if (m.texture >= 0 && m.kind != MaterialKind::Glass) g *= textures_[m.texture].max_rgb;
+    if (g > gain) gain = g, greedy = &m;
+  }
+  // The source: photon flux, or radiance seen by the eye through a specular chain.
+  double source = total;
+  for (const Material& m : materials_) source = std::fmax(source, max_component(m.emission));
+  source = std::fmax(source, max_component(background_));
+  if (greedy == nullptr || !(source > 0.0)) return;
+  const double log_growth = std::max(1, max_bounces) * std::log10(gain);
+  if (std::log10(source) + log_growth > std::log10(kMaxFlux))
+    throw std::invalid_argument(
+        "material '" + greedy->name + "': its colour " + number(gain) +
+        " reflects more light than it receives; over max_bounces=" + std::to_string(max_bounces) +
+        " scatterings the photon flux could grow to 1e" + std::to_string(static_cast<int>(std::log10(source) + log_growth)) +
+        " W, above the supported " + number(kMaxFlux) + " W (keep colours <= 1 or lower max_bounces)");
 }
 
 // Triangles, by far the most common, are tested inline; the rest out of line.

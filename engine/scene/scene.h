@@ -22,6 +22,23 @@ namespace ppm {
 
 class BezierRevolve;
 
+// Ranges the builders accept (std::invalid_argument outside them). They keep
+// every square, product and float32 sum of the render finite:
+//   coordinates, sizes and distances up to 1e30 m (squares 1e60; the
+//   observable universe is 9e26 m);
+//   radii and light sizes from 1e-100 m (their squares stay normal doubles);
+//   light power, irradiance and radiance up to 1e20 (W, W/m^2, W/(m^2 sr));
+//   the total flux of all lights, times the largest gain of a colour above 1
+//   over max_bounces scatterings, up to 1e25 W (photon flux is float32; a
+//   pass of up to 2^32 photons on one hit point still sums below 3.4e38);
+//   and that total either 0 or at least 1e-30 W (below ~1e-38 W the float32
+//   photon flux becomes denormal, then 0, and indirect light vanishes).
+constexpr double kMaxCoordinate = 1e30;
+constexpr double kMinSize = 1e-100;
+constexpr double kMaxPower = 1e20;
+constexpr double kMaxFlux = 1e25;
+constexpr double kMinFlux = 1e-30;
+
 // Plain arrays describing one mesh in world space, as the exporter produces them.
 struct MeshInput {
   std::string name;
@@ -56,6 +73,11 @@ class Scene {
 
   // Builds the BVH and prepares the lights. Idempotent; builders called after it rebuild.
   void build();
+
+  // For a built scene: throws std::invalid_argument naming the light or the
+  // material when photon flux could leave float range (see kMaxFlux): the total
+  // emitted flux, grown by colours above 1 over `max_bounces` scatterings.
+  void check_energy_range(int max_bounces) const;
   bool built() const { return built_; }
 
   // Closest hit with 0 < t < tmax; fills the hit record.

@@ -11,6 +11,7 @@ namespace ppm {
 struct Texture {
   int width = 0, height = 0;
   std::vector<float> rgba;  // height * width * 4
+  float max_rgb = 0.0f;     // largest colour component (its gain as an albedo)
 
   Color lookup(const Vec2& uv) const {
     const double x = (uv.x - std::floor(uv.x)) * width - 0.5;
