@@ -17,7 +17,7 @@ class PPMSceneSettings(bpy.types.PropertyGroup):
         name="Time Limit", default=0.0, min=0.0, unit='TIME_ABSOLUTE', subtype='TIME_ABSOLUTE',
         description="Seconds of rendering per view layer (0 = no limit)")
     alpha: FloatProperty(
-        name="Alpha", default=0.7, min=0.01, max=1.0,
+        name="Alpha", default=0.7, min=0.01, max=0.99,  # the core needs alpha < 1
         description="Radius reduction: the fraction of new photons kept each pass (Hachisuka 2008)")
     threshold: IntProperty(
         name="Threshold (P)", default=10, min=1, soft_max=1000,

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from conftest import bpy, render_file
-from ppm_render import core, engine, export
+from ppm_render import core, engine, export, properties
 from ppm_render.export import material as material_export
 from ppm_render.properties import CORE_KEYS
 
@@ -67,6 +67,13 @@ def test_settings_reach_the_core(spy, tmp_path):
     stats = renderer.stats()
     assert stats["passes"] == 3
     assert stats["photons_emitted"] == 3 * 12_345
+
+
+def test_the_largest_alpha_the_panel_allows_renders():
+    scene = bpy.context.scene
+    scene.ppm.alpha = 1.0  # clamped by the property: the core refuses alpha >= 1
+    assert scene.ppm.alpha < 1.0
+    core.load().Settings(**properties.core_settings(scene.ppm))
 
 
 def test_time_limit_ends_the_render(spy, tmp_path):
