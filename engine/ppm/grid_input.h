@@ -1,5 +1,6 @@
-// Input checks shared by the spatial indices (quantile grid, hashed grid):
-// item centres and optional radii, as both builds take them.
+// What the spatial indices (quantile grid, hashed grid) share: the check of
+// their input (item centres and optional radii) and the relabelling of point
+// items into the order their cells store them.
 #pragma once
 
 #include "math/types.h"
@@ -28,6 +29,15 @@ inline void check_grid_items(const std::string& who, const std::vector<Vec3>& ce
     if (!radii.empty() && !(radii[i] >= 0.0 && radii[i] < kInf))
       throw std::invalid_argument(who + "radius of item " + std::to_string(i) + " is negative or not finite");
   }
+}
+
+// Points only: `items` lists item labels in cell order. Relabels them
+// 0..n-1 in that order (so item k is stored at position k) and returns, for
+// each new label, the old one.
+inline std::vector<uint32_t> relabel_items_in_order(std::vector<uint32_t>& items) {
+  std::vector<uint32_t> old_of_new(items);
+  for (uint32_t i = 0; i < items.size(); ++i) items[i] = i;
+  return old_of_new;
 }
 
 }  // namespace ppm

@@ -8,6 +8,7 @@
 #pragma once
 
 #include "math/types.h"
+#include "ppm/grid_input.h"
 
 #include <cstddef>
 #include <cstdint>
@@ -85,11 +86,7 @@ class QuantileGrid {
   // cells store them and returns, for each new label, the old one. A caller
   // that reorders its own data by it reads a cell's items from contiguous
   // memory, which is what the gather's time goes to.
-  std::vector<uint32_t> relabel_in_cell_order() {
-    std::vector<uint32_t> old_of_new(items_);
-    for (uint32_t i = 0; i < items_.size(); ++i) items_[i] = i;
-    return old_of_new;
-  }
+  std::vector<uint32_t> relabel_in_cell_order() { return relabel_items_in_order(items_); }
   size_t memory_bytes() const;
   size_t nonempty_cell_count() const;
   double target_items_per_cell() const { return target_; }

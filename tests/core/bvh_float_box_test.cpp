@@ -8,6 +8,7 @@
 #include "geometry/triangle.h"
 #include "math/float_bounds.h"
 #include "math/rng.h"
+#include "bvh_test_helpers.h"
 
 #include <gtest/gtest.h>
 
@@ -20,17 +21,7 @@ struct Soup {
   std::vector<TrianglePrim> tris;
   Bvh bvh;
 
-  void build() {
-    std::vector<Aabb> boxes;
-    for (const auto& t : tris) {
-      Aabb b;
-      b.grow(t.v0);
-      b.grow(t.v0 + t.e1);
-      b.grow(t.v0 + t.e2);
-      boxes.push_back(b);
-    }
-    bvh.build(boxes);
-  }
+  void build() { bvh.build(triangle_boxes(tris)); }
   double bvh_t(const Ray& r) const {
     double tmax = kInf;
     bvh.closest(r.origin, r.direction, tmax, [&](uint32_t slot, double& tm) {

@@ -4,6 +4,7 @@
 #include "geometry/bvh.h"
 #include "geometry/triangle.h"
 #include "math/rng.h"
+#include "bvh_test_helpers.h"
 
 #include <gtest/gtest.h>
 
@@ -15,17 +16,7 @@ namespace {
 struct Soup {
   std::vector<TrianglePrim> tris;
   Bvh bvh;
-  void build() {
-    std::vector<Aabb> boxes;
-    for (const auto& t : tris) {
-      Aabb b;
-      b.grow(t.v0);
-      b.grow(t.v0 + t.e1);
-      b.grow(t.v0 + t.e2);
-      boxes.push_back(b);
-    }
-    bvh.build(boxes);
-  }
+  void build() { bvh.build(triangle_boxes(tris)); }
   // Nearest (t, index) by the BVH and by brute force.
   std::pair<double, int> bvh_hit(const Ray& r) const {
     double tmax = kInf;
