@@ -224,6 +224,14 @@ def rmse(image, reference, mask=None):
     return float(np.sqrt(d2[mask].mean() if mask is not None else d2.mean()))
 
 
+def error_row(image, reference, meta, masks, regions):
+    """The errors the scripts report for one render against one reference: RMSE, relative MSE, the
+    reference's own noise, and the relative MSE of each of `regions` the scene has a mask for."""
+    return {"rmse": rmse(image, reference), "rel_mse": rel_mse(image, reference),
+            "ref_noise": reference_noise(meta),
+            "regions": {k: rel_mse(image, reference, masks[k]) for k in regions if k in masks}}
+
+
 def reference_noise(meta, key="rel_mse_noise"):
     """The reference's own estimated relative MSE (from its two independent halves), or nan."""
     return float(meta.get(key, float("nan")))

@@ -70,10 +70,8 @@ def main():
                 image, wall = ac.render_ppm(name, seconds=seconds, seed=SEED, hit_points=mode)
                 for ref_name, (ref, meta) in refs.items():
                     row = {"scene": name, "mode": mode, "hit_points": hit_points, "reference": ref_name,
-                           "time_limit": seconds, "wall": wall, "rmse": ac.rmse(image, ref),
-                           "rmse_lit": ac.rmse(image, ref, lit),
-                           "rel_mse": ac.rel_mse(image, ref), "ref_noise": ac.reference_noise(meta),
-                           "regions": {k: ac.rel_mse(image, ref, masks[k]) for k in REGIONS if k in masks}}
+                           "time_limit": seconds, "wall": wall, "rmse_lit": ac.rmse(image, ref, lit),
+                           **ac.error_row(image, ref, meta, masks, REGIONS)}
                     results.append(row)
                     print(f"{name} {mode} ({hit_points}) vs {ref_name}: {seconds:g} s -> wall {wall:.1f} s, "
                           f"RMSE {row['rmse']:.4f}, rel. MSE {row['rel_mse']:.2e}", flush=True)

@@ -72,9 +72,7 @@ def main():
             for ref_name, (ref, meta) in refs.items():
                 for engine, (image, wall) in renders.items():
                     row = {"scene": name, "reference": ref_name, "engine": engine, "time_limit": seconds,
-                           "wall": wall, "rel_mse": ac.rel_mse(image, ref), "rmse": ac.rmse(image, ref),
-                           "ref_noise": ac.reference_noise(meta),
-                           "regions": {k: ac.rel_mse(image, ref, masks[k]) for k in REGIONS if k in masks}}
+                           "wall": wall, **ac.error_row(image, ref, meta, masks, REGIONS)}
                     results.append(row)
                     print(f"{name} vs {ref_name} ref.: {engine} {seconds:g} s (wall {wall:.1f} s): "
                           f"rel. MSE {row['rel_mse']:.2e}", flush=True)
