@@ -5,6 +5,7 @@
 
 #include "math/types.h"
 
+#include <cstdint>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -32,12 +33,13 @@ inline void check_grid_items(const std::string& who, const std::vector<Vec3>& ce
 }
 
 // Points only: `items` lists item labels in cell order. Relabels them
-// 0..n-1 in that order (so item k is stored at position k) and returns, for
-// each new label, the old one.
-inline std::vector<uint32_t> relabel_items_in_order(std::vector<uint32_t>& items) {
-  std::vector<uint32_t> old_of_new(items);
+// 0..n-1 in that order (so item k is stored at position k) and leaves in
+// `old_of_new`, for each new label, the old one. The two buffers are swapped,
+// so a caller that passes the same vector every time allocates nothing.
+inline void relabel_items_in_order(std::vector<uint32_t>& items, std::vector<uint32_t>& old_of_new) {
+  old_of_new.swap(items);
+  items.resize(old_of_new.size());
   for (uint32_t i = 0; i < items.size(); ++i) items[i] = i;
-  return old_of_new;
 }
 
 }  // namespace ppm

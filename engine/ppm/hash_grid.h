@@ -61,15 +61,25 @@ class HashGrid {
         for (uint32_t x = c0[0]; x <= c1[0]; ++x) visit_cell(pack(x, y, z), fn);
   }
 
+  // Points relabelled in cell order (relabel_in_cell_order) only: item k is
+  // then stored at position k. fn(begin, end) receives the items of the box's
+  // cells as runs of labels, as QuantileGrid::for_each_run_in_box does; here
+  // every run is one item, since a bucket mixes the cells that hash to it.
+  template <class Fn>
+  void for_each_run_in_box(const Vec3& lo, const Vec3& hi, Fn&& fn) const {
+    for_each_candidate_in_box(lo, hi, [&](uint32_t item) { fn(item, item + 1); });
+  }
+
   size_t item_count() const { return item_count_; }
   size_t cell_count() const { return bucket_begin_.size() - 1; }  // hash buckets
   size_t reference_count() const { return items_.size(); }
 
   // Point items only (mode B): relabels the items 0..n-1 in the order the
-  // cells store them and returns, for each new label, the old one. A caller
-  // that reorders its own data by it reads a cell's items from contiguous
-  // memory, which is what the gather's time goes to.
-  std::vector<uint32_t> relabel_in_cell_order() { return relabel_items_in_order(items_); }
+  // cells store them and leaves in `old_of_new`, for each new label, the old
+  // one. A caller that reorders its own data by it reads a cell's items from
+  // contiguous memory, which is what the gather's time goes to, and can use
+  // for_each_run_in_box.
+  void relabel_in_cell_order(std::vector<uint32_t>& old_of_new) { relabel_items_in_order(items_, old_of_new); }
   size_t memory_bytes() const;
   size_t nonempty_cell_count() const;  // non-empty buckets
   double cell_size() const { return cell_size_; }  // as used, after any enlargement

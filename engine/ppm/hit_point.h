@@ -7,10 +7,8 @@
 #pragma once
 
 #include "math/types.h"
+#include "ppm/fill_vector.h"
 
-#include <memory>
-#include <type_traits>
-#include <utility>
 #include <vector>
 
 namespace ppm {
@@ -36,7 +34,7 @@ struct HitPointShading {
 };
 
 // Create as HitPointStats{} (all zero). No member initialisers: they would
-// make resize() write every element on one thread (see FillVector).
+// make resize() write every element on one thread (see fill_vector.h).
 struct HitPointStats {
   double n;       // photons accumulated so far (alpha-weighted)
   uint32_t m;     // photons gathered at the current radius, not yet applied
@@ -45,31 +43,6 @@ struct HitPointStats {
   Color direct;   // sum of direct-light samples
 };
 
-// An allocator whose resize() leaves trivially constructible elements
-// unwritten, so that the parallel loop filling a large array is the first to
-// touch its pages. Zeroing 250 MB of hit points on one thread first took a
-// third of the eye pass.
-template <class T>
-struct UninitialisedAllocator : std::allocator<T> {
-  template <class U>
-  struct rebind {
-    using other = UninitialisedAllocator<U>;
-  };
-  UninitialisedAllocator() = default;
-  template <class U>
-  UninitialisedAllocator(const UninitialisedAllocator<U>&) noexcept {}
-  template <class U>
-  void construct(U* p) noexcept {
-    static_assert(std::is_trivially_default_constructible_v<U>, "only for plain records");
-    ::new (static_cast<void*>(p)) U;
-  }
-  template <class U, class... Args>
-  void construct(U* p, Args&&... args) {
-    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
-  }
-};
-template <class T>
-using FillVector = std::vector<T, UninitialisedAllocator<T>>;
 
 struct HitPoints {
   FillVector<HitPoint> points;

@@ -175,12 +175,12 @@ bool PhotonPass::run_photon_index(Grid& grid, const Scene& scene, const LightSam
     grid.build(traced_positions_, kNoRadii, threads_);
   // Store the photons in the grid's cell order: a hit point's candidates then
   // sit next to each other in memory instead of all over the pass's array.
-  const std::vector<uint32_t> old_of_new = grid.relabel_in_cell_order();
+  grid.relabel_in_cell_order(old_of_new_);
   positions_.resize(count);
   arrivals_.resize(count);
   parallel_for(threads_, count, [&](size_t begin, size_t end) {
     for (size_t i = begin; i < end; ++i) {
-      const Photon& p = photons_[old_of_new[i]];
+      const Photon& p = photons_[old_of_new_[i]];
       positions_[i] = p.position;
       arrivals_[i] = Arrival{p.direction, p.flux};
     }
@@ -204,19 +204,26 @@ bool PhotonPass::run_photon_index(Grid& grid, const Scene& scene, const LightSam
         // Diffuse: the weight is the same for every photon, so sum the flux and weigh once.
         const Vec3f normal = h.normal;
         Color flux(0.0);
-        grid.for_each_candidate_in_box(center - r, center + r, [&](uint32_t p) {
-          const Vec3 d = position[p] - center;
-          if (glm::dot(d, d) > r2 || glm::dot(normal, arrival[p].direction) >= 0.0f) return;
-          ++m;
-          flux += Color(arrival[p].flux);
+        grid.for_each_run_in_box(center - r, center + r, [&](uint32_t begin, uint32_t end) {
+          for (uint32_t p = begin; p < end; ++p) {
+            // Branch-free: whether a candidate counts is close to a coin toss.
+            const Vec3 d = position[p] - center;
+            const bool inside = glm::dot(d, d) <= r2;
+            const bool front = glm::dot(normal, arrival[p].direction) < 0.0f;
+            const bool take = inside & front;
+            m += take;
+            flux += take ? Color(arrival[p].flux) : Color(0.0);
+          }
         });
         tau = flux * Color(h.weight);
       } else {
-        grid.for_each_candidate_in_box(center - r, center + r, [&](uint32_t p) {
-          Vec3f w;
-          if (!photon_weight(scene, hp, static_cast<uint32_t>(i), position[p], arrival[p].direction, w)) return;
-          ++m;
-          tau += Color(w * arrival[p].flux);
+        grid.for_each_run_in_box(center - r, center + r, [&](uint32_t begin, uint32_t end) {
+          for (uint32_t p = begin; p < end; ++p) {
+            Vec3f w;
+            if (!photon_weight(scene, hp, static_cast<uint32_t>(i), position[p], arrival[p].direction, w)) continue;
+            ++m;
+            tau += Color(w * arrival[p].flux);
+          }
         });
       }
       gathered_m_[i] = m;
@@ -243,7 +250,7 @@ size_t PhotonPass::memory_bytes() const {
   for (const auto& v : chunk_photons_) bytes += v.capacity() * sizeof(Photon);
   bytes += photons_.capacity() * sizeof(Photon) + (traced_positions_.capacity() + positions_.capacity()) * sizeof(Vec3) +
            arrivals_.capacity() * sizeof(Arrival);
-  bytes += gathered_m_.capacity() * sizeof(uint32_t) + gathered_tau_.capacity() * sizeof(Color);
+  bytes += (gathered_m_.capacity() + old_of_new_.capacity()) * sizeof(uint32_t) + gathered_tau_.capacity() * sizeof(Color);
   bytes += centers_.capacity() * sizeof(Vec3) + radii_.capacity() * sizeof(double);
   return bytes;
 }

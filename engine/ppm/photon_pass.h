@@ -82,6 +82,7 @@ class PhotonPass {
   std::vector<size_t> chunk_first_;     // where each chunk's photons start in photons_
   std::vector<Photon> photons_;
   std::vector<Vec3> traced_positions_;  // grid input, in traced order
+  std::vector<uint32_t> old_of_new_;    // traced index of each photon in cell order
   std::vector<Vec3> positions_;         // cell order
   std::vector<Arrival> arrivals_;       // cell order
   // One pass's gather per hit point, added to the statistics once the pass completes.

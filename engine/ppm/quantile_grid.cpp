@@ -231,7 +231,7 @@ void QuantileGrid::choose_splits(const std::vector<Vec3>& centers, double min_wi
   }
   for (int a = 0; a < 3; ++a) build_lookup(a);
   const size_t cells = size_t(dims_[0]) * dims_[1] * dims_[2];
-  cell_begin_.assign(cells + 1, 0);
+  cell_begin_.resize(cells + 1);  // zeroed by the fill
 }
 
 void QuantileGrid::build_lookup(int axis) {
@@ -252,23 +252,58 @@ void QuantileGrid::build_lookup(int axis) {
   for (size_t b = 1; b < lookup.first.size(); ++b) lookup.first[b] += lookup.first[b - 1];
 }
 
-// Counting sort of points into cells. Counts go to cell_begin_[c], an
-// inclusive prefix sum turns them into cell ends, and a backward fill leaves
-// cell starts behind while keeping items in increasing order within a cell.
+// Counting sort of points into cells, split into parts that own contiguous
+// ranges of rows of cells (cells are stored z-major, then y, then x; quantile
+// slabs hold about equal counts, so equal row ranges are balanced). Each part
+// lists its points in increasing order, zeroes and counts its own cells, and
+// turns the counts into cell ends with an inclusive prefix sum; after the
+// parts' totals are known, a backward fill leaves cell starts behind. The
+// result does not depend on the number of parts: within a cell, items are in
+// increasing order.
 void QuantileGrid::fill_points(const std::vector<Vec3>& centers, int threads) {
+  constexpr size_t kMinPointsPerPart = 16384;
   const size_t n = centers.size();
-  std::vector<uint32_t> cell_of(n);
+  cell_of_.resize(n);
   // The slab searches are the expensive part, and independent per point.
   parallel_for(threads, n, [&](size_t begin, size_t end) {
     for (size_t i = begin; i < end; ++i) {
       const Vec3& p = centers[i];
-      cell_of[i] = (slab_index(2, p.z) * dims_[1] + slab_index(1, p.y)) * dims_[0] + slab_index(0, p.x);
+      cell_of_[i] = (slab_index(2, p.z) * dims_[1] + slab_index(1, p.y)) * dims_[0] + slab_index(0, p.x);
     }
   });
-  for (size_t i = 0; i < n; ++i) ++cell_begin_[cell_of[i]];
-  for (size_t c = 1; c < cell_begin_.size(); ++c) cell_begin_[c] += cell_begin_[c - 1];
-  items_.assign(n, 0);
-  for (size_t i = n; i-- > 0;) items_[--cell_begin_[cell_of[i]]] = static_cast<uint32_t>(i);
+  const size_t rows = size_t(dims_[1]) * dims_[2];
+  const size_t parts = std::max<size_t>(1, std::min({size_t(std::max(threads, 1)), rows, n / kMinPointsPerPart}));
+  auto first_cell = [&](size_t part) { return rows * part / parts * dims_[0]; };
+  if (part_points_.size() < parts) part_points_.resize(parts);
+  std::vector<size_t> part_begin(parts + 1, 0);  // where each part's items start in items_
+  uint32_t* cell_begin = cell_begin_.data();
+  const uint32_t* cell_of = cell_of_.data();
+  parallel_each(static_cast<int>(parts), parts, [&](size_t part) {
+    const size_t lo = first_cell(part), cells = first_cell(part + 1) - lo;
+    FillVector<uint32_t>& mine = part_points_[part];
+    mine.resize(n);
+    size_t count = 0;
+    for (size_t i = 0; i < n; ++i) {  // branch-free: which part a point is in looks random
+      mine[count] = static_cast<uint32_t>(i);
+      count += cell_of[i] - lo < cells;
+    }
+    mine.resize(count);
+    std::fill(cell_begin + lo, cell_begin + lo + cells, 0u);
+    for (uint32_t i : mine) ++cell_begin[cell_of[i]];
+    uint32_t end = 0;
+    for (size_t c = lo; c < lo + cells; ++c) cell_begin[c] = end += cell_begin[c];
+    part_begin[part + 1] = count;
+  });
+  for (size_t part = 0; part < parts; ++part) part_begin[part + 1] += part_begin[part];
+  items_.resize(n);
+  parallel_each(static_cast<int>(parts), parts, [&](size_t part) {
+    const size_t lo = first_cell(part), hi = first_cell(part + 1);
+    uint32_t* items = items_.data() + part_begin[part];
+    const FillVector<uint32_t>& mine = part_points_[part];
+    for (size_t k = mine.size(); k-- > 0;) items[--cell_begin[cell_of[mine[k]]]] = mine[k];
+    const uint32_t offset = static_cast<uint32_t>(part_begin[part]);
+    for (size_t c = lo; c < hi; ++c) cell_begin[c] += offset;
+  });
   cell_begin_.back() = static_cast<uint32_t>(n);
 }
 
@@ -281,6 +316,7 @@ void QuantileGrid::fill_spheres(const std::vector<Vec3>& centers, const std::vec
     uint32_t lo[3], hi[3];
   };
   std::vector<Range> ranges(n);
+  std::fill(cell_begin_.begin(), cell_begin_.end(), 0u);
   uint64_t total = 0;
   for (size_t i = 0; i < n; ++i) {
     Vec3 lo, hi;
@@ -309,8 +345,8 @@ void QuantileGrid::fill_spheres(const std::vector<Vec3>& centers, const std::vec
 }
 
 size_t QuantileGrid::memory_bytes() const {
-  size_t bytes = sizeof(*this) + cell_begin_.capacity() * sizeof(uint32_t) +
-                 items_.capacity() * sizeof(uint32_t);
+  size_t bytes = sizeof(*this) + (cell_begin_.capacity() + items_.capacity() + cell_of_.capacity()) * sizeof(uint32_t);
+  for (const auto& p : part_points_) bytes += p.capacity() * sizeof(uint32_t);
   for (const auto& s : splits_) bytes += s.capacity() * sizeof(double);
   for (const auto& l : lookup_) bytes += l.first.capacity() * sizeof(uint32_t);
   return bytes;

@@ -8,6 +8,7 @@
 #pragma once
 
 #include "math/types.h"
+#include "ppm/fill_vector.h"
 #include "ppm/grid_input.h"
 
 #include <cstddef>
@@ -65,6 +66,24 @@ class QuantileGrid {
     }
   }
 
+  // Points relabelled in cell order (relabel_in_cell_order) only: item k is
+  // then stored at position k, so the items of a row of cells are the labels
+  // [begin, end). fn(begin, end) is called once per row overlapping [lo, hi]
+  // (possibly with begin == end): the caller loops over its own cell-ordered
+  // arrays without an index lookup per item.
+  template <class Fn>
+  void for_each_run_in_box(const Vec3& lo, const Vec3& hi, Fn&& fn) const {
+    const uint32_t x0 = slab_index(0, lo.x), x1 = slab_index(0, hi.x);
+    const uint32_t y0 = slab_index(1, lo.y), y1 = slab_index(1, hi.y);
+    const uint32_t z0 = slab_index(2, lo.z), z1 = slab_index(2, hi.z);
+    for (uint32_t z = z0; z <= z1; ++z) {
+      for (uint32_t y = y0; y <= y1; ++y) {
+        const uint32_t row = (z * dims_[1] + y) * dims_[0];
+        fn(cell_begin_[row + x0], cell_begin_[row + x1 + 1]);
+      }
+    }
+  }
+
   // Slab along `axis` holding coordinate x: the number of splits <= x, so a
   // value equal to a split belongs to the slab that starts there. Slab 0 and
   // the last slab extend to -inf / +inf; NaN maps to slab 0.
@@ -83,10 +102,11 @@ class QuantileGrid {
   size_t reference_count() const { return items_.size(); }
 
   // Point items only (mode B): relabels the items 0..n-1 in the order the
-  // cells store them and returns, for each new label, the old one. A caller
-  // that reorders its own data by it reads a cell's items from contiguous
-  // memory, which is what the gather's time goes to.
-  std::vector<uint32_t> relabel_in_cell_order() { return relabel_items_in_order(items_); }
+  // cells store them and leaves in `old_of_new`, for each new label, the old
+  // one. A caller that reorders its own data by it reads a cell's items from
+  // contiguous memory, which is what the gather's time goes to, and can use
+  // for_each_run_in_box.
+  void relabel_in_cell_order(std::vector<uint32_t>& old_of_new) { relabel_items_in_order(items_, old_of_new); }
   size_t memory_bytes() const;
   size_t nonempty_cell_count() const;
   double target_items_per_cell() const { return target_; }
@@ -143,8 +163,11 @@ class QuantileGrid {
   uint32_t dims_[3] = {1, 1, 1};
   std::vector<double> splits_[3];
   SlabLookup lookup_[3];
-  std::vector<uint32_t> cell_begin_{0, 0};  // size cells + 1
+  FillVector<uint32_t> cell_begin_{0, 0};  // size cells + 1; zeroed by the fill, in parallel for points
   std::vector<uint32_t> items_;
+  // Point build scratch, kept across builds: each point's cell, and the points of each part of the fill.
+  FillVector<uint32_t> cell_of_;
+  std::vector<FillVector<uint32_t>> part_points_;
 };
 
 }  // namespace ppm

@@ -77,6 +77,37 @@ void expect_box_query_exact(const Grid& grid, const std::vector<Vec3>& points,
   EXPECT_EQ(found, expected) << "c = " << c.x << " " << c.y << " " << c.z << " r = " << r;
 }
 
+// Mode B after relabel_in_cell_order: builds over `points`, relabels, and
+// checks that the runs of for_each_run_in_box, mapped back to the original
+// labels, are exactly the brute-force points within r of each query.
+template <class Grid, class Build>
+void expect_run_queries_exact(Grid& grid, Build&& build, const std::vector<Vec3>& points,
+                              const std::vector<Vec3>& queries, const std::vector<double>& radii) {
+  build(grid, points);
+  std::vector<uint32_t> old_of_new;
+  grid.relabel_in_cell_order(old_of_new);
+  ASSERT_EQ(old_of_new.size(), points.size());
+  std::vector<uint32_t> sorted(old_of_new);
+  std::sort(sorted.begin(), sorted.end());
+  for (uint32_t i = 0; i < sorted.size(); ++i) ASSERT_EQ(sorted[i], i) << "old_of_new is not a permutation";
+  for (size_t q = 0; q < queries.size(); ++q) {
+    const Vec3 c = queries[q];
+    const double r = radii[q];
+    std::vector<uint32_t> found, expected;
+    grid.for_each_run_in_box(c - r, c + r, [&](uint32_t begin, uint32_t end) {
+      ASSERT_LE(begin, end);
+      ASSERT_LE(end, points.size());
+      for (uint32_t k = begin; k < end; ++k)
+        if (within(points[old_of_new[k]], c, r)) found.push_back(old_of_new[k]);
+    });
+    std::sort(found.begin(), found.end());
+    ASSERT_TRUE(std::adjacent_find(found.begin(), found.end()) == found.end()) << "point visited twice";
+    for (uint32_t i = 0; i < points.size(); ++i)
+      if (within(points[i], c, r)) expected.push_back(i);
+    EXPECT_EQ(found, expected) << "c = " << c.x << " " << c.y << " " << c.z << " r = " << r;
+  }
+}
+
 // Mode A box query: every sphere meeting the box must be a candidate.
 template <class Grid>
 void expect_sphere_box_superset(const Grid& grid, const std::vector<Vec3>& centers,

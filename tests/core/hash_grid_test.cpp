@@ -37,6 +37,15 @@ TEST(HashGrid, RandomPointsBoxQueriesMatchBruteForce) {
   }
 }
 
+TEST(HashGrid, RelabelledRunsMatchBruteForce) {
+  const std::vector<Vec3> points = three_walls(20000, 24);
+  const std::vector<Vec3> queries = random_points(150, 26, Vec3(-0.1), Vec3(1.1));
+  const std::vector<double> radii = random_radii(150, 27, 0.001, 0.2);
+  HashGrid grid;
+  expect_run_queries_exact(grid, [](HashGrid& g, const std::vector<Vec3>& p) { g.build(p, {}, 0.03); }, points,
+                           queries, radii);
+}
+
 TEST(HashGrid, RandomSpheresPointQueriesMatchBruteForce) {
   const std::vector<Vec3> centers = random_points(3000, 5, Vec3(0.0), Vec3(1.0));
   const std::vector<double> radii = random_radii(3000, 6, 0.0, 0.12);

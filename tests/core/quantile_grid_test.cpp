@@ -91,6 +91,42 @@ TEST(QuantileGrid, RandomPointsBoxQueriesMatchBruteForce) {
   }
 }
 
+// The point fill is split over threads by ranges of cells; the stored order
+// must be the one-thread order, so that images do not depend on the thread
+// count. Enough points for several parts, on walls and in the volume.
+TEST(QuantileGrid, PointBuildDoesNotDependOnThreads) {
+  std::vector<Vec3> points = three_walls(60000, 21);
+  const std::vector<Vec3> volume = random_points(40000, 22, Vec3(-1.0), Vec3(2.0));
+  points.insert(points.end(), volume.begin(), volume.end());
+  const std::vector<Vec3> queries = random_points(200, 23, Vec3(-0.5), Vec3(1.5));
+  auto visits = [&](int threads) {
+    QuantileGrid grid;
+    grid.build(points, {}, threads);
+    std::vector<uint32_t> order;
+    grid.for_each_candidate_in_box(Vec3(-10.0), Vec3(10.0), [&](uint32_t i) { order.push_back(i); });
+    for (const Vec3& q : queries)
+      grid.for_each_candidate_in_box(q - 0.05, q + 0.05, [&](uint32_t i) { order.push_back(i); });
+    return order;
+  };
+  const std::vector<uint32_t> one = visits(1);
+  ASSERT_GE(one.size(), points.size());
+  for (int threads : {2, 3, 7}) EXPECT_EQ(visits(threads), one) << threads << " threads";
+  QuantileGrid grid;
+  grid.build(points, {}, 3);
+  for (size_t q = 0; q < 50; ++q) expect_box_query_exact(grid, points, queries[q], 0.02 + 0.002 * q);
+}
+
+TEST(QuantileGrid, RelabelledRunsMatchBruteForce) {
+  std::vector<Vec3> points = three_walls(30000, 24);
+  const std::vector<Vec3> volume = random_points(5000, 25, Vec3(0.0), Vec3(1.0));
+  points.insert(points.end(), volume.begin(), volume.end());
+  const std::vector<Vec3> queries = random_points(150, 26, Vec3(-0.1), Vec3(1.1));
+  const std::vector<double> radii = random_radii(150, 27, 0.001, 0.2);
+  QuantileGrid grid;
+  expect_run_queries_exact(grid, [](QuantileGrid& g, const std::vector<Vec3>& p) { g.build(p, {}, 2); }, points,
+                           queries, radii);
+}
+
 TEST(QuantileGrid, RandomSpheresPointQueriesMatchBruteForce) {
   const std::vector<Vec3> centers = random_points(3000, 5, Vec3(0.0), Vec3(1.0));
   const std::vector<double> radii = random_radii(3000, 6, 0.0, 0.12);
