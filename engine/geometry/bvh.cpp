@@ -97,8 +97,10 @@ BvhRay::BvhRay(const Vec3& origin, const Vec3& dir) {
     far[a] = 2 * a + (positive ? 1 : 0);
     // Entry distances must not come out too large: moving towards +a that
     // means an origin no smaller than the true one; exit distances the reverse.
-    org_near[a] = positive ? float_up(origin[a]) : float_down(origin[a]);
-    org_far[a] = positive ? float_down(origin[a]) : float_up(origin[a]);
+    // Both roundings, then a pick by index: the sign is random per ray.
+    const float rounded[2] = {float_above(origin[a]), float_below(origin[a])};
+    org_near[a] = rounded[positive ? 0 : 1];
+    org_far[a] = rounded[positive ? 1 : 0];
   }
 }
 

@@ -32,4 +32,22 @@ inline float float_up(double x) {
 // Largest float <= x (-inf below float range).
 inline float float_down(double x) { return -float_up(-x); }
 
+// A float >= x (x not NaN), at most two ulps above it, +inf above FLT_MAX.
+// Without the comparisons of float_up, whose outcome is a coin toss per ray:
+// it steps up one ulp from the nearest float whether or not that was needed.
+inline float float_above(double x) {
+  x = x < FLT_MAX ? x : FLT_MAX;  // no out-of-range conversion (FLT_MAX steps up to +inf)
+  x = x > -FLT_MAX ? x : -FLT_MAX;
+  const float f = static_cast<float>(x) + 0.0f;  // + 0 turns -0 into +0
+  uint32_t bits;
+  std::memcpy(&bits, &f, sizeof bits);
+  bits += 1u - ((bits >> 31) << 1);  // +1 (magnitude up) if positive, -1 (magnitude down) if negative
+  float up;
+  std::memcpy(&up, &bits, sizeof up);
+  return up;
+}
+
+// A float <= x (x not NaN), at most two ulps below it, -inf below -FLT_MAX.
+inline float float_below(double x) { return -float_above(-x); }
+
 }  // namespace ppm

@@ -9,20 +9,20 @@ namespace ppm {
 // Cosine-weighted hemisphere around +Z; pdf = cos(theta)/pi.
 inline Vec3 sample_cosine_hemisphere(double u1, double u2) {
   const double r = std::sqrt(u1), phi = 2.0 * kPi * u2;
-  return Vec3(r * std::cos(phi), r * std::sin(phi), std::sqrt(std::fmax(0.0, 1.0 - u1)));
+  return Vec3(r * std::cos(phi), r * std::sin(phi), std::sqrt(max_ignoring_nan(0.0, 1.0 - u1)));
 }
 
 // Uniform on the unit sphere; pdf = 1/(4 pi).
 inline Vec3 sample_uniform_sphere(double u1, double u2) {
   const double z = 1.0 - 2.0 * u1;
-  const double r = std::sqrt(std::fmax(0.0, 1.0 - z * z)), phi = 2.0 * kPi * u2;
+  const double r = std::sqrt(max_ignoring_nan(0.0, 1.0 - z * z)), phi = 2.0 * kPi * u2;
   return Vec3(r * std::cos(phi), r * std::sin(phi), z);
 }
 
 // Uniform in the cone of directions within acos(cos_max) of +Z; pdf = 1/(2 pi (1 - cos_max)).
 inline Vec3 sample_uniform_cone(double u1, double u2, double cos_max) {
   const double z = 1.0 - u1 * (1.0 - cos_max);
-  const double r = std::sqrt(std::fmax(0.0, 1.0 - z * z)), phi = 2.0 * kPi * u2;
+  const double r = std::sqrt(max_ignoring_nan(0.0, 1.0 - z * z)), phi = 2.0 * kPi * u2;
   return Vec3(r * std::cos(phi), r * std::sin(phi), z);
 }
 

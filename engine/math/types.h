@@ -20,10 +20,13 @@ constexpr double kPi = 3.14159265358979323846;
 constexpr double kInvPi = 1.0 / kPi;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
+// std::fmax's rule (a NaN argument is ignored), inline: GCC calls libm's
+// fmax for std::fmax, and these run several times per ray.
+inline double max_ignoring_nan(double a, double b) { return (a > b || b != b) ? a : b; }
 inline double max_abs(const Vec3& v) {
-  return std::fmax(std::fabs(v.x), std::fmax(std::fabs(v.y), std::fabs(v.z)));
+  return max_ignoring_nan(std::fabs(v.x), max_ignoring_nan(std::fabs(v.y), std::fabs(v.z)));
 }
-inline double max_component(const Color& c) { return std::fmax(c.x, std::fmax(c.y, c.z)); }
+inline double max_component(const Color& c) { return max_ignoring_nan(c.x, max_ignoring_nan(c.y, c.z)); }
 inline double luminance(const Color& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
 inline bool is_finite(const Vec3& v) {
   return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);

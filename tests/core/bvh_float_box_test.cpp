@@ -92,6 +92,25 @@ TEST(BvhFloatBox, RoundingIsOutward) {
   EXPECT_EQ(float_up(0.5), 0.5f);  // exact values stay put
 }
 
+// The per-ray roundings of the origin: on the right side, and within two
+// ulps of the exact ones, across scales, signs, zeros and the float range.
+TEST(BvhFloatBox, LooseRoundingIsOutwardAndTight) {
+  Rng rng(14, 15, 16);
+  std::vector<double> xs = {0.0, -0.0, 1e-300, -1e-300, 0.5, -0.5, 3.4028234663852886e38, -3.4028234663852886e38,
+                            1e300, -1e300, 1e-45, -1e-45, 1.0e-38, -1.0e-38};
+  for (int i = 0; i < 100000; ++i)
+    xs.push_back((rng.uniform() - 0.5) * std::pow(10.0, rng.uniform() * 90.0 - 45.0));
+  for (const double x : xs) {
+    const float above = float_above(x), below = float_below(x);
+    ASSERT_FALSE(std::isnan(above) || std::isnan(below)) << x;
+    ASSERT_GE(double(above), x);
+    ASSERT_LE(double(below), x);
+    constexpr float kFloatInfinity = std::numeric_limits<float>::infinity();
+    ASSERT_LE(above, std::nextafter(float_up(x), kFloatInfinity)) << "more than two ulps above " << x;
+    ASSERT_GE(below, std::nextafter(float_down(x), -kFloatInfinity)) << "more than two ulps below " << x;
+  }
+}
+
 TEST(BvhFloatBox, FarFromOriginAndAcrossScales) {
   // Millimetre triangles 1000 km away: float spacing there (6 cm) is far
   // larger than the triangles, so every box is padded; nothing may be lost.
