@@ -46,13 +46,16 @@ class PhotonPass {
   struct Photon {
     Vec3 position;
     Vec3f direction;
+    Vec3f normal;  // of the surface, on the side the photon arrived on
     Vec3f flux;
   };
-  // What the gather reads once a photon passed the distance test; positions
-  // live in their own array so the test streams through 24 bytes a photon.
+  // The rest of a photon, in cell order beside its position. The diffuse
+  // gather reads the first 24 bytes; the direction only matters to glossy
+  // hit points.
   struct Arrival {
-    Vec3f direction;
+    Vec3f normal;
     Vec3f flux;
+    Vec3f direction;
   };
 
   template <class Grid>
@@ -76,13 +79,14 @@ class PhotonPass {
   std::vector<std::vector<uint32_t>> m_acc_;
   std::vector<std::vector<Vec3f>> tau_acc_;
   std::vector<uint64_t> deposits_;
-  // Photons organisation: photons per chunk as traced, merged in chunk order,
-  // then stored in cell order as positions + arrivals.
+  // Photons organisation: photons per chunk as traced; their positions
+  // concatenated in chunk order (the traced order) for the grid, then all of
+  // them stored in cell order as positions + arrivals.
   std::vector<std::vector<Photon>> chunk_photons_;
-  std::vector<size_t> chunk_first_;     // where each chunk's photons start in photons_
-  std::vector<Photon> photons_;
+  std::vector<size_t> chunk_first_;     // traced index of each chunk's first photon
   std::vector<Vec3> traced_positions_;  // grid input, in traced order
   std::vector<uint32_t> old_of_new_;    // traced index of each photon in cell order
+  std::vector<uint32_t> new_of_old_;    // and the inverse
   std::vector<Vec3> positions_;         // cell order
   std::vector<Arrival> arrivals_;       // cell order
   // One pass's gather per hit point, added to the statistics once the pass completes.

@@ -10,7 +10,9 @@
 
 namespace ppm {
 
-// `deposit(position, travel_direction, flux)`; returns the number of deposits.
+// `deposit(position, travel_direction, normal, flux)`, where `normal` is the
+// surface's shading normal turned to the side the photon arrived on (as hit
+// points turn theirs to the viewer); returns the number of deposits.
 template <class Deposit>
 uint32_t trace_photon(const Scene& scene, const LightSampler& lights, const Settings& settings, Rng& rng,
                       Deposit&& deposit) {
@@ -28,12 +30,12 @@ uint32_t trace_photon(const Scene& scene, const LightSampler& lights, const Sett
     const Material& m = scene.material(hit.material);
     if (is_black(m)) break;
     const Vec3 wo = -ray.direction;
+    const SurfacePoint sp = scene.surface_point(hit);
     if (!is_specular(m) && (bounce > 0 || deposit_direct)) {
-      deposit(hit.position, ray.direction, flux);
+      deposit(hit.position, ray.direction, glm::dot(wo, sp.ng) >= 0.0 ? sp.ns : -sp.ns, flux);
       ++deposits;
     }
     BsdfSample s;
-    const SurfacePoint sp = scene.surface_point(hit);
     const double v1 = rng.uniform(), v2 = rng.uniform(), v3 = rng.uniform();
     if (!bsdf_sample(m, sp, wo, v1, v2, v3, s)) break;
     // Russian roulette on the scattering weight keeps the flux per photon steady.

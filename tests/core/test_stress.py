@@ -307,7 +307,7 @@ def test_closed_triangle_mesh_is_watertight():
             assert np.isfinite(hits["t"]).all(), (half, center, inside, int(np.isinf(hits["t"]).sum()))
 
 
-def light_in_a_box(direct_light):
+def light_in_a_box(direct_light, **settings):
     scene = ppm_core.Scene()
     white = scene.add_material("white", base_color=(0.8, 0.8, 0.8))
     cube_mesh(scene, material=white, object_id=1)
@@ -317,7 +317,7 @@ def light_in_a_box(direct_light):
     camera = core_scenes.look_at((4.0, -6.0, 3.0), (0.0, 0.0, -1.0))
     scene.set_camera(camera, 32, 24)
     renderer = ppm_core.Renderer(scene, photons_per_pass=20_000, threads=2, seed=13, direct_light=direct_light,
-                                 samples_per_pixel=1)
+                                 samples_per_pixel=1, **settings)
     renderer.run(passes=4)
     # Which object each pixel centre sees (rows top first, like the image).
     width, height = 32, 24
@@ -340,13 +340,24 @@ def test_light_inside_a_closed_box_does_not_leak_to_the_ground(direct_light):
     assert image[inner].max() == 0.0
 
 
-@pytest.mark.xfail(strict=True, reason="known: the photon gather leaks light around outer corners. A hit point "
-                   "on the outside of a face gathers photons deposited on the inside of the adjacent face within "
-                   "its radius (they pass the arrived-on-the-front test). Needs a plane-distance test in "
-                   "photon_weight (engine/ppm/photon_pass.cpp); see bench/STRESS_SECTION.md.")
-def test_light_inside_a_closed_box_leaves_its_outside_dark():
-    image, seen = light_in_a_box("sampled")
+@pytest.mark.parametrize("direct_light, settings", [
+    ("sampled", {}), ("photons", {}), ("sampled", {"gather": "hit_points"}), ("photons", {"grid": "hash"})])
+def test_light_inside_a_closed_box_leaves_its_outside_dark(direct_light, settings):
+    """Regression: hit points on the outside of a face gathered photons deposited on the inside of the
+    adjacent face within their radius (light leaked out along the box's edges), in every organisation."""
+    image, seen = light_in_a_box(direct_light, **settings)
+    assert (seen == 1).sum() > 50
     assert image[seen == 1].max() == 0.0
+
+
+@pytest.mark.xfail(strict=True, reason="known: a surface parallel to another within the gather radius gathers its "
+                   "photons. Here stochastic hit points keep radii of about 0.52 after 4 passes, and the ground "
+                   "0.5 below the box's floor gathers photons from inside the box at the box's foot (2 pixels); "
+                   "with the ground 3 below, nothing. A plane-distance test would also drop the photons that make "
+                   "up for the disc's overhang at inside corners (see photon_pass.cpp).")
+def test_light_inside_a_closed_box_with_the_ground_closer_than_the_radius():
+    image, seen = light_in_a_box("photons", hit_points="stochastic")
+    assert image[(seen == 1) | (seen == 2)].max() == 0.0
 
 
 def test_light_inside_a_glass_ball_inside_a_closed_room():
