@@ -91,15 +91,18 @@ def _render(scene, tag):
 
 
 def render_ppm(name, *, passes=1_000_000, seconds=0.0, seed=0, hit_points="AUTO", photons=200_000, threads=2,
-               width=W, height=H):
+               width=W, height=H, **settings):
     """(image, wall seconds of bpy.ops.render.render) through the add-on; stops at `passes` or
-    `seconds` (0 = no time limit). Other settings are the file's (the add-on's defaults)."""
+    `seconds` (0 = no time limit). `settings` are other scene.ppm properties (threshold=30, ...);
+    the rest are the file's (the add-on's defaults)."""
     scene = open_scene(name, width, height)
     scene.render.engine = "PPM"
     p = scene.ppm
     p.passes, p.time_limit, p.seed, p.threads = passes, seconds, seed, threads
     p.photons_per_pass = photons
     p.hit_points = hit_points
+    for key, value in settings.items():
+        setattr(p, key, value)
     return _render(scene, f"ppm_{name}")
 
 

@@ -20,7 +20,7 @@ class PPMSceneSettings(bpy.types.PropertyGroup):
         name="Alpha", default=0.7, min=0.01, max=0.99,  # the core needs alpha < 1
         description="Radius reduction: the fraction of new photons kept each pass (Hachisuka 2008)")
     threshold: IntProperty(
-        name="Threshold (P)", default=10, min=1, soft_max=1000,
+        name="Threshold (P)", default=30, min=1, soft_max=1000,
         description="Photons a hit point gathers before its radius shrinks; 1 = classic PPM")
     max_bounces: IntProperty(
         name="Max Bounces", default=12, min=1, max=1024,

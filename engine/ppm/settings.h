@@ -29,7 +29,7 @@ enum class DofPostPreset : uint8_t {
 struct Settings {
   uint64_t photons_per_pass = 200000;
   double alpha = 0.7;               // radius reduction (Hachisuka 2008)
-  uint32_t threshold = 10;          // P of the cross-generation rule; 1 = classic PPM
+  uint32_t threshold = 30;          // P of the cross-generation rule; 1 = classic PPM (bench/threshold_scenes.py)
   int max_bounces = 12;             // photon path length and eye specular chain length
   int samples_per_pixel = 4;        // jittered eye samples per pixel (fixed hit points)
   uint64_t seed = 0;

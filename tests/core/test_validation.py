@@ -111,7 +111,7 @@ def test_bad_settings(settings, message):
 
 def test_settings_object_and_defaults():
     defaults = ppm_core.default_settings()
-    assert defaults["threshold"] == 10 and defaults["threads"] == 0
+    assert defaults["threshold"] == 30 and defaults["threads"] == 0
     s = ppm_core.Settings(alpha=0.6, grid="hash")
     assert s.alpha == 0.6 and s.grid == "hash"
     r = ppm_core.Renderer(small_scene(), s, threshold=3)
