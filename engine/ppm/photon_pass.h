@@ -49,9 +49,8 @@ class PhotonPass {
     Vec3f normal;  // of the surface, on the side the photon arrived on
     Vec3f flux;
   };
-  // The rest of a photon, in cell order beside its position. The diffuse
-  // gather reads the first 24 bytes; the direction only matters to glossy
-  // hit points.
+  // The rest of a photon, in cell order beside its position; read only for
+  // the photons that pass the distance test.
   struct Arrival {
     Vec3f normal;
     Vec3f flux;

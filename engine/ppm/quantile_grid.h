@@ -54,23 +54,15 @@ class QuantileGrid {
   // visited once per cell.
   template <class Fn>
   void for_each_candidate_in_box(const Vec3& lo, const Vec3& hi, Fn&& fn) const {
-    const uint32_t x0 = slab_index(0, lo.x), x1 = slab_index(0, hi.x);
-    const uint32_t y0 = slab_index(1, lo.y), y1 = slab_index(1, hi.y);
-    const uint32_t z0 = slab_index(2, lo.z), z1 = slab_index(2, hi.z);
-    for (uint32_t z = z0; z <= z1; ++z) {
-      for (uint32_t y = y0; y <= y1; ++y) {
-        // Cells along x are adjacent in CSR order: one contiguous run per row.
-        const uint32_t row = (z * dims_[1] + y) * dims_[0];
-        visit(cell_begin_[row + x0], cell_begin_[row + x1 + 1], fn);
-      }
-    }
+    for_each_run_in_box(lo, hi, [&](uint32_t begin, uint32_t end) { visit(begin, end, fn); });
   }
 
-  // Points relabelled in cell order (relabel_in_cell_order) only: item k is
-  // then stored at position k, so the items of a row of cells are the labels
-  // [begin, end). fn(begin, end) is called once per row overlapping [lo, hi]
-  // (possibly with begin == end): the caller loops over its own cell-ordered
-  // arrays without an index lookup per item.
+  // fn(begin, end) once per row of cells overlapping [lo, hi] (possibly with
+  // begin == end): cells along x are adjacent in CSR order, so a row's items
+  // are the positions [begin, end) of the cell-ordered item list. After
+  // relabel_in_cell_order (points) item k is stored at position k, so these
+  // are labels, and a caller loops over its own cell-ordered arrays without
+  // an index lookup per item.
   template <class Fn>
   void for_each_run_in_box(const Vec3& lo, const Vec3& hi, Fn&& fn) const {
     const uint32_t x0 = slab_index(0, lo.x), x1 = slab_index(0, hi.x);
