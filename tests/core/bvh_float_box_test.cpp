@@ -17,42 +17,11 @@
 namespace ppm {
 namespace {
 
-struct Soup {
-  std::vector<TrianglePrim> tris;
-  Bvh bvh;
-
-  void build() { bvh.build(triangle_boxes(tris)); }
-  double bvh_t(const Ray& r) const {
-    double tmax = kInf;
-    bvh.closest(r.origin, r.direction, tmax, [&](uint32_t slot, double& tm) {
-      double t, b1, b2;
-      if (!intersect_triangle(tris[bvh.prim_order()[slot]], r, tm, t, b1, b2)) return false;
-      tm = t;
-      return true;
-    });
-    return tmax;
-  }
-  double brute_t(const Ray& r) const {
-    double tmax = kInf;
-    for (const auto& tri : tris) {
-      double t, b1, b2;
-      if (intersect_triangle(tri, r, tmax, t, b1, b2)) tmax = t;
-    }
-    return tmax;
-  }
-  bool bvh_any(const Ray& r, double limit) const {
-    return bvh.any(r.origin, r.direction, limit, [&](uint32_t slot, double& tm) {
-      double t, b1, b2;
-      return intersect_triangle(tris[bvh.prim_order()[slot]], r, tm, t, b1, b2);
-    });
-  }
-};
-
 Vec3 unit_cube(Rng& rng) { return Vec3(rng.uniform(), rng.uniform(), rng.uniform()) - Vec3(0.5); }
 
 // Random small triangles in a cube of side `scale` centred at `centre`.
-Soup random_soup(Rng& rng, const Vec3& centre, double scale, int count) {
-  Soup s;
+TriangleSoup random_soup(Rng& rng, const Vec3& centre, double scale, int count) {
+  TriangleSoup s;
   for (int i = 0; i < count; ++i)
     s.tris.push_back({centre + scale * unit_cube(rng), 0.05 * scale * unit_cube(rng), 0.05 * scale * unit_cube(rng)});
   s.build();
@@ -60,7 +29,7 @@ Soup random_soup(Rng& rng, const Vec3& centre, double scale, int count) {
 }
 
 // Rays from outside the cube (and from inside it, one in four) at points inside it.
-void expect_matches_brute_force(const Soup& s, Rng& rng, const Vec3& centre, double scale, int rays) {
+void expect_matches_brute_force(const TriangleSoup& s, Rng& rng, const Vec3& centre, double scale, int rays) {
   int hits = 0;
   for (int i = 0; i < rays; ++i) {
     const Vec3 o = centre + scale * (i % 4 == 0 ? unit_cube(rng) : 3.0 * unit_cube(rng));
@@ -124,7 +93,7 @@ TEST(BvhFloatBox, FarFromOriginAndAcrossScales) {
   uint64_t seed = 1;
   for (const auto& c : cases) {
     Rng rng(21, 22, seed++);
-    const Soup s = random_soup(rng, c.centre, c.scale, 1500);
+    const TriangleSoup s = random_soup(rng, c.centre, c.scale, 1500);
     expect_matches_brute_force(s, rng, c.centre, c.scale, 2000);
   }
 }
@@ -133,7 +102,7 @@ TEST(BvhFloatBox, AxisParallelRaysOnAGrid) {
   // A height field of triangles at coordinates float cannot represent (0.1
   // steps offset by 1/3), cast at with axis-parallel rays, including ones
   // that run exactly along grid lines, shared edges and vertices.
-  Soup s;
+  TriangleSoup s;
   const int n = 24;
   const double h = 0.1, off = 1.0 / 3.0;
   auto z = [](int i, int j) { return 0.01 * ((i * 7 + j * 13) % 5); };
@@ -167,7 +136,7 @@ TEST(BvhFloatBox, MixedSizesAndDegenerateTriangles) {
   // One huge triangle over many small ones, slivers, zero-area triangles,
   // and many triangles sharing one centroid: boxes overlap heavily.
   Rng rng(31, 32, 33);
-  Soup s;
+  TriangleSoup s;
   s.tris.push_back({Vec3(-1e4, -1e4, 0.0), Vec3(3e4, 0.0, 0.0), Vec3(0.0, 3e4, 1e-3)});
   for (int i = 0; i < 1000; ++i) s.tris.push_back({unit_cube(rng), 0.01 * unit_cube(rng), 0.01 * unit_cube(rng)});
   for (int i = 0; i < 300; ++i) {  // slivers: one edge a million times the other
@@ -193,7 +162,7 @@ TEST(BvhFloatBox, OriginsBeyondFloatRange) {
   // Rays from 1e38 away, past what the float slab test covers: the BVH
   // falls back to testing every primitive and must still agree.
   Rng rng(51, 52, 53);
-  const Soup s = random_soup(rng, Vec3(0.0), 1.0, 300);
+  const TriangleSoup s = random_soup(rng, Vec3(0.0), 1.0, 300);
   int hits = 0;
   for (int i = 0; i < 300; ++i) {
     const Vec3 o = Vec3(1e38, -2e38, 0.5e38) * (1.0 + rng.uniform());
@@ -211,7 +180,7 @@ TEST(BvhFloatBox, SmallTreesAndEmptyLanes) {
   // children, which every ray must miss.
   Rng rng(41, 42, 43);
   for (int count = 1; count <= 9; ++count) {
-    const Soup s = random_soup(rng, Vec3(0.0), 1.0, count);
+    const TriangleSoup s = random_soup(rng, Vec3(0.0), 1.0, count);
     for (int i = 0; i < 500; ++i) {
       const Vec3 o = 3.0 * unit_cube(rng);
       const Ray r{o, glm::normalize(s.tris[i % count].v0 + 0.3 * s.tris[i % count].e1 + 0.3 * s.tris[i % count].e2 - o)};

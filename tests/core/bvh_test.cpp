@@ -13,38 +13,6 @@
 namespace ppm {
 namespace {
 
-struct Soup {
-  std::vector<TrianglePrim> tris;
-  Bvh bvh;
-  void build() { bvh.build(triangle_boxes(tris)); }
-  // Nearest (t, index) by the BVH and by brute force.
-  std::pair<double, int> bvh_hit(const Ray& r) const {
-    double tmax = kInf;
-    int best = -1;
-    bvh.closest(r.origin, r.direction, tmax, [&](uint32_t slot, double& tm) {
-      const uint32_t p = bvh.prim_order()[slot];
-      double t, b1, b2;
-      if (!intersect_triangle(tris[p], r, tm, t, b1, b2)) return false;
-      tm = t;
-      best = static_cast<int>(p);
-      return true;
-    });
-    return {best >= 0 ? tmax : kInf, best};
-  }
-  std::pair<double, int> brute_hit(const Ray& r) const {
-    double tmax = kInf;
-    int best = -1;
-    for (size_t i = 0; i < tris.size(); ++i) {
-      double t, b1, b2;
-      if (intersect_triangle(tris[i], r, tmax, t, b1, b2)) {
-        tmax = t;
-        best = static_cast<int>(i);
-      }
-    }
-    return {tmax, best};
-  }
-};
-
 Vec3 random_point(Rng& rng, double scale) {
   return scale * Vec3(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5);
 }
@@ -55,7 +23,7 @@ Ray random_ray(Rng& rng, double scale) {
   return Ray{o, glm::normalize(target - o)};
 }
 
-void expect_agree(const Soup& soup, Rng& rng, double scale, int rays) {
+void expect_agree(const TriangleSoup& soup, Rng& rng, double scale, int rays) {
   int hits = 0;
   for (int i = 0; i < rays; ++i) {
     const Ray r = random_ray(rng, scale);
@@ -69,7 +37,7 @@ void expect_agree(const Soup& soup, Rng& rng, double scale, int rays) {
 TEST(Bvh, MatchesBruteForceOnRandomTriangles) {
   for (double scale : {1e-3, 1.0, 1e4}) {
     Rng rng(1, 2, static_cast<uint64_t>(scale * 1000));
-    Soup soup;
+    TriangleSoup soup;
     for (int i = 0; i < 3000; ++i) {
       const Vec3 c = random_point(rng, scale);
       soup.tris.push_back({c, random_point(rng, 0.05 * scale), random_point(rng, 0.05 * scale)});
@@ -81,7 +49,7 @@ TEST(Bvh, MatchesBruteForceOnRandomTriangles) {
 
 TEST(Bvh, CoincidentCentroidsAndFlatSheet) {
   Rng rng(3, 4, 5);
-  Soup soup;
+  TriangleSoup soup;
   for (int i = 0; i < 2000; ++i) {  // all centred on the origin, different sizes
     const double s = 0.1 + rng.uniform();
     soup.tris.push_back({Vec3(-s, -s, 0.0) * 0.5, Vec3(s, 0.0, 0.0), Vec3(0.0, s, rng.uniform() * 0.01)});
@@ -98,7 +66,7 @@ TEST(Bvh, CoincidentCentroidsAndFlatSheet) {
 }
 
 TEST(Bvh, AxisAlignedRaysAlongFaces) {
-  Soup soup;
+  TriangleSoup soup;
   soup.tris.push_back({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)});
   soup.tris.push_back({Vec3(2, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)});
   soup.build();
@@ -112,7 +80,7 @@ TEST(Bvh, AxisAlignedRaysAlongFaces) {
 
 TEST(Bvh, AnyHitAgreesWithClosest) {
   Rng rng(7, 7, 7);
-  Soup soup;
+  TriangleSoup soup;
   for (int i = 0; i < 1000; ++i)
     soup.tris.push_back({random_point(rng, 1.0), random_point(rng, 0.1), random_point(rng, 0.1)});
   soup.build();

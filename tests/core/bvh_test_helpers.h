@@ -1,9 +1,12 @@
-// Shared by the BVH tests: the boxes of a triangle soup, as the scene builds them.
+// Shared by the BVH tests: a triangle soup with its BVH, and its nearest hit
+// found through the BVH and by brute force over the same triangle test.
 #pragma once
 
+#include "geometry/bvh.h"
 #include "geometry/triangle.h"
 #include "math/aabb.h"
 
+#include <utility>
 #include <vector>
 
 namespace ppm {
@@ -20,5 +23,46 @@ inline std::vector<Aabb> triangle_boxes(const std::vector<TrianglePrim>& tris) {
   }
   return boxes;
 }
+
+struct TriangleSoup {
+  std::vector<TrianglePrim> tris;
+  Bvh bvh;
+
+  void build() { bvh.build(triangle_boxes(tris)); }
+  // Nearest (t, triangle index), (kInf, -1) for a miss.
+  std::pair<double, int> bvh_hit(const Ray& r) const {
+    double tmax = kInf;
+    int best = -1;
+    bvh.closest(r.origin, r.direction, tmax, [&](uint32_t slot, double& tm) {
+      const uint32_t p = bvh.prim_order()[slot];
+      double t, b1, b2;
+      if (!intersect_triangle(tris[p], r, tm, t, b1, b2)) return false;
+      tm = t;
+      best = static_cast<int>(p);
+      return true;
+    });
+    return {best >= 0 ? tmax : kInf, best};
+  }
+  std::pair<double, int> brute_hit(const Ray& r) const {
+    double tmax = kInf;
+    int best = -1;
+    for (size_t i = 0; i < tris.size(); ++i) {
+      double t, b1, b2;
+      if (intersect_triangle(tris[i], r, tmax, t, b1, b2)) {
+        tmax = t;
+        best = static_cast<int>(i);
+      }
+    }
+    return {tmax, best};
+  }
+  double bvh_t(const Ray& r) const { return bvh_hit(r).first; }
+  double brute_t(const Ray& r) const { return brute_hit(r).first; }
+  bool bvh_any(const Ray& r, double limit) const {
+    return bvh.any(r.origin, r.direction, limit, [&](uint32_t slot, double& tm) {
+      double t, b1, b2;
+      return intersect_triangle(tris[bvh.prim_order()[slot]], r, tm, t, b1, b2);
+    });
+  }
+};
 
 }  // namespace ppm
