@@ -20,6 +20,26 @@ using DoubleArray = py::array_t<double, py::array::c_style | py::array::forcecas
   throw std::invalid_argument(what + ": " + msg);
 }
 
+// `obj` as a numpy array of Array's type (converted if need be), or a null
+// array if it cannot be one, whether numpy says so by returning nothing or by
+// raising: the caller reports what it expected.
+template <class Array>
+Array array_or_null(const py::handle& obj) {
+  try {
+    return Array::ensure(obj);
+  } catch (const py::error_already_set&) {
+    return py::reinterpret_steal<Array>(py::handle());
+  }
+}
+
+// Numbers given as one value or a short list: as array_or_null, except that
+// text is refused rather than parsed ("5" is not a size).
+inline DoubleArray numbers_or_null(const py::handle& obj) {
+  if (py::isinstance<py::str>(obj) || py::isinstance<py::bytes>(obj))
+    return py::reinterpret_steal<DoubleArray>(py::handle());
+  return array_or_null<DoubleArray>(obj);
+}
+
 // Strings arrive as str or bytes; bytes need not be UTF-8, and an error message
 // that is not UTF-8 cannot become a Python exception's text (it would turn into
 // a UnicodeDecodeError that hides what was wrong).
@@ -58,12 +78,7 @@ inline const std::string& checked_name(const std::string& name, const std::strin
 
 // An (N, cols) array of doubles; `what` and `field` name it in errors.
 inline DoubleArray matrix(const py::handle& obj, int cols, const std::string& what, const std::string& field) {
-  DoubleArray a;
-  try {
-    a = DoubleArray::ensure(obj);
-  } catch (const py::error_already_set&) {
-    fail(what, field + " must be an array of numbers");
-  }
+  const DoubleArray a = array_or_null<DoubleArray>(obj);
   if (!a) fail(what, field + " must be an array of numbers");
   if (a.ndim() != 2 || a.shape(1) != cols)
     fail(what, field + " must have shape (N, " + std::to_string(cols) + ")");
@@ -87,12 +102,7 @@ inline std::vector<Vec2> vec2_list(const py::handle& obj, const std::string& wha
 }
 
 inline Vec3 vec3(const py::handle& obj, const std::string& what, const std::string& field) {
-  DoubleArray a;
-  try {
-    a = DoubleArray::ensure(obj);
-  } catch (const py::error_already_set&) {
-    fail(what, field + " must be 3 numbers");
-  }
+  const DoubleArray a = array_or_null<DoubleArray>(obj);
   if (!a || a.size() != 3) fail(what, field + " must be 3 numbers");
   const double* p = a.data();
   return Vec3(p[0], p[1], p[2]);
@@ -101,25 +111,14 @@ inline Vec3 vec3(const py::handle& obj, const std::string& what, const std::stri
 // A colour: 3 numbers, or one number (a Python or numpy scalar, or a 1-element array) for grey.
 inline Color color(const py::handle& obj, const std::string& what, const std::string& field) {
   if (py::isinstance<py::float_>(obj) || py::isinstance<py::int_>(obj)) return Color(obj.cast<double>());
-  DoubleArray a;
-  if (!py::isinstance<py::str>(obj) && !py::isinstance<py::bytes>(obj)) {
-    try {
-      a = DoubleArray::ensure(obj);
-    } catch (const py::error_already_set&) {
-    }
-  }
+  const DoubleArray a = numbers_or_null(obj);
   if (!a || (a.size() != 1 && a.size() != 3)) fail(what, field + " must be 3 numbers or one number (grey)");
   const double* p = a.data();
   return a.size() == 1 ? Color(p[0]) : Color(p[0], p[1], p[2]);
 }
 
 inline Mat4 mat4(const py::handle& obj, const std::string& what, const std::string& field) {
-  DoubleArray a;
-  try {
-    a = DoubleArray::ensure(obj);
-  } catch (const py::error_already_set&) {
-    fail(what, field + " must be a 4x4 matrix");
-  }
+  const DoubleArray a = array_or_null<DoubleArray>(obj);
   if (!a || a.ndim() != 2 || a.shape(0) != 4 || a.shape(1) != 4) fail(what, field + " must be a 4x4 matrix");
   const double* p = a.data();
   Mat4 m;

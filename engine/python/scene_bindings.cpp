@@ -58,13 +58,9 @@ uint32_t add_texture(Scene& s, const std::string& name, const py::object& pixels
     if (kind != 'f' && kind != 'i' && kind != 'u' && kind != 'b')
       fail(what, std::string("pixels must be real numbers, not dtype kind '") + kind + "'");
   }
-  FloatArray a;
-  try {
-    a = FloatArray::ensure(pixels);
-  } catch (const py::error_already_set&) {
-    fail(what, "pixels must be a float array");
-  }
-  if (!a || a.ndim() != 3 || a.shape(2) != 4) fail(what, "pixels must have shape (H, W, 4)");
+  const FloatArray a = array_or_null<FloatArray>(pixels);
+  if (!a) fail(what, "pixels must be a float array");
+  if (a.ndim() != 3 || a.shape(2) != 4) fail(what, "pixels must have shape (H, W, 4)");
   std::vector<float> rgba(a.data(), a.data() + a.size());
   return s.add_texture(name, static_cast<int>(a.shape(1)), static_cast<int>(a.shape(0)), std::move(rgba));
 }
@@ -79,11 +75,7 @@ std::vector<uint32_t> index_list(const py::handle& obj, const std::string& what,
   const char kind = raw.dtype().kind();
   std::vector<uint32_t> out(raw.size());
   if (kind == 'f' || kind == 'O') {
-    DoubleArray a;
-    try {
-      a = DoubleArray::ensure(raw);
-    } catch (const py::error_already_set&) {
-    }
+    const DoubleArray a = array_or_null<DoubleArray>(raw);
     if (!a) fail(what, field + " must be an array of integers");
     const double* p = a.data();
     for (size_t i = 0; i < out.size(); ++i) {
@@ -96,11 +88,7 @@ std::vector<uint32_t> index_list(const py::handle& obj, const std::string& what,
   }
   if (kind != 'i' && kind != 'u' && kind != 'b')
     fail(what, field + std::string(" must be an array of integers, not dtype kind '") + kind + "'");
-  IntArray a;
-  try {
-    a = IntArray::ensure(raw);
-  } catch (const py::error_already_set&) {
-  }
+  const IntArray a = array_or_null<IntArray>(raw);
   if (!a) fail(what, field + " must be an array of integers");
   const int64_t* p = a.data();
   const bool unsigned64 = kind == 'u' && raw.dtype().itemsize() == 8;  // >= 2^63 wrapped to negative
@@ -176,13 +164,7 @@ void add_light(Scene& s, const std::string& kind, const std::string& name, const
   }
   double sx = 1.0, sy = 1.0;
   if (!size.is_none()) {
-    DoubleArray a;
-    if (!py::isinstance<py::str>(size) && !py::isinstance<py::bytes>(size)) {
-      try {
-        a = DoubleArray::ensure(size);
-      } catch (const py::error_already_set&) {
-      }
-    }
+    const DoubleArray a = numbers_or_null(size);
     if (!a || (a.size() != 1 && a.size() != 2)) fail(what, "size must be one number or (size_x, size_y)");
     sx = a.data()[0];
     sy = a.data()[a.size() - 1];
