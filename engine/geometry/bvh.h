@@ -16,6 +16,7 @@
 
 #include "geometry/bvh_slab.h"
 #include "geometry/huge_pages.h"
+#include "geometry/ray.h"
 #include "math/aabb.h"
 #include "math/float_bounds.h"
 
@@ -65,12 +66,47 @@ class Bvh {
   template <class Test, class Prefetch = NoPrefetch>
   void closest(const Vec3& origin, const Vec3& dir, double& tmax, Test&& test, Prefetch&& prefetch = {}) const;
 
+  // Closest hits of many rays at once, `kInterleavedRays` walks in turn:
+  // each advances by one node or leaf and then yields, so one ray's cache
+  // misses are loaded while the others work. Random rays spend most of
+  // their time waiting on such misses. `ray_at(i)` gives ray i (a Ray);
+  // `test(i, slot, tmax)` is as in closest() for ray i, starting from
+  // tmax = kInf; `done(i)` is called once ray i's closest hit is final.
+  template <class RayAt, class Test, class Prefetch, class Done>
+  void closest_many(size_t count, RayAt&& ray_at, Test&& test, Prefetch&& prefetch, Done&& done) const;
+
   // Any-hit traversal for shadow rays: true as soon as `test(slot, tmax)`
   // reports a hit with t < tmax.
   template <class Test>
   bool any(const Vec3& origin, const Vec3& dir, double tmax, Test&& test) const;
 
+  static constexpr int kInterleavedRays = 8;
+
  private:
+  // Where a closest-hit traversal stands: the node or leaf to visit next and
+  // the stack of those still to visit.
+  struct ClosestWalk {
+    // Back to the root; the stack's contents are left as they are (2 KB).
+    void reset(double tmax) {
+      tmax_f = float_up(tmax);
+      top = 0;
+      cur = Entry{0, 0, 0.0f};
+    }
+    struct Entry {
+      uint32_t index, count;  // as in BvhNode: count > 0 is a leaf
+      float t;                // entry distance, to skip it once a closer hit is known
+    };
+    float tmax_f = 0.0f;     // tmax rounded up to float, for the slab test
+    int top = 0;
+    Entry cur{0, 0, 0.0f};   // starts at the root
+    Entry stack[3 * 64 + 1];  // the binary tree is at most 60 deep; each level adds at most 3
+  };
+
+  // Visits w.cur (a node's child boxes, or a leaf's primitives) and moves to
+  // the next entry; false once nothing is left to visit.
+  template <class Test, class Prefetch>
+  bool step(ClosestWalk& w, const BvhRay& r, double& tmax, Test&& test, Prefetch&& prefetch) const;
+
   HugePageVector<BvhNode> nodes_;  // root at 0
   std::vector<uint32_t> prim_order_;
   Aabb bounds_;
@@ -85,52 +121,99 @@ void Bvh::closest(const Vec3& origin, const Vec3& dir, double& tmax, Test&& test
     for (uint32_t s = 0; s < prim_order_.size(); ++s) test(s, tmax);
     return;
   }
-  float tmax_f = float_up(tmax);
-  struct Entry {
-    uint32_t index, count;  // as in BvhNode: count > 0 is a leaf
-    float t;                // entry distance, to skip it once a closer hit is known
+  ClosestWalk walk;
+  walk.reset(tmax);
+  while (step(walk, r, tmax, test, prefetch_leaf)) {
+  }
+}
+
+template <class RayAt, class Test, class Prefetch, class Done>
+void Bvh::closest_many(size_t count, RayAt&& ray_at, Test&& test, Prefetch&& prefetch_leaf, Done&& done) const {
+  struct Lane {
+    size_t ray;
+    double tmax;
+    BvhRay r;
+    ClosestWalk walk;
   };
-  Entry stack[3 * 64 + 1];  // the binary tree is at most 60 deep; each level adds at most 3
-  int top = 0;
-  Entry cur{0, 0, 0.0f};
-  for (;;) {
-    if (cur.count == 0) {
-      const BvhNode& n = nodes_[cur.index];
-      float t[4];
-      const unsigned mask = intersect_children(n, r, tmax_f, t);
-      if (mask != 0) {
-        // Push the hit children sorted so the nearest is on top, then pop it
-        // to continue there. Random rays miss the cache on most nodes and
-        // leaves, so each hit child's memory is requested now, in parallel.
-        const int base = top;
-        for (unsigned bits = mask; bits != 0; bits &= bits - 1) {
-          const int k = lowest_bit(bits);
-          const Entry e{n.child[k], n.count[k], t[k]};
-          if (e.count == 0) {
-            const char* p = reinterpret_cast<const char*>(&nodes_[e.index]);
-            prefetch(p);
-            prefetch(p + 64);
-          } else {
-            prefetch_leaf(e.index, e.count);
-          }
-          int j = top++;
-          for (; j > base && stack[j - 1].t < e.t; --j) stack[j] = stack[j - 1];
-          stack[j] = e;
-        }
-        cur = stack[--top];
+  Lane lanes[kInterleavedRays];
+  int active = 0;
+  size_t next = 0;
+  // Starts the next ray that needs a walk in lane k; false when none is left.
+  auto start = [&](int k) {
+    for (; next < count; ++next) {
+      const Ray& ray = ray_at(next);
+      double tmax = kInf;
+      const BvhRay r(ray.origin, ray.direction);
+      if (nodes_.empty() || !r.in_range || !in_float_range_) {  // no walk: brute force, or nothing to hit
+        closest(ray.origin, ray.direction, tmax, [&](uint32_t s, double& t) { return test(next, s, t); });
+        done(next);
         continue;
       }
-    } else {
-      const double before = tmax;
-      for (uint32_t s = cur.index; s < cur.index + cur.count; ++s) test(s, tmax);
-      if (tmax != before) tmax_f = float_up(tmax);
+      Lane& lane = lanes[k];
+      lane.ray = next++;
+      lane.tmax = tmax;
+      lane.r = r;
+      lane.walk.reset(tmax);
+      return true;
     }
-    // Pop, skipping children that a closer hit has since ruled out.
-    for (;;) {
-      if (top == 0) return;
-      cur = stack[--top];
-      if (cur.t <= tmax_f * kSlabSlack + kSlabTiny) break;
+    return false;
+  };
+  while (active < kInterleavedRays && start(active)) ++active;
+  // Round robin, one node or leaf per ray and turn: by the time a ray's turn
+  // comes again, the node it prefetched has had the others' work to arrive.
+  while (active > 0) {
+    for (int k = 0; k < active;) {
+      Lane& lane = lanes[k];
+      const size_t ray = lane.ray;
+      auto lane_test = [&](uint32_t s, double& t) { return test(ray, s, t); };
+      if (step(lane.walk, lane.r, lane.tmax, lane_test, prefetch_leaf)) {
+        ++k;
+        continue;
+      }
+      done(ray);
+      if (!start(k)) lanes[k] = lanes[--active];  // keep the lanes in use at the front
     }
+  }
+}
+
+template <class Test, class Prefetch>
+bool Bvh::step(ClosestWalk& w, const BvhRay& r, double& tmax, Test&& test, Prefetch&& prefetch_leaf) const {
+  if (w.cur.count == 0) {
+    const BvhNode& n = nodes_[w.cur.index];
+    float t[4];
+    const unsigned mask = intersect_children(n, r, w.tmax_f, t);
+    if (mask != 0) {
+      // Push the hit children sorted so the nearest is on top, then pop it
+      // to continue there. Random rays miss the cache on most nodes and
+      // leaves, so each hit child's memory is requested now, in parallel.
+      const int base = w.top;
+      for (unsigned bits = mask; bits != 0; bits &= bits - 1) {
+        const int k = lowest_bit(bits);
+        const ClosestWalk::Entry e{n.child[k], n.count[k], t[k]};
+        if (e.count == 0) {
+          const char* p = reinterpret_cast<const char*>(&nodes_[e.index]);
+          prefetch(p);
+          prefetch(p + 64);
+        } else {
+          prefetch_leaf(e.index, e.count);
+        }
+        int j = w.top++;
+        for (; j > base && w.stack[j - 1].t < e.t; --j) w.stack[j] = w.stack[j - 1];
+        w.stack[j] = e;
+      }
+      w.cur = w.stack[--w.top];
+      return true;
+    }
+  } else {
+    const double before = tmax;
+    for (uint32_t s = w.cur.index; s < w.cur.index + w.cur.count; ++s) test(s, tmax);
+    if (tmax != before) w.tmax_f = float_up(tmax);
+  }
+  // Pop, skipping children that a closer hit has since ruled out.
+  for (;;) {
+    if (w.top == 0) return false;
+    w.cur = w.stack[--w.top];
+    if (w.cur.t <= w.tmax_f * kSlabSlack + kSlabTiny) return true;
   }
 }
 

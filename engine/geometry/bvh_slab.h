@@ -50,6 +50,7 @@ static_assert(sizeof(BvhNode) == 128, "BvhNode is two cache lines");
 
 // Per-ray constants of the slab test.
 struct BvhRay {
+  BvhRay() = default;
   BvhRay(const Vec3& origin, const Vec3& dir);
   float org_near[3], org_far[3];  // origin rounded for entry / exit planes
   float inv[3];                   // 1 / direction, +-inf for a zero component

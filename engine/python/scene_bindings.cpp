@@ -247,24 +247,35 @@ py::dict intersect(Scene& s, const py::object& origins, const py::object& direct
     const unsigned workers = std::max(1u, std::min(hw, unsigned(n / kChunk + 1)));
     std::atomic<size_t> next{0};
     auto work = [&]() {
+      // Cast in batches, so the scene can interleave the rays' traversals.
+      constexpr size_t kBatch = 256;
+      Ray rays[kBatch];
+      Hit hits[kBatch];
       for (size_t begin; (begin = next.fetch_add(kChunk)) < n;) {
         const size_t end = std::min(n, begin + kChunk);
-        for (size_t i = begin; i < end; ++i) {
-          Vec3 dir;
-          unit(Vec3(dp_in[3 * i], dp_in[3 * i + 1], dp_in[3 * i + 2]), dir);  // checked above: succeeds
-          const Ray ray{Vec3(op_in[3 * i], op_in[3 * i + 1], op_in[3 * i + 2]), dir};
-          Hit h;
-          if (s.intersect(ray, h)) {
-            tp[i] = h.t;
-            np_[3 * i] = h.geometric_normal.x;
-            np_[3 * i + 1] = h.geometric_normal.y;
-            np_[3 * i + 2] = h.geometric_normal.z;
-            pp[i] = h.primitive;
-            op[i] = h.object;
-          } else {
-            tp[i] = kInf;
-            np_[3 * i] = np_[3 * i + 1] = np_[3 * i + 2] = 0.0;
-            pp[i] = op[i] = -1;
+        for (size_t first = begin; first < end; first += kBatch) {
+          const size_t count = std::min(kBatch, end - first);
+          for (size_t b = 0; b < count; ++b) {
+            const size_t i = first + b;
+            unit(Vec3(dp_in[3 * i], dp_in[3 * i + 1], dp_in[3 * i + 2]), rays[b].direction);  // checked above
+            rays[b].origin = Vec3(op_in[3 * i], op_in[3 * i + 1], op_in[3 * i + 2]);
+          }
+          s.intersect_many(rays, count, hits);
+          for (size_t b = 0; b < count; ++b) {
+            const size_t i = first + b;
+            const Hit& h = hits[b];
+            if (h.found()) {
+              tp[i] = h.t;
+              np_[3 * i] = h.geometric_normal.x;
+              np_[3 * i + 1] = h.geometric_normal.y;
+              np_[3 * i + 2] = h.geometric_normal.z;
+              pp[i] = h.primitive;
+              op[i] = h.object;
+            } else {
+              tp[i] = kInf;
+              np_[3 * i] = np_[3 * i + 1] = np_[3 * i + 2] = 0.0;
+              pp[i] = op[i] = -1;
+            }
           }
         }
       }

@@ -453,19 +453,33 @@ bool Scene::intersect_non_triangle(uint32_t slot, const Ray& ray, double& tmax, 
   return true;
 }
 
+// Every cache line a leaf's records touch.
+inline void Scene::prefetch_leaf(uint32_t first, uint32_t count) const {
+  const uintptr_t end = reinterpret_cast<uintptr_t>(&leaf_prims_[first] + count);
+  for (uintptr_t p = reinterpret_cast<uintptr_t>(&leaf_prims_[first]) & ~uintptr_t(63); p < end; p += 64)
+    prefetch(reinterpret_cast<const void*>(p));
+}
+
 bool Scene::intersect(const Ray& ray, Hit& hit, double tmax) const {
   Hit scratch;
   bvh_.closest(
       ray.origin, ray.direction, tmax, [&](uint32_t slot, double& t) { return intersect_slot(slot, ray, t, scratch); },
-      [&](uint32_t first, uint32_t count) {  // every cache line the leaf's records touch
-        const uintptr_t end = reinterpret_cast<uintptr_t>(&leaf_prims_[first] + count);
-        for (uintptr_t p = reinterpret_cast<uintptr_t>(&leaf_prims_[first]) & ~uintptr_t(63); p < end; p += 64)
-          prefetch(reinterpret_cast<const void*>(p));
-      });
+      [&](uint32_t first, uint32_t count) { prefetch_leaf(first, count); });
   if (!scratch.found()) return false;
   hit = scratch;
   fill_hit(ray, hit, scratch.uv.x, scratch.uv.y);
   return true;
+}
+
+void Scene::intersect_many(const Ray* rays, size_t count, Hit* hits) const {
+  for (size_t i = 0; i < count; ++i) hits[i] = Hit{};
+  bvh_.closest_many(
+      count, [&](size_t i) -> const Ray& { return rays[i]; },
+      [&](size_t i, uint32_t slot, double& t) { return intersect_slot(slot, rays[i], t, hits[i]); },
+      [&](uint32_t first, uint32_t n) { prefetch_leaf(first, n); },
+      [&](size_t i) {
+        if (hits[i].found()) fill_hit(rays[i], hits[i], hits[i].uv.x, hits[i].uv.y);
+      });
 }
 
 bool Scene::occluded(const Ray& ray, double distance) const {

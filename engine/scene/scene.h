@@ -82,6 +82,10 @@ class Scene {
 
   // Closest hit with 0 < t < tmax; fills the hit record.
   bool intersect(const Ray& ray, Hit& hit, double tmax = kInf) const;
+  // Closest hits of `count` rays (t > 0), the same as intersect() ray by ray,
+  // but several rays' traversals interleaved to overlap their cache misses
+  // (Bvh::closest_many). A miss leaves hits[i].found() false.
+  void intersect_many(const Ray* rays, size_t count, Hit* hits) const;
   // Is anything in the way over (0, distance)?
   bool occluded(const Ray& ray, double distance) const;
 
@@ -133,6 +137,7 @@ class Scene {
   // records the slot in scratch.primitive (fill_hit turns it into the id).
   bool intersect_slot(uint32_t slot, const Ray& ray, double& tmax, Hit& scratch) const;
   bool intersect_non_triangle(uint32_t slot, const Ray& ray, double& tmax, Hit& scratch) const;
+  void prefetch_leaf(uint32_t first, uint32_t count) const;
   void fill_hit(const Ray& ray, Hit& hit, double b1, double b2) const;
 
   std::vector<Material> materials_;

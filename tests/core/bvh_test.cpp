@@ -96,6 +96,35 @@ TEST(Bvh, AnyHitAgreesWithClosest) {
   }
 }
 
+// Interleaved walks (closest_many) give each ray exactly what a walk on its
+// own gives, for batches smaller and larger than the number of walks in
+// flight, empty and tiny trees, and rays that take the brute-force path.
+TEST(Bvh, InterleavedWalksMatchOneAtATime) {
+  Rng rng(4, 4, 4);
+  for (int triangles : {0, 1, 3, 50, 3000}) {
+    TriangleSoup soup;
+    for (int i = 0; i < triangles; ++i)
+      soup.tris.push_back({random_point(rng, 1.0), random_point(rng, 0.2), random_point(rng, 0.2)});
+    soup.build();
+    for (int count : {0, 1, Bvh::kInterleavedRays - 1, Bvh::kInterleavedRays + 1, 2000}) {
+      std::vector<Ray> rays;
+      for (int i = 0; i < count; ++i) {
+        Ray r = random_ray(rng, 1.0);
+        if (i % 97 == 5) r.origin = Vec3(0.0, 0.0, 1e38);  // beyond the float slab test
+        if (i % 97 == 6) r.origin = Vec3(0.0, 0.0, 1e38), r.direction = Vec3(0, 0, -1);
+        rays.push_back(r);
+      }
+      const auto many = soup.many_hits(rays);
+      int hits = 0;
+      for (int i = 0; i < count; ++i) {
+        ASSERT_EQ(many[i], soup.bvh_hit(rays[i])) << triangles << " triangles, " << count << " rays, ray " << i;
+        hits += many[i].second >= 0;
+      }
+      if (triangles >= 3000 && count >= 100) EXPECT_GT(hits, count / 10);
+    }
+  }
+}
+
 TEST(Bvh, RejectsNonFiniteBoxes) {
   Bvh bvh;
   Aabb bad;

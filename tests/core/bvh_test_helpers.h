@@ -43,6 +43,26 @@ struct TriangleSoup {
     });
     return {best >= 0 ? tmax : kInf, best};
   }
+  // bvh_hit for each ray, through the interleaved walks; checks that each
+  // ray is reported done exactly once.
+  std::vector<std::pair<double, int>> many_hits(const std::vector<Ray>& rays) const {
+    std::vector<std::pair<double, int>> out(rays.size(), {kInf, -1});
+    std::vector<int> done(rays.size(), 0);
+    bvh.closest_many(
+        rays.size(), [&](size_t i) -> const Ray& { return rays[i]; },
+        [&](size_t i, uint32_t slot, double& tm) {
+          const uint32_t p = bvh.prim_order()[slot];
+          double t, b1, b2;
+          if (!intersect_triangle(tris[p], rays[i], tm, t, b1, b2)) return false;
+          tm = t;
+          out[i] = {t, static_cast<int>(p)};
+          return true;
+        },
+        NoPrefetch{}, [&](size_t i) { ++done[i]; });
+    for (size_t i = 0; i < rays.size(); ++i)
+      if (done[i] != 1) out[i] = {-1.0, -2};  // never a real result
+    return out;
+  }
   std::pair<double, int> brute_hit(const Ray& r) const {
     double tmax = kInf;
     int best = -1;
