@@ -92,15 +92,19 @@ BvhRay::BvhRay(const Vec3& origin, const Vec3& dir) {
     const bool positive = !std::signbit(dir[a]);
     // A zero or tiny component gives +-inf (by its sign), handled in the slab test.
     const double inv_d = 1.0 / dir[a];
-    inv[a] = std::fabs(inv_d) <= FLT_MAX ? static_cast<float>(inv_d) : (positive ? kFloatInf : -kFloatInf);
-    near[a] = 2 * a + (positive ? 0 : 1);
-    far[a] = 2 * a + (positive ? 1 : 0);
+    const float inv_f = std::fabs(inv_d) <= FLT_MAX ? static_cast<float>(inv_d) : (positive ? kFloatInf : -kFloatInf);
+    constexpr uint32_t kRow = sizeof(BvhNode::box[0]);
+    near[a] = (2 * a + (positive ? 0 : 1)) * kRow;
+    far[a] = (2 * a + (positive ? 1 : 0)) * kRow;
     // Entry distances must not come out too large: moving towards +a that
     // means an origin no smaller than the true one; exit distances the reverse.
     // Both roundings, then a pick by index: the sign is random per ray.
     const float rounded[2] = {float_above(origin[a]), float_below(origin[a])};
-    org_near[a] = rounded[positive ? 0 : 1];
-    org_far[a] = rounded[positive ? 1 : 0];
+    for (int k = 0; k < 4; ++k) {
+      inv[a][k] = inv_f;
+      org_near[a][k] = rounded[positive ? 0 : 1];
+      org_far[a][k] = rounded[positive ? 1 : 0];
+    }
   }
 }
 

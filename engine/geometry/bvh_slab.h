@@ -48,15 +48,23 @@ struct alignas(64) BvhNode {
 };
 static_assert(sizeof(BvhNode) == 128, "BvhNode is two cache lines");
 
-// Per-ray constants of the slab test.
+// Per-ray constants of the slab test, laid out so that a node's test loads
+// them as they are: each value repeated in four lanes, and the rows as byte
+// offsets into the node.
 struct BvhRay {
   BvhRay() = default;
   BvhRay(const Vec3& origin, const Vec3& dir);
-  float org_near[3], org_far[3];  // origin rounded for entry / exit planes
-  float inv[3];                   // 1 / direction, +-inf for a zero component
-  int near[3], far[3];            // box rows entered / left first on each axis
-  bool in_range;                  // origin within kFloatRange
+  alignas(16) float org_near[3][4];  // origin rounded for entry planes ...
+  alignas(16) float org_far[3][4];   // ... and for exit planes
+  alignas(16) float inv[3][4];       // 1 / direction, +-inf for a zero component
+  uint32_t near[3], far[3];          // byte offsets of the box rows entered / left first on each axis
+  bool in_range;                     // origin within kFloatRange
 };
+
+// The box row (4 children) at a byte offset from BvhRay::near or far.
+inline const float* box_row(const BvhNode& n, uint32_t offset) {
+  return reinterpret_cast<const float*>(reinterpret_cast<const char*>(n.box) + offset);
+}
 
 // Tests a node's four boxes against (0, tmax] (tmax rounded up to float).
 // Returns a bit mask of the children hit and writes their entry distances.
@@ -66,9 +74,9 @@ inline unsigned intersect_children(const BvhNode& n, const BvhRay& r, float tmax
 #if defined(__SSE2__)
   __m128 t0 = _mm_setzero_ps(), t1 = _mm_set1_ps(tmax);
   for (int a = 0; a < 3; ++a) {
-    const __m128 inv = _mm_set1_ps(r.inv[a]);
-    const __m128 tn = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.box[r.near[a]]), _mm_set1_ps(r.org_near[a])), inv);
-    const __m128 tf = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.box[r.far[a]]), _mm_set1_ps(r.org_far[a])), inv);
+    const __m128 inv = _mm_load_ps(r.inv[a]);
+    const __m128 tn = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(box_row(n, r.near[a])), _mm_load_ps(r.org_near[a])), inv);
+    const __m128 tf = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(box_row(n, r.far[a])), _mm_load_ps(r.org_far[a])), inv);
     t0 = _mm_max_ps(tn, t0);  // a NaN in tn or tf keeps the running bound
     t1 = _mm_min_ps(tf, t1);
   }
@@ -79,8 +87,8 @@ inline unsigned intersect_children(const BvhNode& n, const BvhRay& r, float tmax
   float t0[4] = {0.0f, 0.0f, 0.0f, 0.0f}, t1[4] = {tmax, tmax, tmax, tmax};
   for (int a = 0; a < 3; ++a) {
     for (int k = 0; k < 4; ++k) {
-      const float tn = (n.box[r.near[a]][k] - r.org_near[a]) * r.inv[a];
-      const float tf = (n.box[r.far[a]][k] - r.org_far[a]) * r.inv[a];
+      const float tn = (box_row(n, r.near[a])[k] - r.org_near[a][0]) * r.inv[a][0];
+      const float tf = (box_row(n, r.far[a])[k] - r.org_far[a][0]) * r.inv[a][0];
       t0[k] = tn > t0[k] ? tn : t0[k];  // false for NaN: the bound stays
       t1[k] = tf < t1[k] ? tf : t1[k];
     }
