@@ -6,6 +6,7 @@
 
 #include <atomic>
 #include <thread>
+#include <vector>
 
 namespace py = pybind11;
 using namespace ppm;
@@ -239,18 +240,18 @@ py::dict intersect(Scene& s, const py::object& origins, const py::object& direct
   int64_t* op = object.mutable_data();
   {
     py::gil_scoped_release release;
-    // Rays are read straight from the input arrays (no copied Ray vector) and
-    // handed out in chunks from a shared counter, so a thread slowed by other
-    // load on the machine does not hold the whole batch up.
+    // Rays are handed out in chunks from a shared counter, so a thread slowed
+    // by other load on the machine does not hold the whole batch up.
     constexpr size_t kChunk = 4096;
     const unsigned hw = threads > 0 ? unsigned(threads) : std::max(1u, std::thread::hardware_concurrency());
     const unsigned workers = std::max(1u, std::min(hw, unsigned(n / kChunk + 1)));
     std::atomic<size_t> next{0};
     auto work = [&]() {
-      // Cast in batches, so the scene can interleave the rays' traversals.
+      // Cast in batches, so the scene can interleave the rays' traversals
+      // (on the heap: 40 KB would crowd a small thread stack).
       constexpr size_t kBatch = 256;
-      Ray rays[kBatch];
-      Hit hits[kBatch];
+      std::vector<Ray> rays(kBatch);
+      std::vector<Hit> hits(kBatch);
       for (size_t begin; (begin = next.fetch_add(kChunk)) < n;) {
         const size_t end = std::min(n, begin + kChunk);
         for (size_t first = begin; first < end; first += kBatch) {
@@ -260,7 +261,7 @@ py::dict intersect(Scene& s, const py::object& origins, const py::object& direct
             unit(Vec3(dp_in[3 * i], dp_in[3 * i + 1], dp_in[3 * i + 2]), rays[b].direction);  // checked above
             rays[b].origin = Vec3(op_in[3 * i], op_in[3 * i + 1], op_in[3 * i + 2]);
           }
-          s.intersect_many(rays, count, hits);
+          s.intersect_many(rays.data(), count, hits.data());
           for (size_t b = 0; b < count; ++b) {
             const size_t i = first + b;
             const Hit& h = hits[b];

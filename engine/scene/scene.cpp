@@ -454,7 +454,7 @@ bool Scene::intersect_non_triangle(uint32_t slot, const Ray& ray, double& tmax, 
 }
 
 // Every cache line a leaf's records touch.
-inline void Scene::prefetch_leaf(uint32_t first, uint32_t count) const {
+void Scene::prefetch_leaf(uint32_t first, uint32_t count) const {
   const uintptr_t end = reinterpret_cast<uintptr_t>(&leaf_prims_[first] + count);
   for (uintptr_t p = reinterpret_cast<uintptr_t>(&leaf_prims_[first]) & ~uintptr_t(63); p < end; p += 64)
     prefetch(reinterpret_cast<const void*>(p));
