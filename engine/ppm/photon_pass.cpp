@@ -4,6 +4,7 @@
 #include "ppm/parallel.h"
 #include "ppm/photon_tracer.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstring>
 
@@ -130,19 +131,20 @@ bool PhotonPass::run_hit_point_index(const Grid& grid, const Scene& scene, const
     Vec3f* tau = tau_acc_[block].data();
     uint64_t deposits = 0;
     const uint64_t first = photons * block / blocks, last = photons * (block + 1) / blocks;
-    for (uint64_t i = first; i < last; ++i) {
-      if ((i - first) % kPhotonChunk == 0 && cancel.load(std::memory_order_relaxed)) return;
-      Rng rng(settings_.seed, kPhotonStream + pass, i);
-      deposits += trace_photon(scene, lights, settings_, rng,
-                               [&](const Vec3& pos, const Vec3& dir, const Vec3& normal, const Color& flux) {
-        const Vec3f d(dir), nf(normal), f(flux);
-        grid.for_each_candidate_at(pos, [&](uint32_t h) {
-          Vec3f w;
-          if (!photon_weight(scene, hp, h, pos, d, nf, w)) return;
-          ++m[h];
-          tau[h] += w * f;
-        });
-      });
+    for (uint64_t begin = first; begin < last; begin += kPhotonChunk) {
+      if (cancel.load(std::memory_order_relaxed)) return;
+      deposits += trace_photons(
+          scene, lights, settings_, begin, std::min(last, begin + kPhotonChunk),
+          [&](uint64_t i) { return Rng(settings_.seed, kPhotonStream + pass, i); },
+          [&](const Vec3& pos, const Vec3& dir, const Vec3& normal, const Color& flux) {
+            const Vec3f d(dir), nf(normal), f(flux);
+            grid.for_each_candidate_at(pos, [&](uint32_t h) {
+              Vec3f w;
+              if (!photon_weight(scene, hp, h, pos, d, nf, w)) return;
+              ++m[h];
+              tau[h] += w * f;
+            });
+          });
     }
     deposits_[block] = deposits;
   };
@@ -177,13 +179,12 @@ bool PhotonPass::run_photon_index(Grid& grid, const Scene& scene, const LightSam
   auto trace = [&](int, size_t chunk) {
     auto& buffer = chunk_photons_[chunk];
     buffer.clear();
-    for (uint64_t i = chunk * kPhotonChunk; i < std::min<uint64_t>(photons, (chunk + 1) * kPhotonChunk); ++i) {
-      Rng rng(settings_.seed, kPhotonStream + pass, i);
-      trace_photon(scene, lights, settings_, rng,
-                   [&](const Vec3& pos, const Vec3& dir, const Vec3& normal, const Color& flux) {
-        buffer.push_back(Photon{pos, Vec3f(dir), Vec3f(normal), Vec3f(flux)});
-      });
-    }
+    trace_photons(
+        scene, lights, settings_, chunk * kPhotonChunk, std::min<uint64_t>(photons, (chunk + 1) * kPhotonChunk),
+        [&](uint64_t i) { return Rng(settings_.seed, kPhotonStream + pass, i); },
+        [&](const Vec3& pos, const Vec3& dir, const Vec3& normal, const Color& flux) {
+          buffer.push_back(Photon{pos, Vec3f(dir), Vec3f(normal), Vec3f(flux)});
+        });
   };
   if (!parallel_chunks(threads_, chunks, trace, cancel, poll, settings_.progress_interval)) return false;
   // The grid's input: the positions, concatenated in chunk order (each chunk

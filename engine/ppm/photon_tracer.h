@@ -1,6 +1,13 @@
-// One photon path: emitted from a light chosen by flux, scattered by the BSDFs
-// with Russian roulette, deposited at every non-specular surface it reaches
-// (after its first bounce when direct light is sampled separately).
+// Photon paths: emitted from a light chosen by flux, scattered by the BSDFs
+// with Russian roulette, deposited at every non-specular surface they reach
+// (after the first bounce when direct light is sampled separately).
+//
+// In scenes whose BVH outgrows the caches (Scene::interleaves_walks), paths
+// are traced a wave at a time: the next ray of every live path in the wave is
+// cast together (Scene::intersect_many), so their BVH walks overlap each
+// other's cache misses, then every path takes its bounce. A photon's random
+// numbers and its path are the same as traced alone; only the order in which
+// different photons deposit changes.
 #pragma once
 
 #include "math/rng.h"
@@ -8,43 +15,91 @@
 #include "scene/light_sampler.h"
 #include "scene/scene.h"
 
+#include <cstdint>
+
 namespace ppm {
 
-// `deposit(position, travel_direction, normal, flux)`, where `normal` is the
-// surface's shading normal turned to the side the photon arrived on (as hit
-// points turn theirs to the viewer); returns the number of deposits.
-template <class Deposit>
-uint32_t trace_photon(const Scene& scene, const LightSampler& lights, const Settings& settings, Rng& rng,
-                      Deposit&& deposit) {
+// A photon between bounces: the ray it travels next and the flux it carries.
+struct PhotonPath {
+  Rng rng{0, 0, 0};
+  Color flux;
+  Ray ray;
+  int bounce;
+};
+
+// Emits a photon from a light picked in proportion to its flux.
+inline PhotonPath emit_photon_path(const Scene& scene, const LightSampler& lights, Rng rng) {
   double pick_pdf;
   const Light& light = scene.lights()[lights.pick_emitter(rng.uniform(), pick_pdf)];
   const double u1 = rng.uniform(), u2 = rng.uniform(), u3 = rng.uniform(), u4 = rng.uniform(), u5 = rng.uniform();
   const PhotonEmission e = emit_photon(light, u1, u2, u3, u4, u5);
-  Color flux = e.flux / pick_pdf;
-  Ray ray = e.ray;
+  return PhotonPath{rng, e.flux / pick_pdf, e.ray, 0};
+}
+
+// Takes the path one bounce on, given what its ray hit (nullptr: nothing):
+// deposits, then scatters. False when the path ends.
+// `deposit(position, travel_direction, normal, flux)`, where `normal` is the
+// surface's shading normal turned to the side the photon arrived on (as hit
+// points turn theirs to the viewer).
+template <class Deposit>
+bool bounce_photon(const Scene& scene, const Settings& settings, PhotonPath& p, const Hit* hit, Deposit&& deposit,
+                   uint64_t& deposits) {
+  if (hit == nullptr) return false;
+  const Material& m = scene.material(hit->material);
+  if (is_black(m)) return false;
+  const Vec3 wo = -p.ray.direction;
+  const SurfacePoint sp = scene.surface_point(*hit);
   const bool deposit_direct = settings.direct_light == DirectLight::Photons;
-  uint32_t deposits = 0;
-  for (int bounce = 0; bounce < settings.max_bounces; ++bounce) {
-    Hit hit;
-    if (!scene.intersect(ray, hit)) break;
-    const Material& m = scene.material(hit.material);
-    if (is_black(m)) break;
-    const Vec3 wo = -ray.direction;
-    const SurfacePoint sp = scene.surface_point(hit);
-    if (!is_specular(m) && (bounce > 0 || deposit_direct)) {
-      deposit(hit.position, ray.direction, glm::dot(wo, sp.ng) >= 0.0 ? sp.ns : -sp.ns, flux);
-      ++deposits;
-    }
-    BsdfSample s;
-    const double v1 = rng.uniform(), v2 = rng.uniform(), v3 = rng.uniform();
-    if (!bsdf_sample(m, sp, wo, v1, v2, v3, s)) break;
-    // Russian roulette on the scattering weight keeps the flux per photon steady.
-    const double survive = std::fmin(1.0, max_component(s.weight));
-    if (!(survive > 0.0) || rng.uniform() >= survive) break;
-    flux *= s.weight / survive;
-    ray = Ray{offset_point(hit.position, hit.geometric_normal, s.wi, scene.offset_floor()), s.wi};
+  if (!is_specular(m) && (p.bounce > 0 || deposit_direct)) {
+    deposit(hit->position, p.ray.direction, glm::dot(wo, sp.ng) >= 0.0 ? sp.ns : -sp.ns, p.flux);
+    ++deposits;
   }
-  return deposits;
+  BsdfSample s;
+  const double v1 = p.rng.uniform(), v2 = p.rng.uniform(), v3 = p.rng.uniform();
+  if (!bsdf_sample(m, sp, wo, v1, v2, v3, s)) return false;
+  // Russian roulette on the scattering weight keeps the flux per photon steady.
+  const double survive = std::fmin(1.0, max_component(s.weight));
+  if (!(survive > 0.0) || p.rng.uniform() >= survive) return false;
+  p.flux *= s.weight / survive;
+  p.ray = Ray{offset_point(hit->position, hit->geometric_normal, s.wi, scene.offset_floor()), s.wi};
+  return ++p.bounce < settings.max_bounces;
+}
+
+// Traces photons [first, last), photon i with the random numbers of
+// `rng_of(i)`, kPhotonWave paths at a time; returns the number of deposits.
+constexpr int kPhotonWave = 64;
+
+template <class RngOf, class Deposit>
+uint64_t trace_photons(const Scene& scene, const LightSampler& lights, const Settings& settings, uint64_t first,
+                       uint64_t last, RngOf&& rng_of, Deposit&& deposit) {
+  uint64_t deposits = 0;
+  if (settings.max_bounces <= 0) return deposits;
+  if (!scene.interleaves_walks()) {  // a BVH in cache gains nothing from waves: one photon after the other
+    for (uint64_t i = first; i < last; ++i) {
+      PhotonPath p = emit_photon_path(scene, lights, rng_of(i));
+      Hit hit;
+      while (scene.intersect(p.ray, hit) && bounce_photon(scene, settings, p, &hit, deposit, deposits)) {
+      }
+    }
+    return deposits;
+  }
+  PhotonPath paths[kPhotonWave];
+  Ray rays[kPhotonWave];
+  Hit hits[kPhotonWave];
+  int live = 0;
+  uint64_t next = first;
+  for (;;) {
+    for (; live < kPhotonWave && next < last; ++next) paths[live++] = emit_photon_path(scene, lights, rng_of(next));
+    if (live == 0) return deposits;
+    for (int k = 0; k < live; ++k) rays[k] = paths[k].ray;
+    scene.intersect_many(rays, live, hits);
+    int kept = 0;
+    for (int k = 0; k < live; ++k) {
+      const Hit* hit = hits[k].found() ? &hits[k] : nullptr;
+      if (bounce_photon(scene, settings, paths[k], hit, deposit, deposits)) paths[kept++] = paths[k];
+    }
+    live = kept;
+  }
 }
 
 }  // namespace ppm

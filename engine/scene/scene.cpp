@@ -340,6 +340,7 @@ void Scene::build() {
     p.index = ref.index;
     p.tri = ref.kind == PrimitiveKind::Triangle ? triangles_[ref.index] : TrianglePrim{};
   }
+  interleave_ = bvh_.nodes().size() * sizeof(BvhNode) + leaf_prims_.size() * sizeof(LeafPrim) > kInterleaveBytes;
   const Aabb bounds = bvh_.bounds();
   offset_floor_ = bounds.empty() ? 1e-12 : 1e-10 * max_abs(bounds.extent()) + 1e-300;
 
@@ -472,6 +473,13 @@ bool Scene::intersect(const Ray& ray, Hit& hit, double tmax) const {
 }
 
 void Scene::intersect_many(const Ray* rays, size_t count, Hit* hits) const {
+  if (!interleave_) {  // the BVH stays in cache: nothing to overlap, so no bookkeeping for it
+    for (size_t i = 0; i < count; ++i) {
+      hits[i] = Hit{};
+      intersect(rays[i], hits[i]);
+    }
+    return;
+  }
   for (size_t i = 0; i < count; ++i) hits[i] = Hit{};
   bvh_.closest_many(
       count, [&](size_t i) -> const Ray& { return rays[i]; },

@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <vector>
 
 namespace ppm {
@@ -14,7 +15,8 @@ namespace {
 
 Vec3 unit_cube(Rng& rng) { return Vec3(rng.uniform(), rng.uniform(), rng.uniform()) - Vec3(0.5); }
 
-Scene mixed_scene(Rng& rng) {
+// `triangles` small random triangles, 30 spheres and a Bézier revolve.
+Scene mixed_scene(Rng& rng, uint32_t triangles) {
   Scene scene;
   Material white;
   white.name = "white";
@@ -24,9 +26,10 @@ Scene mixed_scene(Rng& rng) {
   scene.add_material(red);
   MeshInput mesh;
   mesh.name = "soup";
-  for (uint32_t i = 0; i < 2000; ++i) {
+  const double size = 0.3 * std::sqrt(2000.0 / triangles);  // about the same cover for any count
+  for (uint32_t i = 0; i < triangles; ++i) {
     const Vec3 c = 4.0 * unit_cube(rng);
-    for (int k = 0; k < 3; ++k) mesh.positions.push_back(c + 0.3 * unit_cube(rng));
+    for (int k = 0; k < 3; ++k) mesh.positions.push_back(c + size * unit_cube(rng));
     for (uint32_t k = 0; k < 3; ++k) mesh.triangles.push_back(3 * i + k);
     mesh.uvs.push_back(Vec2(rng.uniform(), rng.uniform()));
     mesh.uvs.push_back(Vec2(rng.uniform(), rng.uniform()));
@@ -44,9 +47,8 @@ Scene mixed_scene(Rng& rng) {
   return scene;
 }
 
-TEST(SceneIntersectMany, SameHitsAsOneRayAtATime) {
-  Rng rng(8, 1, 8);
-  const Scene scene = mixed_scene(rng);
+// Checks every ray of a batch against the same ray cast alone.
+void expect_same_as_alone(const Scene& scene, Rng& rng) {
   std::vector<Ray> rays;
   for (int i = 0; i < 5000; ++i) {
     const Vec3 o = 10.0 * unit_cube(rng);
@@ -75,6 +77,18 @@ TEST(SceneIntersectMany, SameHitsAsOneRayAtATime) {
   EXPECT_GT(found, 2500);
   EXPECT_LT(found, 5000);
   for (int object = 1; object <= 3; ++object) EXPECT_GT(objects[object], 20) << "object " << object;
+}
+
+TEST(SceneIntersectMany, SameHitsAsOneRayAtATime) {
+  Rng rng(8, 1, 8);
+  // Large enough for interleaved walks (kInterleaveBytes), and small enough
+  // for one ray at a time: both must agree with intersect().
+  const Scene large = mixed_scene(rng, 40000);
+  ASSERT_TRUE(large.interleaves_walks());
+  expect_same_as_alone(large, rng);
+  const Scene small = mixed_scene(rng, 2000);
+  ASSERT_FALSE(small.interleaves_walks());
+  expect_same_as_alone(small, rng);
 }
 
 TEST(SceneIntersectMany, EmptySceneAndEmptyBatch) {
