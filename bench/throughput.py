@@ -1,6 +1,6 @@
 """Core throughput on the Cornell box with a glass and a mirror sphere at 640x480.
 
-    .venv/bin/python bench/throughput.py [--quick] [--parts eye photons variants memory]
+    .venv/bin/python bench/throughput.py [--quick] [--parts eye photons variants memory large]
 
 Prints markdown tables:
 - eye: eye rays per second of the eye pass on 1 and 2 threads (median of 3);
@@ -10,7 +10,11 @@ Prints markdown tables:
 - variants: the other gather organisation and grid, on 2 threads;
 - memory: resident memory after passes 1, 100, 1,000 and 10,000 of a smaller
   render (160x120, 2,000 photons per pass, so 10,000 passes take about two
-  minutes), in a fresh process so the peak is its own.
+  minutes), in a fresh process so the peak is its own;
+- large: photon tracing alone (no index, no gather) on a scene whose BVH does
+  not fit in the caches: the 10^6-triangle terrain of bench/raycast.py under a
+  point light, 100,000 photons per pass, 1 and 2 threads (median of --repeats).
+  This is where photons are traced in waves (see engine/ppm/photon_tracer.h).
 """
 
 from __future__ import annotations
@@ -63,6 +67,30 @@ def photon_throughput(threads, photons, passes, **settings):
             "hit_points": s0["hit_points"]}
 
 
+def large_scene():
+    """The terrain of bench/raycast.py (10^6 triangles) under a point light."""
+    import numpy as np
+    import raycast
+
+    vertices, tris = raycast.terrain(600, 280_000, np.random.default_rng(raycast.SEED))
+    scene = ppm_core.Scene()
+    scene.add_material("ground", base_color=(0.7, 0.7, 0.7))
+    scene.add_mesh("terrain", vertices.astype(float), tris)
+    lo, hi = vertices.min(0), vertices.max(0)
+    centre, size = (lo + hi) / 2, float((hi - lo).max())
+    scene.add_light("point", power=1000.0, position=tuple(centre + (0.0, 0.0, size)))
+    scene.set_camera(core_scenes.look_at(tuple(centre + (0.0, -size, size)), tuple(centre)), 160, 120)
+    return scene
+
+
+def large_trace_seconds(scene, threads, passes=3):
+    r = ppm_core.Renderer(scene, threads=threads, photons_per_pass=100_000, direct_light="sampled", seed=3)
+    r.run(passes=1)  # first pass (buffer growth) not timed
+    s0 = r.stats()
+    r.run(passes=passes)
+    return (r.stats()["seconds"]["photon_trace"] - s0["seconds"]["photon_trace"]) / passes
+
+
 def median_run(runs):
     """Per figure, the median over runs of photon_throughput."""
     return {"paths_per_s": statistics.median(r["paths_per_s"] for r in runs),
@@ -87,8 +115,8 @@ def memory_child(marks):
 def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("--quick", action="store_true", help="fewer passes (a smoke run)")
-    parser.add_argument("--parts", nargs="+", default=["eye", "photons", "variants", "memory"],
-                        choices=["eye", "photons", "variants", "memory"])
+    parser.add_argument("--parts", nargs="+", default=["eye", "photons", "variants", "memory", "large"],
+                        choices=["eye", "photons", "variants", "memory", "large"])
     parser.add_argument("--repeats", type=int, default=3, help="photon runs per thread count (median)")
     parser.add_argument("--memory-child", nargs="+", type=int, help=argparse.SUPPRESS)
     args = parser.parse_args()
@@ -134,6 +162,15 @@ def main():
             for grid in ("quantile", "hash"):
                 r = photon_throughput(2, photons, passes, gather=gather, grid=grid)
                 print(f"| {gather} | {grid} | {r['paths_per_s'] / 1e6:.3f} M | {r['wall_per_pass']:.3f} |", flush=True)
+        print()
+
+    if "large" in args.parts:
+        scene = large_scene()
+        print("| threads | photon_trace s/pass, 10^6-triangle terrain, 100,000 photons |")
+        print("|---|---|")
+        for t in (1, 2):
+            print(f"| {t} | {statistics.median(large_trace_seconds(scene, t) for _ in range(args.repeats)):.3f} |",
+                  flush=True)
         print()
 
     if "memory" in args.parts:
