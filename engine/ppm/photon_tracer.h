@@ -37,7 +37,7 @@ inline PhotonPath emit_photon_path(const Scene& scene, const LightSampler& light
 }
 
 // Takes the path one bounce on, given what its ray hit (nullptr: nothing):
-// deposits, then scatters. False when the path ends.
+// deposits (counted in `deposits`), then scatters. False when the path ends.
 // `deposit(position, travel_direction, normal, flux)`, where `normal` is the
 // surface's shading normal turned to the side the photon arrived on (as hit
 // points turn theirs to the viewer).
@@ -65,10 +65,10 @@ bool bounce_photon(const Scene& scene, const Settings& settings, PhotonPath& p, 
   return ++p.bounce < settings.max_bounces;
 }
 
-// Traces photons [first, last), photon i with the random numbers of
-// `rng_of(i)`, kPhotonWave paths at a time; returns the number of deposits.
-constexpr int kPhotonWave = 64;
+constexpr int kPhotonWave = 64;  // paths live at a time in a wave
 
+// Traces photons [first, last), photon i with the random numbers of
+// `rng_of(i)`; returns the number of deposits.
 template <class RngOf, class Deposit>
 uint64_t trace_photons(const Scene& scene, const LightSampler& lights, const Settings& settings, uint64_t first,
                        uint64_t last, RngOf&& rng_of, Deposit&& deposit) {
