@@ -473,14 +473,11 @@ bool Scene::intersect(const Ray& ray, Hit& hit, double tmax) const {
 }
 
 void Scene::intersect_many(const Ray* rays, size_t count, Hit* hits) const {
+  for (size_t i = 0; i < count; ++i) hits[i] = Hit{};
   if (!interleave_) {  // the BVH stays in cache: nothing to overlap, so no bookkeeping for it
-    for (size_t i = 0; i < count; ++i) {
-      hits[i] = Hit{};
-      intersect(rays[i], hits[i]);
-    }
+    for (size_t i = 0; i < count; ++i) intersect(rays[i], hits[i]);
     return;
   }
-  for (size_t i = 0; i < count; ++i) hits[i] = Hit{};
   bvh_.closest_many(
       count, [&](size_t i) -> const Ray& { return rays[i]; },
       [&](size_t i, uint32_t slot, double& t) { return intersect_slot(slot, rays[i], t, hits[i]); },
