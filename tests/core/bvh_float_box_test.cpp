@@ -9,6 +9,7 @@
 #include "math/float_bounds.h"
 #include "math/rng.h"
 #include "bvh_test_helpers.h"
+#include "random_test_helpers.h"
 
 #include <gtest/gtest.h>
 
@@ -16,8 +17,6 @@
 
 namespace ppm {
 namespace {
-
-Vec3 unit_cube(Rng& rng) { return Vec3(rng.uniform(), rng.uniform(), rng.uniform()) - Vec3(0.5); }
 
 // Random small triangles in a cube of side `scale` centred at `centre`.
 TriangleSoup random_soup(Rng& rng, const Vec3& centre, double scale, int count) {

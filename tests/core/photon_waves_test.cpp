@@ -3,6 +3,7 @@
 // traced alone, bounce by bounce; only the order of deposits may differ.
 #include "ppm/photon_tracer.h"
 #include "math/rng.h"
+#include "random_test_helpers.h"
 
 #include <gtest/gtest.h>
 
@@ -15,8 +16,6 @@ namespace ppm {
 namespace {
 
 using Deposit = std::array<double, 12>;  // position, direction, normal, flux
-
-Vec3 unit_cube(Rng& rng) { return Vec3(rng.uniform(), rng.uniform(), rng.uniform()) - Vec3(0.5); }
 
 // A closed room of 4 large quads plus a soup of 40,000 small triangles (a
 // BVH beyond kInterleaveBytes), a glass ball and a point light.

@@ -4,6 +4,7 @@
 // whole record) and for rays that hit nothing.
 #include "scene/scene.h"
 #include "math/rng.h"
+#include "random_test_helpers.h"
 
 #include <gtest/gtest.h>
 
@@ -12,8 +13,6 @@
 
 namespace ppm {
 namespace {
-
-Vec3 unit_cube(Rng& rng) { return Vec3(rng.uniform(), rng.uniform(), rng.uniform()) - Vec3(0.5); }
 
 // `triangles` small random triangles, 30 spheres and a Bézier revolve.
 Scene mixed_scene(Rng& rng, uint32_t triangles) {
