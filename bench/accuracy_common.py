@@ -26,6 +26,7 @@ add-on exports, with the core's `Scene.intersect`):
 
 from __future__ import annotations
 
+import json
 import os
 import sys
 import tempfile
@@ -52,6 +53,13 @@ WORKDIR = tempfile.mkdtemp(prefix="ppm_accuracy_")
 
 
 # ---------------------------------------------------------------- references
+
+def save_results(results, filename):
+    """Writes a full run's result rows, as JSON, to bench/plots/<filename>."""
+    os.makedirs(PLOTS_DIR, exist_ok=True)
+    with open(os.path.join(PLOTS_DIR, filename), "w") as f:
+        json.dump(results, f, indent=1)
+
 
 def reference_path(name, engine="ppm"):
     return os.path.join(REF_DIR, f"{name}_{engine}.exr")

@@ -27,7 +27,6 @@ minute (checks the script).
 from __future__ import annotations
 
 import argparse
-import json
 import os
 import sys
 
@@ -77,8 +76,7 @@ def main():
                           f"RMSE {row['rmse']:.4f}, rel. MSE {row['rel_mse']:.2e}", flush=True)
     os.makedirs(ac.PLOTS_DIR, exist_ok=True)
     if not args.quick:
-        with open(os.path.join(ac.PLOTS_DIR, "convergence.json"), "w") as f:
-            json.dump(results, f, indent=1)
+        ac.save_results(results, "convergence.json")
     print_tables(results)
     plot(results, os.path.join(ac.PLOTS_DIR, "convergence.png"))
 

@@ -27,7 +27,6 @@ run it on a quiet machine. --quick: 2 and 5 s (checks the script).
 from __future__ import annotations
 
 import argparse
-import json
 import os
 import sys
 
@@ -77,8 +76,7 @@ def main():
                     print(f"{name} vs {ref_name} ref.: {engine} {seconds:g} s (wall {wall:.1f} s): "
                           f"rel. MSE {row['rel_mse']:.2e}", flush=True)
     if not args.quick:
-        with open(os.path.join(ac.PLOTS_DIR, "equal_time.json"), "w") as f:
-            json.dump(results, f, indent=1)
+        ac.save_results(results, "equal_time.json")
     print_table(results)
     plot(results, os.path.join(ac.PLOTS_DIR, "equal_time.png"))
 
