@@ -324,7 +324,7 @@ def light_in_a_box(direct_light, **settings):
     fov = 0.8575560591178853
     xs = (np.arange(width) + 0.5 - width / 2) * (2 * math.tan(fov / 2) / width)
     ys = (height / 2 - np.arange(height) - 0.5) * (2 * math.tan(fov / 2) / width)
-    local = np.stack(np.meshgrid(xs, ys) + [-np.ones((height, width))], axis=-1).reshape(-1, 3)
+    local = np.stack([*np.meshgrid(xs, ys), -np.ones((height, width))], axis=-1).reshape(-1, 3)
     dirs = local @ camera[:3, :3].T
     seen = scene.intersect(np.tile(camera[:3, 3], (len(dirs), 1)), dirs)["object"].reshape(height, width)
     return finite_rgb(renderer), seen
