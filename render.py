@@ -20,7 +20,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 
 def make_core_importable():
     """Blender 3.4 from Debian has no numpy and no ppm_core: borrow this checkout's .venv (same Python 3.11)."""
-    for site in glob.glob(os.path.join(HERE, ".venv", "lib", "python3*", "site-packages")):
+    for site in glob.glob(os.path.join(HERE, ".venv", "lib", "python%d.%d" % sys.version_info[:2], "site-packages")):
         if site not in sys.path:
             sys.path.append(site)  # appended: Blender's own modules keep priority
 
@@ -40,12 +40,14 @@ def parse_arguments(argv, need_blend):
 
 
 def ensure_addon(bpy):
-    if hasattr(bpy.types.Scene, "ppm"):  # an installed PPM add-on is already registered
-        return
+    """The checkout's add-on, registered here, or None when an installed PPM add-on is active."""
+    if hasattr(bpy.types.Scene, "ppm"):
+        return None
     sys.path.insert(0, os.path.join(HERE, "addon"))
     import ppm_render
 
     ppm_render.register()
+    return ppm_render
 
 
 def configure(bpy, scene, args):
@@ -84,11 +86,15 @@ def render(argv, in_blender):
             raise ValueError(f"'{args.blend}' does not exist")
         bpy.ops.wm.open_mainfile(filepath=os.path.abspath(args.blend))
     make_core_importable()
-    ensure_addon(bpy)
-    scene = bpy.context.scene
-    output = configure(bpy, scene, args)
-    print(f"render.py: {bpy.data.filepath} -> {output} (Blender {bpy.app.version_string})", flush=True)
-    bpy.ops.render.render(write_still=True)  # the engine's report({'ERROR'}) raises RuntimeError here
+    addon = ensure_addon(bpy)
+    try:
+        scene = bpy.context.scene
+        output = configure(bpy, scene, args)
+        print(f"render.py: {bpy.data.filepath} -> {output} (Blender {bpy.app.version_string})", flush=True)
+        bpy.ops.render.render(write_still=True)  # the engine's report({'ERROR'}) raises RuntimeError here
+    finally:
+        if addon is not None:  # bpy 4.2 crashes and 4.5 hangs at exit while a script's classes are registered
+            addon.unregister()
     if not os.path.isfile(output):
         raise RuntimeError(f"Blender wrote no image to {output}")
     print(f"render.py: wrote {output}", flush=True)
