@@ -2,7 +2,11 @@
 standard Blender panels (dimensions, output, camera, light, material, world)
 opened to the PPM engine through their COMPAT_ENGINES sets."""
 
+import textwrap
+
 import bpy
+
+from . import core
 
 ENGINE = "PPM"
 
@@ -36,6 +40,17 @@ def _standard_panels():
             yield panel
 
 
+def draw_core_problem(layout):
+    """A red box with the reason when this Blender has no usable compiled core (renders would fail)."""
+    problem = core.problem()
+    if problem is None:
+        return
+    box = layout.box()
+    box.alert = True
+    for i, line in enumerate(textwrap.wrap(problem, 60)):
+        box.label(text=line, icon="ERROR" if i == 0 else "BLANK1")
+
+
 class PPMRenderPanel:
     bl_space_type = "PROPERTIES"
     bl_region_type = "WINDOW"
@@ -52,6 +67,7 @@ class RENDER_PT_ppm_sampling(PPMRenderPanel, bpy.types.Panel):
 
     def draw(self, context):
         layout = self.layout
+        draw_core_problem(layout)
         layout.use_property_split = True
         settings = context.scene.ppm
         col = layout.column()
