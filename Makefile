@@ -1,6 +1,8 @@
 # Thin wrappers: every target calls a real tool. `make test` and `make demo`
 # work on a fresh machine (they run the setup first).
 PY := .venv/bin/python
+# Python 3.13 with bpy 5.2: builds and tests the core for Blender 5.1 and later.
+PY313 := .venvs/bpy-5.2/bin/python
 ENGINE_SOURCES := $(shell find engine -name '*.cpp' -o -name '*.h') CMakeLists.txt pyproject.toml
 JOBS ?= $(shell nproc)
 
@@ -12,10 +14,14 @@ setup: .venv/.setup-done build
 	tools/setup.sh
 	touch $@
 
-# Build and install ppm_core into the virtual environment (Release, -O3).
-build: .venv/.ppm_core-installed
+# Build and install ppm_core (Release, -O3) for both Pythons Blender embeds: 3.11 into .venv
+# (Blender 3.4-5.0) and 3.13 into .venvs/bpy-5.2 (Blender 5.1+).
+build: .venv/.ppm_core-installed .venvs/bpy-5.2/.ppm_core-installed
 .venv/.ppm_core-installed: .venv/.setup-done $(ENGINE_SOURCES)
 	CMAKE_BUILD_PARALLEL_LEVEL=$(JOBS) $(PY) -m pip install -q --no-build-isolation .
+	touch $@
+.venvs/bpy-5.2/.ppm_core-installed: .venv/.setup-done $(ENGINE_SOURCES)
+	CMAKE_BUILD_PARALLEL_LEVEL=$(JOBS) $(PY313) -m pip install -q --no-build-isolation .
 	touch $@
 
 # Render the bundled Cornell box (report figure 1) to out/cornell_3spheres.{exr,png}.
@@ -29,8 +35,10 @@ test-cpp: .venv/.setup-done
 	cmake --build build/tests -j $(JOBS)
 	ctest --test-dir build/tests --output-on-failure -j $(JOBS)
 
+# The core's Python tests under both Pythons (3.13 also brings numpy 2, as Blender 5.2 does).
 test-python: build
 	$(PY) -m pytest -q tests/core
+	$(PY313) -m pytest -q tests/core
 
 # Benchmarks: figures and the commands behind them are in bench/README.md.
 bench: setup bench-cpp .venv/.bench-deps
@@ -54,14 +62,16 @@ lint: .venv/.setup-done
 clean:
 	rm -rf build out
 
-# The Blender add-on: the installable zip (with the compiled core inside) -> out/ppm_render-<version>.zip.
+# The Blender add-on: the installable zip (with the cores for Python 3.11 and 3.13 inside)
+# -> out/ppm_render-<version>-linux-x64.zip.
 .PHONY: addon test-addon blend-scenes
 addon: build
 	$(PY) addon/build_addon.py --out out
 
-# Add-on tests: bpy 5.0 (tests/addon), Debian's Blender 3.4 from a shell (tests/cli), the GUI under Xvfb (tests/gui).
+# Add-on tests: bpy 5.0 (tests/addon), Debian's Blender 3.4 from a shell (tests/cli), the GUI under Xvfb
+# (tests/gui), and the zip in every Blender version: 3.4, 4.2, 4.5, 5.0, 5.2 (tests/blenders).
 test-addon: build
-	$(PY) -m pytest -q tests/addon tests/cli tests/gui
+	$(PY) -m pytest -q tests/addon tests/cli tests/gui tests/blenders
 
 # Rebuild the bundled .blend files with Blender 3.4, so that both 3.4 and 5.0 open them.
 blend-scenes: setup

@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Takes a fresh Debian 12 machine to a working state: Debian packages, a
-# Python 3.11 virtual environment in .venv with the PyPI packages, and the
-# ppm_core module built and installed into it. Safe to run again.
+# Python 3.11 virtual environment in .venv with the PyPI packages, and one
+# virtual environment per Blender version the add-on is tested in (.venvs/,
+# see tests/blenders). The Makefile then builds ppm_core into .venv (Python
+# 3.11) and .venvs/bpy-5.2 (Python 3.13). Safe to run again.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -38,9 +40,39 @@ if [ -z "$PYTHON" ]; then
   PYTHON=python3.11
 fi
 
+# Blender 5.1 and later embed Python 3.13, which Debian 12 does not package: take it from PATH
+# or from pyenv.
+find_python313() {
+  local candidate
+  for candidate in "${PYTHON313:-}" python3.13 "$(pyenv root 2>/dev/null)"/versions/3.13*/bin/python3.13; do
+    if [ -n "$candidate" ] && "$candidate" -c 'import sys; sys.exit(sys.version_info[:2] != (3, 13))' 2>/dev/null
+    then
+      echo "$candidate"
+      return
+    fi
+  done
+  echo "setup: Python 3.13 not found (Blender 5.1+ embed it; the add-on's core is built for it too)." >&2
+  echo "setup: install it, e.g. 'pyenv install 3.13', or set PYTHON313=/path/to/python3.13" >&2
+  exit 1
+}
+PYTHON313=$(find_python313)
+
 if [ ! -x .venv/bin/python ]; then
   "$PYTHON" -m venv .venv
 fi
 .venv/bin/python -m pip install -q --upgrade pip
 .venv/bin/python -m pip install -q -r requirements.txt
+
+# bpy modules for the version matrix (tests/blenders): a virtual environment each, made once.
+blender_venv() {
+  local dir=$1 python=$2
+  shift 2
+  [ -x "$dir/bin/python" ] || "$python" -m venv "$dir"
+  "$dir/bin/python" -m pip install -q "$@"
+}
+blender_venv .venvs/bpy-4.2 "$PYTHON" "bpy==4.2.23" "numpy<2"
+blender_venv .venvs/bpy-4.5 "$PYTHON" "bpy==4.5.15" "numpy<2"
+# Blender 5.2 LTS; this Python 3.13 environment also builds the core for 3.13 and runs its tests.
+blender_venv .venvs/bpy-5.2 "$PYTHON313" "bpy==5.2.3" "numpy>=2" "scikit-build-core>=0.10" "pybind11>=2.12" \
+  "pytest>=8" "hypothesis>=6.100"
 echo "setup: Python packages installed"

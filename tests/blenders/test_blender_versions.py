@@ -1,0 +1,109 @@
+"""The add-on zip in every Blender that users run: Debian's 3.4 binary and the bpy modules 4.2 LTS,
+4.5 LTS, 5.0 and 5.2 LTS (Python 3.11, and 3.13 for 5.2), each set up by `make setup`.
+
+In each version the zip is installed the way a user does and enabled, every bundled .blend renders
+through it with the core built for that version's Python, PPM agrees with that version's Cycles
+light kind by light kind (units changed between 3.x and 4.x), and the add-on raises no Python
+warning (deprecations included). A zip without a core for the running Python fails with one clear
+message. See in_blender.py for what runs inside Blender.
+"""
+
+import json
+import os
+import subprocess
+import sys
+
+import pytest
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(os.path.dirname(HERE))
+IN_BLENDER = os.path.join(HERE, "in_blender.py")
+BUILD_ADDON = os.path.join(ROOT, "addon", "build_addon.py")
+TOLERANCE = 0.03  # cycles_compare.TOLERANCE (not imported: importing it needs bpy)
+
+
+def bpy_python(venv):
+    return os.path.join(ROOT, venv, "bin", "python")
+
+
+# Blender version -> (the Python it embeds, the command that runs a script in it).
+BLENDERS = {
+    "3.4": ("3.11", ["blender", "-b", "--factory-startup", "--python-exit-code", "1", "-P", IN_BLENDER, "--"]),
+    "4.2": ("3.11", [bpy_python(".venvs/bpy-4.2"), IN_BLENDER]),
+    "4.5": ("3.11", [bpy_python(".venvs/bpy-4.5"), IN_BLENDER]),
+    "5.0": ("3.11", [bpy_python(".venv"), IN_BLENDER]),
+    "5.2": ("3.13", [bpy_python(".venvs/bpy-5.2"), IN_BLENDER]),
+}
+
+
+def build_zip(out, *args):
+    run = subprocess.run([sys.executable, BUILD_ADDON, "--out", str(out), *args], capture_output=True, text=True,
+                         check=True)
+    return run.stdout.split("wrote ")[1].split(" ")[0]
+
+
+@pytest.fixture(scope="module")
+def addon_zip(tmp_path_factory):
+    return build_zip(tmp_path_factory.mktemp("zip"))
+
+
+def run_in_blender(version, zip_path, tmp_path, *args):
+    """Runs in_blender.py in a fresh user folder and returns its report."""
+    report = tmp_path / "report.json"
+    user = tmp_path / "user"
+    env = {**os.environ, "BLENDER_USER_RESOURCES": str(user), "BLENDER_USER_SCRIPTS": str(user / "scripts"),
+           "BLENDER_USER_CONFIG": str(user / "config")}
+    command = BLENDERS[version][1] + ["--zip", zip_path, "--report", str(report), "--workdir", str(tmp_path), *args]
+    run = subprocess.run(command, capture_output=True, text=True, timeout=900, env=env, cwd=str(tmp_path))
+    assert run.returncode == 0 and report.exists(), run.stdout[-3000:] + run.stderr[-3000:]
+    print("\n".join(line for line in run.stdout.splitlines() if line.startswith("cycles_compare")))
+    return json.loads(report.read_text()), str(user)
+
+
+@pytest.mark.parametrize("version", BLENDERS)
+def test_zip_installs_renders_and_agrees_with_cycles(version, addon_zip, tmp_path):
+    report, user = run_in_blender(version, addon_zip, tmp_path)
+    assert report["blender"].startswith(version + "."), report["blender"]
+    python = BLENDERS[version][0]
+    assert report["python"] == python
+    # The installed add-on and the core it carries for this Python, not the checkout's.
+    assert report["addon_file"].startswith(user) and report["core_file"].startswith(user)
+    assert f"cpython-{python.replace('.', '')}" in os.path.basename(report["core_file"])
+    assert len(report["scenes"]) >= 5
+    for name, scene in report["scenes"].items():
+        assert scene["engine"] == "PPM", name
+        assert scene["shape"] == [57, 76], name  # 12% of 640x480
+        assert scene["finite"] and scene["min"] >= 0.0, (name, scene)
+        assert scene["lit"] > 0.5 and 0.01 < scene["mean"] < 50.0 and scene["std"] > 0.01, (name, scene)
+    kinds = {row["kind"]: row["max_block_error"] for row in report["cycles"]}
+    assert {"point", "sphere", "spot", "area_square", "area_disk", "sun", "emissive_mesh", "world"} <= set(kinds)
+    assert all(error <= TOLERANCE for error in kinds.values()), kinds
+    assert report["addon_warnings"] == []
+
+
+def test_zip_without_a_core_for_this_python_says_so(tmp_path):
+    """Blender 5.2 (Python 3.13) with a zip that carries only the Python 3.11 core."""
+    import ppm_core
+
+    zip_path = build_zip(tmp_path / "zip", "--pythons", "3.11", "--core", ppm_core.__file__)
+    report, _ = run_in_blender("5.2", zip_path, tmp_path, "--no-core")
+    error = report["render_error"]
+    assert error is not None and "undefined symbol" not in error
+    for words in ("no compiled core for Blender 5.2", "Python 3.13", "carries cores for Python 3.11"):
+        assert words in error, error
+    assert report["panel_message"] in error
+    assert report["addon_warnings"] == []
+
+
+@pytest.mark.parametrize("version", ["4.2", "4.5", "5.2"])
+def test_render_py_with_the_bpy_module(version, tmp_path):
+    """render.py registers the checkout's add-on and unregisters it before exit (bpy 4.2 crashed and
+    4.5 hung at exit otherwise)."""
+    out = tmp_path / "cornell.exr"
+    scene = os.path.join(ROOT, "blend_scenes", "cornell_3spheres.blend")
+    python = BLENDERS[version][1][0]
+    run = subprocess.run([python, os.path.join(ROOT, "render.py"),
+                          scene, "--output", str(out), "--passes", "2", "--resolution", "64", "48",
+                          "--photons", "10000"], capture_output=True, text=True, timeout=300, cwd=str(tmp_path))
+    assert run.returncode == 0, run.stdout[-2000:] + run.stderr[-2000:]
+    assert f"Blender {version}." in run.stdout and out.stat().st_size > 0
