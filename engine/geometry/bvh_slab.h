@@ -29,7 +29,10 @@
 #include <cfloat>
 #include <cstdint>
 
-#if defined(__SSE2__)
+// x86-64 always has SSE2; MSVC says so with _M_X64 rather than __SSE2__. Elsewhere
+// (ARM: Apple silicon, Linux aarch64) the scalar loop below is used.
+#if defined(__SSE2__) || defined(_M_X64)
+#define PPM_BVH_SSE2 1
 #include <emmintrin.h>
 #endif
 
@@ -71,7 +74,7 @@ inline const float* box_row(const BvhNode& n, uint32_t offset) {
 // Near/far rows are chosen by the direction's sign, so no min/max swap is
 // needed, and an unused child (+inf, -inf) gives entry = +inf.
 inline unsigned intersect_children(const BvhNode& n, const BvhRay& r, float tmax, float entry[4]) {
-#if defined(__SSE2__)
+#if defined(PPM_BVH_SSE2)
   __m128 t0 = _mm_setzero_ps(), t1 = _mm_set1_ps(tmax);
   for (int a = 0; a < 3; ++a) {
     const __m128 inv = _mm_load_ps(r.inv[a]);
