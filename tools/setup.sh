@@ -11,6 +11,8 @@ DEBIAN_PACKAGES=(build-essential cmake ninja-build libglm-dev libgtest-dev googl
 # The add-on's tests: Debian's Blender 3.4 (embeds the system Python 3.11, so it gets numpy from
 # python3-numpy) and Xvfb for the GUI test.
 DEBIAN_PACKAGES+=(blender python3-numpy xvfb)
+# make test-cross: the C++ tests built for Linux aarch64 and run under qemu-user.
+DEBIAN_PACKAGES+=(g++-aarch64-linux-gnu qemu-user)
 
 missing=()
 for p in "${DEBIAN_PACKAGES[@]}"; do
