@@ -14,14 +14,11 @@ setup: .venv/.setup-done build
 	tools/setup.sh
 	touch $@
 
-# Build and install ppm_core (Release, -O3) for both Pythons Blender embeds: 3.11 into .venv
-# (Blender 3.4-5.0) and 3.13 into .venvs/bpy-5.2 (Blender 5.1+).
-build: .venv/.ppm_core-installed .venvs/bpy-5.2/.ppm_core-installed
-.venv/.ppm_core-installed: .venv/.setup-done $(ENGINE_SOURCES)
-	CMAKE_BUILD_PARALLEL_LEVEL=$(JOBS) $(PY) -m pip install -q --no-build-isolation .
-	touch $@
-.venvs/bpy-5.2/.ppm_core-installed: .venv/.setup-done $(ENGINE_SOURCES)
-	CMAKE_BUILD_PARALLEL_LEVEL=$(JOBS) $(PY313) -m pip install -q --no-build-isolation .
+# Build ppm_core (Release, -O3) for both Pythons Blender embeds, 3.11 and 3.13, and install it into
+# every virtual environment (tools/build_cores.sh).
+build: build/.cores-installed
+build/.cores-installed: .venv/.setup-done tools/build_cores.sh $(ENGINE_SOURCES)
+	CMAKE_BUILD_PARALLEL_LEVEL=$(JOBS) tools/build_cores.sh
 	touch $@
 
 # Render the bundled Cornell box (report figure 1) to out/cornell_3spheres.{exr,png}.
@@ -77,9 +74,13 @@ addon: build
 	$(PY) addon/build_addon.py --out out
 
 # Add-on tests: bpy 5.0 (tests/addon), Debian's Blender 3.4 from a shell (tests/cli), the GUI under Xvfb
-# (tests/gui), and the zip in every Blender version: 3.4, 4.2, 4.5, 5.0, 5.2 (tests/blenders).
+# (tests/gui), the zip in every Blender version: 3.4, 4.2, 4.5, 5.0, 5.2 (tests/blenders), and the
+# add-on's own tests again in bpy 4.2, 4.5 and 5.2.
 test-addon: build
 	$(PY) -m pytest -q tests/addon tests/cli tests/gui tests/blenders
+	.venvs/bpy-4.2/bin/python -m pytest -q tests/addon
+	.venvs/bpy-4.5/bin/python -m pytest -q tests/addon
+	$(PY313) -m pytest -q tests/addon
 
 # Rebuild the bundled .blend files with Blender 3.4, so that both 3.4 and 5.0 open them.
 blend-scenes: setup

@@ -72,9 +72,10 @@ blender_venv() {
   [ -x "$dir/bin/python" ] || "$python" -m venv "$dir"
   "$dir/bin/python" -m pip install -q "$@"
 }
-blender_venv .venvs/bpy-4.2 "$PYTHON" "bpy==4.2.23" "numpy<2"
-blender_venv .venvs/bpy-4.5 "$PYTHON" "bpy==4.5.15" "numpy<2"
+# Each runs the add-on's tests (pytest, OpenImageIO; 3.0 for numpy < 2, as in requirements.txt).
+blender_venv .venvs/bpy-4.2 "$PYTHON" "bpy==4.2.23" "numpy<2" "pytest>=8" "openimageio==3.0.*"
+blender_venv .venvs/bpy-4.5 "$PYTHON" "bpy==4.5.15" "numpy<2" "pytest>=8" "openimageio==3.0.*"
 # Blender 5.2 LTS; this Python 3.13 environment also builds the core for 3.13 and runs its tests.
-blender_venv .venvs/bpy-5.2 "$PYTHON313" "bpy==5.2.3" "numpy>=2" "scikit-build-core>=0.10" "pybind11>=2.12" \
-  "pytest>=8" "hypothesis>=6.100"
+blender_venv .venvs/bpy-5.2 "$PYTHON313" "bpy==5.2.3" "numpy>=2" "pytest>=8" "openimageio>=3.0" \
+  "scikit-build-core>=0.10" "pybind11>=2.12" "hypothesis>=6.100"
 echo "setup: Python packages installed"

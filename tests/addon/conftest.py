@@ -16,6 +16,14 @@ import ppm_render  # noqa: E402
 SCENES_DIR = os.path.join(ROOT, "blend_scenes")
 
 
+@pytest.fixture(autouse=True, scope="session")
+def unregister_at_exit():
+    """The bpy modules 4.2 and 4.5 crash or hang at exit while a script-registered class is still registered."""
+    yield
+    if hasattr(bpy.types.Scene, "ppm"):
+        ppm_render.unregister()
+
+
 @pytest.fixture(autouse=True)
 def registered():
     """A factory-fresh Blender with the add-on registered for every test."""
