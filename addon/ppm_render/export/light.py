@@ -7,9 +7,9 @@ README). Blender's conventions, measured against Cycles of each version:
 - area: radiance P/(4A) in 3.x, P/(pi A) in 4.x+ (P/pi without `normalize`)
   -> we compute Blender's radiance and hand the core flux = radiance * pi * A;
 - sun: strength = irradiance;
-- Blender 5 without `normalize`: radiance P/pi for area and sphere lights, and a sun's
+- Blender 4.5+ without `normalize`: radiance P/pi for area and sphere lights, and a sun's
   irradiance scaled by its disk's area pi tan^2(angle/2).
-Blender 5's `exposure` multiplies everything by 2^exposure. A is the light's
+Blender 4.5+'s `exposure` multiplies everything by 2^exposure. A is the light's
 area after the object's scale (Cycles scales the size by the matrix, and so
 does the core when given the matrix).
 """
@@ -65,7 +65,7 @@ def area_flux(light, matrix):
 
 
 def _sphere_power(light, radius):
-    """Point/spot power. Without `normalize` (5.0), Cycles gives a sphere light the radiance P/pi
+    """Point/spot power. Without `normalize` (4.5+), Cycles gives a sphere light the radiance P/pi
     (measured, like area lights), i.e. intensity P r^2: the core's power is then 4 pi r^2 P."""
     strength = _strength(light)
     if radius > 0.0 and not _normalized(light):
@@ -74,7 +74,7 @@ def _sphere_power(light, radius):
 
 
 def _sun_irradiance(light):
-    """Sun strength is irradiance; without `normalize` (5.0) Cycles multiplies it by the sun disk's
+    """Sun strength is irradiance; without `normalize` (4.5+) Cycles multiplies it by the sun disk's
     area on the unit-distance plane, pi tan^2(angle/2) (measured; a sharp sun stays normalised)."""
     strength = _strength(light)
     half = 0.5 * float(light.angle)
