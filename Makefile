@@ -32,7 +32,6 @@ test-cpp: .venv/.setup-done
 	cmake --build build/tests -j $(JOBS)
 	ctest --test-dir build/tests --output-on-failure -j $(JOBS)
 
-# The core's Python tests under both Pythons (3.13 also brings numpy 2, as Blender 5.2 does).
 # Linux aarch64, the one other platform this machine can run: the C++ tests cross-built with Debian's
 # g++-aarch64-linux-gnu and run under qemu-user (about 6 minutes; .ci/run runs it after make test).
 test-cross: .venv/.setup-done
@@ -41,6 +40,7 @@ test-cross: .venv/.setup-done
 	cmake --build build/aarch64 -j $(JOBS)
 	ctest --test-dir build/aarch64 --output-on-failure -j $(JOBS)
 
+# The core's Python tests under both Pythons (3.13 also brings numpy 2, as Blender 5.2 does).
 test-python: build
 	$(PY) -m pytest -q tests/core
 	$(PY313) -m pytest -q tests/core

@@ -10,10 +10,10 @@ legacy add-on for 3.4 to 4.1), plus one compiled core per Python that Blender
 embeds, in ppm_render/lib/: CPython 3.11 (Blender 3.4 to 5.0) and 3.13 (5.1 and
 later). ppm_render/core.py loads the one that matches the running Python.
 
-By default the cores are the ones `make build` installed into the project's
-virtual environments (.venv for 3.11, .venvs/bpy-5.2 for 3.13). `--core` takes
-core files or wheels instead, e.g. those cibuildwheel made on another platform
-(.github/workflows/addon.yml). Every Python in `--pythons` must have a core.
+By default the cores are the wheels `make build` left in build/wheels/
+(tools/build_cores.sh). `--core` takes other core files or wheels, e.g. those
+cibuildwheel made on another platform (.github/workflows/addon.yml). Every
+Python in `--pythons` must have a core.
 """
 
 import argparse
@@ -70,13 +70,6 @@ def platform_of(filename):
     return None
 
 
-def installed_cores():
-    """The ppm_core files that `make build` installed, from .venv first, then .venvs/*."""
-    environments = [os.path.join(ROOT, ".venv")] + sorted(glob.glob(os.path.join(ROOT, ".venvs", "*")))
-    for env in environments:
-        yield from sorted(glob.glob(os.path.join(env, "lib", "python3*", "site-packages", "ppm_core.*")))
-
-
 class Core:
     """One compiled core: its file name inside lib/, its bytes, and the Python and platform it is for."""
 
@@ -123,12 +116,13 @@ def manifest_for(platform):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", default=os.path.join(ROOT, "out"))
-    parser.add_argument("--core", nargs="+", help="core files or wheels (default: those `make build` installed)")
+    parser.add_argument("--core", nargs="+", help="core files or wheels (default: the wheels `make build` made)")
     parser.add_argument("--pythons", default=",".join(BLENDER_PYTHONS),
                         help="Python versions the zip must carry a core for (default: %(default)s)")
     parser.add_argument("--platform", help="Blender's platform name, when the cores' names do not tell it")
     args = parser.parse_args()
-    cores, platform = choose_cores(args.core or list(installed_cores()), args.pythons.split(","), args.platform)
+    paths = args.core or sorted(glob.glob(os.path.join(ROOT, "build", "wheels", "ppm_core-*.whl")))
+    cores, platform = choose_cores(paths, args.pythons.split(","), args.platform)
     os.makedirs(args.out, exist_ok=True)
     target = os.path.join(args.out, f"ppm_render-{version()}-{platform}.zip")
     with zipfile.ZipFile(target, "w", zipfile.ZIP_DEFLATED) as zf:

@@ -2,8 +2,8 @@
 # Takes a fresh Debian 12 machine to a working state: Debian packages, a
 # Python 3.11 virtual environment in .venv with the PyPI packages, and one
 # virtual environment per Blender version the add-on is tested in (.venvs/,
-# see tests/blenders). The Makefile then builds ppm_core into .venv (Python
-# 3.11) and .venvs/bpy-5.2 (Python 3.13). Safe to run again.
+# see tests/blenders). The Makefile then builds ppm_core for Python 3.11 and
+# 3.13 and installs it into all of them (tools/build_cores.sh). Safe to run again.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
