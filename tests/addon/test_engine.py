@@ -129,6 +129,19 @@ def test_errors_reach_the_user():
         bpy.ops.render.render()
 
 
+def test_core_messages_keep_their_numbers_with_bpy_loaded():
+    """Numbers written into the core's messages vanished in bpy while the core's static C++ runtime
+    exported its symbols (they bound to the runtime Blender had loaded)."""
+    scene = ppm_core.Scene()
+    with pytest.raises(ValueError) as error:
+        scene.add_light("point", name="bright", power=1e21)
+    assert str(error.value) == "light 'bright': power 1e+21 is above the supported 1e+20"
+    with pytest.raises(ValueError) as error:
+        scene.add_bezier_revolve("r", points=np.array([[0.5, 0.0], [np.nan, 1.0]]),
+                                 material=scene.add_material("m", "diffuse"))
+    assert "point 1 has a non-finite radius (nan)" in str(error.value)
+
+
 def test_core_errors_reach_the_user(monkeypatch):
     simple_scene()
 
