@@ -151,8 +151,11 @@ class PPMRenderEngine(bpy.types.RenderEngine):
         self.report({'WARNING'}, f"PPM: {message}")
 
     def fail(self, error):
+        """One error report (it makes bpy.ops.render.render raise in scripts); with a UI, also the red
+        message in the render window. error_set adds its text to the report too, so it is used only
+        where there is a window to show it in."""
         message = f"PPM: {error}"
-        if hasattr(self, "error_set"):
+        if not bpy.app.background and hasattr(self, "error_set"):
             self.error_set(message)
         self.report({'ERROR'}, message)
 

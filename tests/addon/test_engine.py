@@ -125,8 +125,9 @@ def test_errors_reach_the_user():
     area = bpy.data.objects.new("flat", bpy.data.lights.new("flat", "AREA"))
     area.data.size = 0.0  # Blender allows it; the core refuses a light without area
     scene.collection.objects.link(area)
-    with pytest.raises(RuntimeError, match="PPM: .*flat"):
+    with pytest.raises(RuntimeError, match="PPM: .*flat") as error:
         bpy.ops.render.render()
+    assert str(error.value).count("PPM:") == 1, str(error.value)  # once, not once per channel
 
 
 def test_core_messages_keep_their_numbers_with_bpy_loaded():
