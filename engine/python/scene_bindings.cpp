@@ -180,7 +180,7 @@ void add_light(Scene& s, const std::string& kind, const std::string& name, const
   if (!std::isfinite(radius) || radius < 0.0) fail(what, "radius must be >= 0");
   if (!(spot_angle > 0.0 && spot_angle <= 2.0 * kPi)) fail(what, "spot_angle must be in (0, 2*pi]");
   if (!(spot_blend >= 0.0 && spot_blend <= 1.0)) fail(what, "spot_blend must be in [0, 1]");
-  if (!(angle >= 0.0 && angle < kPi)) fail(what, "angle must be in [0, pi)");
+  if (!(angle >= 0.0 && angle <= kPi)) fail(what, "angle must be in [0, pi]");  // pi: a hemisphere, as in Blender
   l.cos_half_spot = std::cos(0.5 * spot_angle);
   l.spot_smooth = (1.0 - l.cos_half_spot) * spot_blend;
   l.cos_sun = std::cos(0.5 * angle);

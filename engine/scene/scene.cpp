@@ -253,7 +253,7 @@ void Scene::add_light(Light light) {
     fail(what, "spot angle must be in (0, 2*pi], and large enough that its cosine differs from 1");
   if (light.kind == LightKind::Spot && !(light.spot_smooth >= 0.0)) fail(what, "spot blend must be >= 0");
   if (light.kind == LightKind::Sun && !(light.cos_sun > -1.0 && light.cos_sun <= 1.0))
-    fail(what, "sun angle must be in [0, pi)");
+    fail(what, "sun angle must be in [0, pi]");
   if (light.kind == LightKind::Background || light.kind == LightKind::Triangle)
     fail(what, "use set_background or an emissive material for this kind");
   user_lights_.push_back(light);

@@ -22,6 +22,9 @@ import numpy as np
 AREA_RADIANCE_IS_OVER_PI = bpy.app.version >= (4, 0, 0)
 # Cycles 3.x multiplies a spot's intensity by the cosine to its axis; 4.0 dropped the factor.
 SPOT_COSINE_FALLOFF = bpy.app.version < (4, 0, 0)
+# Cycles 3.4 renders a sun of Blender's largest angle (180 degrees) as no light, 4.2 and later as a
+# hemisphere (both measured, tests/blenders/cycles_compare.py; 3.5-4.1 not tested).
+SUN_OF_180_DEGREES_IS_DARK = bpy.app.version < (4, 0, 0)
 
 
 def _soft_falloff(light):
@@ -55,7 +58,7 @@ def area_flux(light, matrix):
     if disk:
         area *= math.pi / 4.0
     if not area > 0.0:
-        raise ValueError("area light has zero size")
+        raise ValueError("its area is zero, so it emits no light (as in Cycles)")
     strength = np.array(_strength(light))
     if AREA_RADIANCE_IS_OVER_PI:
         radiance = strength / (math.pi * area) if _normalized(light) else strength / math.pi
@@ -87,6 +90,9 @@ def add_light(core_scene, name, light, matrix, warn):
     """Adds one Blender light (data `light`, world `matrix`) to the core scene."""
     m = np.array(matrix, dtype=float)
     kind = light.type
+    if light.energy < 0.0:
+        raise ValueError("its power is negative (Cycles subtracts such a light's contribution; PPM does not "
+                         "render negative lights)")
     if kind == "POINT":
         radius = float(light.shadow_soft_size)
         core_scene.add_light("point", name=name, power=_sphere_power(light, radius), matrix=m, radius=radius,
@@ -107,6 +113,11 @@ def add_light(core_scene, name, light, matrix, warn):
             raise ValueError(f"light '{name}': {error}") from None
         core_scene.add_light("disk" if disk else "rectangle", name=name, power=flux, matrix=m, size=size)
     elif kind == "SUN":
-        core_scene.add_light("sun", name=name, power=_sun_irradiance(light), matrix=m, angle=float(light.angle))
+        if SUN_OF_180_DEGREES_IS_DARK and light.angle >= math.pi - 1e-6:
+            raise ValueError("its angle is 180 degrees, for which Cycles of this Blender emits no light; left "
+                             "out as Cycles does")
+        # Blender's largest angle, pi in float32, is a hair above pi in double.
+        core_scene.add_light("sun", name=name, power=_sun_irradiance(light), matrix=m,
+                             angle=min(float(light.angle), math.pi))
     else:
         warn(f"light '{name}': type {kind} is not supported; skipped")
