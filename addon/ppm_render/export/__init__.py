@@ -7,7 +7,14 @@ module: mesh, material, light, camera, world, bezier. Curves come twice in
 the depsgraph (the CURVE object and a MESH instance of its evaluated
 geometry): a revolve curve is exported exactly and its MESH instance (the
 Screw preview) skipped; any other curve is exported through that MESH instance.
+
+Where Cycles renders a frame, so does this exporter: an object or light the core
+refuses (its message names what is wrong) is left out, and so are triangles
+with a corner that is not finite; each such object gets one warning, however
+many instances it has. Only a scene without a camera object fails.
 """
+
+import re
 
 import numpy as np
 
@@ -29,6 +36,7 @@ class Exporter:
         self.triangles = 0
         self.curves_with_mesh = set()
         self.plain_curves = []
+        self.skipped = {}  # warning -> number of instances it applies to
 
     def object_id(self):
         self.next_id += 1
@@ -45,16 +53,39 @@ class Exporter:
             self.meshes[key] = mesh.MeshData.from_object(obj)
         data = self.meshes[key]
         if data is not None:
-            data.add_to_scene(self.scene, name, matrix, self.slot_materials(obj), self.object_id())
-            self.triangles += len(data.triangles)
+            dropped = data.add_to_scene(self.scene, name, matrix, self.slot_materials(obj), self.object_id())
+            self.triangles += len(data.triangles) - dropped
+            if dropped:
+                self.skip(obj, f"{dropped} of its {len(data.triangles)} triangles have a corner that is not "
+                               "finite (NaN or Inf); left out")
 
     def add_revolve(self, obj, matrix, name):
         slots = self.slot_materials(obj)
         index = self.materials.without_emission(slots[0], f"'{name}'")
         bezier.add_revolve(self.scene, name, obj, matrix, index, self.object_id(), self.warn)
 
+    def skip(self, obj, what):
+        """Notes a warning about `obj` (once per object, counting its instances)."""
+        kind = "light" if obj.type == "LIGHT" else "object"
+        message = f"{kind} '{obj.original.name}': {what}"
+        self.skipped[message] = self.skipped.get(message, 0) + 1
+
+    def report_skips(self):
+        for message, count in self.skipped.items():
+            self.warn(message + (f" (in {count} instances)" if count > 1 else ""))
+
+    def guarded(self, obj, export, *args):
+        """Runs export(*args); what the core refuses about `obj` is left out with a warning."""
+        try:
+            export(*args)
+        except ValueError as error:  # the core's message starts with the name this module gave it
+            self.skip(obj, "not rendered: " + re.sub(r"^[a-z ]+ '[^']*': ", "", str(error), count=1))
+
     def visit(self, instance):
         """Exports one depsgraph instance."""
+        self.guarded(instance.object, self.visit_unchecked, instance)
+
+    def visit_unchecked(self, instance):
         obj = instance.object
         parent = instance.instance_object if instance.is_instance else None
         matrix = np.array(instance.matrix_world, dtype=float)  # copy: the record is reused
@@ -78,7 +109,7 @@ class Exporter:
     def finish_curves(self):
         for obj, matrix, name in self.plain_curves:
             if obj.original.name not in self.curves_with_mesh:
-                self.add_geometry(obj, matrix, name)
+                self.guarded(obj, self.add_geometry, obj, matrix, name)
 
 
 def build_scene(core_module, depsgraph, frame, warn):
@@ -90,6 +121,7 @@ def build_scene(core_module, depsgraph, frame, warn):
     for instance in depsgraph.object_instances:
         exporter.visit(instance)
     exporter.finish_curves()
+    exporter.report_skips()
     world.add_world(exporter.scene, scene.world, warn)
     camera_object = scene.camera.evaluated_get(depsgraph)
     camera_args = camera.camera_arguments(camera_object, frame, warn, scene.ppm.dof_mode)

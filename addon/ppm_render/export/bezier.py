@@ -35,10 +35,12 @@ def _points(collection, attribute):
 
 
 def spline_profile(spline):
-    """(3k+1, 2) control points (radius, height) of one Bezier spline, or None if it has no segment."""
+    """(3k+1, 2) control points (radius, height) of one Bezier spline, or None if it has no segment.
+
+    A one-point spline has none, cyclic or not: Blender draws nothing for it (nor does the Screw preview)."""
     points = spline.bezier_points
     n = len(points)
-    if n < 2 and not (spline.use_cyclic_u and n == 1):
+    if n < 2:
         return None
     co = _points(points, "co")
     left = _points(points, "handle_left")
@@ -61,6 +63,11 @@ def add_revolve(core_scene, name, curve_object, matrix, material_index, object_i
             continue
         profile = spline_profile(spline)
         if profile is None:
+            warn(f"'{name}': spline {index} has fewer than 2 points, so no profile to revolve; skipped")
+            continue
+        if not np.any(profile[:, 0]):
+            warn(f"'{name}': spline {index} lies on the revolve axis (radius 0 everywhere), so it has no "
+                 "surface; skipped")
             continue
         core_scene.add_bezier_revolve(f"{name}.{index}", profile, kind="chain", matrix=core_matrix,
                                       material=material_index, object_id=object_id)

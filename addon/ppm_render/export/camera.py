@@ -8,11 +8,21 @@ object's distance along the view axis; aperture radius = lens * 1e-3 /
 
 A render border is rendered as a smaller camera whose pixels are the same as
 the full frame's: same pixel footprint, shifted to the border's centre.
+
+Like Cycles, any object can be the scene camera: one that is not a camera (an
+Empty, a light) is looked through with Cycles' default lens data.
 """
 
 import math
+from types import SimpleNamespace
 
 import numpy as np
+
+# Cycles' lens data for a scene camera that is not a camera (blender_camera_init in blender/camera.cpp).
+CYCLES_DEFAULT_LENS = SimpleNamespace(
+    type="PERSP", lens=50.0, sensor_width=36.0, sensor_height=24.0, sensor_fit="AUTO", shift_x=0.0, shift_y=0.0,
+    clip_start=1e-5, clip_end=1e5,
+    dof=SimpleNamespace(use_dof=False, focus_object=None, focus_distance=10.0, aperture_fstop=0.0))
 
 
 class Frame:
@@ -84,7 +94,12 @@ def camera_arguments(camera_object, frame, warn, dof_mode="OFF"):
 
     The aperture goes to the core only when scene.ppm.dof_mode asks for depth of field.
     """
-    cam = camera_object.data
+    if camera_object.type == "CAMERA":
+        cam = camera_object.data
+    else:
+        cam = CYCLES_DEFAULT_LENS
+        warn(f"scene camera '{camera_object.name}' is {camera_object.type.lower()}, not a camera: looking through "
+             "it with Cycles' default lens (50 mm, 36 mm sensor)")
     if cam.type == "PANO":
         warn(f"camera '{camera_object.name}': panoramic cameras are not supported; rendered as perspective")
     fit_h = _fit_horizontal(cam.sensor_fit, frame.width, frame.height)

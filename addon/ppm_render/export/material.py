@@ -141,8 +141,25 @@ class MaterialExporter:
     def texture(self, image):
         key = image.name_full if hasattr(image, "name_full") else image.name
         if key not in self.textures:
-            self.textures[key] = self.scene.add_texture(image.name, image_pixels(image))
+            pixels = image_pixels(image)
+            cleared = clear_unusable_texels(pixels)
+            if cleared:
+                self.warn(f"image '{image.name}': {cleared} texels are negative or not a number; rendered as black")
+            self.textures[key] = self.scene.add_texture(image.name, pixels)
         return self.textures[key]
+
+
+def clear_unusable_texels(pixels):
+    """Sets texels that cannot be an albedo (a negative, NaN or infinite channel; alpha is unused) to
+    black in place, and returns how many there were: one bad texel no longer drops the texture."""
+    bad = ~(np.isfinite(pixels) & (pixels >= 0.0))
+    bad[..., 3] = ~np.isfinite(pixels[..., 3])
+    texels = bad.any(axis=-1)
+    count = int(texels.sum())
+    if count:
+        pixels[texels, :3] = 0.0
+        pixels[texels, 3] = 1.0
+    return count
 
 
 def _uses_nodes(material):

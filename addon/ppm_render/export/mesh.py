@@ -69,13 +69,39 @@ class MeshData:
             obj.to_mesh_clear()
 
     def add_to_scene(self, core_scene, name, matrix, material_indices, object_id):
-        """Adds the mesh, transformed by the 4x4 `matrix`, with slot -> core material mapping."""
+        """Adds the mesh, transformed by the 4x4 `matrix`, with slot -> core material mapping.
+
+        Returns the number of triangles left out because a corner is not finite (NaN or Inf in the
+        mesh or the matrix). A matrix that flattens the mesh to a line or a point (a zero scale, the
+        usual way to hide an object in an animation) adds nothing, as in Cycles; one zero axis
+        leaves a flat mesh that is rendered."""
         m = np.asarray(matrix, dtype=np.float64)
-        positions = self.positions @ m[:3, :3].T + m[:3, 3]
-        normal_matrix = np.linalg.inv(m[:3, :3]).T  # normals transform by the inverse transpose
-        normals = self.normals.reshape(-1, 3) @ normal_matrix.T
+        if np.isfinite(m).all() and np.linalg.matrix_rank(m[:3, :3]) < 2:
+            return 0
+        with np.errstate(invalid="ignore", over="ignore"):
+            positions = self.positions @ m[:3, :3].T + m[:3, 3]
+        finite = np.isfinite(positions).all(axis=1)[self.triangles].all(axis=1)
+        kept = int(finite.sum())
+        if kept == 0:
+            return len(self.triangles)
+        triangles, normals, uvs, slots = self.triangles, self.normals, self.uvs, self.slots
+        if kept < len(triangles):
+            triangles, normals, slots = triangles[finite], normals[finite], slots[finite]
+            uvs = None if uvs is None else uvs[finite]
+            positions = np.where(np.isfinite(positions), positions, 0.0)  # unused vertices only
+        normals = normals.reshape(-1, 3) @ normal_matrix(m[:3, :3]).T
+        normals = np.nan_to_num(normals, nan=0.0, posinf=0.0, neginf=0.0)
         normals /= np.maximum(np.linalg.norm(normals, axis=1, keepdims=True), 1e-30)
-        slots = np.clip(self.slots, 0, len(material_indices) - 1)
+        slots = np.clip(slots, 0, len(material_indices) - 1)
         materials = np.asarray(material_indices, dtype=np.int64)[slots]
-        core_scene.add_mesh(name, positions, self.triangles, normals=normals.reshape(-1, 3, 3),
-                            uvs=self.uvs, materials=materials, object_id=object_id)
+        core_scene.add_mesh(name, positions, triangles, normals=normals.reshape(-1, 3, 3),
+                            uvs=uvs, materials=materials, object_id=object_id)
+        return len(self.triangles) - kept
+
+
+def normal_matrix(m):
+    """The matrix that carries normals through `m`: the inverse transpose, scaled by |det m| so that
+    it exists for a singular `m` too (its cofactor matrix; normals are normalised afterwards)."""
+    a, b, c = m[:, 0], m[:, 1], m[:, 2]
+    cofactor = np.stack([np.cross(b, c), np.cross(c, a), np.cross(a, b)], axis=1)
+    return cofactor if np.linalg.det(m) >= 0.0 else -cofactor

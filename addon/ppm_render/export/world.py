@@ -49,4 +49,10 @@ def background_radiance(world, warn):
 
 
 def add_world(core_scene, world, warn):
-    core_scene.set_background(background_radiance(world, warn))
+    """The world's background; one the core refuses (negative, NaN, Inf) renders black with a warning."""
+    radiance = background_radiance(world, warn)
+    try:
+        core_scene.set_background(radiance)
+    except ValueError as error:
+        warn(f"world '{world.name}': not rendered ({error}); the background is black")
+        core_scene.set_background((0.0, 0.0, 0.0))

@@ -1,0 +1,227 @@
+"""Where Cycles renders a frame, PPM renders it too: what cannot be rendered is left out or clamped,
+with one warning naming the object (tests/cli checks the exit codes of failed frames)."""
+
+import math
+
+import numpy as np
+import pytest
+
+from conftest import bpy, render_file
+from ppm_render import core, export
+from ppm_render.export.camera import Frame
+from ppm_render.export.material import clear_unusable_texels
+
+ppm_core = core.load()
+
+
+def floor_scene():
+    """A lit floor seen from above, 32x24 pixels."""
+    scene = bpy.context.scene
+    add_mesh("floor", [(-5, -5, 0), (5, -5, 0), (5, 5, 0), (-5, 5, 0)], [(0, 1, 2, 3)])
+    sun = bpy.data.objects.new("sun", bpy.data.lights.new("sun", "SUN"))
+    sun.data.energy = 2.0
+    scene.collection.objects.link(sun)
+    cam = bpy.data.objects.new("cam", bpy.data.cameras.new("cam"))
+    cam.location = (0.0, 0.0, 3.0)
+    scene.collection.objects.link(cam)
+    scene.camera = cam
+    scene.render.resolution_x, scene.render.resolution_y, scene.render.resolution_percentage = 32, 24, 100
+    scene.render.engine = "PPM"
+    return scene
+
+
+def add_mesh(name, vertices, faces):
+    mesh = bpy.data.meshes.new(name)
+    mesh.from_pydata(vertices, [], faces)
+    obj = bpy.data.objects.new(name, mesh)
+    bpy.context.scene.collection.objects.link(obj)
+    return obj
+
+
+def cube(name, location=(0.0, 0.0, 0.5)):
+    bpy.ops.mesh.primitive_cube_add(size=1.0, location=location)
+    bpy.context.object.name = name
+    return bpy.context.object
+
+
+def add_light(name, kind, **props):
+    light = bpy.data.lights.new(name, kind)
+    for key, value in props.items():
+        setattr(light, key, value)
+    obj = bpy.data.objects.new(name, light)
+    obj.location = (0.0, 0.0, 2.0)
+    bpy.context.scene.collection.objects.link(obj)
+    return obj
+
+
+def export_scene(scene):
+    """(core scene, warnings) as the engine exports it."""
+    warnings = []
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    core_scene, _ = export.build_scene(ppm_core, depsgraph, Frame.from_render_settings(scene.render),
+                                       warnings.append)
+    return core_scene, warnings
+
+
+def renders(scene, tmp_path):
+    """The frame renders: finite, non-negative, lit pixels."""
+    rgb = render_file(scene, tmp_path / "frame.exr", passes=2, photons_per_pass=5000, samples_per_pixel=1)[..., :3]
+    assert np.isfinite(rgb).all() and (rgb >= 0).all() and rgb.mean() > 0.01
+    return rgb
+
+
+def hits_at(core_scene, xy, z=3.0):
+    """Distance down to the first surface above the floor point `xy` (inf if none)."""
+    core_scene.set_camera(np.eye(4), 4, 4)
+    return float(core_scene.intersect(np.array([[*xy, z]]), np.array([[0.0, 0.0, -1.0]]))["t"][0])
+
+
+def test_an_object_scaled_to_zero_is_not_rendered_and_needs_no_warning(tmp_path):
+    scene = floor_scene()
+    cube("hidden").scale = (0.0, 0.0, 0.0)
+    core_scene, warnings = export_scene(scene)
+    assert warnings == []
+    assert hits_at(core_scene, (0.0, 0.0)) == pytest.approx(3.0)  # the floor, nothing above it
+    renders(scene, tmp_path)
+
+
+def test_an_object_scaled_to_zero_on_one_axis_renders_flat(tmp_path):
+    scene = floor_scene()
+    cube("flat").scale = (1.0, 1.0, 0.0)  # as in Cycles: the top and bottom faces remain, at z = 0.5
+    core_scene, warnings = export_scene(scene)
+    assert warnings == []
+    assert hits_at(core_scene, (0.1, 0.2)) == pytest.approx(2.5)
+    renders(scene, tmp_path)
+
+
+def test_triangles_with_a_non_finite_corner_are_left_out_with_one_warning(tmp_path):
+    scene = floor_scene()
+    add_mesh("spiky", [(0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1), (float("nan"), 0, 1)], [(0, 1, 2), (0, 3, 4)])
+    core_scene, warnings = export_scene(scene)
+    assert len(warnings) == 1 and "object 'spiky'" in warnings[0] and "1 of its 2 triangles" in warnings[0]
+    assert hits_at(core_scene, (0.7, 0.2)) == pytest.approx(2.0)  # the finite triangle stays
+    renders(scene, tmp_path)
+
+
+def test_an_object_beyond_the_supported_range_is_left_out_with_one_warning(tmp_path):
+    scene = floor_scene()
+    cube("far").location = (1e36, 0.0, 0.0)  # the core takes coordinates up to 1e30 m
+    _, warnings = export_scene(scene)
+    assert len(warnings) == 1 and warnings[0].startswith("object 'far': not rendered: position 0 has a component")
+    renders(scene, tmp_path)
+
+
+def test_one_warning_for_all_instances_of_an_object(tmp_path):
+    scene = floor_scene()
+    add_mesh("spiky", [(0, 0, 1), (1, 0, 1), (float("nan"), 1, 1)], [(0, 1, 2)])
+    group = bpy.data.collections.new("group")
+    group.objects.link(bpy.data.objects["spiky"])
+    scene.collection.objects.unlink(bpy.data.objects["spiky"])
+    for x in (-2.0, 2.0):
+        instance = bpy.data.objects.new(f"instance{x}", None)
+        instance.instance_type, instance.instance_collection = "COLLECTION", group
+        instance.location = (x, 0.0, 0.0)
+        scene.collection.objects.link(instance)
+    _, warnings = export_scene(scene)
+    assert len(warnings) == 1 and "object 'spiky'" in warnings[0] and "(in 2 instances)" in warnings[0], warnings
+    renders(scene, tmp_path)
+
+
+def test_a_negative_light_is_left_out_with_a_warning(tmp_path):
+    scene = floor_scene()
+    add_light("minus", "POINT", energy=-100.0)
+    _, warnings = export_scene(scene)
+    assert len(warnings) == 1 and "light 'minus'" in warnings[0] and "negative" in warnings[0]
+    renders(scene, tmp_path)
+
+
+def test_an_area_light_of_size_zero_is_left_out_with_a_warning(tmp_path):
+    scene = floor_scene()
+    add_light("flat", "AREA", energy=100.0, size=0.0)
+    _, warnings = export_scene(scene)
+    assert len(warnings) == 1 and "light 'flat'" in warnings[0] and "area is zero" in warnings[0]
+    renders(scene, tmp_path)
+
+
+def test_a_sun_of_blenders_largest_angle_renders(tmp_path):
+    scene = floor_scene()
+    bpy.data.objects["sun"].data.angle = math.pi
+    _, warnings = export_scene(scene)
+    assert warnings == []
+    renders(scene, tmp_path)
+
+
+@pytest.mark.parametrize("kind", ["EMPTY", "LIGHT"])
+def test_any_object_can_be_the_camera(kind, tmp_path):
+    scene = floor_scene()
+    data = None if kind == "EMPTY" else bpy.data.lights.new("lamp", "POINT")
+    viewer = bpy.data.objects.new("viewer", data)
+    viewer.location = (0.0, 0.0, 3.0)
+    scene.collection.objects.link(viewer)
+    scene.camera = viewer
+    _, warnings = export_scene(scene)
+    assert len(warnings) == 1 and "'viewer'" in warnings[0] and "50 mm" in warnings[0]
+    renders(scene, tmp_path)
+
+
+def test_unusable_texels_are_cleared_not_the_whole_texture():
+    pixels = np.full((2, 3, 4), 0.5, dtype=np.float32)
+    pixels[0, 0, 0] = np.nan
+    pixels[0, 1, 2] = -0.25
+    pixels[1, 2, 1] = np.inf
+    pixels[1, 0, 3] = np.nan  # alpha: unused, but must be finite
+    assert clear_unusable_texels(pixels) == 4
+    assert np.isfinite(pixels).all() and (pixels >= 0).all()
+    assert (pixels[0, 0, :3] == 0).all() and (pixels[1, 1] == 0.5).all()
+
+
+def test_a_texture_with_bad_texels_is_still_used(tmp_path):
+    scene = floor_scene()
+    image = bpy.data.images.new("stains", 4, 4, float_buffer=True)
+    pixels = np.full(4 * 4 * 4, 0.6, dtype=np.float32)
+    pixels[0], pixels[5] = np.nan, -1.0  # texel 0 red, texel 1 green
+    image.pixels.foreach_set(pixels)
+    mat = bpy.data.materials.new("stained")
+    if mat.node_tree is None or bpy.app.version < (5, 0, 0):
+        mat.use_nodes = True
+    bsdf = next(n for n in mat.node_tree.nodes if n.bl_idname == "ShaderNodeBsdfPrincipled")
+    texture = mat.node_tree.nodes.new("ShaderNodeTexImage")
+    texture.image = image
+    mat.node_tree.links.new(texture.outputs["Color"], bsdf.inputs["Base Color"])
+    bpy.data.objects["floor"].data.materials.append(mat)
+    _, warnings = export_scene(scene)
+    assert len(warnings) == 1 and "image 'stains'" in warnings[0] and "2 texels" in warnings[0]
+    renders(scene, tmp_path)
+
+
+@pytest.mark.parametrize("points, cyclic, expected", [
+    ([(0.5, 0.0)], True, "fewer than 2 points"),
+    ([(0.0, 0.0), (0.0, 1.0)], False, "lies on the revolve axis"),
+])
+def test_a_revolve_profile_without_a_surface_is_skipped_with_a_warning(points, cyclic, expected, tmp_path):
+    scene = floor_scene()
+    curve = bpy.data.curves.new("profile", "CURVE")
+    spline = curve.splines.new("BEZIER")
+    spline.bezier_points.add(len(points) - 1)
+    for point, (x, y) in zip(spline.bezier_points, points):
+        point.co = point.handle_left = point.handle_right = (x, y, 0.0)
+    spline.use_cyclic_u = cyclic
+    obj = bpy.data.objects.new("vase", curve)
+    obj.ppm.revolve = True
+    scene.collection.objects.link(obj)
+    _, warnings = export_scene(scene)
+    assert len(warnings) == 1 and "'vase'" in warnings[0] and expected in warnings[0], warnings
+    renders(scene, tmp_path)
+
+
+def test_a_world_the_core_cannot_take_renders_black_with_a_warning(tmp_path):
+    scene = floor_scene()
+    world = bpy.data.worlds.new("glare")
+    if world.node_tree is None or bpy.app.version < (5, 0, 0):
+        world.use_nodes = True
+    background = next(n for n in world.node_tree.nodes if n.bl_idname == "ShaderNodeBackground")
+    background.inputs["Strength"].default_value = -2.0
+    scene.world = world
+    _, warnings = export_scene(scene)
+    assert len(warnings) == 1 and "world 'glare'" in warnings[0] and "black" in warnings[0]
+    renders(scene, tmp_path)
