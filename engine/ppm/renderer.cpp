@@ -4,6 +4,7 @@
 #include "ppm/direct_light.h"
 #include "ppm/eye_pass.h"
 #include "ppm/parallel.h"
+#include "ppm/photon_density_radius.h"
 #include "ppm/progressive.h"
 #include "post/dof_post.h"
 
@@ -100,18 +101,39 @@ bool Renderer::ensure_eye_pass(const std::function<bool()>& poll) {
   const auto t0 = Clock::now();
   if (!eye_pass(*scene_, settings_, eye_options(0), hit_points_, cancel_, poll)) return false;
   if (!hit_points_.depth.empty()) depth_.swap(hit_points_.depth);
+  if (!measure_photon_spacing_once(hit_points_, poll)) return false;
   eye_done_ = true;
   stats_.eye_seconds = since(t0);
   stats_.hit_points = hit_points_.size();
+  double sum = 0.0;
+  for (HitPoint& h : hit_points_.points) {
+    if (h.r2 < min_initial_r2_) h.r2 = min_initial_r2_, ++stats_.radii_widened;
+    sum += std::sqrt(h.r2);
+  }
+  stats_.initial_radius_mean = hit_points_.size() ? sum / hit_points_.size() : 0.0;
   const size_t pixels = static_cast<size_t>(scene_->camera().width) * scene_->camera().height;
   size_t empty = 0;
   for (size_t p = 0; p < pixels; ++p) empty += hit_points_.pixel_begin[p] == hit_points_.pixel_begin[p + 1];
   if (empty > 0)
     stats_.skipped.push_back("hit points: " + std::to_string(empty) +
                              " pixels see only background, emitters or nothing");
-  double sum = 0.0;
-  for (const HitPoint& h : hit_points_.points) sum += std::sqrt(h.r2);
-  stats_.initial_radius_mean = hit_points_.size() ? sum / hit_points_.size() : 0.0;
+  return true;
+}
+
+// The photons' spacing, once per render, before any initial radius is set (automatic radii only).
+bool Renderer::measure_photon_spacing_once(const HitPoints& hp, const std::function<bool()>& poll) {
+  if (spacing_measured_ || !settings_.density_radius || settings_.initial_radius > 0.0 || !analysis_.trace_photons ||
+      hp.size() == 0)
+    return true;
+  double start = 0.0;  // where the neighbour search begins: the hit points' mean radius
+  for (const HitPoint& h : hp.points) start += std::sqrt(h.r2);
+  PhotonSpacing spacing;
+  if (!measure_photon_spacing(*scene_, lights_, settings_, threads_, start / hp.size(), cancel_, poll, spacing))
+    return false;
+  spacing_measured_ = true;
+  min_initial_r2_ = spacing.radius * spacing.radius;
+  stats_.photon_spacing = spacing.radius;
+  stats_.density_radius_seconds = spacing.seconds;
   return true;
 }
 
@@ -149,11 +171,15 @@ bool Renderer::stochastic_pass(const std::function<bool()>& poll) {
   HitPoints& fresh = spare_hit_points_;  // reused: no pass allocates hit points once sizes settle
   if (!eye_pass(*scene_, settings_, eye_options(pass + 1), fresh, cancel_, poll)) return false;
   stats_.eye_seconds += since(t0);
-  // Every hit point gathers with its pixel's current radius.
+  if (!measure_photon_spacing_once(fresh, poll)) return false;
+  // Every hit point gathers with its pixel's current radius; a pixel's first comes from its first hit point.
   const size_t pixel_count = pixels_.size();
   for (size_t p = 0; p < pixel_count; ++p)
     for (uint32_t i = fresh.pixel_begin[p]; i < fresh.pixel_begin[p + 1]; ++i) {
-      if (pixels_[p].r2 == 0.0) pixels_[p].r2 = fresh.points[i].r2;
+      if (pixels_[p].r2 == 0.0) {
+        pixels_[p].r2 = std::max(fresh.points[i].r2, min_initial_r2_);
+        stats_.radii_widened += fresh.points[i].r2 < min_initial_r2_;
+      }
       fresh.points[i].r2 = pixels_[p].r2;
     }
   // Photons and direct light into the fresh hit points; a cancel drops the whole pass.

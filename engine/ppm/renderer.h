@@ -44,6 +44,9 @@ struct RenderStats {
   size_t memory_bytes = 0;
   int threads = 1;
   double initial_radius_mean = 0.0;
+  double photon_spacing = 0.0;  // floor of the automatic initial radius (photon_density_radius.h); 0 if none
+  uint64_t radii_widened = 0;   // hit points (fixed) or pixels (stochastic) whose initial radius it raised
+  double density_radius_seconds = 0.0;
   double radius_mean = 0.0;
   std::vector<std::string> skipped;
 };
@@ -77,6 +80,7 @@ class Renderer {
 
  private:
   bool ensure_eye_pass(const std::function<bool()>& poll);
+  bool measure_photon_spacing_once(const HitPoints& hp, const std::function<bool()>& poll);
   bool one_pass(const std::function<bool()>& poll);        // fixed hit points (PPM)
   bool stochastic_pass(const std::function<bool()>& poll); // new hit points every pass (SPPM)
   void decide_depth_of_field();
@@ -95,6 +99,8 @@ class Renderer {
   PhotonPass photon_pass_;
   std::vector<Color> direct_sums_;  // direct_light_pass scratch, kept across passes
   bool eye_done_ = false;
+  bool spacing_measured_ = false;
+  double min_initial_r2_ = 0.0;  // the photons' spacing squared: a floor for automatic initial radii
   std::atomic<bool> cancel_{false};
   std::atomic<bool> running_{false};  // image()/stats() refuse to read while a pass writes
   RenderStats stats_;

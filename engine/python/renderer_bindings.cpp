@@ -64,6 +64,8 @@ const std::map<std::string, SettingAccess>& setting_table() {
       {"initial_radius", number(&Settings::initial_radius, "initial gather radius in metres, 0 = automatic")},
       {"initial_radius_pixels",
        number(&Settings::initial_radius_pixels, "automatic initial radius in pixel footprints")},
+      {"density_radius", number(&Settings::density_radius,
+                                "widen the automatic initial radius where one pass's photons are sparser than pixels")},
       {"progress_interval", number(&Settings::progress_interval, "seconds between progress callbacks")},
       {"direct_light", enumeration(&Settings::direct_light,
                                    {{"sampled", DirectLight::Sampled}, {"photons", DirectLight::Photons}},
@@ -135,9 +137,12 @@ py::dict stats_dict(const RenderStats& s) {
   d["cancelled"] = s.cancelled;
   d["memory_bytes"] = s.memory_bytes;
   d["initial_radius_mean"] = s.initial_radius_mean;
+  d["photon_spacing"] = s.photon_spacing;
+  d["radii_widened"] = s.radii_widened;
   d["radius_mean"] = s.radius_mean;
   py::dict t;
   t["eye_pass"] = s.eye_seconds;
+  t["density_radius"] = s.density_radius_seconds;
   t["direct_light"] = s.direct_seconds;
   t["photon_trace"] = s.photon.trace_seconds;
   t["index_build"] = s.photon.index_seconds;
