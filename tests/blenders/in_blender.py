@@ -5,10 +5,10 @@
 
 Installs the add-on zip the way a user does (an extension in 4.2+, a legacy add-on in 3.4) into the
 user folders the caller chose (BLENDER_USER_RESOURCES, or BLENDER_USER_SCRIPTS/CONFIG for 3.4), then
-renders every bundled .blend through it at low resolution, runs the per-light-kind Cycles agreement
-(cycles_compare.py) and records every Python warning raised in the add-on's files (deprecations
-included). With --no-core it only tries one render and records the error. The assertions are in
-test_blender_versions.py, which runs this in each version.
+renders every bundled .blend through it at low resolution, runs the per-light-kind and per-lens
+Cycles agreement (cycles_compare.py, lens_compare.py) and records every Python warning raised in
+the add-on's files (deprecations included). With --no-core it only tries one render and records
+the error. The assertions are in test_blender_versions.py, which runs this in each version.
 """
 
 import argparse
@@ -26,6 +26,7 @@ import bpy
 import numpy as np
 
 import cycles_compare
+import lens_compare
 
 SCENES = sorted(glob.glob(os.path.join(ROOT, "blend_scenes", "*.blend")))
 RESOLUTION_PERCENT = 12  # 640x480 -> 76x57
@@ -121,6 +122,7 @@ def main():
         report["core_file"] = sys.modules["ppm_core"].__file__
         report["cycles"] = cycles_compare.compare_kinds(cycles_compare.kinds_for_this_blender(), args.samples,
                                                         passes=24)
+        report["lenses"] = lens_compare.compare_cases(args.samples, passes=24)
     report["addon_warnings"] = found_warnings
     with open(args.report, "w") as f:
         json.dump(report, f, indent=1)

@@ -3,7 +3,8 @@
 
 In each version the zip is installed the way a user does and enabled, every bundled .blend renders
 through it with the core built for that version's Python, PPM agrees with that version's Cycles
-light kind by light kind (units changed between 3.x and 4.x), and the add-on raises no Python
+light kind by light kind (units changed between 3.x and 4.x) and, in a room lit indirectly, through
+lenses from 5 to 5000 mm and tiny and huge orthographic cameras, and the add-on raises no Python
 warning (deprecations included). A zip without a core for the running Python fails with one clear
 message. See in_blender.py for what runs inside Blender.
 """
@@ -20,6 +21,7 @@ ROOT = os.path.dirname(os.path.dirname(HERE))
 IN_BLENDER = os.path.join(HERE, "in_blender.py")
 BUILD_ADDON = os.path.join(ROOT, "addon", "build_addon.py")
 TOLERANCE = 0.03  # cycles_compare.TOLERANCE (not imported: importing it needs bpy)
+LENS_TOLERANCE = 0.05  # lens_compare.TOLERANCE
 
 
 def bpy_python(venv):
@@ -56,7 +58,7 @@ def run_in_blender(version, zip_path, tmp_path, *args):
     command = BLENDERS[version][1] + ["--zip", zip_path, "--report", str(report), "--workdir", str(tmp_path), *args]
     run = subprocess.run(command, capture_output=True, text=True, timeout=900, env=env, cwd=str(tmp_path))
     assert run.returncode == 0 and report.exists(), run.stdout[-3000:] + run.stderr[-3000:]
-    print("\n".join(line for line in run.stdout.splitlines() if line.startswith("cycles_compare")))
+    print("\n".join(line for line in run.stdout.splitlines() if line.startswith(("cycles_compare", "lens_compare"))))
     return json.loads(report.read_text()), str(user)
 
 
@@ -78,6 +80,8 @@ def test_zip_installs_renders_and_agrees_with_cycles(version, addon_zip, tmp_pat
     kinds = {row["kind"]: row["max_block_error"] for row in report["cycles"]}
     assert {"point", "sphere", "spot", "area_square", "area_disk", "sun", "emissive_mesh", "world"} <= set(kinds)
     assert all(error <= TOLERANCE for error in kinds.values()), kinds
+    lenses = {row["case"]: max(abs(row["mean_error"]), abs(row["median_error"])) for row in report["lenses"]}
+    assert len(lenses) == 5 and all(error <= LENS_TOLERANCE for error in lenses.values()), lenses
     assert report["addon_warnings"] == []
 
 
