@@ -50,7 +50,9 @@ inline bool parallel_chunks(int threads, size_t chunks, const std::function<void
       if (--running == 0) finished.notify_one();
     });
   }
-  const auto wait = std::chrono::duration<double>(poll ? std::max(interval, 1e-3) : 3600.0);
+  // Polls four times per interval: `poll` keeps its own clock (Renderer::run calls back once per
+  // interval), and a phase that starts just before its time is then not a whole interval late.
+  const auto wait = std::chrono::duration<double>(poll ? std::max(interval / 4.0, 1e-3) : 3600.0);
   for (;;) {
     {
       std::unique_lock<std::mutex> lock(mutex);
@@ -70,6 +72,14 @@ inline bool parallel_chunks(int threads, size_t chunks, const std::function<void
   for (auto& th : pool) th.join();
   if (error) std::rethrow_exception(error);
   return !cancel.load();
+}
+
+// Runs fn on a worker thread while the calling thread polls every `interval`:
+// a step that is not cut into chunks (building an index) still lets a cancel
+// be noticed on time. fn runs to its end; returns false if poll asked to cancel.
+inline bool run_polled(const std::function<void()>& fn, std::atomic<bool>& cancel, const std::function<bool()>& poll,
+                       double interval) {
+  return parallel_chunks(1, 1, [&](int, size_t) { fn(); }, cancel, poll, interval);
 }
 
 // fn(k) for every k in [0, count), handed out one at a time as in

@@ -104,7 +104,9 @@ void PhotonPass::build_hit_point_index(const HitPoints& hp, PhotonPassCounters& 
 bool PhotonPass::run(const Scene& scene, const LightSampler& lights, uint64_t pass, HitPoints& hp,
                      std::atomic<bool>& cancel, const std::function<bool()>& poll, PhotonPassCounters& counters) {
   if (settings_.gather == GatherOrganisation::HitPoints) {
-    if (!index_built_ || mean_r2(hp) < kReindexRatio * indexed_mean_r2_) build_hit_point_index(hp, counters);
+    if ((!index_built_ || mean_r2(hp) < kReindexRatio * indexed_mean_r2_) &&
+        !run_polled([&] { build_hit_point_index(hp, counters); }, cancel, poll, settings_.progress_interval))
+      return false;
     return settings_.grid == GridKind::Quantile
                ? run_hit_point_index(quantile_, scene, lights, pass, hp, cancel, poll, counters)
                : run_hit_point_index(hash_, scene, lights, pass, hp, cancel, poll, counters);
@@ -166,27 +168,10 @@ bool PhotonPass::run_hit_point_index(const Grid& grid, const Scene& scene, const
   return true;
 }
 
+// The traced photons of a Photons-organisation pass into the grid, and stored in its cell order;
+// returns how many there are.
 template <class Grid>
-bool PhotonPass::run_photon_index(Grid& grid, const Scene& scene, const LightSampler& lights, uint64_t pass,
-                                  HitPoints& hp, std::atomic<bool>& cancel, const std::function<bool()>& poll,
-                                  PhotonPassCounters& counters) {
-  auto t0 = std::chrono::steady_clock::now();
-  const uint64_t photons = settings_.photons_per_pass;
-  const size_t chunks = (photons + kPhotonChunk - 1) / kPhotonChunk;
-  // One buffer per chunk (kept across passes): merged in chunk order, the
-  // photon list is the same whichever thread traced which chunk.
-  if (chunk_photons_.size() < chunks) chunk_photons_.resize(chunks);
-  auto trace = [&](int, size_t chunk) {
-    auto& buffer = chunk_photons_[chunk];
-    buffer.clear();
-    trace_photons(
-        scene, lights, settings_, chunk * kPhotonChunk, std::min<uint64_t>(photons, (chunk + 1) * kPhotonChunk),
-        [&](uint64_t i) { return Rng(settings_.seed, kPhotonStream + pass, i); },
-        [&](const Vec3& pos, const Vec3& dir, const Vec3& normal, const Color& flux) {
-          buffer.push_back(Photon{pos, Vec3f(dir), Vec3f(normal), Vec3f(flux)});
-        });
-  };
-  if (!parallel_chunks(threads_, chunks, trace, cancel, poll, settings_.progress_interval)) return false;
+size_t PhotonPass::index_photons(Grid& grid, size_t chunks, const HitPoints& hp) {
   // The grid's input: the positions, concatenated in chunk order (each chunk
   // copied by whichever thread takes it). The rest stays in the chunk buffers.
   chunk_first_.resize(chunks + 1);
@@ -199,9 +184,6 @@ bool PhotonPass::run_photon_index(Grid& grid, const Scene& scene, const LightSam
     Vec3* positions = traced_positions_.data() + chunk_first_[c];
     for (size_t k = 0; k < buffer.size(); ++k) positions[k] = buffer[k].position;
   });
-  counters.trace_seconds += seconds_since(t0);
-
-  t0 = std::chrono::steady_clock::now();
   static const std::vector<double> kNoRadii;
   if constexpr (std::is_same_v<Grid, HashGrid>)
     grid.build(traced_positions_, kNoRadii, std::fmax(2.0 * std::sqrt(mean_r2(hp)), 1e-300));
@@ -226,6 +208,35 @@ bool PhotonPass::run_photon_index(Grid& grid, const Scene& scene, const LightSam
       arrivals_[new_index[k]] = Arrival{p.normal, p.flux, p.direction};
     }
   });
+  return count;
+}
+
+template <class Grid>
+bool PhotonPass::run_photon_index(Grid& grid, const Scene& scene, const LightSampler& lights, uint64_t pass,
+                                  HitPoints& hp, std::atomic<bool>& cancel, const std::function<bool()>& poll,
+                                  PhotonPassCounters& counters) {
+  auto t0 = std::chrono::steady_clock::now();
+  const uint64_t photons = settings_.photons_per_pass;
+  const size_t chunks = (photons + kPhotonChunk - 1) / kPhotonChunk;
+  // One buffer per chunk (kept across passes): merged in chunk order, the
+  // photon list is the same whichever thread traced which chunk.
+  if (chunk_photons_.size() < chunks) chunk_photons_.resize(chunks);
+  auto trace = [&](int, size_t chunk) {
+    auto& buffer = chunk_photons_[chunk];
+    buffer.clear();
+    trace_photons(
+        scene, lights, settings_, chunk * kPhotonChunk, std::min<uint64_t>(photons, (chunk + 1) * kPhotonChunk),
+        [&](uint64_t i) { return Rng(settings_.seed, kPhotonStream + pass, i); },
+        [&](const Vec3& pos, const Vec3& dir, const Vec3& normal, const Color& flux) {
+          buffer.push_back(Photon{pos, Vec3f(dir), Vec3f(normal), Vec3f(flux)});
+        });
+  };
+  if (!parallel_chunks(threads_, chunks, trace, cancel, poll, settings_.progress_interval)) return false;
+  counters.trace_seconds += seconds_since(t0);
+  t0 = std::chrono::steady_clock::now();
+  size_t count = 0;
+  if (!run_polled([&] { count = index_photons(grid, chunks, hp); }, cancel, poll, settings_.progress_interval))
+    return false;
   counters.index_seconds += seconds_since(t0);
 
   t0 = std::chrono::steady_clock::now();

@@ -65,6 +65,8 @@ class PhotonPass {
   bool run_photon_index(Grid& grid, const Scene& scene, const LightSampler& lights, uint64_t pass,
                         HitPoints& hp, std::atomic<bool>& cancel, const std::function<bool()>& poll,
                         PhotonPassCounters& counters);
+  template <class Grid>
+  size_t index_photons(Grid& grid, size_t chunks, const HitPoints& hp);
   void build_hit_point_index(const HitPoints& hp, PhotonPassCounters& counters);
   double mean_r2(const HitPoints& hp) const;
 

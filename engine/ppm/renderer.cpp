@@ -229,16 +229,20 @@ uint64_t Renderer::run(uint64_t passes, double seconds, const std::function<bool
   stats_.cancelled = false;
   const auto t0 = Clock::now();
   const uint64_t start = stats_.passes;
+  auto last_callback = Clock::now();
   auto inner_poll = [&]() {
     // A time limit ends the pass in progress too, once at least one pass is done.
     if (seconds > 0.0 && since(t0) >= seconds && stats_.passes > start) return false;
-    return poll ? poll(Progress{stats_.passes, stats_.photon.emitted, since(t0)}) : true;
+    if (!poll || since(last_callback) < settings_.progress_interval) return true;
+    last_callback = Clock::now();
+    return poll(Progress{stats_.passes, stats_.photon.emitted, since(t0)});
   };
   bool ok = ensure_eye_pass(inner_poll);
   while (ok && (passes == 0 || stats_.passes - start < passes)) {
     if (seconds > 0.0 && since(t0) >= seconds) break;
     ok = settings_.hit_points == HitPointMode::Stochastic ? stochastic_pass(inner_poll) : one_pass(inner_poll);
     if (ok && poll && !poll(Progress{stats_.passes, stats_.photon.emitted, since(t0)})) ok = false;
+    last_callback = Clock::now();
   }
   const bool timed_out = seconds > 0.0 && since(t0) >= seconds;
   stats_.cancelled = !ok && !timed_out;
