@@ -33,7 +33,7 @@ inline PhotonPath emit_photon_path(const Scene& scene, const LightSampler& light
   const Light& light = scene.lights()[lights.pick_emitter(rng.uniform(), pick_pdf)];
   const double u1 = rng.uniform(), u2 = rng.uniform(), u3 = rng.uniform(), u4 = rng.uniform(), u5 = rng.uniform();
   const PhotonEmission e = emit_photon(light, u1, u2, u3, u4, u5);
-  return PhotonPath{rng, e.flux / pick_pdf, e.ray, 0};
+  return PhotonPath{rng, e.flux / (pick_pdf * lights.flux_unit()), e.ray, 0};  // its share of the total
 }
 
 // Takes the path one bounce on, given what its ray hit (nullptr: nothing):

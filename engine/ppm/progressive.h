@@ -38,9 +38,10 @@ inline void progressive_update(double& r2, HitPointStats& s, double alpha, uint3
 // (tau_m, m) photons were gathered at the current radius r, exactly like
 // those already in tau, so they belong in the estimate: leaving them out would
 // darken every hit point that waits for P photons while N_emitted grows.
-inline Color photon_radiance(double r2, const HitPointStats& s, double photons_emitted) {
+// Photons carry shares of the lights' total flux: `flux_unit` is that total.
+inline Color photon_radiance(double r2, const HitPointStats& s, double photons_emitted, double flux_unit) {
   if (photons_emitted <= 0.0 || r2 <= 0.0) return Color(0.0);
-  return (s.tau + s.tau_m) / (kPi * r2 * photons_emitted);
+  return (s.tau + s.tau_m) * (flux_unit / (kPi * r2 * photons_emitted));
 }
 
 }  // namespace ppm

@@ -285,13 +285,13 @@ std::vector<float> Renderer::image() const {
       if (stochastic) {
         const PixelStats& px = pixels_[p];
         c = px.emitted * pass_scale + px.stats.direct * direct_scale;
-        if (analysis_.trace_photons && px.r2 > 0.0) c += photon_radiance(px.r2, px.stats, emitted);
+        if (analysis_.trace_photons && px.r2 > 0.0) c += photon_radiance(px.r2, px.stats, emitted, lights_.flux_unit());
       } else {
         c = hit_points_.emitted[p];
         for (uint32_t i = hit_points_.pixel_begin[p]; i < hit_points_.pixel_begin[p + 1]; ++i) {
           const HitPointStats& s = hit_points_.stats[i];
           c += s.direct * direct_scale;
-          if (analysis_.trace_photons) c += photon_radiance(hit_points_.points[i].r2, s, emitted);
+          if (analysis_.trace_photons) c += photon_radiance(hit_points_.points[i].r2, s, emitted, lights_.flux_unit());
         }
       }
       float* out = &rgba[(static_cast<size_t>(H - 1 - y) * W + x) * 4];  // top row first

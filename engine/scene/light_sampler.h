@@ -44,6 +44,11 @@ class LightSampler {
   const std::vector<uint32_t>& analytic() const { return analytic_; }
   bool has_triangles() const { return triangle_total_ > 0.0; }
 
+  // The lights' total flux (W), picked by: a photon carries its share of it
+  // (flux / (pick pdf * flux_unit), about 1 whatever the scene's scale), and
+  // the gather multiplies by it (photon_radiance).
+  double flux_unit() const { return total_; }
+
   // A light for a photon, with its selection probability. Only for a non-empty sampler.
   uint32_t pick_emitter(double u, double& pdf) const { return pick(emitters_, emit_cdf_, total_, u, pdf); }
   uint32_t pick_triangle(double u, double& pdf) const {

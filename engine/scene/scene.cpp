@@ -376,29 +376,11 @@ void Scene::build() {
 }
 
 void Scene::check_energy_range(int max_bounces) const {
-  // Photons carry the total flux of all lights (then split by the pick
-  // probability), scaled at each scattering by weight / survival, which is at
-  // most the largest colour component above 1: flux <= total * gain^bounces.
-  double total = 0.0, largest = 0.0;
-  const Light* brightest = nullptr;
-  for (const Light& l : lights_) {
-    const double f = max_component(l.flux);
-    if (!std::isfinite(f))
+  for (const Light& l : lights_)
+    if (!std::isfinite(max_component(l.flux)))
       fail(quoted("light", l.name), "its emitted flux overflows (the scene is too large for its power)");
-    total += f;
-    if (f > largest) largest = f, brightest = &l;
-  }
-  if (!std::isfinite(total) || total > kMaxFlux) {
-    const std::string grows = brightest->kind == LightKind::Sun || brightest->kind == LightKind::Background
-                                  ? " (a sun's or background's flux grows with the scene's area)"
-                                  : "";
-    throw std::invalid_argument("light '" + brightest->name + "': the lights emit " + number(total) +
-                                " W in all, above the supported " + number(kMaxFlux) + " W" + grows);
-  }
-  if (total > 0.0 && total < kMinFlux)
-    throw std::invalid_argument("light '" + brightest->name + "': the lights emit only " + number(total) +
-                                " W in all, below the supported " + number(kMinFlux) +
-                                " W (photon flux is float32: it would round to zero)");
+  // A photon's share is scaled at each scattering by weight / survival, at most
+  // the largest colour component above 1: it stays below gain^bounces.
   double gain = 1.0;
   const Material* greedy = nullptr;
   for (const Material& m : materials_) {
@@ -407,18 +389,14 @@ void Scene::check_energy_range(int max_bounces) const {
     if (m.texture >= 0 && m.kind != MaterialKind::Glass) g *= textures_[m.texture].max_rgb;
     if (g > gain) gain = g, greedy = &m;
   }
-  // The source: photon flux, or radiance seen by the eye through a specular chain.
-  double source = total;
-  for (const Material& m : materials_) source = std::fmax(source, max_component(m.emission));
-  source = std::fmax(source, max_component(background_));
-  if (greedy == nullptr || !(source > 0.0)) return;
+  if (greedy == nullptr) return;
   const double log_growth = std::max(1, max_bounces) * std::log10(gain);
-  if (std::log10(source) + log_growth > std::log10(kMaxFlux))
+  if (log_growth > std::log10(kMaxPhotonGain))
     throw std::invalid_argument(
         "material '" + greedy->name + "': its colour " + number(gain) +
         " reflects more light than it receives; over max_bounces=" + std::to_string(max_bounces) +
-        " scatterings the photon flux could grow to 1e" + std::to_string(static_cast<int>(std::log10(source) + log_growth)) +
-        " W, above the supported " + number(kMaxFlux) + " W (keep colours <= 1 or lower max_bounces)");
+        " scatterings a photon's flux could grow by 1e" + std::to_string(static_cast<int>(log_growth)) +
+        ", above the supported " + number(kMaxPhotonGain) + " (keep colours <= 1 or lower max_bounces)");
 }
 
 // Triangles, by far the most common, are tested inline; the rest out of line.

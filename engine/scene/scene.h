@@ -28,16 +28,16 @@ class BezierRevolve;
 //   observable universe is 9e26 m);
 //   radii and light sizes from 1e-100 m (their squares stay normal doubles);
 //   light power, irradiance and radiance up to 1e20 (W, W/m^2, W/(m^2 sr));
-//   the total flux of all lights, times the largest gain of a colour above 1
-//   over max_bounces scatterings, up to 1e25 W (photon flux is float32; a
-//   pass of up to 2^32 photons on one hit point still sums below 3.4e38);
-//   and that total either 0 or at least 1e-30 W (below ~1e-38 W the float32
-//   photon flux becomes denormal, then 0, and indirect light vanishes).
+//   the largest gain of a colour above 1 over max_bounces scatterings up to
+//   kMaxPhotonGain. Photons carry their share of the lights' total flux
+//   (about 1, in float32; LightSampler::flux_unit is the total in double),
+//   so the total itself may be anything a double holds: a sun over a 10 km
+//   scene or a 1e-40 W light. A pass of up to 2^32 photons of share at most
+//   1e25 on one hit point still sums below float32's 3.4e38.
 constexpr double kMaxCoordinate = 1e30;
 constexpr double kMinSize = 1e-100;
 constexpr double kMaxPower = 1e20;
-constexpr double kMaxFlux = 1e25;
-constexpr double kMinFlux = 1e-30;
+constexpr double kMaxPhotonGain = 1e25;
 
 // BVH size (nodes and leaf records) above which intersect_many interleaves
 // rays' walks. Below it the BVH stays in a core's cache, there are no misses
@@ -82,9 +82,9 @@ class Scene {
   // Builds the BVH and prepares the lights. Idempotent; builders called after it rebuild.
   void build();
 
-  // For a built scene: throws std::invalid_argument naming the light or the
-  // material when photon flux could leave float range (see kMaxFlux): the total
-  // emitted flux, grown by colours above 1 over `max_bounces` scatterings.
+  // For a built scene: throws std::invalid_argument naming the light whose
+  // flux overflows a double, or the material whose colour above 1 could grow a
+  // photon's share of the flux beyond kMaxPhotonGain over `max_bounces` scatterings.
   void check_energy_range(int max_bounces) const;
   bool built() const { return built_; }
 

@@ -34,7 +34,7 @@ TEST(Progressive, TenThousandPassesKeepTheEstimate) {
         ASSERT_TRUE(std::isfinite(r2) && r2 > 0.0 && normal_or_zero(r2));
         ASSERT_TRUE(std::isfinite(s.n) && std::isfinite(s.tau.x));
         if (pass % 1000 == 0) {
-          const Color L = photon_radiance(r2, s, static_cast<double>(pass));
+          const Color L = photon_radiance(r2, s, static_cast<double>(pass), 1.0);
           EXPECT_NEAR(L.x, density * flux, 1e-3 * density * flux) << alpha << " " << pass;
         }
       }
@@ -53,7 +53,7 @@ TEST(Progressive, RadiusStopsAtTheFloorInsteadOfUnderflowing) {
   for (int pass = 1; pass <= 10000; ++pass) {
     const uint32_t m = 4000000000u;  // near the uint32 limit, every pass
     const double before_r2 = r2;
-    const Color before = photon_radiance(r2, s, pass - 1.0) * (pass - 1.0);  // tau / (pi r^2)
+    const Color before = photon_radiance(r2, s, pass - 1.0, 1.0) * (pass - 1.0);  // tau / (pi r^2)
     s.m += m;
     s.tau_m += Color(flux * r2);  // photons gathered in proportion to the area
     progressive_update(r2, s, 0.01, 1);
@@ -61,7 +61,7 @@ TEST(Progressive, RadiusStopsAtTheFloorInsteadOfUnderflowing) {
     ASSERT_LE(r2, before_r2);
     ASSERT_EQ(s.m, 0u);
     ASSERT_TRUE(normal_or_zero(r2) && normal_or_zero(s.tau.x) && std::isfinite(s.n));
-    const Color after = photon_radiance(r2, s, pass) * static_cast<double>(pass);
+    const Color after = photon_radiance(r2, s, pass, 1.0) * static_cast<double>(pass);
     ASSERT_TRUE(std::isfinite(after.x) && after.x > 0.0);
     // Each pass adds flux * r2 / (pi r^2) = flux / pi to the estimate's numerator, up to the shrink.
     if (pass > 1) ASSERT_LE(after.x, before.x + flux / kPi * 1.000001);
@@ -78,8 +78,8 @@ TEST(Progressive, NothingHappensBelowTheThreshold) {
   progressive_update(r2, s, 0.7, 10);
   EXPECT_EQ(r2, 2.0);
   EXPECT_EQ(s.m, 9u);
-  EXPECT_EQ(photon_radiance(0.0, s, 1.0).x, 0.0);  // no radius, no estimate: not a division by zero
-  EXPECT_EQ(photon_radiance(1.0, s, 0.0).x, 0.0);
+  EXPECT_EQ(photon_radiance(0.0, s, 1.0, 1.0).x, 0.0);  // no radius, no estimate: not a division by zero
+  EXPECT_EQ(photon_radiance(1.0, s, 0.0, 1.0).x, 0.0);
 }
 
 }  // namespace
