@@ -225,3 +225,19 @@ def test_a_world_the_core_cannot_take_renders_black_with_a_warning(tmp_path):
     _, warnings = export_scene(scene)
     assert len(warnings) == 1 and "world 'glare'" in warnings[0] and "black" in warnings[0]
     renders(scene, tmp_path)
+
+
+def test_a_camera_scaled_to_zero_still_looks_where_it_pointed(tmp_path):
+    scene = floor_scene()
+    scene.camera.scale = (0.0, 0.0, 0.0)
+    renders(scene, tmp_path)
+    scene.camera.scale = (1.0, 1.0, 0.0)  # the view axis flattened: rebuilt from the other two
+    renders(scene, tmp_path)
+
+
+@pytest.mark.parametrize("where", [float("nan"), 1e35])
+def test_a_camera_nowhere_fails_the_frame_with_a_clear_message(where):
+    scene = floor_scene()
+    scene.camera.location = (where, 0.0, 3.0)
+    with pytest.raises(RuntimeError, match="PPM: camera 'cam' is at .* not a point the core can render from"):
+        bpy.ops.render.render()

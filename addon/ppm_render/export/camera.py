@@ -18,6 +18,8 @@ from types import SimpleNamespace
 
 import numpy as np
 
+MAX_COORDINATE = 1e30  # metres, the core's limit
+
 # Cycles' lens data for a scene camera that is not a camera (blender_camera_init in blender/camera.cpp).
 CYCLES_DEFAULT_LENS = SimpleNamespace(
     type="PERSP", lens=50.0, sensor_width=36.0, sensor_height=24.0, sensor_fit="AUTO", shift_x=0.0, shift_y=0.0,
@@ -63,11 +65,41 @@ def _fitted_extent(cam, fit_horizontal):
 
 
 def _camera_to_world(matrix):
-    """World matrix without scale (Cycles ignores a camera's scale)."""
+    """World matrix without scale (Cycles ignores a camera's scale). An axis scaled to zero (or
+    flattened onto another) is rebuilt square to the others; a camera scaled to zero on every axis
+    keeps the world's orientation."""
     m = np.array(matrix, dtype=float)
-    for axis in range(3):
-        m[:3, axis] /= np.linalg.norm(m[:3, axis])
+    axes = m[:3, :3].T.copy()  # rows: x, y, z
+    lengths = np.linalg.norm(axes, axis=1)
+    ok = np.isfinite(lengths) & (lengths > 1e-300)
+    axes[ok] /= lengths[ok, None]
+    if ok.sum() < 3:
+        axes = _complete_axes(axes, ok)
+    m[:3, :3] = axes.T
     return m
+
+
+def _complete_axes(axes, ok):
+    """A right-handed orthonormal frame that keeps the usable axes, preferring the view axis z."""
+    known = [i for i in (2, 1, 0) if ok[i]]
+    if not known:
+        return np.eye(3)
+    first = known[0]
+    helper = np.eye(3)[int(np.argmin(np.abs(axes[first])))]
+    second = next((i for i in known[1:] if np.linalg.norm(np.cross(axes[first], axes[i])) > 1e-9), None)
+    other = axes[second] if second is not None else helper
+    frame = np.eye(3)
+    frame[first] = axes[first]
+    j, k = (first + 1) % 3, (first + 2) % 3  # cyclic: axis_k = axis_first x axis_j
+    if second == k:
+        frame[k] = other - np.dot(other, axes[first]) * axes[first]
+        frame[k] /= np.linalg.norm(frame[k])
+        frame[j] = np.cross(frame[k], frame[first])
+    else:
+        frame[j] = other - np.dot(other, axes[first]) * axes[first]
+        frame[j] /= np.linalg.norm(frame[j])
+        frame[k] = np.cross(frame[first], frame[j])
+    return frame
 
 
 def focus_distance(cam, matrix):
@@ -109,6 +141,10 @@ def camera_arguments(camera_object, frame, warn, dof_mode="OFF"):
     cx = (frame.x + 0.5 * frame.window_width - 0.5 * frame.width) * pixel + cam.shift_x * extent
     cy = (frame.y + 0.5 * frame.window_height - 0.5 * frame.height) * pixel + cam.shift_y * extent
     window_extent = pixel * frame.window_width  # the window is fitted horizontally, same pixel size
+    position = np.array(camera_object.matrix_world.translation, dtype=float)
+    if not (np.isfinite(position).all() and np.abs(position).max() <= MAX_COORDINATE):
+        raise ValueError(f"camera '{camera_object.name}' is at {tuple(position)}, not a point the core can render "
+                         f"from (coordinates up to {MAX_COORDINATE:g} m)")
     args = {
         "matrix": _camera_to_world(camera_object.matrix_world),
         "width": frame.window_width,

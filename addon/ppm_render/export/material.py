@@ -10,6 +10,8 @@ node, a linked input we cannot read) falls back to a diffuse surface of the
 material's viewport colour, with one warning naming the material and node.
 """
 
+import math
+
 import bpy
 import numpy as np
 
@@ -21,6 +23,9 @@ PRINCIPLED_SOCKETS = {
     "emission": ("Emission Color", "Emission"),
     "emission_strength": ("Emission Strength",),
 }
+
+
+MAX_EMISSION = 1e20  # radiance, the core's limit
 
 
 def _socket(node, *names):
@@ -93,12 +98,37 @@ class MaterialExporter:
             return self.default
         key = material.name_full if hasattr(material, "name_full") else material.name
         if key not in self.indices:
-            params = self.describe(material)
+            params = self.in_range(self.describe(material), material.name)
             self.indices[key] = self.scene.add_material(material.name, **params)
             if any(c > 0.0 for c in params.get("emission", (0, 0, 0))):
                 self.emissive.add(self.indices[key])
                 self.non_emissive[self.indices[key]] = {**params, "emission": (0.0, 0.0, 0.0)}
         return self.indices[key]
+
+    def in_range(self, params, name):
+        """`params` brought into the core's ranges, as Cycles renders them where it has a rule: roughness
+        clamped to [0, 1] (silently, as Cycles does). Colours that are not finite, negative, or above 1
+        (a surface reflecting more than it receives, which photons would multiply without bound), an
+        emission above the core's 1e20 and a non-positive IOR are clamped with one warning."""
+        out, changes = dict(params), []
+        for key, lo, hi, nan in (("base_color", 0.0, 1.0, 0.0), ("emission", 0.0, MAX_EMISSION, 0.0)):
+            if key in out:
+                value = np.asarray(out[key], dtype=float)
+                fixed = np.clip(np.nan_to_num(value, nan=nan, posinf=hi, neginf=lo), lo, hi)
+                if not np.array_equal(value, fixed):
+                    changes.append(f"{key.replace('_', ' ')} {tuple(value.round(6))} -> {tuple(fixed.round(6))}")
+                out[key] = tuple(fixed)
+        if "roughness" in out:
+            roughness = float(out["roughness"])
+            if not math.isfinite(roughness):
+                changes.append(f"roughness {roughness} -> 0.5")
+            out["roughness"] = min(max(roughness, 0.0), 1.0) if math.isfinite(roughness) else 0.5
+        if "ior" in out and not (math.isfinite(out["ior"]) and out["ior"] > 0.0):
+            changes.append(f"ior {out['ior']} -> 1.45")
+            out["ior"] = 1.45
+        if changes:
+            self.warn(f"material '{name}': outside what can be rendered, clamped: {'; '.join(changes)}")
+        return out
 
     def without_emission(self, index, what):
         """A copy of material `index` without emission, for surfaces the core cannot make emissive."""
