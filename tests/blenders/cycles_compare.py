@@ -177,7 +177,7 @@ def build(kind):
     return scene
 
 
-def configure_cycles(scene, samples):
+def configure_cycles(scene, samples, bounces=4):
     """Cycles as a reference (see ../shared/BLENDER_NOTES.md): no clamping, denoising or adaptivity."""
     scene.render.engine = "CYCLES"
     c = scene.cycles
@@ -189,7 +189,7 @@ def configure_cycles(scene, samples):
     c.sample_clamp_direct = c.sample_clamp_indirect = 0.0
     c.blur_glossy = 0.0
     c.caustics_reflective = c.caustics_refractive = True
-    c.max_bounces = 4
+    c.max_bounces = c.diffuse_bounces = bounces
     scene.render.threads_mode = "FIXED"
     scene.render.threads = 2
 
@@ -209,11 +209,25 @@ def render_to_array(scene, path):
     bpy.ops.render.render(write_still=True)
     image = bpy.data.images.load(path, check_existing=False)
     try:
-        pixels = np.empty(WIDTH * HEIGHT * 4, dtype=np.float32)
+        width, height = image.size
+        pixels = np.empty(width * height * 4, dtype=np.float32)
         image.pixels.foreach_get(pixels)
     finally:
         bpy.data.images.remove(image)
-    return pixels.reshape(HEIGHT, WIDTH, 4)[..., :3]
+    return pixels.reshape(height, width, 4)[..., :3]
+
+
+def render_with_both_engines(name, workdir, samples, passes, bounces=4):
+    """{"CYCLES": rgb, "PPM": rgb} of the scene just built, saved once and opened for each engine."""
+    blend = os.path.join(workdir, f"{name}.blend")
+    bpy.ops.wm.save_as_mainfile(filepath=blend)
+    images = {}
+    for engine in ("CYCLES", "PPM"):
+        bpy.ops.wm.open_mainfile(filepath=blend)
+        scene = bpy.context.scene
+        configure_cycles(scene, samples, bounces) if engine == "CYCLES" else configure_ppm(scene, passes)
+        images[engine] = render_to_array(scene, os.path.join(workdir, f"{name}_{engine}.exr"))
+    return images
 
 
 def block_means(rgb):
@@ -227,14 +241,8 @@ def block_means(rgb):
 def compare(kind, workdir, samples=256, passes=32):
     """Cycles and PPM block means for one light kind, rendered from the same saved .blend."""
     build(kind)
-    blend = os.path.join(workdir, f"{kind}.blend")
-    bpy.ops.wm.save_as_mainfile(filepath=blend)
-    results = {}
-    for engine in ("CYCLES", "PPM"):
-        bpy.ops.wm.open_mainfile(filepath=blend)
-        scene = bpy.context.scene
-        configure_cycles(scene, samples) if engine == "CYCLES" else configure_ppm(scene, passes)
-        results[engine] = block_means(render_to_array(scene, os.path.join(workdir, f"{kind}_{engine}.exr")))
+    results = {engine: block_means(rgb) for engine, rgb in
+               render_with_both_engines(kind, workdir, samples, passes).items()}
     cycles, ppm = results["CYCLES"], results["PPM"]
     # Relative error; below 1e-4 (a dark block: a light Cycles renders as none) the error is absolute.
     relative = (ppm - cycles) / np.maximum(cycles, DARK)

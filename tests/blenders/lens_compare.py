@@ -75,37 +75,13 @@ def set_world_black():
 
 def compare(case, workdir, samples=128, passes=24):
     build(case)
-    blend = os.path.join(workdir, f"{case}.blend")
-    bpy.ops.wm.save_as_mainfile(filepath=blend)
-    images = {}
-    for engine in ("CYCLES", "PPM"):
-        bpy.ops.wm.open_mainfile(filepath=blend)
-        scene = bpy.context.scene
-        if engine == "CYCLES":
-            cycles_compare.configure_cycles(scene, samples)
-            c = scene.cycles
-            c.max_bounces = c.diffuse_bounces = 32  # a closed room: 0.5^32 of the light is left
-        else:
-            cycles_compare.configure_ppm(scene, passes)
-        path = os.path.join(workdir, f"{case}_{engine}.exr")
-        scene.render.filepath = path
-        bpy.ops.render.render(write_still=True)
-        images[engine] = read_luminance(path)
-    cycles, ppm = images["CYCLES"], images["PPM"]
+    # A closed room: 0.5^32 of the light is left after Cycles' last bounce.
+    images = cycles_compare.render_with_both_engines(case, workdir, samples, passes, bounces=32)
+    cycles, ppm = (images[engine].mean(axis=2) for engine in ("CYCLES", "PPM"))
     return {"case": case, "blender": bpy.app.version_string,
             "mean_error": float(ppm.mean() / cycles.mean() - 1.0),
             "median_error": float(np.median(ppm) / np.median(cycles) - 1.0),
             "ppm_peak_over_median": float(ppm.max() / np.median(ppm))}
-
-
-def read_luminance(path):
-    image = bpy.data.images.load(path, check_existing=False)
-    try:
-        pixels = np.empty(len(image.pixels), dtype=np.float32)
-        image.pixels.foreach_get(pixels)
-    finally:
-        bpy.data.images.remove(image)
-    return pixels.reshape(-1, 4)[:, :3].mean(axis=1)
 
 
 def compare_cases(samples=128, passes=24):
