@@ -241,3 +241,18 @@ def test_a_camera_nowhere_fails_the_frame_with_a_clear_message(where):
     scene.camera.location = (where, 0.0, 3.0)
     with pytest.raises(RuntimeError, match="PPM: camera 'cam' is at .* not a point the core can render from"):
         bpy.ops.render.render()
+
+
+def test_material_values_outside_the_cores_range_are_clamped_with_one_warning(tmp_path):
+    scene = floor_scene()
+    mat = bpy.data.materials.new("wild")
+    if mat.node_tree is None or bpy.app.version < (5, 0, 0):
+        mat.use_nodes = True
+    bsdf = next(n for n in mat.node_tree.nodes if n.bl_idname == "ShaderNodeBsdfPrincipled")
+    bsdf.inputs["Base Color"].default_value = (2.0, 0.5, float("nan"), 1.0)
+    bsdf.inputs["Roughness"].default_value = 7.0  # Cycles clamps roughness: no warning for it
+    bpy.data.objects["floor"].data.materials.append(mat)
+    _, warnings = export_scene(scene)
+    assert warnings == ["material 'wild': outside what can be rendered, clamped: base color (2, 0.5, nan) -> "
+                        "(1, 0.5, 0)"], warnings
+    renders(scene, tmp_path)

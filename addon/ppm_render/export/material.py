@@ -116,8 +116,8 @@ class MaterialExporter:
                 value = np.asarray(out[key], dtype=float)
                 fixed = np.clip(np.nan_to_num(value, nan=nan, posinf=hi, neginf=lo), lo, hi)
                 if not np.array_equal(value, fixed):
-                    changes.append(f"{key.replace('_', ' ')} {tuple(value.round(6))} -> {tuple(fixed.round(6))}")
-                out[key] = tuple(fixed)
+                    changes.append(f"{key.replace('_', ' ')} {_rgb(value)} -> {_rgb(fixed)}")
+                out[key] = tuple(float(c) for c in fixed)
         if "roughness" in out:
             roughness = float(out["roughness"])
             if not math.isfinite(roughness):
@@ -177,6 +177,10 @@ class MaterialExporter:
                 self.warn(f"image '{image.name}': {cleared} texels are negative or not a number; rendered as black")
             self.textures[key] = self.scene.add_texture(image.name, pixels)
         return self.textures[key]
+
+
+def _rgb(values):
+    return "(" + ", ".join(f"{float(v):g}" for v in values) + ")"
 
 
 def clear_unusable_texels(pixels):
