@@ -54,6 +54,14 @@ def add_light(name, kind, **props):
     return obj
 
 
+def principled_material(name):
+    """A new node material and its Principled BSDF."""
+    mat = bpy.data.materials.new(name)
+    if mat.node_tree is None or bpy.app.version < (5, 0, 0):
+        mat.use_nodes = True
+    return mat, next(n for n in mat.node_tree.nodes if n.bl_idname == "ShaderNodeBsdfPrincipled")
+
+
 def export_scene(scene):
     """(core scene, warnings) as the engine exports it."""
     warnings = []
@@ -181,10 +189,7 @@ def test_a_texture_with_bad_texels_is_still_used(tmp_path):
     pixels = np.full(4 * 4 * 4, 0.6, dtype=np.float32)
     pixels[0], pixels[5] = np.nan, -1.0  # texel 0 red, texel 1 green
     image.pixels.foreach_set(pixels)
-    mat = bpy.data.materials.new("stained")
-    if mat.node_tree is None or bpy.app.version < (5, 0, 0):
-        mat.use_nodes = True
-    bsdf = next(n for n in mat.node_tree.nodes if n.bl_idname == "ShaderNodeBsdfPrincipled")
+    mat, bsdf = principled_material("stained")
     texture = mat.node_tree.nodes.new("ShaderNodeTexImage")
     texture.image = image
     mat.node_tree.links.new(texture.outputs["Color"], bsdf.inputs["Base Color"])
@@ -245,10 +250,7 @@ def test_a_camera_nowhere_fails_the_frame_with_a_clear_message(where):
 
 def test_material_values_outside_the_cores_range_are_clamped_with_one_warning(tmp_path):
     scene = floor_scene()
-    mat = bpy.data.materials.new("wild")
-    if mat.node_tree is None or bpy.app.version < (5, 0, 0):
-        mat.use_nodes = True
-    bsdf = next(n for n in mat.node_tree.nodes if n.bl_idname == "ShaderNodeBsdfPrincipled")
+    mat, bsdf = principled_material("wild")
     bsdf.inputs["Base Color"].default_value = (2.0, 0.5, float("nan"), 1.0)
     bsdf.inputs["Roughness"].default_value = 7.0  # Cycles clamps roughness: no warning for it
     bpy.data.objects["floor"].data.materials.append(mat)

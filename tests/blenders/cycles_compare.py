@@ -203,10 +203,8 @@ def configure_ppm(scene, passes):
     scene.ppm.threads = 2
 
 
-def render_to_array(scene, path):
-    """Renders with write_still and reads the EXR back with Blender (no pixels in background mode otherwise)."""
-    scene.render.filepath = path
-    bpy.ops.render.render(write_still=True)
+def read_image(path):
+    """(H, W, 4) float32 of an image file read by Blender, rows bottom-up as Blender stores them."""
     image = bpy.data.images.load(path, check_existing=False)
     try:
         width, height = image.size
@@ -214,7 +212,14 @@ def render_to_array(scene, path):
         image.pixels.foreach_get(pixels)
     finally:
         bpy.data.images.remove(image)
-    return pixels.reshape(height, width, 4)[..., :3]
+    return pixels.reshape(height, width, 4)
+
+
+def render_to_array(scene, path):
+    """Renders with write_still and reads the EXR back with Blender (no pixels in background mode otherwise)."""
+    scene.render.filepath = path
+    bpy.ops.render.render(write_still=True)
+    return read_image(path)[..., :3]
 
 
 def render_with_both_engines(name, workdir, samples, passes, bounces=4):

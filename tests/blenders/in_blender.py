@@ -60,18 +60,6 @@ def install(zip_path):
     return module
 
 
-def read_pixels(path):
-    """(H, W, 4) float32 of an EXR, through Blender (no render pixels in background mode otherwise)."""
-    image = bpy.data.images.load(path, check_existing=False)
-    try:
-        width, height = image.size
-        pixels = np.empty(width * height * 4, dtype=np.float32)
-        image.pixels.foreach_get(pixels)
-    finally:
-        bpy.data.images.remove(image)
-    return pixels.reshape(height, width, 4)[::-1]
-
-
 def render_scene(blend, workdir):
     """Renders one bundled scene with PPM at low resolution; returns the figures the test checks."""
     bpy.ops.wm.open_mainfile(filepath=blend)
@@ -83,7 +71,7 @@ def render_scene(blend, workdir):
     scene.render.use_file_extension = False
     scene.render.filepath = os.path.join(workdir, os.path.basename(blend) + ".exr")
     bpy.ops.render.render(write_still=True)
-    rgb = read_pixels(scene.render.filepath)[..., :3]
+    rgb = cycles_compare.read_image(scene.render.filepath)[..., :3]
     finite = bool(np.isfinite(rgb).all())
     rgb = np.nan_to_num(rgb)
     return {"engine": scene.render.engine, "shape": list(rgb.shape[:2]), "finite": finite, "min": float(rgb.min()),
