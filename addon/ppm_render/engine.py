@@ -110,8 +110,11 @@ class PPMRenderEngine(bpy.types.RenderEngine):
         try:
             ppm_core = core.load()
             self.update_stats("", "Exporting scene")
-            ppm_scene, camera_args = export.build_scene(ppm_core, depsgraph, frame, self.warn)
+            ppm_scene, camera_args = export.build_scene(ppm_core, depsgraph, frame, self.warn, self.test_break)
             renderer = ppm_core.Renderer(ppm_scene, **core_settings(scene.ppm))
+        except export.Cancelled:
+            self.update_stats("", "Cancelled while exporting the scene")
+            return
         except Exception as error:  # noqa: BLE001 - every failure must reach the user
             self.fail(error)
             return

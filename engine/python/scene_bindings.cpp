@@ -45,25 +45,58 @@ bool unit(const Vec3& v, Vec3& out) {
   return true;
 }
 
-uint32_t add_texture(Scene& s, const std::string& name, const py::object& pixels) {
+// Byte pixels are kept as bytes (a memoryview of a Blender ImBuf, or uint8
+// numpy); anything else becomes float32 (no copy if it already is) and is
+// converted to the storage. The conversion runs without the GIL.
+uint32_t add_texture(Scene& s, const std::string& name, const py::object& pixels, const py::object& storage_name,
+                     bool clear_unusable) {
+  using ByteArray = py::array_t<uint8_t, py::array::c_style>;
   using FloatArray = py::array_t<float, py::array::c_style | py::array::forcecast>;
   const std::string what = "texture '" + checked_name(name, "texture") + "'";
-  {
-    // Shape first, before a copy to float32 of something that cannot be a texture.
-    const py::array raw = py::array::ensure(pixels);
-    if (!raw) fail(what, "pixels must be a float array of shape (H, W, 4)");
-    if (raw.ndim() != 3 || raw.shape(2) != 4) fail(what, "pixels must have shape (H, W, 4)");
-    if (raw.shape(0) > (1 << 20) || raw.shape(1) > (1 << 20))
-      fail(what, "width and height must be at most 1048576 pixels");
-    const char kind = raw.dtype().kind();
-    if (kind != 'f' && kind != 'i' && kind != 'u' && kind != 'b')
-      fail(what, std::string("pixels must be real numbers, not dtype kind '") + kind + "'");
+  const py::array raw = array_or_null<py::array>(pixels);
+  // Shape first, before a copy to float32 of something that cannot be a texture.
+  if (!raw) fail(what, "pixels must be an array of shape (H, W, 4) or (H, W, 3)");
+  if (raw.ndim() != 3 || (raw.shape(2) != 4 && raw.shape(2) != 3))
+    fail(what, "pixels must have shape (H, W, 4) or (H, W, 3)");
+  if (raw.shape(0) < 1 || raw.shape(1) < 1) fail(what, "width and height must be positive");
+  if (raw.shape(0) > (1 << 20) || raw.shape(1) > (1 << 20)) fail(what, "width and height must be at most 1048576 pixels");
+  const char kind = raw.dtype().kind();
+  if (kind != 'f' && kind != 'i' && kind != 'u' && kind != 'b')
+    fail(what, std::string("pixels must be real numbers, not dtype kind '") + kind + "'");
+  const bool bytes = raw.dtype().is(py::dtype::of<uint8_t>());
+  if (!storage_name.is_none() && !py::isinstance<py::str>(storage_name))
+    fail(what, "storage must be 'srgb8', 'linear8' or 'half'");
+  const TexelStorage storage =
+      storage_name.is_none() ? (bytes ? TexelStorage::Srgb8 : TexelStorage::Half)
+                             : choice<TexelStorage>(py::cast<std::string>(storage_name),
+                                                    {{"srgb8", TexelStorage::Srgb8},
+                                                     {"linear8", TexelStorage::Linear8},
+                                                     {"half", TexelStorage::Half}},
+                                                    what, "storage");
+  if (bytes && storage == TexelStorage::Half) fail(what, "byte pixels are stored as bytes: storage 'srgb8' or 'linear8'");
+  const int width = static_cast<int>(raw.shape(1)), height = static_cast<int>(raw.shape(0));
+  const int channels = static_cast<int>(raw.shape(2));
+  if (bytes) {
+    const ByteArray a = ByteArray::ensure(raw);  // a copy only if not C-contiguous
+    py::gil_scoped_release unlocked;
+    return s.add_texture(name, Texture::from_bytes(width, height, channels, a.data(), storage), clear_unusable);
   }
-  const FloatArray a = array_or_null<FloatArray>(pixels);
-  if (!a) fail(what, "pixels must be a float array");
-  if (a.ndim() != 3 || a.shape(2) != 4) fail(what, "pixels must have shape (H, W, 4)");
-  std::vector<float> rgba(a.data(), a.data() + a.size());
-  return s.add_texture(name, static_cast<int>(a.shape(1)), static_cast<int>(a.shape(0)), std::move(rgba));
+  const FloatArray a = array_or_null<FloatArray>(raw);
+  if (!a) fail(what, "pixels must be an array of numbers");
+  py::gil_scoped_release unlocked;
+  return s.add_texture(name, Texture::from_floats(width, height, channels, a.data(), storage), clear_unusable);
+}
+
+py::dict texture_info(const Scene& s, uint32_t index) {
+  if (index >= s.textures().size()) throw py::index_error("texture index out of range");
+  const Texture& t = s.textures()[index];
+  const char* storage = t.storage() == TexelStorage::Half    ? "half"
+                        : t.storage() == TexelStorage::Srgb8 ? "srgb8"
+                                                             : "linear8";
+  py::dict d;
+  d["width"] = t.width(), d["height"] = t.height(), d["storage"] = storage, d["bytes"] = t.bytes();
+  d["max_rgb"] = t.max_rgb(), d["unusable_texels"] = t.unusable_texels();
+  return d;
 }
 
 // Integers in [0, 2^32): integer and boolean arrays as they are; float (and
@@ -305,8 +338,15 @@ void bind_scene(py::module_& m) {
            py::arg("emission") = py::make_tuple(0.0, 0.0, 0.0),
            "Adds a material; returns its index. kind: diffuse, mirror, metal, glass, emission. "
            "emission is radiance in W/(m^2 sr) (Blender colour * strength).")
-      .def("add_texture", &add_texture, py::arg("name"), py::arg("pixels"),
-           "Adds a linear RGBA float texture of shape (H, W, 4), row 0 at the bottom; returns its index.")
+      .def("add_texture", &add_texture, py::arg("name"), py::arg("pixels"), py::arg("storage") = py::none(),
+           py::arg("clear_unusable") = false,
+           "Adds an RGBA or RGB texture of shape (H, W, 4) or (H, W, 3), row 0 at the bottom; returns its "
+           "index. storage: 'srgb8' (sRGB-encoded bytes; the default for uint8 pixels), 'linear8', or 'half' "
+           "(linear half floats; the default for other pixels). Float pixels stored as bytes are quantized "
+           "(round(v * 255)). A texel with a negative, NaN or Inf colour (or a NaN or Inf alpha) is an "
+           "error, or with clear_unusable=True stays black and is counted in texture_info().")
+      .def("texture_info", &texture_info, py::arg("index"),
+           "width, height, storage, bytes, max_rgb and unusable_texels of texture `index`.")
       .def("add_mesh", &add_mesh, py::arg("name"), py::arg("positions"), py::arg("triangles"),
            py::arg("normals") = py::none(), py::arg("uvs") = py::none(), py::arg("materials") = 0,
            py::arg("object_id") = 0,

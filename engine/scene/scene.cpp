@@ -91,24 +91,16 @@ uint32_t Scene::add_material(const Material& m) {
   return static_cast<uint32_t>(materials_.size() - 1);
 }
 
-uint32_t Scene::add_texture(const std::string& name, int width, int height, std::vector<float> rgba) {
+uint32_t Scene::add_texture(const std::string& name, Texture texture, bool clear_unusable) {
   ensure_mutable();
   const std::string what = quoted("texture", name);
-  if (width <= 0 || height <= 0) fail(what, "width and height must be positive");
-  if (rgba.size() != static_cast<size_t>(width) * height * 4) fail(what, "pixel array must be height x width x 4");
-  float max_rgb = 0.0f;
-  for (size_t i = 0; i < rgba.size(); ++i) {
-    const float v = rgba[i];
-    if (!std::isfinite(v)) fail(what, "pixels contain NaN or Inf");
-    if (i % 4 == 3) continue;  // alpha is not used
-    if (v < 0.0f) {
-      const size_t px = i / 4;
-      fail(what, "pixel (x " + std::to_string(px % width) + ", y " + std::to_string(px / width) + ") has a negative " +
-                     "colour component " + number(v) + " (an albedo cannot be negative)");
-    }
-    max_rgb = std::fmax(max_rgb, v);
+  if (texture.unusable_texels() > 0 && !clear_unusable) {
+    const UnusableTexel& t = texture.first_unusable();
+    const std::string where = "pixel (x " + std::to_string(t.x) + ", y " + std::to_string(t.y) + ")";
+    if (!std::isfinite(t.value)) fail(what, where + " has a NaN or Inf component");
+    fail(what, where + " has a negative colour component " + number(t.value) + " (an albedo cannot be negative)");
   }
-  textures_.push_back(Texture{width, height, std::move(rgba), max_rgb});
+  textures_.push_back(std::move(texture));
   return static_cast<uint32_t>(textures_.size() - 1);
 }
 
@@ -386,7 +378,7 @@ void Scene::check_energy_range(int max_bounces) const {
   for (const Material& m : materials_) {
     if (m.kind == MaterialKind::Metal || m.kind == MaterialKind::Emission) continue;  // metal Fresnel is clamped to 1
     double g = max_component(m.base_color);
-    if (m.texture >= 0 && m.kind != MaterialKind::Glass) g *= textures_[m.texture].max_rgb;
+    if (m.texture >= 0 && m.kind != MaterialKind::Glass) g *= textures_[m.texture].max_rgb();
     if (g > gain) gain = g, greedy = &m;
   }
   if (greedy == nullptr) return;

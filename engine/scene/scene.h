@@ -65,7 +65,9 @@ class Scene {
   Scene(Scene&&) noexcept;
 
   uint32_t add_material(const Material& m);
-  uint32_t add_texture(const std::string& name, int width, int height, std::vector<float> rgba);
+  // Texels that cannot be an albedo (see UnusableTexel) are an error naming the
+  // first one, or, with clear_unusable, stay black (Texture::unusable_texels).
+  uint32_t add_texture(const std::string& name, Texture texture, bool clear_unusable = false);
   void add_mesh(MeshInput mesh);
   void add_sphere(const std::string& name, const Vec3& center, double radius, uint32_t material,
                   uint32_t object_id);

@@ -1,35 +1,86 @@
-// An RGBA float image sampled bilinearly with repeat wrapping, in linear colour.
-// Row 0 is the bottom of the image (Blender's convention), so v = 0 is row 0.
+// An RGBA image sampled bilinearly with repeat wrapping, kept in the compact
+// form its source has (8-bit sRGB-encoded or linear bytes, or half floats) and
+// decoded to linear colour on lookup: a 16k x 16k 8-bit texture takes 1 GiB,
+// not the 4 GiB of float32. Row 0 is the bottom of the image (Blender's
+// convention), so v = 0 is row 0.
 #pragma once
 
+#include "math/half.h"
 #include "math/types.h"
 
+
+#include <cmath>
+#include <cstdint>
 #include <vector>
 
 namespace ppm {
 
-struct Texture {
-  int width = 0, height = 0;
-  std::vector<float> rgba;  // height * width * 4
-  float max_rgb = 0.0f;     // largest colour component (its gain as an albedo)
+enum class TexelStorage : uint8_t {
+  Srgb8,    // bytes, sRGB-encoded (Blender's byte images in the sRGB colour space)
+  Linear8,  // bytes, linear (Non-Color and linear byte images)
+  Half,     // half floats, linear (Blender's float images)
+};
+
+// A texel that cannot be an albedo: a colour channel that is negative, NaN or
+// infinite, or an alpha that is not finite. Such texels are stored black.
+struct UnusableTexel {
+  int x = 0, y = 0;
+  float value = 0.0f;  // the offending channel
+};
+
+class Texture {
+ public:
+  // `channels` (3 or 4) values per texel, rows bottom first. Bytes are stored
+  // as they are. Floats are quantized to bytes for the 8-bit storages
+  // (round(v * 255), exact for floats that came from bytes, as Blender's
+  // Image.pixels of a byte image do) or converted to half (clamped to 65504).
+  static Texture from_bytes(int width, int height, int channels, const uint8_t* texels, TexelStorage storage);
+  static Texture from_floats(int width, int height, int channels, const float* texels, TexelStorage storage);
+
+  int width() const { return width_; }
+  int height() const { return height_; }
+  TexelStorage storage() const { return storage_; }
+  size_t bytes() const { return bytes_.size() + 2 * halves_.size(); }
+  float max_rgb() const { return max_rgb_; }  // largest colour component (its gain as an albedo)
+  size_t unusable_texels() const { return unusable_; }
+  const UnusableTexel& first_unusable() const { return first_unusable_; }
 
   Color lookup(const Vec2& uv) const {
-    const double x = (uv.x - std::floor(uv.x)) * width - 0.5;
-    const double y = (uv.y - std::floor(uv.y)) * height - 0.5;
+    const double x = (uv.x - std::floor(uv.x)) * width_ - 0.5;
+    const double y = (uv.y - std::floor(uv.y)) * height_ - 0.5;
     const double fx = std::floor(x), fy = std::floor(y);
     const double ax = x - fx, ay = y - fy;
-    const int x0 = wrap(static_cast<int>(fx), width), x1 = wrap(x0 + 1, width);
-    const int y0 = wrap(static_cast<int>(fy), height), y1 = wrap(y0 + 1, height);
-    return (1 - ax) * (1 - ay) * texel(x0, y0) + ax * (1 - ay) * texel(x1, y0) +
-           (1 - ax) * ay * texel(x0, y1) + ax * ay * texel(x1, y1);
+    const int x0 = wrap(static_cast<int>(fx), width_), x1 = wrap(x0 + 1, width_);
+    const int y0 = wrap(static_cast<int>(fy), height_), y1 = wrap(y0 + 1, height_);
+    return (1 - ax) * (1 - ay) * texel(x0, y0) + ax * (1 - ay) * texel(x1, y0) + (1 - ax) * ay * texel(x0, y1) +
+           ax * ay * texel(x1, y1);
   }
 
  private:
+  Texture(int width, int height, TexelStorage storage);
   static int wrap(int i, int n) { return ((i % n) + n) % n; }
-  Color texel(int x, int y) const {
-    const float* p = &rgba[(static_cast<size_t>(y) * width + x) * 4];
-    return Color(p[0], p[1], p[2]);
-  }
+  size_t index(int x, int y) const { return (static_cast<size_t>(y) * width_ + x) * 4; }
+  Color texel(int x, int y) const;
+  void clear_unusable(size_t first_texel, std::vector<float>& row);  // black, counted
+  void note_unusable(size_t texel, const float rgba[4]);
+  uint8_t max_byte() const;  // of the colour channels
+  float max_half() const;
+
+  int width_ = 0, height_ = 0;
+  TexelStorage storage_ = TexelStorage::Srgb8;
+  const float* decode_ = nullptr;  // byte -> linear value, for the 8-bit storages
+  std::vector<uint8_t> bytes_;     // RGBA, 8-bit storages
+  std::vector<uint16_t> halves_;   // RGBA, Half
+  float max_rgb_ = 0.0f;
+  size_t unusable_ = 0;
+  UnusableTexel first_unusable_;
 };
+
+inline Color Texture::texel(int x, int y) const {
+  const size_t i = index(x, y);
+  if (storage_ == TexelStorage::Half)
+    return Color(from_half(halves_[i]), from_half(halves_[i + 1]), from_half(halves_[i + 2]));
+  return Color(decode_[bytes_[i]], decode_[bytes_[i + 1]], decode_[bytes_[i + 2]]);
+}
 
 }  // namespace ppm

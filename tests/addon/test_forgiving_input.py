@@ -9,7 +9,6 @@ import pytest
 from conftest import bpy, render_file
 from ppm_render import core, export
 from ppm_render.export.camera import Frame
-from ppm_render.export.material import clear_unusable_texels
 
 ppm_core = core.load()
 
@@ -170,17 +169,6 @@ def test_any_object_can_be_the_camera(kind, tmp_path):
     _, warnings = export_scene(scene)
     assert len(warnings) == 1 and "'viewer'" in warnings[0] and "50 mm" in warnings[0]
     renders(scene, tmp_path)
-
-
-def test_unusable_texels_are_cleared_not_the_whole_texture():
-    pixels = np.full((2, 3, 4), 0.5, dtype=np.float32)
-    pixels[0, 0, 0] = np.nan
-    pixels[0, 1, 2] = -0.25
-    pixels[1, 2, 1] = np.inf
-    pixels[1, 0, 3] = np.nan  # alpha: unused, but must be finite
-    assert clear_unusable_texels(pixels) == 4
-    assert np.isfinite(pixels).all() and (pixels >= 0).all()
-    assert (pixels[0, 0, :3] == 0).all() and (pixels[1, 1] == 0.5).all()
 
 
 def test_a_texture_with_bad_texels_is_still_used(tmp_path):

@@ -58,7 +58,7 @@ def test_bad_mesh(scene, kwargs, message):
         (lambda s: s.add_material("m", base_color=(1, -1, 1)), "negative component"),
         (lambda s: s.add_material("m", emission=(math.inf, 0, 0)), "emission is not finite"),
         (lambda s: s.add_material("m", texture=4), "texture index out of range"),
-        (lambda s: s.add_texture("t", np.zeros((4, 4, 3))), "shape (H, W, 4)"),
+        (lambda s: s.add_texture("t", np.zeros((4, 4, 2))), "shape (H, W, 4) or (H, W, 3)"),
         (lambda s: s.add_texture("t", np.full((2, 2, 4), np.nan)), "NaN or Inf"),
         (lambda s: s.add_light("laser"), "kind must be one of"),
         (lambda s: s.add_light("point", power=-5.0), "power has a negative component"),

@@ -8,6 +8,8 @@ the depsgraph (the CURVE object and a MESH instance of its evaluated
 geometry): a revolve curve is exported exactly and its MESH instance (the
 Screw preview) skipped; any other curve is exported through that MESH instance.
 
+Esc is honoured between objects (`cancelled` raises Cancelled).
+
 Where Cycles renders a frame, so does this exporter: an object or light the core
 refuses (its message names what is wrong) is left out, and so are triangles
 with a corner that is not finite; each such object gets one warning, however
@@ -22,6 +24,10 @@ from . import bezier, camera, light, material, mesh, world
 
 GEOMETRY_TYPES = {"MESH", "CURVE", "SURFACE", "META", "FONT", "CURVES", "POINTCLOUD", "VOLUME"}
 CURVE_TYPES = {"CURVE", "SURFACE", "FONT"}
+
+
+class Cancelled(Exception):
+    """The user pressed Esc during the export."""
 
 
 class Exporter:
@@ -112,13 +118,16 @@ class Exporter:
                 self.guarded(obj, self.add_geometry, obj, matrix, name)
 
 
-def build_scene(core_module, depsgraph, frame, warn):
-    """(ppm_core.Scene, camera arguments) of the evaluated depsgraph, seen through the scene camera in `frame`."""
+def build_scene(core_module, depsgraph, frame, warn, cancelled=lambda: False):
+    """(ppm_core.Scene, camera arguments) of the evaluated depsgraph, seen through the scene camera in
+    `frame`. Raises Cancelled as soon as `cancelled()` is true."""
     scene = depsgraph.scene
     if scene.camera is None:
         raise ValueError(f"scene '{scene.name}' has no active camera")
     exporter = Exporter(core_module, warn)
     for instance in depsgraph.object_instances:
+        if cancelled():
+            raise Cancelled()
         exporter.visit(instance)
     exporter.finish_curves()
     exporter.report_skips()

@@ -15,6 +15,8 @@ import math
 import bpy
 import numpy as np
 
+from . import image as image_export
+
 DEFAULT_GREY = (0.8, 0.8, 0.8)
 
 # Principled BSDF socket names: Blender 4.0+ first, 3.x second.
@@ -58,24 +60,6 @@ def _surface_node(material):
         return None
     links = active[0].inputs["Surface"].links
     return links[0].from_node if links else None
-
-
-def srgb_to_linear(c):
-    return np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4)
-
-
-def image_pixels(image):
-    """Linear RGBA float32 (H, W, 4), row 0 at the bottom (Blender's and the core's order)."""
-    w, h = image.size
-    if w == 0 or h == 0 or len(image.pixels) != w * h * 4:
-        raise ValueError(f"image '{image.name}' has no pixels (missing file?)")
-    pixels = np.empty(w * h * 4, dtype=np.float32)
-    image.pixels.foreach_get(pixels)
-    pixels = pixels.reshape(h, w, 4)
-    # Byte images come back as stored (sRGB-encoded); float images are already linear.
-    if not image.is_float and image.colorspace_settings.name in ("sRGB", "sRGB 2.1"):
-        pixels[..., :3] = srgb_to_linear(pixels[..., :3])
-    return np.ascontiguousarray(pixels)
 
 
 class MaterialExporter:
@@ -171,29 +155,14 @@ class MaterialExporter:
     def texture(self, image):
         key = image.name_full if hasattr(image, "name_full") else image.name
         if key not in self.textures:
-            pixels = image_pixels(image)
-            cleared = clear_unusable_texels(pixels)
+            self.textures[key], cleared = image_export.add_texture(self.scene, image)
             if cleared:
                 self.warn(f"image '{image.name}': {cleared} texels are negative or not a number; rendered as black")
-            self.textures[key] = self.scene.add_texture(image.name, pixels)
         return self.textures[key]
 
 
 def _rgb(values):
     return "(" + ", ".join(f"{float(v):g}" for v in values) + ")"
-
-
-def clear_unusable_texels(pixels):
-    """Sets texels that cannot be an albedo (a negative, NaN or infinite channel; alpha is unused) to
-    black in place, and returns how many there were: one bad texel no longer drops the texture."""
-    bad = ~(np.isfinite(pixels) & (pixels >= 0.0))
-    bad[..., 3] = ~np.isfinite(pixels[..., 3])
-    texels = bad.any(axis=-1)
-    count = int(texels.sum())
-    if count:
-        pixels[texels, :3] = 0.0
-        pixels[texels, 3] = 1.0
-    return count
 
 
 def _uses_nodes(material):

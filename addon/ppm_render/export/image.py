@@ -1,0 +1,76 @@
+"""Blender images -> core textures, in the compact form Blender keeps them (bytes stay bytes) and
+without float64 copies.
+
+Two ways in:
+- Blender 5.2 and later (`imbuf.types.ImBuf.with_buffer`): a byte image file is loaded with
+  `imbuf` and its bytes are handed to the core as they are, without loading the image data-block
+  (which `Image.size`, `Image.pixels` and even `Image.is_float` would do). A 16k x 16k PNG adds the
+  core's 1 GiB, plus the ImBuf's 1 GiB while it is copied.
+- Otherwise `Image.pixels` (float32, 16 bytes a texel: Blender has no other way out), which the
+  core converts to bytes (byte images) or half floats (float images), after which the float copy
+  and, if this export loaded it, Blender's own image buffer are freed.
+"""
+
+import bpy
+import numpy as np
+
+try:
+    import imbuf
+except ImportError:  # not in every build of Blender
+    imbuf = None
+
+SRGB_SPACES = ("sRGB", "sRGB 2.1")
+
+
+def add_texture(core_scene, image):
+    """Adds `image` to the core scene; returns (texture index, number of texels rendered black)."""
+    byte_storage = "srgb8" if image.colorspace_settings.name in SRGB_SPACES else "linear8"
+    if can_read_file_bytes(image):
+        index = add_file_bytes(core_scene, image, byte_storage)
+        if index is not None:
+            return index, 0
+    return add_pixels(core_scene, image, byte_storage)
+
+
+def can_read_file_bytes(image):
+    buffer_access = imbuf is not None and hasattr(imbuf.types.ImBuf, "with_buffer")
+    # A generated, sequence, movie or tiled image, or one painted on since it was loaded, is
+    # not what its file holds.
+    return buffer_access and image.source == "FILE" and not image.is_dirty
+
+
+def add_file_bytes(core_scene, image, byte_storage):
+    """The texture index from the image file's bytes, or None if the file is not a byte image
+    that imbuf reads (then the caller goes through Image.pixels)."""
+    try:
+        if image.packed_file is not None:
+            buffer = imbuf.load_from_buffer(image.packed_file.data)
+        else:
+            buffer = imbuf.load(bpy.path.abspath(image.filepath, library=image.library))
+    except (OSError, ValueError, TypeError):
+        return None
+    try:
+        if buffer.buffer_type != "BYTE":
+            return None  # float files are turned into scene-linear floats by the data-block: use it
+        with buffer.with_buffer() as texels:
+            return core_scene.add_texture(image.name, texels, storage=byte_storage)
+    finally:
+        buffer.free()
+
+
+def add_pixels(core_scene, image, byte_storage):
+    had_data = image.has_data  # before image.size, which loads the image
+    try:
+        width, height = image.size
+        if width == 0 or height == 0 or len(image.pixels) != width * height * 4:
+            raise ValueError(f"image '{image.name}' has no pixels (missing file?)")
+        pixels = np.empty((height, width, 4), dtype=np.float32)
+        image.pixels.foreach_get(pixels.reshape(-1))
+        # Byte images come back as byte / 255 in their colour space; float images are scene linear.
+        storage = "half" if image.is_float else byte_storage
+        index = core_scene.add_texture(image.name, pixels, storage=storage, clear_unusable=True)
+        del pixels
+        return index, core_scene.texture_info(index)["unusable_texels"]
+    finally:
+        if not had_data:
+            image.buffers_free()  # loaded only for this export: give Blender's copy back

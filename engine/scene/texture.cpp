@@ -1,0 +1,129 @@
+#include "scene/texture.h"
+
+#include "math/half.h"
+
+#include <algorithm>
+#include <array>
+#include <limits>
+
+namespace ppm {
+namespace {
+
+const std::array<float, 256>& srgb_decode() {
+  static const std::array<float, 256> table = [] {
+    std::array<float, 256> t{};
+    for (int i = 0; i < 256; ++i) {
+      const double c = i / 255.0;
+      t[i] = static_cast<float>(c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4));
+    }
+    return t;
+  }();
+  return table;
+}
+
+const std::array<float, 256>& linear_decode() {
+  static const std::array<float, 256> table = [] {
+    std::array<float, 256> t{};
+    for (int i = 0; i < 256; ++i) t[i] = static_cast<float>(i / 255.0);
+    return t;
+  }();
+  return table;
+}
+
+uint8_t to_byte(float v) { return static_cast<uint8_t>(std::clamp(v, 0.0f, 1.0f) * 255.0f + 0.5f); }
+
+// Comparisons with NaN are false, so these also refuse NaN.
+bool usable_colour(float v) { return v >= 0.0f && v <= std::numeric_limits<float>::max(); }
+bool usable_alpha(float v) { return std::fabs(v) <= std::numeric_limits<float>::max(); }
+
+bool usable_row(const std::vector<float>& rgba) {
+  bool usable = true;
+  for (size_t j = 0; j < rgba.size(); ++j) usable &= (j % 4 == 3) ? usable_alpha(rgba[j]) : usable_colour(rgba[j]);
+  return usable;
+}
+
+}  // namespace
+
+Texture::Texture(int width, int height, TexelStorage storage) : width_(width), height_(height), storage_(storage) {
+  const size_t values = static_cast<size_t>(width) * height * 4;
+  if (storage == TexelStorage::Half) {
+    halves_.resize(values);
+  } else {
+    bytes_.resize(values);
+    decode_ = (storage == TexelStorage::Srgb8 ? srgb_decode() : linear_decode()).data();
+  }
+}
+
+Texture Texture::from_bytes(int width, int height, int channels, const uint8_t* texels, TexelStorage storage) {
+  Texture t(width, height, storage == TexelStorage::Half ? TexelStorage::Linear8 : storage);
+  const size_t count = static_cast<size_t>(width) * height;
+  if (channels == 4) {
+    std::copy(texels, texels + count * 4, t.bytes_.begin());
+  } else {
+    for (size_t i = 0; i < count; ++i) {
+      std::copy(texels + i * channels, texels + i * channels + 3, &t.bytes_[i * 4]);
+      t.bytes_[i * 4 + 3] = 255;
+    }
+  }
+  t.max_rgb_ = t.decode_[t.max_byte()];
+  return t;
+}
+
+Texture Texture::from_floats(int width, int height, int channels, const float* texels, TexelStorage storage) {
+  Texture t(width, height, storage);
+  const size_t count = static_cast<size_t>(width) * height;
+  // Row by row: a check and a conversion that the compiler vectorizes, and a
+  // slow pass over the rare row that holds an unusable texel.
+  std::vector<float> row(static_cast<size_t>(width) * 4);
+  for (size_t first = 0; first < count; first += width) {
+    const float* in = texels + first * channels;
+    if (channels == 4) {
+      std::copy(in, in + row.size(), row.begin());
+    } else {
+      for (int x = 0; x < width; ++x) std::copy(in + x * 3, in + x * 3 + 3, &row[x * 4]), row[x * 4 + 3] = 1.0f;
+    }
+    if (!usable_row(row)) t.clear_unusable(first, row);
+    if (storage == TexelStorage::Half) {
+      uint16_t* out = &t.halves_[first * 4];
+      for (size_t j = 0; j < row.size(); ++j) out[j] = to_half(row[j]);
+    } else {
+      uint8_t* out = &t.bytes_[first * 4];
+      for (size_t j = 0; j < row.size(); ++j) out[j] = to_byte(row[j]);
+    }
+  }
+  t.max_rgb_ = storage == TexelStorage::Half ? t.max_half() : t.decode_[t.max_byte()];
+  return t;
+}
+
+void Texture::clear_unusable(size_t first, std::vector<float>& row) {
+  for (size_t x = 0; x < row.size() / 4; ++x) {
+    float* rgba = &row[x * 4];
+    if (usable_colour(rgba[0]) && usable_colour(rgba[1]) && usable_colour(rgba[2]) && usable_alpha(rgba[3]))
+      continue;
+    note_unusable(first + x, rgba);
+    rgba[0] = rgba[1] = rgba[2] = 0.0f, rgba[3] = 1.0f;
+  }
+}
+
+void Texture::note_unusable(size_t texel, const float rgba[4]) {
+  if (unusable_++ > 0) return;
+  int c = 0;
+  while (c < 3 && usable_colour(rgba[c])) ++c;
+  first_unusable_ = UnusableTexel{static_cast<int>(texel % width_), static_cast<int>(texel / width_), rgba[c]};
+}
+
+float Texture::max_half() const {
+  // Colours are not negative (-0 at most): without the sign bit, the largest bits are the largest value.
+  uint32_t h = 0;
+  for (size_t i = 0; i < halves_.size(); ++i)
+    if (i % 4 != 3) h = std::max<uint32_t>(h, halves_[i] & 0x7fffu);
+  return from_half(static_cast<uint16_t>(h));
+}
+
+uint8_t Texture::max_byte() const {
+  uint8_t b = 0;
+  for (size_t i = 0; i < bytes_.size(); i += 4) b = std::max({b, bytes_[i], bytes_[i + 1], bytes_[i + 2]});
+  return b;
+}
+
+}  // namespace ppm
