@@ -39,7 +39,7 @@ def camera_rays(args):
 def depth_and_normal(core_scene, args):
     """(H, W) depth along the view axis and (H, W, 3) world normals, bottom row first."""
     origins, directions, axis = camera_rays(args)
-    hits = core_scene.intersect(np.ascontiguousarray(origins), directions)
+    hits = core_scene.intersect(np.ascontiguousarray(origins), directions, ray_kind="camera")
     t = np.asarray(hits["t"])
     hit = np.isfinite(t)
     depth = np.full(t.shape, MISS_DEPTH, dtype=np.float32)

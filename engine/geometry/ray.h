@@ -5,9 +5,21 @@
 
 namespace ppm {
 
+// Cycles' ray visibility: each object and light says which kinds of ray see
+// it, and a ray of one kind passes through what that kind does not see.
+enum RayKind : uint8_t {
+  kCameraRay = 1,
+  kDiffuseRay = 2,        // after a diffuse bounce
+  kGlossyRay = 4,         // after a reflection (mirror, metal, glass's reflected branch)
+  kTransmissionRay = 8,   // after a refraction
+  kShadowRay = 16,        // towards a light: shadow rays, and photons on their way from the light
+};
+constexpr uint8_t kAllRayKinds = 31;
+
 struct Ray {
   Vec3 origin;
   Vec3 direction;
+  uint8_t kind = kAllRayKinds;  // one RayKind; kAllRayKinds (queries from Python) sees everything visible at all
 };
 
 enum class PrimitiveKind : uint8_t { Triangle = 0, Sphere = 1, BezierRevolve = 2 };

@@ -28,7 +28,8 @@ Color light_contribution(const Scene& scene, const Light& light, const HitPoint&
     dist = dist * (1.0 - 1e-9) - 2.0 * ray_offset(target, scene.offset_floor());  // stop short of an emitter's own surface
     if (!(dist > 0.0)) return Color(0.0);
   }
-  return scene.occluded(Ray{origin, ds.wi}, dist) ? Color(0.0) : c;
+  if (!light.cast_shadow) return c;
+  return scene.occluded(Ray{origin, ds.wi, kShadowRay}, dist) ? Color(0.0) : c;
 }
 
 }  // namespace

@@ -40,8 +40,10 @@ struct EyeTracer {
     double nearest = t_surface;
     Color seen(0.0);
     for (uint32_t i : visible_lights) {
+      const Light& light = scene.lights()[i];
+      if (!(light.visibility & ray.kind)) continue;
       double t;
-      const Color L = light_seen(scene.lights()[i], ray, nearest, t);
+      const Color L = light_seen(light, ray, nearest, t);
       if (max_component(L) > 0.0) {
         nearest = t;
         seen = L;
@@ -110,8 +112,10 @@ struct EyeTracer {
       for (int b = 0; b < count; ++b) {
         const Color thr = v.throughput * branches[b].weight;
         if (!(max_component(thr) > 0.0)) continue;
-        const Vec3 origin = offset_point(hit.position, hit.geometric_normal, branches[b].wi, scene.offset_floor());
-        stack[top++] = EyeVertex{Ray{origin, branches[b].wi}, thr, v.depth + 1, here.length};
+        const Vec3 wi = branches[b].wi;
+        const Vec3 origin = offset_point(hit.position, hit.geometric_normal, wi, scene.offset_floor());
+        stack[top++] = EyeVertex{Ray{origin, wi, scattered_ray_kind(m, hit.geometric_normal, v.ray.direction, wi)},
+                                 thr, v.depth + 1, here.length};
       }
     }
   }
@@ -157,7 +161,8 @@ bool eye_pass(const Scene& scene, const Settings& settings, const EyePassOptions
             jy = (s / grid + jy) / grid;
           }
           const double lu = rng.uniform(), lv = rng.uniform();
-          const Ray ray = options.lens ? cam.generate_lens_ray(x + jx, y + jy, lu, lv) : cam.generate_ray(x + jx, y + jy);
+          Ray ray = options.lens ? cam.generate_lens_ray(x + jx, y + jy, lu, lv) : cam.generate_ray(x + jx, y + jy);
+          ray.kind = kCameraRay;
           if (options.record_depth) {
             Hit first;
             if (scene.intersect(ray, first)) {

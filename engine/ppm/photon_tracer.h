@@ -32,7 +32,10 @@ inline PhotonPath emit_photon_path(const Scene& scene, const LightSampler& light
   double pick_pdf;
   const Light& light = scene.lights()[lights.pick_emitter(rng.uniform(), pick_pdf)];
   const double u1 = rng.uniform(), u2 = rng.uniform(), u3 = rng.uniform(), u4 = rng.uniform(), u5 = rng.uniform();
-  const PhotonEmission e = emit_photon(light, u1, u2, u3, u4, u5);
+  PhotonEmission e = emit_photon(light, u1, u2, u3, u4, u5);
+  // On its way from the light a photon carries direct light, which Cycles
+  // traces with shadow rays: it passes through what casts no shadow.
+  e.ray.kind = kShadowRay;
   return PhotonPath{rng, e.flux / (pick_pdf * lights.flux_unit()), e.ray, 0};  // its share of the total
 }
 
@@ -61,7 +64,8 @@ bool bounce_photon(const Scene& scene, const Settings& settings, PhotonPath& p, 
   const double survive = std::fmin(1.0, max_component(s.weight));
   if (!(survive > 0.0) || p.rng.uniform() >= survive) return false;
   p.flux *= s.weight / survive;
-  p.ray = Ray{offset_point(hit->position, hit->geometric_normal, s.wi, scene.offset_floor()), s.wi};
+  p.ray = Ray{offset_point(hit->position, hit->geometric_normal, s.wi, scene.offset_floor()), s.wi,
+              scattered_ray_kind(m, hit->geometric_normal, p.ray.direction, s.wi)};
   return ++p.bounce < settings.max_bounces;
 }
 

@@ -37,6 +37,23 @@ uint32_t add_material(Scene& s, const std::string& name, const std::string& kind
   return s.add_material(m);
 }
 
+const std::initializer_list<std::pair<const char*, uint8_t>> kRayKindNames = {
+    {"camera", kCameraRay}, {"diffuse", kDiffuseRay}, {"glossy", kGlossyRay},
+    {"transmission", kTransmissionRay}, {"shadow", kShadowRay}};
+
+// The RayKinds an object or light is visible to: None (all), or names from kRayKindNames.
+uint8_t visibility(const py::object& names, const std::string& what) {
+  if (names.is_none()) return kAllRayKinds;
+  if (py::isinstance<py::str>(names) || !py::isinstance<py::iterable>(names))
+    fail(what, "visibility must be None or a list of ray kinds (camera, diffuse, glossy, transmission, shadow)");
+  uint8_t mask = 0;
+  for (const py::handle name : names) {
+    if (!py::isinstance<py::str>(name)) fail(what, "visibility must name ray kinds as strings");
+    mask |= choice<uint8_t>(py::cast<std::string>(name), kRayKindNames, what, "visibility");
+  }
+  return mask;
+}
+
 // Direction / length without overflow or underflow in the length; false for zero or non-finite.
 bool unit(const Vec3& v, Vec3& out) {
   const double m = max_abs(v);
@@ -136,11 +153,13 @@ std::vector<uint32_t> index_list(const py::handle& obj, const std::string& what,
 }
 
 void add_mesh(Scene& s, const std::string& name, const py::object& positions, const py::object& triangles,
-              const py::object& normals, const py::object& uvs, const py::object& materials, uint32_t object_id) {
+              const py::object& normals, const py::object& uvs, const py::object& materials, uint32_t object_id,
+              const py::object& visible_to) {
   const std::string what = "mesh '" + checked_name(name, "mesh") + "'";
   MeshInput m;
   m.name = name;
   m.object_id = object_id;
+  m.visibility = visibility(visible_to, what);
   m.positions = vec3_list(positions, what, "positions");
   {
     const py::array t = py::array::ensure(triangles);
@@ -169,10 +188,13 @@ void add_mesh(Scene& s, const std::string& name, const py::object& positions, co
 void add_light(Scene& s, const std::string& kind, const std::string& name, const py::object& power,
                const py::object& color_obj, const py::object& position, const py::object& direction,
                const py::object& matrix, const py::object& size, double radius, double spot_angle,
-               double spot_blend, double angle, bool spot_cosine_falloff, bool soft_falloff) {
+               double spot_blend, double angle, bool spot_cosine_falloff, bool soft_falloff,
+               const py::object& visible_to, bool cast_shadow) {
   const std::string what = "light '" + checked_name(name, "light") + "'";
   Light l;
   l.name = name;
+  l.visibility = visibility(visible_to, what);
+  l.cast_shadow = cast_shadow;
   l.kind = choice<LightKind>(kind,
                              {{"point", LightKind::Point},
                               {"sphere", LightKind::Sphere},
@@ -248,7 +270,11 @@ void set_camera(Scene& s, const py::object& matrix, int width, int height, const
   s.set_camera(c);
 }
 
-py::dict intersect(Scene& s, const py::object& origins, const py::object& directions, int threads) {
+py::dict intersect(Scene& s, const py::object& origins, const py::object& directions, int threads,
+                   const py::object& ray_kind) {
+  const uint8_t kind = ray_kind.is_none() ? kAllRayKinds
+                                          : choice<uint8_t>(py::cast<std::string>(py::str(ray_kind)), kRayKindNames,
+                                                            "intersect", "ray_kind");
   const DoubleArray o = matrix(origins, 3, "intersect", "origins");
   const DoubleArray d = matrix(directions, 3, "intersect", "directions");
   if (o.shape(0) != d.shape(0)) fail("intersect", "origins and directions must have the same length");
@@ -293,6 +319,7 @@ py::dict intersect(Scene& s, const py::object& origins, const py::object& direct
             const size_t i = first + b;
             unit(Vec3(dp_in[3 * i], dp_in[3 * i + 1], dp_in[3 * i + 2]), rays[b].direction);  // checked above
             rays[b].origin = Vec3(op_in[3 * i], op_in[3 * i + 1], op_in[3 * i + 2]);
+            rays[b].kind = kind;
           }
           s.intersect_many(rays.data(), count, hits.data());
           for (size_t b = 0; b < count; ++b) {
@@ -349,36 +376,42 @@ void bind_scene(py::module_& m) {
            "width, height, storage, bytes, max_rgb and unusable_texels of texture `index`.")
       .def("add_mesh", &add_mesh, py::arg("name"), py::arg("positions"), py::arg("triangles"),
            py::arg("normals") = py::none(), py::arg("uvs") = py::none(), py::arg("materials") = 0,
-           py::arg("object_id") = 0,
+           py::arg("object_id") = 0, py::arg("visibility") = py::none(),
            "Adds a world-space triangle mesh. normals/uvs per vertex or per corner (T, 3, k); "
-           "materials: one index or one per triangle.")
+           "materials: one index or one per triangle. visibility: the ray kinds that see it "
+           "('camera', 'diffuse', 'glossy', 'transmission', 'shadow'; None: all), as Cycles' ray visibility.")
       .def("add_sphere",
            [](Scene& s, const std::string& name, const py::object& center, double radius, uint32_t material,
-              uint32_t object_id) {
-             s.add_sphere(name, vec3(center, "sphere '" + checked_name(name, "sphere") + "'", "center"), radius,
-                          material, object_id);
+              uint32_t object_id, const py::object& visible_to) {
+             const std::string what = "sphere '" + checked_name(name, "sphere") + "'";
+             s.add_sphere(name, vec3(center, what, "center"), radius, material, object_id, visibility(visible_to, what));
            },
-           py::arg("name"), py::arg("center"), py::arg("radius"),
-           py::arg("material"), py::arg("object_id") = 0)
+           py::arg("name"), py::arg("center"), py::arg("radius"), py::arg("material"), py::arg("object_id") = 0,
+           py::arg("visibility") = py::none(), "Adds a sphere; visibility as for add_mesh.")
       .def(
           "add_bezier_revolve",
           [](Scene& s, const std::string& name, const py::object& points, const std::string& kind,
-             const py::object& matrix, uint32_t material, uint32_t object_id) {
+             const py::object& matrix, uint32_t material, uint32_t object_id, const py::object& visible_to) {
             const std::string what = "bezier revolve '" + checked_name(name, "bezier revolve") + "'";
             const bool chain = choice<bool>(kind, {{"single", false}, {"chain", true}}, what, "kind");
             const Mat4 m = matrix.is_none() ? Mat4(1.0) : mat4(matrix, what, "matrix");
-            s.add_bezier_revolve(name, vec2_list(points, what, "points"), chain, m, material, object_id);
+            s.add_bezier_revolve(name, vec2_list(points, what, "points"), chain, m, material, object_id,
+                                 visibility(visible_to, what));
           },
           py::arg("name"), py::arg("points"), py::arg("kind") = "single", py::arg("matrix") = py::none(),
-          py::arg("material") = 0, py::arg("object_id") = 0,
+          py::arg("material") = 0, py::arg("object_id") = 0, py::arg("visibility") = py::none(),
           "Adds a surface of revolution: profile points (radius, height) revolved about local Z. "
-          "kind 'single' (one Bezier curve, degree 1-8) or 'chain' (cubic segments, 3k+1 points).")
+          "kind 'single' (one Bezier curve, degree 1-8) or 'chain' (cubic segments, 3k+1 points); "
+          "visibility as for add_mesh.")
       .def("add_light", &add_light, py::arg("kind"), py::arg("name") = "light", py::arg("power") = 100.0,
            py::arg("color") = py::make_tuple(1.0, 1.0, 1.0), py::arg("position") = py::none(),
            py::arg("direction") = py::none(), py::arg("matrix") = py::none(), py::arg("size") = py::none(),
            py::arg("radius") = 0.0, py::arg("spot_angle") = kPi / 4.0, py::arg("spot_blend") = 0.15,
            py::arg("angle") = 0.0, py::arg("spot_cosine_falloff") = false, py::arg("soft_falloff") = false,
-           "Adds a light in Cycles units. spot_cosine_falloff: Cycles 3.x's extra cos factor on spots; "
+           py::arg("visibility") = py::none(), py::arg("cast_shadow") = true,
+           "Adds a light in Cycles units. visibility: the ray kinds that see a sphere, rectangle or disk "
+           "light when they reach it (as for add_mesh; Blender lights leave out 'camera'); cast_shadow: "
+           "False lights through everything in the way. spot_cosine_falloff: Cycles 3.x's extra cos factor on spots; "
            "soft_falloff: Cycles' sphere-light falloff I cos/(d^2 + r^2) for direct light. point/sphere/spot: power in W (intensity P/(4 pi)); "
            "rectangle/disk: emitted flux in W; sun: irradiance in W/m^2. Orientation from `matrix` "
            "(Blender's: emits along local -Z) or from position/direction.")
@@ -394,8 +427,10 @@ void bind_scene(py::module_& m) {
            py::arg("color"), "Constant background radiance in W/(m^2 sr).")
       .def("build", &Scene::build, "Builds the BVH (done automatically by Renderer and intersect).")
       .def("intersect", &intersect, py::arg("origins"), py::arg("directions"), py::arg("threads") = 0,
+           py::arg("ray_kind") = py::none(),
            "Casts rays: returns dict(t (inf on miss), normal (geometric), primitive, object (-1 on miss)). "
-           "threads: 0 uses all hardware threads.")
+           "threads: 0 uses all hardware threads. ray_kind: 'camera', 'diffuse', ... to pass through "
+           "what that kind of ray does not see (None: hit everything visible to any ray).")
       .def_property_readonly("primitive_count", [](Scene& s) { s.build(); return s.primitive_count(); })
       .def_property_readonly("light_count", [](Scene& s) { s.build(); return s.lights().size(); });
 }

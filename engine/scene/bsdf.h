@@ -4,6 +4,7 @@
 // previous path vertex, `wi` towards the light or the next vertex.
 #pragma once
 
+#include "geometry/ray.h"
 #include "scene/material.h"
 
 namespace ppm {
@@ -33,6 +34,14 @@ bool bsdf_sample(const Material& m, const SurfacePoint& sp, const Vec3& wo, doub
 // refraction with their Fresnel weights instead of choosing one at random.
 // Returns the number of branches written (0 to 2).
 int specular_branches(const Material& m, const SurfacePoint& sp, const Vec3& wo, BsdfSample out[2]);
+
+// The RayKind of a ray scattered from `incoming` into `outgoing` at a surface
+// of normal `ng`: transmission if it crossed the surface, else glossy, or
+// diffuse for a diffuse material.
+inline uint8_t scattered_ray_kind(const Material& m, const Vec3& ng, const Vec3& incoming, const Vec3& outgoing) {
+  if ((glm::dot(incoming, ng) < 0.0) == (glm::dot(outgoing, ng) < 0.0)) return kTransmissionRay;
+  return m.kind == MaterialKind::Diffuse ? kDiffuseRay : kGlossyRay;
+}
 
 // Fresnel reflectance of a dielectric for cos_i on the side with index eta_i.
 double fresnel_dielectric(double cos_i, double eta_i, double eta_t);

@@ -37,6 +37,11 @@ struct Light {
   // default since): direct light as from a disk of the sphere's radius facing
   // the receiver, irradiance I cos / (d^2 + r^2) instead of I cos / d^2.
   bool soft_falloff = false;
+  // Which rays see a light with a surface (sphere, rectangle, disk) when they
+  // reach it (Cycles' ray visibility; Blender lights hide from the camera by
+  // default), and whether its direct light is blocked by what is in the way.
+  uint8_t visibility = kAllRayKinds;
+  bool cast_shadow = true;
   // Emissive triangle.
   TrianglePrim triangle{};
   uint32_t primitive = 0;

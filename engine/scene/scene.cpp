@@ -149,7 +149,8 @@ void Scene::add_mesh(MeshInput mesh) {
     const uint32_t* idx = &mesh.triangles[3 * t];
     const Vec3 &a = mesh.positions[idx[0]], &b = mesh.positions[idx[1]], &c = mesh.positions[idx[2]];
     triangles_.push_back(TrianglePrim{a, b - a, c - a});
-    TriangleInfo info{mesh.materials.size() == 1 ? mesh.materials[0] : mesh.materials[t], mesh.object_id, -1, -1};
+    TriangleInfo info{mesh.materials.size() == 1 ? mesh.materials[0] : mesh.materials[t], mesh.object_id, -1, -1,
+                      mesh.visibility};
     if (!mesh.normals.empty()) {
       info.corners = static_cast<int32_t>(corner_normals_.size());
       for (int k = 0; k < 3; ++k) {
@@ -170,7 +171,7 @@ void Scene::add_mesh(MeshInput mesh) {
 }
 
 void Scene::add_sphere(const std::string& name, const Vec3& center, double radius, uint32_t material,
-                       uint32_t object_id) {
+                       uint32_t object_id, uint8_t visibility) {
   ensure_mutable();
   const std::string what = quoted("sphere", name);
   check_coordinates(center, what, "center");
@@ -178,12 +179,13 @@ void Scene::add_sphere(const std::string& name, const Vec3& center, double radiu
   check_size(radius, what, "radius");
   check_material(material, what);
   check_not_emissive(material, what);
-  spheres_.push_back(SphereInfo{SpherePrim{center, radius}, material, object_id});
+  spheres_.push_back(SphereInfo{SpherePrim{center, radius}, material, object_id, visibility});
   invalidate();
 }
 
 void Scene::add_bezier_revolve(const std::string& name, const std::vector<Vec2>& points, bool cubic_chain,
-                               const Mat4& object_to_world, uint32_t material, uint32_t object_id) {
+                               const Mat4& object_to_world, uint32_t material, uint32_t object_id,
+                               uint8_t visibility) {
   ensure_mutable();
   const std::string what = quoted("bezier revolve", name);
   check_material(material, what);
@@ -206,7 +208,7 @@ void Scene::add_bezier_revolve(const std::string& name, const std::vector<Vec2>&
   }
   const uint32_t index = static_cast<uint32_t>(revolves_.size() - 1);
   for (size_t s = 0; s < revolves_.back()->segment_count(); ++s)
-    revolve_segments_.push_back(RevolveSegment{index, static_cast<uint32_t>(s), material, object_id});
+    revolve_segments_.push_back(RevolveSegment{index, static_cast<uint32_t>(s), material, object_id, visibility});
   invalidate();
 }
 
@@ -330,6 +332,7 @@ void Scene::build() {
     LeafPrim& p = leaf_prims_[slot];
     p.kind = ref.kind;
     p.index = ref.index;
+    p.visibility = visibility_of(ref);
     p.tri = ref.kind == PrimitiveKind::Triangle ? triangles_[ref.index] : TrianglePrim{};
   }
   interleave_ = bvh_.nodes().size() * sizeof(BvhNode) + leaf_prims_.size() * sizeof(LeafPrim) > kInterleaveBytes;
@@ -392,8 +395,17 @@ void Scene::check_energy_range(int max_bounces) const {
 }
 
 // Triangles, by far the most common, are tested inline; the rest out of line.
+uint8_t Scene::visibility_of(const PrimRef& ref) const {
+  switch (ref.kind) {
+    case PrimitiveKind::Triangle: return triangle_info_[ref.index].visibility;
+    case PrimitiveKind::Sphere: return spheres_[ref.index].visibility;
+    default: return revolve_segments_[ref.index].visibility;
+  }
+}
+
 inline bool Scene::intersect_slot(uint32_t slot, const Ray& ray, double& tmax, Hit& scratch) const {
   const LeafPrim& p = leaf_prims_[slot];
+  if (!(p.visibility & ray.kind)) return false;
   if (p.kind != PrimitiveKind::Triangle) return intersect_non_triangle(slot, ray, tmax, scratch);
   double t, b1, b2;
   if (!intersect_triangle(p.tri, ray, tmax, t, b1, b2)) return false;

@@ -56,6 +56,7 @@ struct MeshInput {
   std::vector<Vec2> uvs;                 // empty, one per vertex, or 3 per triangle (corners)
   std::vector<uint32_t> materials;       // one per triangle, or a single value for all
   uint32_t object_id = 0;
+  uint8_t visibility = kAllRayKinds;  // the RayKinds that see it
 };
 
 class Scene {
@@ -69,10 +70,12 @@ class Scene {
   // first one, or, with clear_unusable, stay black (Texture::unusable_texels).
   uint32_t add_texture(const std::string& name, Texture texture, bool clear_unusable = false);
   void add_mesh(MeshInput mesh);
+  // `visibility`: the RayKinds that see the object (others pass through it).
   void add_sphere(const std::string& name, const Vec3& center, double radius, uint32_t material,
-                  uint32_t object_id);
+                  uint32_t object_id, uint8_t visibility = kAllRayKinds);
   void add_bezier_revolve(const std::string& name, const std::vector<Vec2>& points, bool cubic_chain,
-                          const Mat4& object_to_world, uint32_t material, uint32_t object_id);
+                          const Mat4& object_to_world, uint32_t material, uint32_t object_id,
+                          uint8_t visibility = kAllRayKinds);
   void add_light(Light light);
   void set_camera(const Camera& camera);
   void set_background(const Color& radiance);
@@ -123,13 +126,16 @@ class Scene {
     uint32_t material, object;
     int32_t corners;  // index of the first of 3 corner normals, -1 = flat
     int32_t uvs;      // index of the first of 3 corner UVs, -1 = none
+    uint8_t visibility;
   };
   struct SphereInfo {
     SpherePrim sphere;
     uint32_t material, object;
+    uint8_t visibility;
   };
   struct RevolveSegment {
     uint32_t revolve, segment, material, object;
+    uint8_t visibility;
   };
 
   void check_material(uint32_t material, const std::string& what) const;
@@ -142,8 +148,10 @@ class Scene {
   struct LeafPrim {
     TrianglePrim tri;  // triangles only
     PrimitiveKind kind;
-    uint32_t index;    // into triangles_, spheres_ or revolve_segments_
+    uint8_t visibility;  // RayKinds that see it (in the padding after kind)
+    uint32_t index;      // into triangles_, spheres_ or revolve_segments_
   };
+  uint8_t visibility_of(const PrimRef& ref) const;
 
   // Tests the primitive at a leaf slot; on a closer hit lowers tmax and
   // records the slot in scratch.primitive (fill_hit turns it into the id).

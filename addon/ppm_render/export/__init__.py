@@ -20,7 +20,7 @@ import re
 
 import numpy as np
 
-from . import bezier, camera, light, material, mesh, world
+from . import bezier, camera, light, material, mesh, visibility, world
 
 GEOMETRY_TYPES = {"MESH", "CURVE", "SURFACE", "META", "FONT", "CURVES", "POINTCLOUD", "VOLUME"}
 CURVE_TYPES = {"CURVE", "SURFACE", "FONT"}
@@ -59,7 +59,8 @@ class Exporter:
             self.meshes[key] = mesh.MeshData.from_object(obj)
         data = self.meshes[key]
         if data is not None:
-            dropped = data.add_to_scene(self.scene, name, matrix, self.slot_materials(obj), self.object_id())
+            dropped = data.add_to_scene(self.scene, name, matrix, self.slot_materials(obj), self.object_id(),
+                                        visibility.ray_visibility(obj))
             self.triangles += len(data.triangles) - dropped
             if dropped:
                 self.skip(obj, f"{dropped} of its {len(data.triangles)} triangles have a corner that is not "
@@ -68,7 +69,8 @@ class Exporter:
     def add_revolve(self, obj, matrix, name):
         slots = self.slot_materials(obj)
         index = self.materials.without_emission(slots[0], f"'{name}'")
-        bezier.add_revolve(self.scene, name, obj, matrix, index, self.object_id(), self.warn)
+        bezier.add_revolve(self.scene, name, obj, matrix, index, self.object_id(), self.warn,
+                           visibility.ray_visibility(obj))
 
     def skip(self, obj, what):
         """Notes a warning about `obj` (once per object, counting its instances)."""
@@ -97,7 +99,7 @@ class Exporter:
         matrix = np.array(instance.matrix_world, dtype=float)  # copy: the record is reused
         name = obj.name if parent is None else f"{parent.name}/{obj.name}.{self.next_id}"
         if obj.type == "LIGHT":
-            light.add_light(self.scene, name, obj.data, matrix, self.warn)
+            light.add_light(self.scene, name, obj, matrix, self.warn)
         elif parent is not None and parent.type in CURVE_TYPES and parent.original == obj.original:
             # The evaluated geometry of a curve, listed as a MESH instance of the curve itself.
             self.curves_with_mesh.add(parent.original.name)

@@ -53,8 +53,9 @@ def spline_profile(spline):
     return np.asarray(chain)[:, :2].copy()
 
 
-def add_revolve(core_scene, name, curve_object, matrix, material_index, object_id, warn):
-    """Adds every Bezier spline of `curve_object` (evaluated) as a revolve; returns how many."""
+def add_revolve(core_scene, name, curve_object, matrix, material_index, object_id, warn, visibility=None):
+    """Adds every Bezier spline of `curve_object` (evaluated) as a revolve, seen by the ray kinds in
+    `visibility` (None: all); returns how many."""
     core_matrix = np.asarray(matrix, dtype=float) @ CORE_TO_CURVE
     added = 0
     for index, spline in enumerate(curve_object.data.splines):
@@ -70,6 +71,6 @@ def add_revolve(core_scene, name, curve_object, matrix, material_index, object_i
                  "surface; skipped")
             continue
         core_scene.add_bezier_revolve(f"{name}.{index}", profile, kind="chain", matrix=core_matrix,
-                                      material=material_index, object_id=object_id)
+                                      material=material_index, object_id=object_id, visibility=visibility)
         added += 1
     return added

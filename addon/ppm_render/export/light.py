@@ -19,6 +19,8 @@ import math
 import bpy
 import numpy as np
 
+from . import visibility
+
 AREA_RADIANCE_IS_OVER_PI = bpy.app.version >= (4, 0, 0)
 # Cycles 3.x multiplies a spot's intensity by the cosine to its axis; 4.0 dropped the factor.
 SPOT_COSINE_FALLOFF = bpy.app.version < (4, 0, 0)
@@ -86,24 +88,26 @@ def _sun_irradiance(light):
     return strength
 
 
-def add_light(core_scene, name, light, matrix, warn):
-    """Adds one Blender light (data `light`, world `matrix`) to the core scene."""
+def add_light(core_scene, name, light_object, matrix, warn):
+    """Adds one Blender light (an object of type LIGHT, at world `matrix`) to the core scene."""
+    light = light_object.data
     m = np.array(matrix, dtype=float)
     kind = light.type
+    seen = {"visibility": visibility.ray_visibility(light_object), "cast_shadow": visibility.casts_shadow(light)}
     if light.energy < 0.0:
         raise ValueError("its power is negative (Cycles subtracts such a light's contribution; PPM does not "
                          "render negative lights)")
     if kind == "POINT":
         radius = float(light.shadow_soft_size)
         core_scene.add_light("point", name=name, power=_sphere_power(light, radius), matrix=m, radius=radius,
-                             soft_falloff=_soft_falloff(light))
+                             soft_falloff=_soft_falloff(light), **seen)
     elif kind == "SPOT":
         radius = float(light.shadow_soft_size)
         if radius > 0.0:
             warn(f"light '{name}': spot radius {radius:g} m is rendered as a point (sharp shadows)")
         core_scene.add_light("spot", name=name, power=_sphere_power(light, radius), matrix=m,
                              spot_angle=float(light.spot_size), spot_blend=float(light.spot_blend),
-                             spot_cosine_falloff=SPOT_COSINE_FALLOFF)
+                             spot_cosine_falloff=SPOT_COSINE_FALLOFF, **seen)
     elif kind == "AREA":
         if getattr(light, "spread", math.pi) < math.pi - 1e-6:
             warn(f"light '{name}': area light spread below 180 degrees is not supported; rendered as 180")
@@ -111,13 +115,13 @@ def add_light(core_scene, name, light, matrix, warn):
             flux, size, disk = area_flux(light, m)
         except ValueError as error:
             raise ValueError(f"light '{name}': {error}") from None
-        core_scene.add_light("disk" if disk else "rectangle", name=name, power=flux, matrix=m, size=size)
+        core_scene.add_light("disk" if disk else "rectangle", name=name, power=flux, matrix=m, size=size, **seen)
     elif kind == "SUN":
         if SUN_OF_180_DEGREES_IS_DARK and light.angle >= math.pi - 1e-6:
             raise ValueError("its angle is 180 degrees, for which Cycles of this Blender emits no light; left "
                              "out as Cycles does")
         # Blender's largest angle, pi in float32, is a hair above pi in double.
         core_scene.add_light("sun", name=name, power=_sun_irradiance(light), matrix=m,
-                             angle=min(float(light.angle), math.pi))
+                             angle=min(float(light.angle), math.pi), **seen)
     else:
         warn(f"light '{name}': type {kind} is not supported; skipped")
