@@ -11,10 +11,10 @@ constexpr uint64_t kDirectStream = 1ull << 40;
 constexpr size_t kChunk = 4096;
 
 Color light_contribution(const Scene& scene, const Light& light, const HitPoint& hp,
-                         const HitPointShading& sh, double u1, double u2) {
+                         const HitPointShading& sh, double u1, double u2, int strategy = 0) {
   const Vec3 n(hp.normal);
   DirectSample ds;
-  if (!sample_direct(light, hp.position, n, u1, u2, ds)) return Color(0.0);
+  if (!sample_direct(light, hp.position, n, u1, u2, ds, strategy)) return Color(0.0);
   const Material& m = scene.material(sh.material);
   const SurfacePoint sp{sh.geometric_normal, sh.shading_normal, sh.albedo};
   const Color f = bsdf_eval(m, sp, sh.wo, ds.wi);
@@ -44,8 +44,11 @@ bool direct_light_pass(const Scene& scene, const LightSampler& lights, const Set
       Rng rng(settings.seed, kDirectStream + pass, i);
       Color sum(0.0);
       for (uint32_t l : lights.analytic()) {
-        const double u1 = rng.uniform(), u2 = rng.uniform();
-        sum += light_contribution(scene, scene.lights()[l], hp.points[i], hp.shading[i], u1, u2);
+        const Light& light = scene.lights()[l];
+        for (int strategy = 0; strategy < direct_samples(light); ++strategy) {
+          const double u1 = rng.uniform(), u2 = rng.uniform();
+          sum += light_contribution(scene, light, hp.points[i], hp.shading[i], u1, u2, strategy);
+        }
       }
       if (lights.has_triangles()) {
         double pdf;

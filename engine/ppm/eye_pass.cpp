@@ -31,7 +31,7 @@ struct EyeTracer {
   const Settings& settings;
   const EyePassOptions& options;
   std::vector<uint32_t> visible_lights;
-  Color background;  // radiance of rays that escape
+  const Light* background;  // what rays that escape see (nullptr: black)
   double footprint;
   bool orthographic;
 
@@ -86,7 +86,8 @@ struct EyeTracer {
       const bool found = scene.intersect(v.ray, hit, v.depth == 0 ? tmax0 : kInf);
       if (see_lights(v.ray, found ? hit.t : kInf, v.throughput, emitted)) continue;
       if (!found) {
-        emitted += v.throughput * background;
+        if (background != nullptr && (background->visibility & v.ray.kind))
+          emitted += v.throughput * background_radiance(*background, v.ray.direction);
         continue;
       }
       const Material& m = scene.material(hit.material);
@@ -126,12 +127,12 @@ struct EyeTracer {
 bool eye_pass(const Scene& scene, const Settings& settings, const EyePassOptions& options, HitPoints& out,
               std::atomic<bool>& cancel, const std::function<bool()>& poll) {
   const Camera& cam = scene.camera();
-  EyeTracer tracer{scene, settings, options, {}, Color(0.0), cam.pixel_footprint(),
+  EyeTracer tracer{scene, settings, options, {}, nullptr, cam.pixel_footprint(),
                    cam.projection == Projection::Orthographic};
   for (uint32_t i = 0; i < scene.lights().size(); ++i) {
     const LightKind k = scene.lights()[i].kind;
     if (k == LightKind::Sphere || k == LightKind::Rectangle || k == LightKind::Disk) tracer.visible_lights.push_back(i);
-    if (k == LightKind::Background) tracer.background = scene.lights()[i].radiance;
+    if (k == LightKind::Background) tracer.background = &scene.lights()[i];
   }
   const int W = cam.width, H = cam.height, spp = options.samples_per_pixel;
   const int grid = static_cast<int>(std::floor(std::sqrt(static_cast<double>(spp))));

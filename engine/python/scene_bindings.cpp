@@ -112,7 +112,8 @@ py::dict texture_info(const Scene& s, uint32_t index) {
                                                              : "linear8";
   py::dict d;
   d["width"] = t.width(), d["height"] = t.height(), d["storage"] = storage, d["bytes"] = t.bytes();
-  d["max_rgb"] = t.max_rgb(), d["unusable_texels"] = t.unusable_texels();
+  d["max_rgb"] = t.max_rgb(), d["not_finite_texels"] = t.not_finite_texels();
+  d["negative_texels"] = t.negative_texels(), d["most_negative"] = t.most_negative();
   return d;
 }
 
@@ -371,9 +372,11 @@ void bind_scene(py::module_& m) {
            "index. storage: 'srgb8' (sRGB-encoded bytes; the default for uint8 pixels), 'linear8', or 'half' "
            "(linear half floats; the default for other pixels). Float pixels stored as bytes are quantized "
            "(round(v * 255)). A texel with a negative, NaN or Inf colour (or a NaN or Inf alpha) is an "
-           "error, or with clear_unusable=True stays black and is counted in texture_info().")
+           "error; with clear_unusable=True a texel with NaN or Inf is stored black and negative colour "
+           "channels as 0, counted in texture_info().")
       .def("texture_info", &texture_info, py::arg("index"),
-           "width, height, storage, bytes, max_rgb and unusable_texels of texture `index`.")
+           "width, height, storage, bytes, max_rgb, not_finite_texels, negative_texels and most_negative "
+           "of texture `index`.")
       .def("add_mesh", &add_mesh, py::arg("name"), py::arg("positions"), py::arg("triangles"),
            py::arg("normals") = py::none(), py::arg("uvs") = py::none(), py::arg("materials") = 0,
            py::arg("object_id") = 0, py::arg("visibility") = py::none(),
@@ -423,8 +426,32 @@ void bind_scene(py::module_& m) {
            "Sets the camera: camera-to-world matrix (looks down local -Z), image size, field of view "
            "in radians across the fitted side. Depth of field: focus_distance and aperture_radius in "
            "metres, focal_length in metres (0: focus distance >> focal length).")
-      .def("set_background", [](Scene& s, const py::object& c) { s.set_background(color(c, "background", "color")); },
-           py::arg("color"), "Constant background radiance in W/(m^2 sr).")
+      .def(
+          "set_background",
+          [](Scene& s, const py::object& c, const py::object& visible_to) {
+            s.set_background(color(c, "background", "color"), visibility(visible_to, "background"));
+          },
+          py::arg("color"), py::arg("visibility") = py::none(),
+          "Constant background radiance in W/(m^2 sr). visibility: the ray kinds that see it when they "
+          "escape (as for add_mesh; its light on surfaces stays).")
+      .def(
+          "set_environment",
+          [](Scene& s, uint32_t texture, const py::object& rotation, const py::object& strength,
+             const std::string& projection, const py::object& visible_to) {
+            const Mat4 m = rotation.is_none() ? Mat4(1.0) : mat4(rotation, "environment", "world_to_texture");
+            s.set_environment(texture, m, color(strength, "environment", "strength"),
+                              choice<EnvironmentProjection>(projection,
+                                                            {{"equirectangular", EnvironmentProjection::Equirectangular},
+                                                             {"mirror_ball", EnvironmentProjection::MirrorBall}},
+                                                            "environment", "projection"),
+                              visibility(visible_to, "environment"));
+          },
+          py::arg("texture"), py::arg("world_to_texture") = py::none(), py::arg("strength") = py::make_tuple(1.0, 1.0, 1.0),
+          py::arg("projection") = "equirectangular", py::arg("visibility") = py::none(),
+          "The world as an image around the scene (Blender's Environment Texture): texture is an index "
+          "from add_texture (linear radiance), looked up in the direction world_to_texture (a 4x4 "
+          "rotation, the Mapping node's) gives, as Cycles maps 'equirectangular' or 'mirror_ball' "
+          "images; times strength (RGB). Replaces set_background; visibility as there.")
       .def("build", &Scene::build, "Builds the BVH (done automatically by Renderer and intersect).")
       .def("intersect", &intersect, py::arg("origins"), py::arg("directions"), py::arg("threads") = 0,
            py::arg("ray_kind") = py::none(),

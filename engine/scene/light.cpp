@@ -62,6 +62,37 @@ bool sample_soft_sphere(const Light& l, const Vec3& p, double u1, double u2, Dir
   return true;
 }
 
+// Cosine-weighted over the hemisphere of n: exact for a diffuse surface under a constant sky.
+bool sample_uniform_background(const Light& l, const Vec3& n, double u1, double u2, DirectSample& out) {
+  const Vec3 local = sample_cosine_hemisphere(u1, u2);
+  if (local.z <= 0.0) return false;
+  out.wi = to_world(local, n);
+  out.distance = kInf;
+  out.value = l.radiance * (kPi / local.z);
+  return true;
+}
+
+// Direct light from an environment by two strategies, one sample each:
+// cosine-weighted (`strategy` 0, good for a soft sky) and by the environment's
+// density (1, good for a small sun), each weighted by the balance heuristic, so
+// that the two samples' values add up to the estimate.
+bool sample_environment(const Environment& env, const Vec3& n, double u1, double u2, int strategy,
+                        DirectSample& out) {
+  if (strategy == 0) {
+    out.wi = to_world(sample_cosine_hemisphere(u1, u2), n);
+  } else {
+    double pdf;
+    if (!env.sample(u1, u2, out.wi, pdf)) return false;
+  }
+  const double cos = glm::dot(out.wi, n);
+  if (!(cos > 0.0)) return false;
+  const double both = cos / kPi + env.pdf(out.wi);
+  if (!(both > 0.0)) return false;
+  out.distance = kInf;
+  out.value = env.radiance(out.wi) / both;
+  return true;
+}
+
 }  // namespace
 
 double spot_attenuation(const Light& l, const Vec3& dir_from_light) {
@@ -117,8 +148,10 @@ void prepare_light(Light& l, const Aabb& bounds) {
       break;
     }
     case LightKind::Background:
+      // Flux through the scene's cross-section pi R^2 from all directions.
       l.radiance = l.power;
-      l.flux = l.power * (4.0 * kPi * kPi * l.scene_radius * l.scene_radius);
+      l.flux = (l.environment != nullptr ? l.environment->integral() : l.power * (4.0 * kPi)) *
+               (kPi * l.scene_radius * l.scene_radius);
       break;
     case LightKind::Triangle:
       l.flux = l.radiance * (2.0 * kPi * triangle_area(l.triangle));
@@ -155,8 +188,20 @@ PhotonEmission emit_photon(const Light& l, double u1, double u2, double u3, doub
       break;
     }
     case LightKind::Background: {
-      const Vec3 d = sample_uniform_sphere(u3, u4);
-      e.ray = {scene_disk_origin(l, d, u1, u2), d};
+      if (l.environment == nullptr) {
+        const Vec3 d = sample_uniform_sphere(u3, u4);
+        e.ray = {scene_disk_origin(l, d, u1, u2), d};
+        break;
+      }
+      Vec3 from;  // the direction the light comes from; the photon travels the other way
+      double pdf;
+      if (!l.environment->sample(u3, u4, from, pdf)) {
+        e.ray = {l.scene_center, Vec3(0.0, 0.0, 1.0)};
+        e.flux = Color(0.0);
+        break;
+      }
+      e.ray = {scene_disk_origin(l, -from, u1, u2), -from};
+      e.flux = l.environment->radiance(from) * (kPi * l.scene_radius * l.scene_radius / pdf);
       break;
     }
     case LightKind::Triangle: {
@@ -170,7 +215,10 @@ PhotonEmission emit_photon(const Light& l, double u1, double u2, double u3, doub
   return e;
 }
 
-bool sample_direct(const Light& l, const Vec3& p, const Vec3& n, double u1, double u2, DirectSample& out) {
+int direct_samples(const Light& l) { return l.kind == LightKind::Background && l.environment != nullptr ? 2 : 1; }
+
+bool sample_direct(const Light& l, const Vec3& p, const Vec3& n, double u1, double u2, DirectSample& out,
+                   int strategy) {
   switch (l.kind) {
     case LightKind::Point:
     case LightKind::Spot: {
@@ -224,14 +272,9 @@ bool sample_direct(const Light& l, const Vec3& p, const Vec3& n, double u1, doub
         out.value = l.radiance * (2.0 * kPi * (1.0 - l.cos_sun));
       }
       return true;
-    case LightKind::Background: {
-      const Vec3 local = sample_cosine_hemisphere(u1, u2);
-      if (local.z <= 0.0) return false;
-      out.wi = to_world(local, n);
-      out.distance = kInf;
-      out.value = l.radiance * (kPi / local.z);
-      return true;
-    }
+    case LightKind::Background:
+      return l.environment != nullptr ? sample_environment(*l.environment, n, u1, u2, strategy, out)
+                                      : sample_uniform_background(l, n, u1, u2, out);
     case LightKind::Triangle: {
       const Vec2 b = sample_uniform_triangle(u1, u2);
       const Vec3 q = l.triangle.v0 + b.x * l.triangle.e1 + b.y * l.triangle.e2;

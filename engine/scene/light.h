@@ -6,13 +6,15 @@
 //   rectangle, disk:     `power` is the emitted flux in W, radiance P/(pi A),
 //     one-sided, along `direction`;
 //   sun:                 `power` is irradiance in W/m^2 on a surface facing it;
-//   background:          `power` is radiance in W/(m^2 sr) from every direction;
+//   background:          `power` is radiance in W/(m^2 sr) from every direction,
+//                        or an Environment gives it direction by direction;
 //   emissive triangles come from materials (radiance, both sides).
 #pragma once
 
 #include "geometry/ray.h"
 #include "geometry/triangle.h"
 #include "math/aabb.h"
+#include "scene/environment.h"
 
 #include <string>
 
@@ -42,6 +44,8 @@ struct Light {
   // default), and whether its direct light is blocked by what is in the way.
   uint8_t visibility = kAllRayKinds;
   bool cast_shadow = true;
+  // Background: an image around the scene, or (nullptr) `power` from every direction.
+  const Environment* environment = nullptr;
   // Emissive triangle.
   TrianglePrim triangle{};
   uint32_t primitive = 0;
@@ -70,9 +74,14 @@ void prepare_light(Light& light, const Aabb& scene_bounds);
 
 PhotonEmission emit_photon(const Light& light, double u1, double u2, double u3, double u4, double u5);
 
+// Direct light needs direct_samples(light) samples, strategy 0, 1, ...; their
+// values add up to the estimate (an environment: one cosine-weighted sample and
+// one by its own density, combined by multiple importance sampling).
+int direct_samples(const Light& light);
+
 // `n` is the receiving surface's normal on the side light is gathered from.
 bool sample_direct(const Light& light, const Vec3& p, const Vec3& n, double u1, double u2,
-                   DirectSample& out);
+                   DirectSample& out, int strategy = 0);
 
 // Is the light delta in position and direction (direct light needs one sample only)?
 bool light_is_delta(const Light& light);
@@ -80,6 +89,11 @@ bool light_is_delta(const Light& light);
 // Radiance seen along a camera or specular ray that reaches a visible light
 // (sphere, rectangle, disk) nearer than tmax; zero otherwise.
 Color light_seen(const Light& light, const Ray& ray, double tmax, double& t);
+
+// Radiance of a background light arriving from unit direction `dir`.
+inline Color background_radiance(const Light& light, const Vec3& dir) {
+  return light.environment != nullptr ? light.environment->radiance(dir) : light.radiance;
+}
 
 // Cycles' spot falloff: smoothstep over the blend region.
 double spot_attenuation(const Light& light, const Vec3& dir_from_light);

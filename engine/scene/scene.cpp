@@ -293,10 +293,32 @@ void Scene::set_camera(const Camera& c) {
   has_camera_ = true;
 }
 
-void Scene::set_background(const Color& radiance) {
+void Scene::set_background(const Color& radiance, uint8_t visibility) {
   ensure_mutable();
   check_power(radiance, "background", "radiance");
   background_ = radiance;
+  environment_input_.reset();
+  background_visibility_ = visibility;
+  invalidate();
+}
+
+void Scene::set_environment(uint32_t texture, const Mat4& world_to_texture, const Color& strength,
+                            EnvironmentProjection projection, uint8_t visibility) {
+  ensure_mutable();
+  const std::string what = "environment";
+  if (texture >= textures_.size()) fail(what, "texture index out of range");
+  check_power(strength, what, "strength");
+  const Mat3 rotation(world_to_texture);
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      const double dot = glm::dot(rotation[i], rotation[j]);
+      if (!(std::fabs(dot - (i == j ? 1.0 : 0.0)) < 1e-6))
+        fail(what, "world_to_texture must be a rotation (orthonormal columns)");
+    }
+  if (!(glm::determinant(rotation) > 0.0)) fail(what, "world_to_texture must be a rotation, not a reflection");
+  environment_input_ = std::make_unique<EnvironmentInput>(EnvironmentInput{texture, rotation, strength, projection});
+  background_ = Color(0.0);
+  background_visibility_ = visibility;
   invalidate();
 }
 
@@ -347,11 +369,18 @@ void Scene::build() {
     prepare_light(l, light_bounds);
     lights_.push_back(l);
   }
-  if (max_component(background_) > 0.0) {
+  environment_.reset();
+  if (environment_input_ && max_component(environment_input_->strength) > 0.0) {
+    const EnvironmentInput& e = *environment_input_;
+    environment_ = std::make_unique<Environment>(&textures_[e.texture], e.world_to_texture, e.strength, e.projection);
+  }
+  if (max_component(background_) > 0.0 || environment_) {
     Light l;
     l.kind = LightKind::Background;
     l.name = "background";
     l.power = background_;
+    l.environment = environment_.get();
+    l.visibility = background_visibility_;
     prepare_light(l, light_bounds);
     lights_.push_back(l);
   }

@@ -78,7 +78,13 @@ class Scene {
                           uint8_t visibility = kAllRayKinds);
   void add_light(Light light);
   void set_camera(const Camera& camera);
-  void set_background(const Color& radiance);
+  // The world: a constant radiance, or an image (`texture`, an index from
+  // add_texture) seen through the rotation `world_to_texture` and scaled by
+  // `strength`. Either replaces the other. `visibility`: the RayKinds that see
+  // it when they escape (its light on surfaces is not affected).
+  void set_background(const Color& radiance, uint8_t visibility = kAllRayKinds);
+  void set_environment(uint32_t texture, const Mat4& world_to_texture, const Color& strength,
+                       EnvironmentProjection projection, uint8_t visibility = kAllRayKinds);
 
   // A renderer reads the scene while it lives: builders refuse to change it then.
   void attach_renderer() const { ++renderers_; }
@@ -172,6 +178,15 @@ class Scene {
   std::vector<Light> user_lights_;
   std::vector<Light> lights_;  // user lights + background + emissive triangles, prepared
   Color background_{0.0};
+  struct EnvironmentInput {
+    uint32_t texture;
+    Mat3 world_to_texture;
+    Color strength;
+    EnvironmentProjection projection;
+  };
+  std::unique_ptr<EnvironmentInput> environment_input_;  // null: the constant background_
+  std::unique_ptr<Environment> environment_;             // built from it
+  uint8_t background_visibility_ = kAllRayKinds;
   Camera camera_;
   bool has_camera_ = false;
 

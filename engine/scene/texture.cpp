@@ -101,12 +101,18 @@ void Texture::clear_unusable(size_t first, std::vector<float>& row) {
     if (usable_colour(rgba[0]) && usable_colour(rgba[1]) && usable_colour(rgba[2]) && usable_alpha(rgba[3]))
       continue;
     note_unusable(first + x, rgba);
-    rgba[0] = rgba[1] = rgba[2] = 0.0f, rgba[3] = 1.0f;
+    if (std::isfinite(rgba[0]) && std::isfinite(rgba[1]) && std::isfinite(rgba[2]) && std::isfinite(rgba[3])) {
+      ++negative_;
+      for (int c = 0; c < 3; ++c) most_negative_ = std::min(most_negative_, rgba[c]), rgba[c] = std::fmax(rgba[c], 0.0f);
+    } else {
+      ++not_finite_;
+      rgba[0] = rgba[1] = rgba[2] = 0.0f, rgba[3] = 1.0f;
+    }
   }
 }
 
 void Texture::note_unusable(size_t texel, const float rgba[4]) {
-  if (unusable_++ > 0) return;
+  if (not_finite_ + negative_ > 0) return;
   int c = 0;
   while (c < 3 && usable_colour(rgba[c])) ++c;
   first_unusable_ = UnusableTexel{static_cast<int>(texel % width_), static_cast<int>(texel / width_), rgba[c]};

@@ -9,6 +9,7 @@
 #include "math/types.h"
 
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -21,8 +22,10 @@ enum class TexelStorage : uint8_t {
   Half,     // half floats, linear (Blender's float images)
 };
 
-// A texel that cannot be an albedo: a colour channel that is negative, NaN or
-// infinite, or an alpha that is not finite. Such texels are stored black.
+// A texel that cannot be used as it is: a colour channel that is NaN, infinite
+// or negative, or an alpha that is not finite. Unless the scene refuses it, a
+// texel with a value that is not finite is stored black, and negative colour
+// channels are stored as 0 (HDR images often hold tiny negative values).
 struct UnusableTexel {
   int x = 0, y = 0;
   float value = 0.0f;  // the offending channel
@@ -42,16 +45,24 @@ class Texture {
   TexelStorage storage() const { return storage_; }
   size_t bytes() const { return bytes_.size() + 2 * halves_.size(); }
   float max_rgb() const { return max_rgb_; }  // largest colour component (its gain as an albedo)
-  size_t unusable_texels() const { return unusable_; }
+  size_t unusable_texels() const { return not_finite_ + negative_; }
+  size_t not_finite_texels() const { return not_finite_; }  // stored black
+  size_t negative_texels() const { return negative_; }      // negative channels stored as 0
+  float most_negative() const { return most_negative_; }
   const UnusableTexel& first_unusable() const { return first_unusable_; }
 
-  Color lookup(const Vec2& uv) const {
+  // Repeats in u; in v too, or with clamp_v (environment maps: the poles) clamps.
+  Color lookup(const Vec2& uv, bool clamp_v = false) const {
     const double x = (uv.x - std::floor(uv.x)) * width_ - 0.5;
-    const double y = (uv.y - std::floor(uv.y)) * height_ - 0.5;
+    const double y = (clamp_v ? std::clamp(uv.y, 0.0, 1.0) : uv.y - std::floor(uv.y)) * height_ - 0.5;
     const double fx = std::floor(x), fy = std::floor(y);
     const double ax = x - fx, ay = y - fy;
     const int x0 = wrap(static_cast<int>(fx), width_), x1 = wrap(x0 + 1, width_);
-    const int y0 = wrap(static_cast<int>(fy), height_), y1 = wrap(y0 + 1, height_);
+    int y0 = wrap(static_cast<int>(fy), height_), y1 = wrap(y0 + 1, height_);
+    if (clamp_v) {
+      y0 = std::clamp(static_cast<int>(fy), 0, height_ - 1);
+      y1 = std::clamp(static_cast<int>(fy) + 1, 0, height_ - 1);
+    }
     return (1 - ax) * (1 - ay) * texel(x0, y0) + ax * (1 - ay) * texel(x1, y0) + (1 - ax) * ay * texel(x0, y1) +
            ax * ay * texel(x1, y1);
   }
@@ -61,7 +72,7 @@ class Texture {
   static int wrap(int i, int n) { return ((i % n) + n) % n; }
   size_t index(int x, int y) const { return (static_cast<size_t>(y) * width_ + x) * 4; }
   Color texel(int x, int y) const;
-  void clear_unusable(size_t first_texel, std::vector<float>& row);  // black, counted
+  void clear_unusable(size_t first_texel, std::vector<float>& row);  // see UnusableTexel
   void note_unusable(size_t texel, const float rgba[4]);
   uint8_t max_byte() const;  // of the colour channels
   float max_half() const;
@@ -72,7 +83,8 @@ class Texture {
   std::vector<uint8_t> bytes_;     // RGBA, 8-bit storages
   std::vector<uint16_t> halves_;   // RGBA, Half
   float max_rgb_ = 0.0f;
-  size_t unusable_ = 0;
+  size_t not_finite_ = 0, negative_ = 0;
+  float most_negative_ = 0.0f;
   UnusableTexel first_unusable_;
 };
 

@@ -79,6 +79,19 @@ def diffuse_material(name, rgb):
     return mat
 
 
+def glossy_material(name, rgb):
+    """A perfect mirror of colour `rgb` (a Glossy BSDF of roughness 0)."""
+    mat = diffuse_material(name, rgb)
+    nodes = mat.node_tree.nodes
+    nodes.remove(next(n for n in nodes if n.bl_idname == "ShaderNodeBsdfDiffuse"))
+    glossy = nodes.new("ShaderNodeBsdfGlossy" if bpy.app.version < (4, 0, 0) else "ShaderNodeBsdfAnisotropic")
+    glossy.inputs["Color"].default_value = (*rgb, 1.0)
+    glossy.inputs["Roughness"].default_value = 0.0
+    out = next(n for n in nodes if n.bl_idname == "ShaderNodeOutputMaterial")
+    mat.node_tree.links.new(glossy.outputs[0], out.inputs["Surface"])
+    return mat
+
+
 def emission_material(name, rgb, strength):
     mat = diffuse_material(name, (0, 0, 0))
     nodes = mat.node_tree.nodes
@@ -188,6 +201,9 @@ def configure_cycles(scene, samples, bounces=4):
     c.seed = 1
     c.sample_clamp_direct = c.sample_clamp_indirect = 0.0
     c.blur_glossy = 0.0
+    # PPM averages its eye samples over each pixel's square: the same box filter, where Cycles'
+    # default Blackman-Harris (1.5 px) would move light across the edges of the compared blocks.
+    c.pixel_filter_type, c.filter_width = "BOX", 1.0
     c.caustics_reflective = c.caustics_refractive = True
     c.max_bounces = c.diffuse_bounces = bounces
     scene.render.threads_mode = "FIXED"

@@ -5,11 +5,11 @@
 
 Installs the add-on zip the way a user does (an extension in 4.2+, a legacy add-on in 3.4) into the
 user folders the caller chose (BLENDER_USER_RESOURCES, or BLENDER_USER_SCRIPTS/CONFIG for 3.4), then
-renders every bundled .blend through it at low resolution, runs the per-light-kind, per-lens and
-ray-visibility Cycles agreement (cycles_compare.py, lens_compare.py, visibility_compare.py) and
-records every Python warning raised in the add-on's files (deprecations included). With --no-core
-it only tries one render and records the error. The assertions are in test_blender_versions.py,
-which runs this in each version.
+renders every bundled .blend through it at low resolution, runs the per-light-kind, per-lens,
+ray-visibility and image-based-light Cycles agreement (cycles_compare.py, lens_compare.py,
+visibility_compare.py, world_compare.py) and records every Python warning raised in the add-on's
+files (deprecations included). With --no-core it only tries one render and records the error. The
+assertions are in test_blender_versions.py, which runs this in each version.
 """
 
 import argparse
@@ -29,6 +29,7 @@ import numpy as np
 import cycles_compare
 import lens_compare
 import visibility_compare
+import world_compare
 
 SCENES = sorted(glob.glob(os.path.join(ROOT, "blend_scenes", "*.blend")))
 RESOLUTION_PERCENT = 12  # 640x480 -> 76x57
@@ -114,6 +115,7 @@ def main():
                                                         passes=24)
         report["lenses"] = lens_compare.compare_cases(args.samples, passes=24)
         report["visibility"] = visibility_compare.compare_cases()  # seconds: its own 256 samples, 32 passes
+        report["worlds"] = world_compare.compare_cases()
     report["addon_warnings"] = found_warnings
     with open(args.report, "w") as f:
         json.dump(report, f, indent=1)

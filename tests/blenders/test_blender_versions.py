@@ -58,8 +58,8 @@ def run_in_blender(version, zip_path, tmp_path, *args):
     command = BLENDERS[version][1] + ["--zip", zip_path, "--report", str(report), "--workdir", str(tmp_path), *args]
     run = subprocess.run(command, capture_output=True, text=True, timeout=900, env=env, cwd=str(tmp_path))
     assert run.returncode == 0 and report.exists(), run.stdout[-3000:] + run.stderr[-3000:]
-    print("\n".join(line for line in run.stdout.splitlines() if line.startswith(("cycles_compare", "lens_compare",
-                                                                                 "visibility_compare"))))
+    comparisons = ("cycles_compare", "lens_compare", "visibility_compare", "world_compare")
+    print("\n".join(line for line in run.stdout.splitlines() if line.startswith(comparisons)))
     return json.loads(report.read_text()), str(user)
 
 
@@ -85,6 +85,8 @@ def test_zip_installs_renders_and_agrees_with_cycles(version, addon_zip, tmp_pat
     assert len(lenses) == 5 and all(error <= LENS_TOLERANCE for error in lenses.values()), lenses
     visibility = {row["case"]: row["max_block_error"] for row in report["visibility"]}
     assert len(visibility) == 7 and all(error <= TOLERANCE for error in visibility.values()), visibility
+    worlds = {row["case"]: row["max_block_error"] for row in report["worlds"]}
+    assert len(worlds) == 5 and all(error <= TOLERANCE for error in worlds.values()), worlds
     assert report["addon_warnings"] == []
 
 

@@ -37,18 +37,6 @@ CASES = ("light_in_view", "light_in_view_camera_visible", "mirror_sees_light", "
          "occluder_not_camera", "occluder_no_shadow", "light_casts_no_shadow")
 
 
-def glossy_material(name, rgb):
-    mat = cycles_compare.diffuse_material(name, rgb)
-    nodes = mat.node_tree.nodes
-    nodes.remove(next(n for n in nodes if n.bl_idname == "ShaderNodeBsdfDiffuse"))
-    glossy = nodes.new("ShaderNodeBsdfGlossy" if bpy.app.version < (4, 0, 0) else "ShaderNodeBsdfAnisotropic")
-    glossy.inputs["Color"].default_value = (*rgb, 1.0)
-    glossy.inputs["Roughness"].default_value = 0.0
-    out = next(n for n in nodes if n.bl_idname == "ShaderNodeOutputMaterial")
-    mat.node_tree.links.new(glossy.outputs[0], out.inputs["Surface"])
-    return mat
-
-
 def build(case):
     cycles_compare.build("point")  # floor, camera, point light at (0.3, 0.2, 2.2), black world
     if case.startswith("light_in_view"):
@@ -56,7 +44,7 @@ def build(case):
         light.visible_camera = case.endswith("camera_visible")
     elif case.startswith("mirror"):
         bpy.data.objects.remove(bpy.data.objects["POINT"])
-        bpy.data.objects["floor"].data.materials[0] = glossy_material("mirror", (0.8, 0.8, 0.8))
+        bpy.data.objects["floor"].data.materials[0] = cycles_compare.glossy_material("mirror", (0.8, 0.8, 0.8))
         light = cycles_compare.add_light("POINT", 100.0, (block_centre_x(-2.2), Y, 2.2), shadow_soft_size=0.3)
         light.visible_glossy = case != "mirror_light_not_glossy"
     else:

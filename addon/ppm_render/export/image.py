@@ -20,16 +20,33 @@ except ImportError:  # not in every build of Blender
     imbuf = None
 
 SRGB_SPACES = ("sRGB", "sRGB 2.1")
+# Negative values smaller than this share of the image's brightest (or of 1) are noise of HDR tools
+# (the HDRIs Blender ships hold down to -0.004 under a sun of 32,000), clamped to 0 without a warning.
+NEGLIGIBLE_NEGATIVE = 1e-3
 
 
 def add_texture(core_scene, image):
-    """Adds `image` to the core scene; returns (texture index, number of texels rendered black)."""
+    """Adds `image` to the core scene; returns (texture index, what was changed to make it usable, as
+    text for a warning, or None)."""
     byte_storage = "srgb8" if image.colorspace_settings.name in SRGB_SPACES else "linear8"
     if can_read_file_bytes(image):
         index = add_file_bytes(core_scene, image, byte_storage)
         if index is not None:
-            return index, 0
-    return add_pixels(core_scene, image, byte_storage)
+            return index, None  # bytes are always usable
+    index = add_pixels(core_scene, image, byte_storage)
+    return index, repairs(core_scene.texture_info(index))
+
+
+def repairs(info):
+    """What the core changed in a texture to use it, as text, or None."""
+    found = []
+    if info["not_finite_texels"]:
+        found.append(f"{texels(info['not_finite_texels'])} values that are not a number or infinite; "
+                     "rendered black")
+    if info["negative_texels"] and -info["most_negative"] > NEGLIGIBLE_NEGATIVE * max(info["max_rgb"], 1.0):
+        found.append(f"{texels(info['negative_texels'])} negative colours (down to {info['most_negative']:g}); "
+                     "clamped to 0")
+    return "; ".join(found) or None
 
 
 def can_read_file_bytes(image):
@@ -37,6 +54,10 @@ def can_read_file_bytes(image):
     # A generated, sequence, movie or tiled image, or one painted on since it was loaded, is
     # not what its file holds.
     return buffer_access and image.source == "FILE" and not image.is_dirty
+
+
+def texels(count):
+    return "1 texel has" if count == 1 else f"{count} texels have"
 
 
 def add_file_bytes(core_scene, image, byte_storage):
@@ -70,7 +91,7 @@ def add_pixels(core_scene, image, byte_storage):
         storage = "half" if image.is_float else byte_storage
         index = core_scene.add_texture(image.name, pixels, storage=storage, clear_unusable=True)
         del pixels
-        return index, core_scene.texture_info(index)["unusable_texels"]
+        return index
     finally:
         if not had_data:
             image.buffers_free()  # loaded only for this export: give Blender's copy back

@@ -155,9 +155,9 @@ class MaterialExporter:
     def texture(self, image):
         key = image.name_full if hasattr(image, "name_full") else image.name
         if key not in self.textures:
-            self.textures[key], cleared = image_export.add_texture(self.scene, image)
-            if cleared:
-                self.warn(f"image '{image.name}': {cleared} texels are negative or not a number; rendered as black")
+            self.textures[key], repaired = image_export.add_texture(self.scene, image)
+            if repaired:
+                self.warn(f"image '{image.name}': {repaired}")
         return self.textures[key]
 
 

@@ -1,0 +1,126 @@
+"""PPM against Cycles under image-based light (an Environment Texture in the world), in the running
+Blender, with two of the HDRIs Blender ships (datafiles/studiolights/world): sunrise.exr, whose sun
+carries more than half of the light in 0.1% of the texels, and courtyard.exr, a soft sky.
+
+A diffuse floor and two balls, seen from the side with the sky behind them: the floor and a diffuse
+ball check the light (direct and indirect), the sky and, under the soft sky, a mirror ball check
+where each direction looks in the image. Under the sunrise both balls are diffuse: a mirror ball
+there reflects the sun onto the floor, a caustic that Cycles renders as fireflies (at 1024 samples
+single 8x8-pixel blocks were 33% off, either way) and PPM's four fixed eye samples a pixel alias
+the sub-pixel glint of the sun in it. Cases: each HDRI as it is, the sunrise turned by a Mapping
+node, the courtyard read as a mirror ball, and the sunrise hidden from the camera (World > Ray
+Visibility). The same saved file is rendered by both engines; the mean radiance of 4x3 image
+blocks must agree within 3%.
+
+    .venv/bin/python tests/blenders/world_compare.py                  # Blender 5.0 (bpy); likewise 4.2-5.2
+    blender -b --factory-startup --python-exit-code 1 -P tests/blenders/world_compare.py
+"""
+
+import math
+import os
+import sys
+import tempfile
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+
+import bpy
+import numpy as np
+
+import cycles_compare
+
+CASES = ("sunrise", "courtyard", "sunrise_turned", "courtyard_mirror_ball", "sunrise_hidden_from_camera")
+
+
+def hdri_path(name):
+    return os.path.join(bpy.utils.system_resource("DATAFILES"), "studiolights", "world", name + ".exr")
+
+
+def ball(name, location, material):
+    bpy.ops.mesh.primitive_uv_sphere_add(segments=48, ring_count=24, radius=0.5, location=location)
+    obj = bpy.context.object
+    obj.name = name
+    bpy.ops.object.shade_smooth()
+    obj.data.materials.append(material)
+    return obj
+
+
+def set_environment(case):
+    world = bpy.data.worlds.new("World")
+    if world.node_tree is None or bpy.app.version < (5, 0, 0):
+        world.use_nodes = True
+    nodes, links = world.node_tree.nodes, world.node_tree.links
+    background = next(n for n in nodes if n.bl_idname == "ShaderNodeBackground")
+    environment = nodes.new("ShaderNodeTexEnvironment")
+    environment.image = bpy.data.images.load(hdri_path(case.split("_")[0]))
+    links.new(environment.outputs["Color"], background.inputs["Color"])
+    if case.endswith("mirror_ball"):
+        environment.projection = "MIRROR_BALL"
+    if case.endswith(("turned", "mirror_ball")):
+        # A mirror ball's image squeezes the directions around +Y into its rim: turned so that the
+        # camera, looking along +Y, sees the sky from the well-sampled middle of the ball instead.
+        turn = (15, -10, 120) if case.endswith("turned") else (0, 0, 180)
+        coordinates, mapping = nodes.new("ShaderNodeTexCoord"), nodes.new("ShaderNodeMapping")
+        mapping.inputs["Rotation"].default_value = tuple(math.radians(a) for a in turn)
+        links.new(coordinates.outputs["Generated"], mapping.inputs["Vector"])
+        links.new(mapping.outputs["Vector"], environment.inputs["Vector"])
+    if case.endswith("hidden_from_camera"):
+        world.cycles_visibility.camera = False
+    bpy.context.scene.world = world
+
+
+def build(case):
+    cycles_compare.reset()
+    scene = bpy.context.scene
+    cycles_compare.plane("floor", 3.0, 0.0, cycles_compare.diffuse_material("floor", (cycles_compare.ALBEDO,) * 3))
+    ball("matte", (-0.6, 0.0, 0.5), cycles_compare.diffuse_material("matte", (0.7, 0.7, 0.7)))
+    right = (cycles_compare.diffuse_material("matte right", (0.3, 0.5, 0.7)) if case.startswith("sunrise")
+             else cycles_compare.glossy_material("mirror", (0.9, 0.9, 0.9)))
+    ball("right", (0.6, 0.0, 0.5), right)
+    cam = bpy.data.objects.new("camera", bpy.data.cameras.new("camera"))
+    cam.location, cam.rotation_euler = (0.0, -4.0, 1.3), (math.radians(80), 0.0, 0.0)
+    cam.data.lens = 30.0
+    scene.collection.objects.link(cam)
+    scene.camera = cam
+    set_environment(case)
+    render = scene.render
+    render.resolution_x, render.resolution_y, render.resolution_percentage = (cycles_compare.WIDTH,
+                                                                              cycles_compare.HEIGHT, 100)
+    render.image_settings.file_format, render.image_settings.color_depth = "OPEN_EXR", "32"
+    render.use_file_extension = False
+
+
+def compare(case, workdir, samples, passes):
+    build(case)
+    images = cycles_compare.render_with_both_engines(case, workdir, samples, passes)
+    cycles, ppm = (cycles_compare.block_means(images[e]) for e in ("CYCLES", "PPM"))
+    relative = (ppm - cycles) / np.maximum(cycles, cycles_compare.DARK)
+    return {"case": case, "blender": bpy.app.version_string, "cycles_mean": float(cycles.mean()),
+            "ppm_mean": float(ppm.mean()), "max_block_error": float(np.abs(relative).max()),
+            "blocks_cycles": cycles.round(5).tolist(), "blocks_ppm": ppm.round(5).tolist()}
+
+
+def compare_cases(cases=CASES, samples=512, passes=32):
+    rows = []
+    with tempfile.TemporaryDirectory() as workdir:
+        for case in cases:
+            row = compare(case, workdir, samples, passes)
+            rows.append(row)
+            print(f"world_compare: Blender {row['blender']} {case:28s} cycles {row['cycles_mean']:.5f} "
+                  f"ppm {row['ppm_mean']:.5f} worst block {100 * row['max_block_error']:.2f}%", flush=True)
+    return rows
+
+
+def main():
+    try:
+        rows = compare_cases()
+    finally:
+        cycles_compare.unregister_checkout_addon()
+    failed = [r for r in rows if r["max_block_error"] > cycles_compare.TOLERANCE]
+    for row in failed:
+        print(f"world_compare: {row['case']}: cycles {row['blocks_cycles']} ppm {row['blocks_ppm']}")
+    if failed:
+        sys.exit(1)
+
+
+if __name__ == "__main__":
+    main()
