@@ -7,7 +7,8 @@ Saved with Blender 3.4 (Debian's `blender`), the files open in 3.4 and 5.0
 alike (newer Blenders read older files, not the other way round). The scenes:
 cornell_3spheres (report figure 1), bezier_vase (figure 2), cornell_dof
 (figure 3), showcase (textured meshes, several light types, instances) and
-cornell_diffuse (diffuse only, for the accuracy benchmarks against Cycles).
+cornell_diffuse (diffuse only, for the accuracy benchmarks against Cycles) and hdri_glass (image-based
+light from an HDRI Blender ships, packed, with glass and its caustic).
 Geometry mirrors blend_scenes/core_scenes.py where a core scene exists.
 """
 
@@ -339,8 +340,47 @@ def cornell_diffuse():
     render_settings()
 
 
+def environment_world(hdri, turn_degrees=0.0):
+    """A world lit by one of the HDRIs Blender ships (CC0), packed into the .blend so that the file
+    renders wherever it is opened, turned about Z by a Mapping node."""
+    path = os.path.join(bpy.utils.system_resource("DATAFILES"), "studiolights", "world", hdri + ".exr")
+    w = bpy.data.worlds.new("World")
+    if w.node_tree is None or bpy.app.version < (5, 0, 0):
+        w.use_nodes = True
+    nodes, links = w.node_tree.nodes, w.node_tree.links
+    background = next(n for n in nodes if n.bl_idname == "ShaderNodeBackground")
+    environment = nodes.new("ShaderNodeTexEnvironment")
+    environment.image = bpy.data.images.load(path)
+    environment.image.pack()
+    coordinates, mapping = nodes.new("ShaderNodeTexCoord"), nodes.new("ShaderNodeMapping")
+    mapping.inputs["Rotation"].default_value = (0.0, 0.0, math.radians(turn_degrees))
+    links.new(coordinates.outputs["Generated"], mapping.inputs["Vector"])
+    links.new(mapping.outputs["Vector"], environment.inputs["Vector"])
+    links.new(environment.outputs["Color"], background.inputs["Color"])
+    bpy.context.scene.world = w
+
+
+def hdri_glass():
+    """Image-based light: Blender's city.exr, whose sun stands 48 degrees high, turned so that it
+    shines from behind the camera's left; a glass ball throws its caustic into its shadow on a pale
+    floor, beside a glass vase (a Bezier revolve) and a matte ball."""
+    reset()
+    mesh_object("floor", [(-6, -6, 0), (6, -6, 0), (6, 6, 0), (-6, 6, 0)], [(0, 1, 2, 3)],
+                diffuse("floor", (0.8, 0.78, 0.74)))
+    glass = node_material("glass", "ShaderNodeBsdfGlass", IOR=1.5)
+    uv_sphere("glass_ball", (0.0, 0.0, 0.45), 0.45, glass)
+    uv_sphere("matte_ball", (-1.1, 0.9, 0.3), 0.3, diffuse("clay", (0.7, 0.35, 0.25)))
+    vase = [(0.0, 0.0), (0.28, 0.0), (0.32, 0.25), (0.18, 0.55), (0.12, 0.8), (0.22, 1.0)]
+    revolve_object("vase", vase, glass, (1.1, 0.8, 0.0))
+    camera((0.3, -4.2, 2.2), (0.2, 0.3, 0.3), lens=40.0)
+    environment_world("city", turn_degrees=150.0)
+    render_settings()
+    bpy.context.scene.view_settings.exposure = -2.5  # a sunlit floor is about 4
+
+
 SCENES = {"cornell_3spheres": cornell_3spheres, "bezier_vase": bezier_vase,
-          "cornell_dof": cornell_dof, "showcase": showcase, "cornell_diffuse": cornell_diffuse}
+          "cornell_dof": cornell_dof, "showcase": showcase, "cornell_diffuse": cornell_diffuse,
+          "hdri_glass": hdri_glass}
 
 
 def save(path):
