@@ -15,7 +15,7 @@ import numpy as np
 
 from . import core, export, passes
 from .export.camera import Frame
-from .properties import core_settings
+from .properties import core_settings, film_settings
 
 DISPLAY_INTERVAL = 1.0  # seconds between refreshes of the render window
 
@@ -111,7 +111,7 @@ class PPMRenderEngine(bpy.types.RenderEngine):
             ppm_core = core.load()
             self.update_stats("", "Exporting scene")
             ppm_scene, camera_args = export.build_scene(ppm_core, depsgraph, frame, self.warn, self.test_break)
-            renderer = ppm_core.Renderer(ppm_scene, **core_settings(scene.ppm))
+            renderer = ppm_core.Renderer(ppm_scene, **core_settings(scene.ppm), **film_settings(scene))
         except export.Cancelled:
             self.update_stats("", "Cancelled while exporting the scene")
             return

@@ -70,6 +70,15 @@ def core_settings(settings):
     return args
 
 
+def film_settings(scene):
+    """Alpha as Cycles renders it: Film > Transparent, and its Transparent Glass (Cycles' own setting,
+    read where the Cycles add-on is present). Cycles counts glass up to a roughness of 0.1 as
+    transparent (`film_transparent_roughness`); PPM counts smooth glass only."""
+    cycles = getattr(scene, "cycles", None)
+    return {"transparent_background": bool(scene.render.film_transparent),
+            "transparent_glass": bool(getattr(cycles, "film_transparent_glass", False))}
+
+
 classes = (PPMSceneSettings, PPMObjectSettings)
 
 

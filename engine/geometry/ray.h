@@ -15,6 +15,8 @@ enum RayKind : uint8_t {
   kShadowRay = 16,        // towards a light: shadow rays, and photons on their way from the light
 };
 constexpr uint8_t kAllRayKinds = 31;
+// Not a ray kind: marks a primitive of a Holdout object in its visibility byte.
+constexpr uint8_t kHoldoutFlag = 32;
 
 struct Ray {
   Vec3 origin;

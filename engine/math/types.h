@@ -28,6 +28,7 @@ inline double max_abs(const Vec3& v) {
 }
 inline double max_component(const Color& c) { return max_ignoring_nan(c.x, max_ignoring_nan(c.y, c.z)); }
 inline double luminance(const Color& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
+inline double mean(const Color& c) { return (c.x + c.y + c.z) / 3.0; }
 inline bool is_finite(const Vec3& v) {
   return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }

@@ -18,7 +18,8 @@ struct EyeVertex {
   Ray ray;
   Color throughput;
   int depth;
-  double length;  // distance travelled, for the pixel footprint
+  double length;    // distance travelled, for the pixel footprint
+  bool glass_only;  // every interface so far refracted through smooth glass (or none: a camera ray)
 };
 
 struct ChunkOutput {
@@ -30,10 +31,27 @@ struct EyeTracer {
   const Scene& scene;
   const Settings& settings;
   const EyePassOptions& options;
-  std::vector<uint32_t> visible_lights;
+  std::vector<uint32_t> visible_lights;  // lights with a surface: spheres, rectangles, disks
+  std::vector<uint32_t> visible_suns;    // suns of a non-zero angle: a disc in the sky
   const Light* background;  // what rays that escape see (nullptr: black)
   double footprint;
   bool orthographic;
+
+  // Does this vertex's path make the pixel transparent where it escapes or meets a holdout?
+  // Cycles: camera rays, and with transparent glass those refracted through glass only.
+  bool transparent_path(const EyeVertex& v) const {
+    return v.depth == 0 || (settings.transparent_glass && v.glass_only);
+  }
+
+  // Adds the radiance of the suns whose disc an escaping ray points into (Cycles shows a sun to
+  // glossy and transmission rays, and to camera rays if it is visible to them).
+  void see_suns(const Ray& ray, const Color& throughput, Color& emitted) const {
+    for (uint32_t i : visible_suns) {
+      const Light& sun = scene.lights()[i];
+      if ((sun.visibility & ray.kind) && -glm::dot(ray.direction, sun.direction) >= sun.cos_sun)
+        emitted += throughput * sun.radiance;
+    }
+  }
 
   // Adds the radiance of lights nearer than the surface; returns true if one blocks the view.
   bool see_lights(const Ray& ray, double t_surface, const Color& throughput, Color& emitted) const {
@@ -74,11 +92,12 @@ struct EyeTracer {
     out.shading.push_back(HitPointShading{sp.ng, sp.ns, wo, v.throughput, sp.albedo, hit.material, pixel});
   }
 
+  // Adds what the path sees directly to `emitted` and what of it is transparent to `transparency`.
   void trace(const Ray& primary, const Color& weight, Rng& rng, uint32_t pixel, ChunkOutput& out,
-             Color& emitted) const {
+             Color& emitted, double& transparency) const {
     EyeVertex stack[2 * kSplitDepth + 4];
     int top = 0;
-    stack[top++] = EyeVertex{primary, weight, 0, 0.0};
+    stack[top++] = EyeVertex{primary, weight, 0, 0.0, true};
     const double tmax0 = scene.camera().clip_end - scene.camera().clip_start;
     while (top > 0) {
       const EyeVertex v = stack[--top];
@@ -86,14 +105,29 @@ struct EyeTracer {
       const bool found = scene.intersect(v.ray, hit, v.depth == 0 ? tmax0 : kInf);
       if (see_lights(v.ray, found ? hit.t : kInf, v.throughput, emitted)) continue;
       if (!found) {
+        if (settings.transparent_background && transparent_path(v)) {
+          transparency += mean(v.throughput);
+          continue;
+        }
+        see_suns(v.ray, v.throughput, emitted);
         if (background != nullptr && (background->visibility & v.ray.kind))
           emitted += v.throughput * background_radiance(*background, v.ray.direction);
         continue;
       }
       const Material& m = scene.material(hit.material);
+      const bool holdout_shader = m.kind == MaterialKind::Holdout;
+      if (holdout_shader || scene.is_holdout(hit)) {
+        // Cycles: a camera ray that meets a holdout cuts a hole, whether or not the film is
+        // transparent. Other rays see a Holdout object as its material, the Holdout shader black.
+        if (v.depth == 0 || (settings.transparent_background && transparent_path(v))) {
+          transparency += mean(v.throughput);
+          continue;
+        }
+        if (holdout_shader) continue;
+      }
       if (m.emits()) emitted += v.throughput * m.emission;
       if (is_black(m)) continue;
-      const EyeVertex here{v.ray, v.throughput, v.depth, v.length + hit.t};
+      const EyeVertex here{v.ray, v.throughput, v.depth, v.length + hit.t, v.glass_only};
       if (!is_specular(m)) {
         record(hit, here, pixel, out);
         continue;
@@ -115,8 +149,9 @@ struct EyeTracer {
         if (!(max_component(thr) > 0.0)) continue;
         const Vec3 wi = branches[b].wi;
         const Vec3 origin = offset_point(hit.position, hit.geometric_normal, wi, scene.offset_floor());
-        stack[top++] = EyeVertex{Ray{origin, wi, scattered_ray_kind(m, hit.geometric_normal, v.ray.direction, wi)},
-                                 thr, v.depth + 1, here.length};
+        const uint8_t kind = scattered_ray_kind(m, hit.geometric_normal, v.ray.direction, wi);
+        const bool glass_only = v.glass_only && m.kind == MaterialKind::Glass && kind == kTransmissionRay;
+        stack[top++] = EyeVertex{Ray{origin, wi, kind}, thr, v.depth + 1, here.length, glass_only};
       }
     }
   }
@@ -127,11 +162,12 @@ struct EyeTracer {
 bool eye_pass(const Scene& scene, const Settings& settings, const EyePassOptions& options, HitPoints& out,
               std::atomic<bool>& cancel, const std::function<bool()>& poll) {
   const Camera& cam = scene.camera();
-  EyeTracer tracer{scene, settings, options, {}, nullptr, cam.pixel_footprint(),
+  EyeTracer tracer{scene, settings, options, {}, {}, nullptr, cam.pixel_footprint(),
                    cam.projection == Projection::Orthographic};
   for (uint32_t i = 0; i < scene.lights().size(); ++i) {
     const LightKind k = scene.lights()[i].kind;
     if (k == LightKind::Sphere || k == LightKind::Rectangle || k == LightKind::Disk) tracer.visible_lights.push_back(i);
+    if (k == LightKind::Sun && scene.lights()[i].cos_sun < 1.0) tracer.visible_suns.push_back(i);
     if (k == LightKind::Background) tracer.background = &scene.lights()[i];
   }
   const int W = cam.width, H = cam.height, spp = options.samples_per_pixel;
@@ -139,6 +175,7 @@ bool eye_pass(const Scene& scene, const Settings& settings, const EyePassOptions
   const size_t chunks = (H + kRowsPerChunk - 1) / kRowsPerChunk;
   std::vector<ChunkOutput> outputs(chunks);
   out.emitted.assign(static_cast<size_t>(W) * H, Color(0.0));
+  out.transparency.assign(static_cast<size_t>(W) * H, 0.0);
   std::vector<uint32_t> counts(static_cast<size_t>(W) * H, 0);
   if (options.record_depth) out.depth.assign(static_cast<size_t>(W) * H, std::numeric_limits<float>::infinity());
 
@@ -171,7 +208,7 @@ bool eye_pass(const Scene& scene, const Settings& settings, const EyePassOptions
               ++depth_count;
             }
           }
-          tracer.trace(ray, Color(1.0 / spp), rng, pixel, o, out.emitted[pixel]);
+          tracer.trace(ray, Color(1.0 / spp), rng, pixel, o, out.emitted[pixel], out.transparency[pixel]);
         }
         if (depth_count > 0) out.depth[pixel] = static_cast<float>(depth_sum / depth_count);
         counts[pixel] = static_cast<uint32_t>(o.points.size() - before);

@@ -50,6 +50,7 @@ struct HitPoints {
   FillVector<HitPointStats> stats;
   std::vector<uint32_t> pixel_begin;  // hit points of pixel p: [pixel_begin[p], pixel_begin[p+1])
   std::vector<Color> emitted;         // per pixel: emission and background seen along eye paths
+  std::vector<double> transparency;   // per pixel: the share of eye samples that leave it transparent
   std::vector<float> depth;           // per pixel: mean view-axis depth of the first hit (inf: none); optional
   size_t size() const { return points.size(); }
 };

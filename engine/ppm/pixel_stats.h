@@ -12,6 +12,7 @@ struct PixelStats {
   double r2 = 0.0;       // 0 until the pixel's first hit point sets the initial radius
   HitPointStats stats{}; // n, m, tau, tau_m as for a fixed hit point; direct: sum over passes
   Color emitted{0.0};    // sum over passes
+  double transparency = 0.0;  // sum over passes
 };
 
 }  // namespace ppm

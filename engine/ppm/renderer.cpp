@@ -204,6 +204,7 @@ bool Renderer::stochastic_pass(const std::function<bool()>& poll) {
         px.stats.direct += fresh.stats[i].direct;
       }
       px.emitted += fresh.emitted[p];
+      px.transparency += fresh.transparency[p];
       progressive_update(px.r2, px.stats, settings_.alpha, settings_.threshold);
     }
   });
@@ -254,7 +255,8 @@ namespace {
 size_t memory_bytes(const HitPoints& h) {
   return h.points.capacity() * sizeof(HitPoint) + h.shading.capacity() * sizeof(HitPointShading) +
          h.stats.capacity() * sizeof(HitPointStats) + h.pixel_begin.capacity() * sizeof(uint32_t) +
-         h.emitted.capacity() * sizeof(Color) + h.depth.capacity() * sizeof(float);
+         h.emitted.capacity() * sizeof(Color) + h.transparency.capacity() * sizeof(double) +
+         h.depth.capacity() * sizeof(float);
 }
 
 void refuse_while_running(const std::atomic<bool>& running, const char* what) {
@@ -282,11 +284,14 @@ std::vector<float> Renderer::image() const {
     for (int x = 0; x < W; ++x) {
       const size_t p = static_cast<size_t>(y) * W + x;
       Color c(0.0);
+      double transparency;
       if (stochastic) {
         const PixelStats& px = pixels_[p];
+        transparency = px.transparency * pass_scale;
         c = px.emitted * pass_scale + px.stats.direct * direct_scale;
         if (analysis_.trace_photons && px.r2 > 0.0) c += photon_radiance(px.r2, px.stats, emitted, lights_.flux_unit());
       } else {
+        transparency = hit_points_.transparency[p];
         c = hit_points_.emitted[p];
         for (uint32_t i = hit_points_.pixel_begin[p]; i < hit_points_.pixel_begin[p + 1]; ++i) {
           const HitPointStats& s = hit_points_.stats[i];
@@ -298,7 +303,7 @@ std::vector<float> Renderer::image() const {
       out[0] = to_float(c.x);
       out[1] = to_float(c.y);
       out[2] = to_float(c.z);
-      out[3] = 1.0f;
+      out[3] = static_cast<float>(std::clamp(1.0 - transparency, 0.0, 1.0));  // RGB is premultiplied by it
     }
   if (dof_post_ && depth_.size() == static_cast<size_t>(W) * H) {
     std::vector<float> depth(depth_.size());

@@ -46,6 +46,10 @@ struct Settings {
   DofPostPreset dof_post_preset = DofPostPreset::ThinLens;
   int dof_max_radius = 32;          // POST: largest blur radius in pixels
   bool scene_analysis = true;       // false: do all the work even where the scene cannot use it (benchmarks)
+  // Alpha as Cycles' Film > Transparent: camera rays that escape leave the pixel transparent (alpha 0)
+  // instead of showing the background; with transparent_glass also those that escape through smooth glass.
+  bool transparent_background = false;
+  bool transparent_glass = false;
 
   // Throws std::invalid_argument naming the setting when a value is out of range.
   void validate() const;

@@ -89,6 +89,10 @@ const std::map<std::string, SettingAccess>& setting_table() {
                                       "dof_post_preset")},
       {"dof_max_radius", number(&Settings::dof_max_radius, "POST: largest blur radius in pixels")},
       {"scene_analysis", number(&Settings::scene_analysis, "skip work the scene cannot use (False: benchmarks)")},
+      {"transparent_background",
+       number(&Settings::transparent_background, "camera rays that escape leave alpha 0 (Film > Transparent)")},
+      {"transparent_glass", number(&Settings::transparent_glass,
+                                   "with transparent_background: also rays escaping through smooth glass")},
       {"grid", enumeration(&Settings::grid, {{"quantile", GridKind::Quantile}, {"hash", GridKind::Hash}},
                            "spatial index: 'quantile' grid or 'hash'ed uniform grid", "grid")},
   };

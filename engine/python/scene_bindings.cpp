@@ -25,7 +25,8 @@ uint32_t add_material(Scene& s, const std::string& name, const std::string& kind
                                  {"mirror", MaterialKind::Mirror},
                                  {"metal", MaterialKind::Metal},
                                  {"glass", MaterialKind::Glass},
-                                 {"emission", MaterialKind::Emission}},
+                                 {"emission", MaterialKind::Emission},
+                                 {"holdout", MaterialKind::Holdout}},
                                 what, "kind");
   m.base_color = color(base_color, what, "base_color");
   m.texture = texture;
@@ -155,12 +156,12 @@ std::vector<uint32_t> index_list(const py::handle& obj, const std::string& what,
 
 void add_mesh(Scene& s, const std::string& name, const py::object& positions, const py::object& triangles,
               const py::object& normals, const py::object& uvs, const py::object& materials, uint32_t object_id,
-              const py::object& visible_to) {
+              const py::object& visible_to, bool holdout) {
   const std::string what = "mesh '" + checked_name(name, "mesh") + "'";
   MeshInput m;
   m.name = name;
   m.object_id = object_id;
-  m.visibility = visibility(visible_to, what);
+  m.visibility = visibility(visible_to, what) | (holdout ? kHoldoutFlag : 0);
   m.positions = vec3_list(positions, what, "positions");
   {
     const py::array t = py::array::ensure(triangles);
@@ -364,7 +365,8 @@ void bind_scene(py::module_& m) {
            py::arg("base_color") = py::make_tuple(0.8, 0.8, 0.8), py::arg("texture") = -1, py::arg("roughness") = 0.0,
            py::arg("ior") = 1.45, py::arg("specular_tint") = py::make_tuple(1.0, 1.0, 1.0),
            py::arg("emission") = py::make_tuple(0.0, 0.0, 0.0),
-           "Adds a material; returns its index. kind: diffuse, mirror, metal, glass, emission. "
+           "Adds a material; returns its index. kind: diffuse, mirror, metal, glass, emission, holdout "
+           "(a hole in the image: alpha 0 where camera rays reach it). "
            "emission is radiance in W/(m^2 sr) (Blender colour * strength).")
       .def("add_texture", &add_texture, py::arg("name"), py::arg("pixels"), py::arg("storage") = py::none(),
            py::arg("clear_unusable") = false,
@@ -379,33 +381,38 @@ void bind_scene(py::module_& m) {
            "of texture `index`.")
       .def("add_mesh", &add_mesh, py::arg("name"), py::arg("positions"), py::arg("triangles"),
            py::arg("normals") = py::none(), py::arg("uvs") = py::none(), py::arg("materials") = 0,
-           py::arg("object_id") = 0, py::arg("visibility") = py::none(),
+           py::arg("object_id") = 0, py::arg("visibility") = py::none(), py::arg("holdout") = false,
            "Adds a world-space triangle mesh. normals/uvs per vertex or per corner (T, 3, k); "
            "materials: one index or one per triangle. visibility: the ray kinds that see it "
-           "('camera', 'diffuse', 'glossy', 'transmission', 'shadow'; None: all), as Cycles' ray visibility.")
+           "('camera', 'diffuse', 'glossy', 'transmission', 'shadow'; None: all), as Cycles' ray visibility. "
+           "holdout: a hole in the image (alpha 0) where camera rays reach it; other rays see it as it is.")
       .def("add_sphere",
            [](Scene& s, const std::string& name, const py::object& center, double radius, uint32_t material,
-              uint32_t object_id, const py::object& visible_to) {
+              uint32_t object_id, const py::object& visible_to, bool holdout) {
              const std::string what = "sphere '" + checked_name(name, "sphere") + "'";
-             s.add_sphere(name, vec3(center, what, "center"), radius, material, object_id, visibility(visible_to, what));
+             s.add_sphere(name, vec3(center, what, "center"), radius, material, object_id,
+                          visibility(visible_to, what) | (holdout ? kHoldoutFlag : 0));
            },
            py::arg("name"), py::arg("center"), py::arg("radius"), py::arg("material"), py::arg("object_id") = 0,
-           py::arg("visibility") = py::none(), "Adds a sphere; visibility as for add_mesh.")
+           py::arg("visibility") = py::none(), py::arg("holdout") = false,
+           "Adds a sphere; visibility and holdout as for add_mesh.")
       .def(
           "add_bezier_revolve",
           [](Scene& s, const std::string& name, const py::object& points, const std::string& kind,
-             const py::object& matrix, uint32_t material, uint32_t object_id, const py::object& visible_to) {
+             const py::object& matrix, uint32_t material, uint32_t object_id, const py::object& visible_to,
+             bool holdout) {
             const std::string what = "bezier revolve '" + checked_name(name, "bezier revolve") + "'";
             const bool chain = choice<bool>(kind, {{"single", false}, {"chain", true}}, what, "kind");
             const Mat4 m = matrix.is_none() ? Mat4(1.0) : mat4(matrix, what, "matrix");
             s.add_bezier_revolve(name, vec2_list(points, what, "points"), chain, m, material, object_id,
-                                 visibility(visible_to, what));
+                                 visibility(visible_to, what) | (holdout ? kHoldoutFlag : 0));
           },
           py::arg("name"), py::arg("points"), py::arg("kind") = "single", py::arg("matrix") = py::none(),
           py::arg("material") = 0, py::arg("object_id") = 0, py::arg("visibility") = py::none(),
+          py::arg("holdout") = false,
           "Adds a surface of revolution: profile points (radius, height) revolved about local Z. "
           "kind 'single' (one Bezier curve, degree 1-8) or 'chain' (cubic segments, 3k+1 points); "
-          "visibility as for add_mesh.")
+          "visibility and holdout as for add_mesh.")
       .def("add_light", &add_light, py::arg("kind"), py::arg("name") = "light", py::arg("power") = 100.0,
            py::arg("color") = py::make_tuple(1.0, 1.0, 1.0), py::arg("position") = py::none(),
            py::arg("direction") = py::none(), py::arg("matrix") = py::none(), py::arg("size") = py::none(),

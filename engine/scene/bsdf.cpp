@@ -188,6 +188,7 @@ Color bsdf_eval(const Material& m, const SurfacePoint& sp, const Vec3& wo, const
       return m.roughness < kSmoothRoughness ? Color(0.0) : eval_rough_glass(m, sp, wo, wi);
     case MaterialKind::Mirror:
     case MaterialKind::Emission:
+    case MaterialKind::Holdout:
       return Color(0.0);
   }
   return Color(0.0);
@@ -230,6 +231,7 @@ bool bsdf_sample(const Material& m, const SurfacePoint& sp, const Vec3& wo, doub
       return true;
     }
     case MaterialKind::Emission:
+    case MaterialKind::Holdout:
       return false;
   }
   return false;

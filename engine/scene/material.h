@@ -16,6 +16,7 @@ enum class MaterialKind : uint8_t {
   Metal,    // conductor: Schlick Fresnel with F0 = base_color and F82 tint (Hoffman 2023); GGX if rough
   Glass,    // dielectric Fresnel with `ior`; transmission tinted by base_color; GGX if rough
   Emission, // black surface that only emits
+  Holdout,  // black surface that cuts a hole in the image: alpha 0 where camera rays reach it (Cycles' Holdout)
 };
 
 struct Material {
@@ -39,6 +40,6 @@ inline bool is_specular(const Material& m) {
   return m.kind == MaterialKind::Mirror ||
          ((m.kind == MaterialKind::Metal || m.kind == MaterialKind::Glass) && m.roughness < kSmoothRoughness);
 }
-inline bool is_black(const Material& m) { return m.kind == MaterialKind::Emission; }
+inline bool is_black(const Material& m) { return m.kind == MaterialKind::Emission || m.kind == MaterialKind::Holdout; }
 
 }  // namespace ppm

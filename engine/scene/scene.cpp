@@ -408,7 +408,7 @@ void Scene::check_energy_range(int max_bounces) const {
   double gain = 1.0;
   const Material* greedy = nullptr;
   for (const Material& m : materials_) {
-    if (m.kind == MaterialKind::Metal || m.kind == MaterialKind::Emission) continue;  // metal Fresnel is clamped to 1
+    if (m.kind == MaterialKind::Metal || is_black(m)) continue;  // metal Fresnel is clamped to 1
     double g = max_component(m.base_color);
     if (m.texture >= 0 && m.kind != MaterialKind::Glass) g *= textures_[m.texture].max_rgb();
     if (g > gain) gain = g, greedy = &m;
@@ -424,6 +424,15 @@ void Scene::check_energy_range(int max_bounces) const {
 }
 
 // Triangles, by far the most common, are tested inline; the rest out of line.
+bool Scene::is_holdout(const Hit& hit) const {
+  uint32_t id = hit.primitive;
+  if (id < triangle_info_.size()) return triangle_info_[id].visibility & kHoldoutFlag;
+  id -= static_cast<uint32_t>(triangle_info_.size());
+  if (id < spheres_.size()) return spheres_[id].visibility & kHoldoutFlag;
+  id -= static_cast<uint32_t>(spheres_.size());
+  return id < revolve_segments_.size() && (revolve_segments_[id].visibility & kHoldoutFlag);
+}
+
 uint8_t Scene::visibility_of(const PrimRef& ref) const {
   switch (ref.kind) {
     case PrimitiveKind::Triangle: return triangle_info_[ref.index].visibility;

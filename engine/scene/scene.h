@@ -56,7 +56,7 @@ struct MeshInput {
   std::vector<Vec2> uvs;                 // empty, one per vertex, or 3 per triangle (corners)
   std::vector<uint32_t> materials;       // one per triangle, or a single value for all
   uint32_t object_id = 0;
-  uint8_t visibility = kAllRayKinds;  // the RayKinds that see it
+  uint8_t visibility = kAllRayKinds;  // the RayKinds that see it, and kHoldoutFlag for a Holdout object
 };
 
 class Scene {
@@ -70,7 +70,8 @@ class Scene {
   // first one, or, with clear_unusable, stay black (Texture::unusable_texels).
   uint32_t add_texture(const std::string& name, Texture texture, bool clear_unusable = false);
   void add_mesh(MeshInput mesh);
-  // `visibility`: the RayKinds that see the object (others pass through it).
+  // `visibility`: the RayKinds that see the object (others pass through it), and
+  // kHoldoutFlag for a Holdout object (a hole for camera rays, itself for others).
   void add_sphere(const std::string& name, const Vec3& center, double radius, uint32_t material,
                   uint32_t object_id, uint8_t visibility = kAllRayKinds);
   void add_bezier_revolve(const std::string& name, const std::vector<Vec2>& points, bool cubic_chain,
@@ -111,6 +112,8 @@ class Scene {
   bool occluded(const Ray& ray, double distance) const;
 
   SurfacePoint surface_point(const Hit& hit) const;
+  // Is the hit primitive part of a Holdout object (its visibility carries kHoldoutFlag)?
+  bool is_holdout(const Hit& hit) const;
   double offset_floor() const { return offset_floor_; }  // see ray_offset()
 
   const Material& material(uint32_t id) const { return materials_[id]; }

@@ -205,7 +205,7 @@ def configure_cycles(scene, samples, bounces=4):
     # default Blackman-Harris (1.5 px) would move light across the edges of the compared blocks.
     c.pixel_filter_type, c.filter_width = "BOX", 1.0
     c.caustics_reflective = c.caustics_refractive = True
-    c.max_bounces = c.diffuse_bounces = bounces
+    c.max_bounces = c.diffuse_bounces = c.glossy_bounces = c.transmission_bounces = bounces
     scene.render.threads_mode = "FIXED"
     scene.render.threads = 2
 
@@ -231,15 +231,16 @@ def read_image(path):
     return pixels.reshape(height, width, 4)
 
 
-def render_to_array(scene, path):
+def render_to_array(scene, path, channels=3):
     """Renders with write_still and reads the EXR back with Blender (no pixels in background mode otherwise)."""
     scene.render.filepath = path
     bpy.ops.render.render(write_still=True)
-    return read_image(path)[..., :3]
+    return read_image(path)[..., :channels]
 
 
-def render_with_both_engines(name, workdir, samples, passes, bounces=4):
-    """{"CYCLES": rgb, "PPM": rgb} of the scene just built, saved once and opened for each engine."""
+def render_with_both_engines(name, workdir, samples, passes, bounces=4, channels=3):
+    """{"CYCLES": rgb, "PPM": rgb} of the scene just built (RGBA with channels=4), saved once and opened
+    for each engine."""
     blend = os.path.join(workdir, f"{name}.blend")
     bpy.ops.wm.save_as_mainfile(filepath=blend)
     images = {}
@@ -247,7 +248,7 @@ def render_with_both_engines(name, workdir, samples, passes, bounces=4):
         bpy.ops.wm.open_mainfile(filepath=blend)
         scene = bpy.context.scene
         configure_cycles(scene, samples, bounces) if engine == "CYCLES" else configure_ppm(scene, passes)
-        images[engine] = render_to_array(scene, os.path.join(workdir, f"{name}_{engine}.exr"))
+        images[engine] = render_to_array(scene, os.path.join(workdir, f"{name}_{engine}.exr"), channels)
     return images
 
 

@@ -22,6 +22,7 @@ IN_BLENDER = os.path.join(HERE, "in_blender.py")
 BUILD_ADDON = os.path.join(ROOT, "addon", "build_addon.py")
 TOLERANCE = 0.03  # cycles_compare.TOLERANCE (not imported: importing it needs bpy)
 LENS_TOLERANCE = 0.05  # lens_compare.TOLERANCE
+ALPHA_TOLERANCE = 0.01  # alpha_compare.ALPHA_TOLERANCE
 
 
 def bpy_python(venv):
@@ -58,7 +59,7 @@ def run_in_blender(version, zip_path, tmp_path, *args):
     command = BLENDERS[version][1] + ["--zip", zip_path, "--report", str(report), "--workdir", str(tmp_path), *args]
     run = subprocess.run(command, capture_output=True, text=True, timeout=900, env=env, cwd=str(tmp_path))
     assert run.returncode == 0 and report.exists(), run.stdout[-3000:] + run.stderr[-3000:]
-    comparisons = ("cycles_compare", "lens_compare", "visibility_compare", "world_compare")
+    comparisons = ("cycles_compare", "lens_compare", "visibility_compare", "world_compare", "alpha_compare")
     print("\n".join(line for line in run.stdout.splitlines() if line.startswith(comparisons)))
     return json.loads(report.read_text()), str(user)
 
@@ -87,6 +88,8 @@ def test_zip_installs_renders_and_agrees_with_cycles(version, addon_zip, tmp_pat
     assert len(visibility) == 7 and all(error <= TOLERANCE for error in visibility.values()), visibility
     worlds = {row["case"]: row["max_block_error"] for row in report["worlds"]}
     assert len(worlds) == 5 and all(error <= TOLERANCE for error in worlds.values()), worlds
+    alpha = {row["case"]: (row["max_block_error"], row["max_alpha_error"]) for row in report["alpha"]}
+    assert len(alpha) == 6 and all(c <= TOLERANCE and a <= ALPHA_TOLERANCE for c, a in alpha.values()), alpha
     assert report["addon_warnings"] == []
 
 

@@ -7,10 +7,10 @@ ball check the light (direct and indirect), the sky and, under the soft sky, a m
 where each direction looks in the image. Under the sunrise both balls are diffuse: a mirror ball
 there reflects the sun onto the floor, a caustic that Cycles renders as fireflies (at 1024 samples
 single 8x8-pixel blocks were 33% off, either way), and the glint of the sun in it came out 40%
-dimmer in PPM, not explained yet (the sun seen directly or in a flat mirror agrees within 0.1%). Cases: each HDRI as it is, the sunrise turned by a Mapping
-node, the courtyard read as a mirror ball, and the sunrise hidden from the camera (World > Ray
-Visibility). The same saved file is rendered by both engines; the mean radiance of 4x3 image
-blocks must agree within 3%.
+dimmer in PPM, not explained yet (the sun seen directly or in a flat mirror agrees within 0.1%).
+Cases: each HDRI as it is, the sunrise turned by a Mapping node, the courtyard read as a mirror
+ball, and the sunrise hidden from the camera (World > Ray Visibility). The same saved file is
+rendered by both engines; the mean radiance of 4x3 image blocks must agree within 3%.
 
     .venv/bin/python tests/blenders/world_compare.py                  # Blender 5.0 (bpy); likewise 4.2-5.2
     blender -b --factory-startup --python-exit-code 1 -P tests/blenders/world_compare.py

@@ -60,7 +60,7 @@ class Exporter:
         data = self.meshes[key]
         if data is not None:
             dropped = data.add_to_scene(self.scene, name, matrix, self.slot_materials(obj), self.object_id(),
-                                        visibility.ray_visibility(obj))
+                                        **visibility.object_flags(obj))
             self.triangles += len(data.triangles) - dropped
             if dropped:
                 self.skip(obj, f"{dropped} of its {len(data.triangles)} triangles have a corner that is not "
@@ -70,7 +70,7 @@ class Exporter:
         slots = self.slot_materials(obj)
         index = self.materials.without_emission(slots[0], f"'{name}'")
         bezier.add_revolve(self.scene, name, obj, matrix, index, self.object_id(), self.warn,
-                           visibility.ray_visibility(obj))
+                           **visibility.object_flags(obj))
 
     def skip(self, obj, what):
         """Notes a warning about `obj` (once per object, counting its instances)."""

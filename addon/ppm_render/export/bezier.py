@@ -53,9 +53,10 @@ def spline_profile(spline):
     return np.asarray(chain)[:, :2].copy()
 
 
-def add_revolve(core_scene, name, curve_object, matrix, material_index, object_id, warn, visibility=None):
+def add_revolve(core_scene, name, curve_object, matrix, material_index, object_id, warn, visibility=None,
+                holdout=False):
     """Adds every Bezier spline of `curve_object` (evaluated) as a revolve, seen by the ray kinds in
-    `visibility` (None: all); returns how many."""
+    `visibility` (None: all), a holdout or not; returns how many."""
     core_matrix = np.asarray(matrix, dtype=float) @ CORE_TO_CURVE
     added = 0
     for index, spline in enumerate(curve_object.data.splines):
@@ -71,6 +72,7 @@ def add_revolve(core_scene, name, curve_object, matrix, material_index, object_i
                  "surface; skipped")
             continue
         core_scene.add_bezier_revolve(f"{name}.{index}", profile, kind="chain", matrix=core_matrix,
-                                      material=material_index, object_id=object_id, visibility=visibility)
+                                      material=material_index, object_id=object_id, visibility=visibility,
+                                      holdout=holdout)
         added += 1
     return added

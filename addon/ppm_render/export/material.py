@@ -2,8 +2,8 @@
 
 Reads the shader node connected to the active Material Output's Surface:
 Principled BSDF (Blender 3.x and 4.x+ socket names), Diffuse, Glossy
-(Anisotropic in 4.x), Glass and Emission BSDFs, and an Image Texture linked
-to the base colour. The core has one lobe per material, so a Principled BSDF
+(Anisotropic in 4.x), Glass and Emission BSDFs, the Holdout shader, and an
+Image Texture linked to the base colour. The core has one lobe per material, so a Principled BSDF
 becomes glass if Transmission >= 0.5, else metal if Metallic >= 0.5, else
 diffuse (its dielectric specular layer is dropped). Anything else (another
 node, a linked input we cannot read) falls back to a diffuse surface of the
@@ -222,4 +222,5 @@ NODE_HANDLERS = {
     "ShaderNodeBsdfAnisotropic": _glossy,
     "ShaderNodeBsdfGlass": _glass,
     "ShaderNodeEmission": _emission_node,
+    "ShaderNodeHoldout": lambda exporter, material, node: {"kind": "holdout"},
 }

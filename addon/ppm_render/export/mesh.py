@@ -68,9 +68,9 @@ class MeshData:
         finally:
             obj.to_mesh_clear()
 
-    def add_to_scene(self, core_scene, name, matrix, material_indices, object_id, visibility=None):
+    def add_to_scene(self, core_scene, name, matrix, material_indices, object_id, visibility=None, holdout=False):
         """Adds the mesh, transformed by the 4x4 `matrix`, with slot -> core material mapping, seen by
-        the ray kinds in `visibility` (None: all).
+        the ray kinds in `visibility` (None: all), a holdout or not.
 
         Returns the number of triangles left out because a corner is not finite (NaN or Inf in the
         mesh or the matrix). A matrix that flattens the mesh to a line or a point (a zero scale, the
@@ -96,7 +96,8 @@ class MeshData:
         slots = np.clip(slots, 0, len(material_indices) - 1)
         materials = np.asarray(material_indices, dtype=np.int64)[slots]
         core_scene.add_mesh(name, positions, triangles, normals=normals.reshape(-1, 3, 3),
-                            uvs=uvs, materials=materials, object_id=object_id, visibility=visibility)
+                            uvs=uvs, materials=materials, object_id=object_id, visibility=visibility,
+                            holdout=holdout)
         return len(self.triangles) - kept
 
 

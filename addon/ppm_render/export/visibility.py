@@ -1,5 +1,5 @@
 """Cycles' ray visibility of objects and lights (Object > Visibility > Ray Visibility), as the core's
-`visibility` lists of ray kinds, and whether a light casts shadows.
+`visibility` lists of ray kinds, objects' Holdout, and whether a light casts shadows.
 
 Volume scatter has no counterpart: the core has no volumes.
 """
@@ -13,6 +13,12 @@ RAY_FLAGS = (("camera", "visible_camera"), ("diffuse", "visible_diffuse"), ("glo
 def ray_visibility(obj):
     """The ray kinds that see `obj` (all of them in a Blender without the flags)."""
     return [kind for kind, flag in RAY_FLAGS if getattr(obj, flag, True)]
+
+
+def object_flags(obj):
+    """The core's `visibility` and `holdout` keywords for an object's geometry (Object > Visibility:
+    Ray Visibility, and Holdout: a hole in the image for camera rays, itself for other rays)."""
+    return {"visibility": ray_visibility(obj), "holdout": bool(getattr(obj, "is_holdout", False))}
 
 
 def casts_shadow(light):

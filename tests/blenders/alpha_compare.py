@@ -1,0 +1,127 @@
+"""PPM against Cycles for alpha: Film > Transparent (the background, glass over it with Transparent
+Glass off and on), a Holdout object and the Holdout shader, in the running Blender.
+
+A floor and two balls under a grey sky, seen from the side with the sky behind them (the
+left ball matte, or a holdout; the right ball matte, glass or with the Holdout shader). The same
+saved file is rendered by both engines: the mean colour (premultiplied, as Blender stores it) of
+4x3 image blocks must agree within 3% (absolute below 1e-4) and their mean alpha within 0.01.
+
+    .venv/bin/python tests/blenders/alpha_compare.py                  # Blender 5.0 (bpy); likewise 4.2-5.2
+    blender -b --factory-startup --python-exit-code 1 -P tests/blenders/alpha_compare.py
+"""
+
+import math
+import os
+import sys
+import tempfile
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+
+import bpy
+import numpy as np
+
+import cycles_compare
+import world_compare
+
+ALPHA_TOLERANCE = 0.01
+CASES = ("opaque_film", "transparent_film", "glass_over_background", "transparent_glass", "holdout_object",
+         "holdout_shader")
+
+
+def holdout_material():
+    mat = cycles_compare.diffuse_material("holdout", (0.5, 0.5, 0.5))
+    nodes = mat.node_tree.nodes
+    nodes.remove(next(n for n in nodes if n.bl_idname == "ShaderNodeBsdfDiffuse"))
+    holdout = nodes.new("ShaderNodeHoldout")
+    out = next(n for n in nodes if n.bl_idname == "ShaderNodeOutputMaterial")
+    mat.node_tree.links.new(holdout.outputs[0], out.inputs["Surface"])
+    return mat
+
+
+def glass_material():
+    mat = cycles_compare.diffuse_material("glass", (1.0, 1.0, 1.0))
+    nodes = mat.node_tree.nodes
+    nodes.remove(next(n for n in nodes if n.bl_idname == "ShaderNodeBsdfDiffuse"))
+    glass = nodes.new("ShaderNodeBsdfGlass")
+    glass.inputs["Roughness"].default_value = 0.0
+    glass.inputs["IOR"].default_value = 1.45
+    out = next(n for n in nodes if n.bl_idname == "ShaderNodeOutputMaterial")
+    mat.node_tree.links.new(glass.outputs[0], out.inputs["Surface"])
+    return mat
+
+
+def build(case):
+    cycles_compare.reset()
+    scene = bpy.context.scene
+    cycles_compare.plane("floor", 3.0, 0.0, cycles_compare.diffuse_material("floor", (cycles_compare.ALBEDO,) * 3))
+    left = world_compare.ball("left", (-0.6, 0.0, 0.5), cycles_compare.diffuse_material("matte", (0.7, 0.7, 0.7)))
+    left.is_holdout = case == "holdout_object"
+    matte = lambda: cycles_compare.diffuse_material("m", (0.3, 0.5, 0.7))  # noqa: E731
+    right = {"glass_over_background": glass_material, "transparent_glass": glass_material,
+             "holdout_shader": holdout_material}.get(case, matte)
+    # Raised so that the camera sees the sky through the glass.
+    world_compare.ball("right", (0.6, 0.0, 1.1), right())
+    # Lit by the sky alone. A point light's caustic through the glass ball is one Cycles cannot render
+    # (PPM's was 5% of a block that Cycles, converged, left without it), and the glint of a sun in
+    # the ball was 4% brighter in PPM than in Cycles at 2048 samples (0.003 of a sky of 0.6; not
+    # explained yet): neither is what this checks.
+    cycles_compare.set_world(0.6)
+    cam = bpy.data.objects.new("camera", bpy.data.cameras.new("camera"))
+    cam.location, cam.rotation_euler = (0.0, -4.0, 1.3), (math.radians(80), 0.0, 0.0)
+    cam.data.lens = 30.0
+    scene.collection.objects.link(cam)
+    scene.camera = cam
+    render = scene.render
+    render.resolution_x, render.resolution_y, render.resolution_percentage = (cycles_compare.WIDTH,
+                                                                              cycles_compare.HEIGHT, 100)
+    render.image_settings.file_format, render.image_settings.color_depth = "OPEN_EXR", "32"
+    render.image_settings.color_mode = "RGBA"
+    render.use_file_extension = False
+    render.film_transparent = case != "opaque_film" and case != "holdout_object"
+    scene.cycles.film_transparent_glass = case == "transparent_glass"
+
+
+def block_alpha(rgba):
+    return cycles_compare.block_means(np.repeat(rgba[..., 3:4], 3, axis=2))
+
+
+def compare(case, workdir, samples, passes):
+    build(case)
+    # 12 bounces, PPM's: light leaves a glass ball after two to six.
+    images = cycles_compare.render_with_both_engines(case, workdir, samples, passes, bounces=12, channels=4)
+    cycles, ppm = (cycles_compare.block_means(images[e][..., :3]) for e in ("CYCLES", "PPM"))
+    alpha_cycles, alpha_ppm = (block_alpha(images[e]) for e in ("CYCLES", "PPM"))
+    relative = (ppm - cycles) / np.maximum(cycles, cycles_compare.DARK)
+    return {"case": case, "blender": bpy.app.version_string, "max_block_error": float(np.abs(relative).max()),
+            "max_alpha_error": float(np.abs(alpha_ppm - alpha_cycles).max()),
+            "alpha_cycles": alpha_cycles.round(4).tolist(), "alpha_ppm": alpha_ppm.round(4).tolist(),
+            "blocks_cycles": cycles.round(5).tolist(), "blocks_ppm": ppm.round(5).tolist()}
+
+
+def compare_cases(cases=CASES, samples=256, passes=32):
+    rows = []
+    with tempfile.TemporaryDirectory() as workdir:
+        for case in cases:
+            row = compare(case, workdir, samples, passes)
+            rows.append(row)
+            print(f"alpha_compare: Blender {row['blender']} {case:24s} worst block colour "
+                  f"{100 * row['max_block_error']:.2f}%, alpha {row['max_alpha_error']:.4f}", flush=True)
+    return rows
+
+
+def main():
+    try:
+        rows = compare_cases()
+    finally:
+        cycles_compare.unregister_checkout_addon()
+    failed = [r for r in rows
+              if r["max_block_error"] > cycles_compare.TOLERANCE or r["max_alpha_error"] > ALPHA_TOLERANCE]
+    for row in failed:
+        print(f"alpha_compare: {row['case']}: cycles {row['blocks_cycles']} alpha {row['alpha_cycles']}; "
+              f"ppm {row['blocks_ppm']} alpha {row['alpha_ppm']}")
+    if failed:
+        sys.exit(1)
+
+
+if __name__ == "__main__":
+    main()
