@@ -30,6 +30,13 @@ def write_pixels(result, rgba):
         rect.foreach_set(pixels.reshape(-1, 4))  # 3.4 wants (pixels, channels)
 
 
+def render_views(scene):
+    """The views to render: each active view of a stereo 3D or multi-view render, else one ("")."""
+    if not scene.render.use_multiview:
+        return [""]
+    return [view.name for view in scene.render.views if view.use] or [""]
+
+
 def stats_line(passes, total, photons, seconds):
     minutes, secs = divmod(int(seconds), 60)
     return f"Pass {passes}/{total} | {photons / 1e6:.1f} M photons | {minutes:02d}:{secs:02d}"
@@ -111,22 +118,46 @@ class PPMRenderEngine(bpy.types.RenderEngine):
             ppm_core = core.load()
             self.update_stats("", "Exporting scene")
             ppm_scene, camera_args = export.build_scene(ppm_core, depsgraph, frame, self.warn, self.test_break)
-            renderer = ppm_core.Renderer(ppm_scene, **core_settings(scene.ppm), **film_settings(scene))
         except export.Cancelled:
             self.update_stats("", "Cancelled while exporting the scene")
             return
         except Exception as error:  # noqa: BLE001 - every failure must reach the user
             self.fail(error)
             return
+        camera_object = scene.camera.evaluated_get(depsgraph)
+        for view in render_views(scene):
+            if self.test_break():
+                return
+            if view:  # one eye of stereo 3D, or one camera of a multi-view render
+                self.active_view_set(view)
+                per_view = (self.camera_model_matrix(camera_object), self.camera_shift_x(camera_object))
+                camera_args = export.camera.camera_arguments(camera_object, frame, lambda _: None,
+                                                             scene.ppm.dof_mode, view=per_view)
+                ppm_scene.set_camera(**camera_args)
+            if not self.render_view(ppm_core, ppm_scene, camera_args, depsgraph, frame, view):
+                return
+
+    def render_view(self, ppm_core, ppm_scene, camera_args, depsgraph, frame, view):
+        """Renders one view into its result; False after a failure."""
+        scene = depsgraph.scene
+        try:
+            renderer = ppm_core.Renderer(ppm_scene, **core_settings(scene.ppm), **film_settings(scene))
+        except Exception as error:  # noqa: BLE001 - every failure must reach the user
+            self.fail(error)
+            return False
         # The result covers the render border only: coordinates are relative to the border.
-        result = self.begin_result(0, 0, frame.window_width, frame.window_height, layer=depsgraph.view_layer.name)
+        result = self.begin_result(0, 0, frame.window_width, frame.window_height, layer=depsgraph.view_layer.name,
+                                   view=view)
         try:
             self.write_data_passes(depsgraph.view_layer, result, ppm_scene, camera_args)
             self.run(renderer, result, scene.ppm)
+            return True
         except Exception as error:  # noqa: BLE001
             self.fail(error)
+            return False
         finally:
             self.end_result(result)
+            del renderer  # the scene's camera may change for the next view only once no renderer holds it
 
     def run(self, renderer, result, settings):
         display = ProgressiveDisplay(self, renderer, result, settings)

@@ -30,6 +30,10 @@ class PPMSceneSettings(bpy.types.PropertyGroup):
         description="Jittered eye samples per pixel (anti-aliasing)")
     seed: IntProperty(name="Seed", default=0, min=0,
                       description="Random seed; same seed and threads give the same image")
+    animated_seed: BoolProperty(
+        name="Animated Seed", default=True,
+        description="A different noise pattern in every frame of an animation (seed + frame), as Cycles' "
+                    "Animated Seed; off, every frame has the same pattern")
     threads: IntProperty(name="Threads", default=0, min=0, max=1024, description="Worker threads (0 = all cores)")
     dof_mode: EnumProperty(
         name="Depth of Field",
@@ -65,9 +69,16 @@ def core_settings(settings):
     light's edges and glossy surfaces that fixed ones freeze, and LENS depth of
     field needs them."""
     args = {key: getattr(settings, key) for key in CORE_KEYS}
+    if settings.animated_seed:
+        args["seed"] = frame_seed(settings.seed, settings.id_data.frame_current)
     args["dof_mode"] = settings.dof_mode.lower()
     args["hit_points"] = "fixed" if settings.hit_points == 'FIXED' else "stochastic"
     return args
+
+
+def frame_seed(seed, frame):
+    """The seed of one frame: frames differ, and a negative frame gives a valid seed too."""
+    return (seed + frame * 0x9E3779B1) % 2**63
 
 
 def film_settings(scene):

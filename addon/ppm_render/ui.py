@@ -92,6 +92,7 @@ class RENDER_PT_ppm_camera(PPMRenderPanel, bpy.types.Panel):
         layout.prop(settings, "dof_mode")
         layout.prop(settings, "hit_points")
         layout.prop(settings, "seed")
+        layout.prop(settings, "animated_seed")
         layout.prop(settings, "threads")
 
 

@@ -31,7 +31,7 @@ struct EyeTracer {
   const Scene& scene;
   const Settings& settings;
   const EyePassOptions& options;
-  std::vector<uint32_t> visible_lights;  // lights with a surface: spheres, rectangles, disks
+  std::vector<uint32_t> visible_lights;  // lights with a surface: spheres (spots too), rectangles, disks
   std::vector<uint32_t> visible_suns;    // suns of a non-zero angle: a disc in the sky
   const Light* background;  // what rays that escape see (nullptr: black)
   double footprint;
@@ -166,7 +166,9 @@ bool eye_pass(const Scene& scene, const Settings& settings, const EyePassOptions
                    cam.projection == Projection::Orthographic};
   for (uint32_t i = 0; i < scene.lights().size(); ++i) {
     const LightKind k = scene.lights()[i].kind;
-    if (k == LightKind::Sphere || k == LightKind::Rectangle || k == LightKind::Disk) tracer.visible_lights.push_back(i);
+    const bool spot_sphere = k == LightKind::Spot && scene.lights()[i].radius > 0.0;
+    if (k == LightKind::Sphere || spot_sphere || k == LightKind::Rectangle || k == LightKind::Disk)
+      tracer.visible_lights.push_back(i);
     if (k == LightKind::Sun && scene.lights()[i].cos_sun < 1.0) tracer.visible_suns.push_back(i);
     if (k == LightKind::Background) tracer.background = &scene.lights()[i];
   }

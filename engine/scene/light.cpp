@@ -62,6 +62,36 @@ bool sample_soft_sphere(const Light& l, const Vec3& p, double u1, double u2, Dir
   return true;
 }
 
+// A sphere light (or a spot's sphere): soft falloff (see sample_soft_sphere), or
+// uniform over the cone the sphere subtends (pdf = 1 / solid angle).
+bool sample_sphere(const Light& l, const Vec3& p, double u1, double u2, DirectSample& out) {
+  if (l.soft_falloff) return sample_soft_sphere(l, p, u1, u2, out);
+  const Vec3 d = l.position - p;
+  const double dist2 = glm::dot(d, d), r2 = l.radius * l.radius;
+  if (dist2 <= r2) return false;
+  const double dist = std::sqrt(dist2);
+  const double cos_max = std::sqrt(std::fmax(0.0, 1.0 - r2 / dist2));
+  out.wi = to_world(sample_uniform_cone(u1, u2, cos_max), d / dist);
+  double t;
+  if (!intersect_sphere({l.position, l.radius}, {p, out.wi}, kInf, t)) t = dist;  // grazing the rim
+  out.distance = t;
+  // radiance * solid angle = P / (4 pi^2 r^2) * 2 pi (1 - cos_max), with
+  // 1 - cos_max = (r^2/d^2) / (1 + cos_max): for a sphere far smaller than
+  // its distance 1 - cos_max rounds to 0 and the light went black.
+  out.value = l.power / (2.0 * kPi * dist2 * (1.0 + cos_max));
+  return true;
+}
+
+// A spot light with a radius (Cycles 4.0+: a sphere light inside the spot's
+// cone): the sphere's light, scaled by the spot's falloff along the sampled
+// ray, as Cycles does (so the radius also softens the cone's edge).
+bool sample_spot_sphere(const Light& l, const Vec3& p, double u1, double u2, DirectSample& out) {
+  if (!sample_sphere(l, p, u1, u2, out)) return false;
+  const double atten = spot_attenuation(l, -out.wi);
+  out.value *= atten;
+  return atten > 0.0;
+}
+
 // Cosine-weighted over the hemisphere of n: exact for a diffuse surface under a constant sky.
 bool sample_uniform_background(const Light& l, const Vec3& n, double u1, double u2, DirectSample& out) {
   const Vec3 local = sample_cosine_hemisphere(u1, u2);
@@ -104,7 +134,7 @@ double spot_attenuation(const Light& l, const Vec3& dir_from_light) {
 }
 
 bool light_is_delta(const Light& l) {
-  return l.kind == LightKind::Point || l.kind == LightKind::Spot ||
+  return l.kind == LightKind::Point || (l.kind == LightKind::Spot && !(l.radius > 0.0)) ||
          (l.kind == LightKind::Sun && l.cos_sun >= 1.0);
 }
 
@@ -172,6 +202,13 @@ PhotonEmission emit_photon(const Light& l, double u1, double u2, double u3, doub
       break;
     }
     case LightKind::Spot: {
+      if (l.radius > 0.0) {  // from the sphere as a sphere light, weighted by the falloff: E[flux] = l.flux
+        const Vec3 n = sample_uniform_sphere(u1, u2);
+        const Vec3 d = to_world(sample_cosine_hemisphere(u3, u4), n);
+        e.ray = {l.position + l.radius * n, d};
+        e.flux = l.power * spot_attenuation(l, d);
+        break;
+      }
       const Vec3 d = to_world(sample_uniform_cone(u1, u2, l.cos_half_spot), l.direction);
       e.ray = {l.position, d};
       const double cone = 2.0 * kPi * (1.0 - l.cos_half_spot);
@@ -222,6 +259,7 @@ bool sample_direct(const Light& l, const Vec3& p, const Vec3& n, double u1, doub
   switch (l.kind) {
     case LightKind::Point:
     case LightKind::Spot: {
+      if (l.kind == LightKind::Spot && l.radius > 0.0) return sample_spot_sphere(l, p, u1, u2, out);
       const Vec3 d = l.position - p;
       const double dist2 = glm::dot(d, d);
       if (!(dist2 > 0.0)) return false;
@@ -231,24 +269,8 @@ bool sample_direct(const Light& l, const Vec3& p, const Vec3& n, double u1, doub
       out.value = l.power * (atten / (4.0 * kPi * dist2));
       return atten > 0.0;
     }
-    case LightKind::Sphere: {
-      if (l.soft_falloff) return sample_soft_sphere(l, p, u1, u2, out);
-      // Uniform over the cone the sphere subtends (pdf = 1 / solid angle).
-      const Vec3 d = l.position - p;
-      const double dist2 = glm::dot(d, d), r2 = l.radius * l.radius;
-      if (dist2 <= r2) return false;
-      const double dist = std::sqrt(dist2);
-      const double cos_max = std::sqrt(std::fmax(0.0, 1.0 - r2 / dist2));
-      out.wi = to_world(sample_uniform_cone(u1, u2, cos_max), d / dist);
-      double t;
-      if (!intersect_sphere({l.position, l.radius}, {p, out.wi}, kInf, t)) t = dist;  // grazing the rim
-      out.distance = t;
-      // radiance * solid angle = P / (4 pi^2 r^2) * 2 pi (1 - cos_max), with
-      // 1 - cos_max = (r^2/d^2) / (1 + cos_max): for a sphere far smaller than
-      // its distance 1 - cos_max rounds to 0 and the light went black.
-      out.value = l.power / (2.0 * kPi * dist2 * (1.0 + cos_max));
-      return true;
-    }
+    case LightKind::Sphere:
+      return sample_sphere(l, p, u1, u2, out);
     case LightKind::Rectangle:
     case LightKind::Disk: {
       const Vec3 q = sample_area_point(l, u1, u2);
@@ -295,6 +317,10 @@ Color light_seen(const Light& l, const Ray& ray, double tmax, double& t) {
   switch (l.kind) {
     case LightKind::Sphere:
       if (intersect_sphere({l.position, l.radius}, ray, tmax, t)) return l.radiance;
+      return Color(0.0);
+    case LightKind::Spot:
+      if (l.radius > 0.0 && intersect_sphere({l.position, l.radius}, ray, tmax, t))
+        return l.power * (spot_attenuation(l, -ray.direction) / (4.0 * kPi * kPi * l.radius * l.radius));
       return Color(0.0);
     case LightKind::Rectangle:
     case LightKind::Disk: {

@@ -29,7 +29,7 @@ struct Light {
   Vec3 position{0.0};
   Vec3 direction{0.0, 0.0, -1.0};  // spot axis, area normal (emitting side), sun travel direction
   Vec3 axis_u{0.0}, axis_v{0.0};   // rectangle/disk: half-size vectors in the light's plane
-  double radius = 0.0;             // sphere
+  double radius = 0.0;             // sphere; spot: > 0 makes it a sphere inside its cone (Cycles 4.0+)
   double cos_half_spot = -1.0;     // spot: cos of half the spot angle
   double spot_smooth = 0.0;        // spot: (1 - cos_half_spot) * blend
   double cos_sun = 1.0;            // sun: cos of half the angular diameter
@@ -87,7 +87,7 @@ bool sample_direct(const Light& light, const Vec3& p, const Vec3& n, double u1, 
 bool light_is_delta(const Light& light);
 
 // Radiance seen along a camera or specular ray that reaches a visible light
-// (sphere, rectangle, disk) nearer than tmax; zero otherwise.
+// (sphere, spot with a radius, rectangle, disk) nearer than tmax; zero otherwise.
 Color light_seen(const Light& light, const Ray& ray, double tmax, double& t);
 
 // Radiance of a background light arriving from unit direction `dir`.

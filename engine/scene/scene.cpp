@@ -231,6 +231,7 @@ void Scene::add_light(Light light) {
     if (!(light.radius > 0.0 && std::isfinite(light.radius))) fail(what, "radius must be a positive number");
     check_size(light.radius, what, "radius");
   }
+  if (light.kind == LightKind::Spot && light.radius > 0.0) check_size(light.radius, what, "radius");
   if (light.kind == LightKind::Rectangle || light.kind == LightKind::Disk) {
     const double su = max_abs(light.axis_u), sv = max_abs(light.axis_v);
     if (!(su > 0.0 && sv > 0.0)) fail(what, "size must be positive in both directions");

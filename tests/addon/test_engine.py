@@ -58,15 +58,30 @@ def test_settings_reach_the_core(spy, tmp_path):
     scene = simple_scene()
     values = {"photons_per_pass": 12_345, "alpha": 0.55, "threshold": 3, "max_bounces": 5,
               "samples_per_pixel": 2, "seed": 17, "threads": 1}
-    render_file(scene, tmp_path / "a.exr", passes=3, **values)
+    render_file(scene, tmp_path / "a.exr", passes=3, animated_seed=False, **values)
     renderer = spy.renderers[-1]
     for key, value in values.items():
         assert renderer.settings[key] == pytest.approx(value), key
-    assert set(spy.kwargs[-1]) == set(CORE_KEYS) | {"dof_mode", "hit_points"}
+    assert set(spy.kwargs[-1]) == set(CORE_KEYS) | {"dof_mode", "hit_points", "transparent_background",
+                                                    "transparent_glass"}
     assert renderer.settings["dof_mode"] == "off" and renderer.settings["hit_points"] == "stochastic"
     stats = renderer.stats()
     assert stats["passes"] == 3
     assert stats["photons_emitted"] == 3 * 12_345
+
+
+def test_an_animated_seed_differs_from_frame_to_frame():
+    scene = bpy.context.scene
+    scene.ppm.seed = 17
+    seeds = {}
+    for animated in (True, False):
+        scene.ppm.animated_seed = animated
+        for frame in (-3, 1, 2):
+            scene.frame_current = frame
+            seeds[animated, frame] = properties.core_settings(scene.ppm)["seed"]
+    assert len({seeds[True, f] for f in (-3, 1, 2)}) == 3
+    assert all(0 <= seeds[True, f] < 2**63 for f in (-3, 1, 2))
+    assert {seeds[False, f] for f in (-3, 1, 2)} == {17}
 
 
 def test_the_largest_alpha_the_panel_allows_renders():

@@ -53,7 +53,7 @@ def test_file_bytes_and_pixels_give_the_same_texture(tmp_path, colorspace, stora
         assert image_export.add_file_bytes(ppm_core.Scene(), image, storage) is not None
     from_file, info = rendered(lambda scene: image_export.add_texture(scene, image)[0])
     assert not image.has_data  # Blender's own copy is not kept (or, reading the file, never loaded)
-    from_pixels, pixels_info = rendered(lambda scene: image_export.add_pixels(scene, image, storage)[0])
+    from_pixels, pixels_info = rendered(lambda scene: image_export.add_pixels(scene, image, storage))
     assert info == pixels_info and info["storage"] == storage and info["bytes"] == 24 * 16 * 4
     assert from_file[..., :3].mean() > 0.0
     np.testing.assert_array_equal(from_file, from_pixels)
@@ -76,7 +76,7 @@ def test_an_image_painted_on_is_read_from_its_pixels(tmp_path):
     image.pixels[0] = 0.0  # makes the image dirty: its file no longer holds what Blender shows
     assert image.is_dirty and not image_export.can_read_file_bytes(image)
     from_image, _ = rendered(lambda scene: image_export.add_texture(scene, image)[0])
-    from_pixels, _ = rendered(lambda scene: image_export.add_pixels(scene, image, "srgb8")[0])
+    from_pixels, _ = rendered(lambda scene: image_export.add_pixels(scene, image, "srgb8"))
     np.testing.assert_array_equal(from_image, from_pixels)
 
 
@@ -84,9 +84,9 @@ def test_float_images_are_half_floats():
     image = bpy.data.images.new("hdr", 8, 4, float_buffer=True)
     image.pixels.foreach_set(np.full(8 * 4 * 4, 0.375, dtype=np.float32))
     core_scene = ppm_core.Scene()
-    index, cleared = image_export.add_texture(core_scene, image)
+    index, repaired = image_export.add_texture(core_scene, image)
     info = core_scene.texture_info(index)
-    assert cleared == 0 and info["storage"] == "half" and info["bytes"] == 8 * 4 * 8
+    assert repaired is None and info["storage"] == "half" and info["bytes"] == 8 * 4 * 8
     assert info["max_rgb"] == 0.375
 
 

@@ -41,7 +41,7 @@ BLOCKS = (3, 4)  # rows, columns
 ALBEDO = 0.5
 TOLERANCE = 0.03
 DARK = 1e-4  # radiance below which a block counts as black
-KINDS = ("point", "sphere", "spot", "area_square", "area_rectangle", "area_disk", "area_ellipse",
+KINDS = ("point", "sphere", "spot", "spot_radius", "area_square", "area_rectangle", "area_disk", "area_ellipse",
          "sun", "sun_hemisphere", "emissive_mesh", "world", "camera_ortho_shift", "camera_vertical_fit_shift")
 # An Empty as the scene camera: Cycles of bpy 5.2.3 crashes on it (SIGSEGV, measured), so the
 # comparison runs up to 5.0 (5.1 untested); PPM renders it in every version (tests/addon).
@@ -163,6 +163,10 @@ def build(kind):
         add_light("POINT", 100.0, (0.3, 0.2, 2.2), shadow_soft_size=0.3)
     elif kind == "spot":
         add_light("SPOT", 300.0, (0.0, 0.0, 2.5), spot_size=math.radians(40), spot_blend=0.3, shadow_soft_size=0.0)
+    elif kind == "spot_radius":  # a sphere in a cone: soft edges and, over the post, a soft shadow
+        add_light("SPOT", 300.0, (0.0, 0.0, 2.5), spot_size=math.radians(40), spot_blend=0.3, shadow_soft_size=0.4)
+        post = plane("post", 0.1, 1.2, diffuse_material("post", (0.5, 0.5, 0.5)))
+        post.location = (0.2, -0.1, 0.0)
     elif kind == "area_exposure_unnormalized":
         add_light("AREA", 50.0, (0.2, 0.1, 2.0), tilt, shape="RECTANGLE", size=0.8, size_y=0.4,
                   exposure=1.5, normalize=False)

@@ -59,7 +59,8 @@ def run_in_blender(version, zip_path, tmp_path, *args):
     command = BLENDERS[version][1] + ["--zip", zip_path, "--report", str(report), "--workdir", str(tmp_path), *args]
     run = subprocess.run(command, capture_output=True, text=True, timeout=900, env=env, cwd=str(tmp_path))
     assert run.returncode == 0 and report.exists(), run.stdout[-3000:] + run.stderr[-3000:]
-    comparisons = ("cycles_compare", "lens_compare", "visibility_compare", "world_compare", "alpha_compare")
+    comparisons = ("cycles_compare", "lens_compare", "visibility_compare", "world_compare", "alpha_compare",
+                   "stereo_compare")
     print("\n".join(line for line in run.stdout.splitlines() if line.startswith(comparisons)))
     return json.loads(report.read_text()), str(user)
 
@@ -90,6 +91,8 @@ def test_zip_installs_renders_and_agrees_with_cycles(version, addon_zip, tmp_pat
     assert len(worlds) == 5 and all(error <= TOLERANCE for error in worlds.values()), worlds
     alpha = {row["case"]: (row["max_block_error"], row["max_alpha_error"]) for row in report["alpha"]}
     assert len(alpha) == 6 and all(c <= TOLERANCE and a <= ALPHA_TOLERANCE for c, a in alpha.values()), alpha
+    stereo = report["stereo"]
+    assert max(stereo["max_block_error_L"], stereo["max_block_error_R"]) <= TOLERANCE and stereo["views_differ"] > 0.01
     assert report["addon_warnings"] == []
 
 

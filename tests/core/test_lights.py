@@ -108,6 +108,21 @@ def test_sphere_light_matches_point_light_from_afar(mode, passes, tol):
     assert image.mean() == pytest.approx(RHO / math.pi * 100.0 / (4 * math.pi), rel=tol)
 
 
+@pytest.mark.parametrize("mode,passes,tol", [("sampled", 40, 0.01), ("photons", 60, 0.03)])
+def test_spot_with_a_radius_is_a_sphere_light_inside_its_cone(mode, passes, tol):
+    """On the axis, far inside a wide cone, a spot of radius a gives what the sphere light gives;
+    outside the cone, nothing (the radius softens the edge only by its own angular size)."""
+    scene = plane_scene(8, 8, extent=0.02)
+    scene.add_light("spot", power=100.0, position=(0, 0, 1.0), direction=(0, 0, -1), radius=0.1,
+                    spot_angle=math.radians(120), spot_blend=0.0)
+    image = render(scene, passes, direct_light=mode, photons_per_pass=100_000, initial_radius=0.05)
+    assert image.mean() == pytest.approx(RHO / math.pi * 100.0 / (4 * math.pi), rel=tol)
+    outside = plane_scene(8, 8, extent=0.02)
+    outside.add_light("spot", power=100.0, position=(3.0, 0, 0.5), direction=(1, 0, 0), radius=0.1,
+                      spot_angle=math.radians(60), spot_blend=0.0)
+    assert render(outside, 2, direct_light=mode, photons_per_pass=20_000, initial_radius=0.05).max() == 0.0
+
+
 def icosphere(subdivisions=3):
     t = (1 + 5**0.5) / 2
     v = [(-1, t, 0), (1, t, 0), (-1, -t, 0), (1, -t, 0), (0, -1, t), (0, 1, t), (0, -1, -t), (0, 1, -t),

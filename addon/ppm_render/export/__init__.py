@@ -126,6 +126,9 @@ def build_scene(core_module, depsgraph, frame, warn, cancelled=lambda: False):
     scene = depsgraph.scene
     if scene.camera is None:
         raise ValueError(f"scene '{scene.name}' has no active camera")
+    if scene.render.use_motion_blur:
+        warn("motion blur is not rendered: objects and the camera stand where they are at the frame "
+             "(Cycles blurs them over the shutter)")
     exporter = Exporter(core_module, warn)
     for instance in depsgraph.object_instances:
         if cancelled():

@@ -121,11 +121,14 @@ def aperture_radius(cam):
     return cam.lens * 1e-3 / (2.0 * dof.aperture_fstop)
 
 
-def camera_arguments(camera_object, frame, warn, dof_mode="OFF"):
+def camera_arguments(camera_object, frame, warn, dof_mode="OFF", view=None):
     """Keyword arguments for Scene.set_camera for `frame` (full frame or border window).
 
-    The aperture goes to the core only when scene.ppm.dof_mode asks for depth of field.
+    The aperture goes to the core only when scene.ppm.dof_mode asks for depth of field. `view`:
+    (matrix_world, shift_x) of one view of a stereo or multi-view render (RenderEngine's
+    camera_model_matrix and camera_shift_x), in place of the camera's own.
     """
+    matrix_world = camera_object.matrix_world if view is None else view[0]
     if camera_object.type == "CAMERA":
         cam = camera_object.data
     else:
@@ -138,15 +141,16 @@ def camera_arguments(camera_object, frame, warn, dof_mode="OFF"):
     extent = _fitted_extent(cam, fit_h)
     pixel = extent / (frame.width if fit_h else frame.height)
     # Window centre on the image plane, in the same units as `extent`.
-    cx = (frame.x + 0.5 * frame.window_width - 0.5 * frame.width) * pixel + cam.shift_x * extent
+    shift_x = cam.shift_x if view is None else view[1]
+    cx = (frame.x + 0.5 * frame.window_width - 0.5 * frame.width) * pixel + shift_x * extent
     cy = (frame.y + 0.5 * frame.window_height - 0.5 * frame.height) * pixel + cam.shift_y * extent
     window_extent = pixel * frame.window_width  # the window is fitted horizontally, same pixel size
-    position = np.array(camera_object.matrix_world.translation, dtype=float)
+    position = np.array(matrix_world.translation, dtype=float)
     if not (np.isfinite(position).all() and np.abs(position).max() <= MAX_COORDINATE):
         raise ValueError(f"camera '{camera_object.name}' is at {tuple(position)}, not a point the core can render "
                          f"from (coordinates up to {MAX_COORDINATE:g} m)")
     args = {
-        "matrix": _camera_to_world(camera_object.matrix_world),
+        "matrix": _camera_to_world(matrix_world),
         "width": frame.window_width,
         "height": frame.window_height,
         "sensor_fit": "horizontal",
@@ -154,7 +158,7 @@ def camera_arguments(camera_object, frame, warn, dof_mode="OFF"):
         "shift_y": cy / window_extent,
         "clip_start": float(cam.clip_start),
         "clip_end": float(cam.clip_end),
-        "focus_distance": max(focus_distance(cam, camera_object.matrix_world), 1e-6),
+        "focus_distance": max(focus_distance(cam, matrix_world), 1e-6),
         "aperture_radius": aperture_radius(cam) if dof_mode != "OFF" else 0.0,
     }
     if cam.type == "ORTHO":

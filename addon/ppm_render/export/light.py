@@ -103,11 +103,9 @@ def add_light(core_scene, name, light_object, matrix, warn):
                              soft_falloff=_soft_falloff(light), **seen)
     elif kind == "SPOT":
         radius = float(light.shadow_soft_size)
-        if radius > 0.0:
-            warn(f"light '{name}': spot radius {radius:g} m is rendered as a point (sharp shadows)")
-        core_scene.add_light("spot", name=name, power=_sphere_power(light, radius), matrix=m,
+        core_scene.add_light("spot", name=name, power=_sphere_power(light, radius), matrix=m, radius=radius,
                              spot_angle=float(light.spot_size), spot_blend=float(light.spot_blend),
-                             spot_cosine_falloff=SPOT_COSINE_FALLOFF, **seen)
+                             spot_cosine_falloff=SPOT_COSINE_FALLOFF, soft_falloff=_soft_falloff(light), **seen)
     elif kind == "AREA":
         if getattr(light, "spread", math.pi) < math.pi - 1e-6:
             warn(f"light '{name}': area light spread below 180 degrees is not supported; rendered as 180")
