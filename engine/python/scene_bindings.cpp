@@ -191,12 +191,13 @@ void add_light(Scene& s, const std::string& kind, const std::string& name, const
                const py::object& color_obj, const py::object& position, const py::object& direction,
                const py::object& matrix, const py::object& size, double radius, double spot_angle,
                double spot_blend, double angle, bool spot_cosine_falloff, bool soft_falloff,
-               const py::object& visible_to, bool cast_shadow) {
+               const py::object& visible_to, bool cast_shadow, double spread) {
   const std::string what = "light '" + checked_name(name, "light") + "'";
   Light l;
   l.name = name;
   l.visibility = visibility(visible_to, what);
   l.cast_shadow = cast_shadow;
+  l.spread = spread;
   l.kind = choice<LightKind>(kind,
                              {{"point", LightKind::Point},
                               {"sphere", LightKind::Sphere},
@@ -418,13 +419,15 @@ void bind_scene(py::module_& m) {
            py::arg("direction") = py::none(), py::arg("matrix") = py::none(), py::arg("size") = py::none(),
            py::arg("radius") = 0.0, py::arg("spot_angle") = kPi / 4.0, py::arg("spot_blend") = 0.15,
            py::arg("angle") = 0.0, py::arg("spot_cosine_falloff") = false, py::arg("soft_falloff") = false,
-           py::arg("visibility") = py::none(), py::arg("cast_shadow") = true,
-           "Adds a light in Cycles units. visibility: the ray kinds that see a sphere, rectangle or disk "
-           "light when they reach it (as for add_mesh; Blender lights leave out 'camera'); cast_shadow: "
-           "False lights through everything in the way. spot_cosine_falloff: Cycles 3.x's extra cos factor on spots; "
-           "soft_falloff: Cycles' sphere-light falloff I cos/(d^2 + r^2) for direct light. point/sphere/spot: power in W (intensity P/(4 pi)); "
-           "rectangle/disk: emitted flux in W; sun: irradiance in W/m^2. Orientation from `matrix` "
-           "(Blender's: emits along local -Z) or from position/direction.")
+           py::arg("visibility") = py::none(), py::arg("cast_shadow") = true, py::arg("spread") = kPi,
+           "Adds a light in Cycles units. point/sphere/spot: power in W (intensity P/(4 pi)); rectangle/disk: "
+           "emitted flux in W; sun: irradiance in W/m^2. Orientation from `matrix` (Blender's: emits along "
+           "local -Z) or from position/direction. radius: a point's or spot's sphere. spot_cosine_falloff: "
+           "Cycles 3.x's extra cos factor on spots; soft_falloff: Cycles' sphere-light falloff "
+           "I cos/(d^2 + r^2) for direct light. spread: a rectangle's or disk's spread angle in radians, as "
+           "Cycles' (pi: Lambertian). visibility: the ray kinds that see a light with a surface when they "
+           "reach it (as for add_mesh; Blender lights leave out 'camera'); cast_shadow: False lights through "
+           "everything in the way.")
       .def("set_camera", &set_camera, py::arg("matrix"), py::arg("width"), py::arg("height"),
            py::arg("projection") = "perspective", py::arg("fov") = 0.8575560591178853, py::arg("ortho_scale") = 7.0,
            py::arg("sensor_fit") = "auto", py::arg("shift_x") = 0.0, py::arg("shift_y") = 0.0,

@@ -133,6 +133,16 @@ double spot_attenuation(const Light& l, const Vec3& dir_from_light) {
   return cosine * smoothstep01((c - l.cos_half_spot) / l.spot_smooth);
 }
 
+double spread_attenuation(const Light& l, double cos_a) {
+  if (!(l.spread < kPi)) return 1.0;
+  if (!(cos_a > 0.0)) return 0.0;
+  const double h = 0.5 * l.spread, tan_h = std::tan(h);
+  const double tan_a = std::sqrt(std::fmax(0.0, 1.0 - cos_a * cos_a)) / cos_a;
+  // tan h - h loses its digits for small h: its series h^3/3 (Cycles switches at 0.05).
+  const double normalization = h > 0.05 ? tan_h - h : h * h * h / 3.0;
+  return std::fmax(tan_h - tan_a, 0.0) / normalization;
+}
+
 bool light_is_delta(const Light& l) {
   return l.kind == LightKind::Point || (l.kind == LightKind::Spot && !(l.radius > 0.0)) ||
          (l.kind == LightKind::Sun && l.cos_sun >= 1.0);
@@ -216,9 +226,12 @@ PhotonEmission emit_photon(const Light& l, double u1, double u2, double u3, doub
       break;
     }
     case LightKind::Rectangle:
-    case LightKind::Disk:
-      e.ray = {sample_area_point(l, u1, u2), to_world(sample_cosine_hemisphere(u3, u4), l.direction)};
+    case LightKind::Disk: {
+      const Vec3 local = sample_cosine_hemisphere(u3, u4);
+      e.ray = {sample_area_point(l, u1, u2), to_world(local, l.direction)};
+      e.flux = l.flux * spread_attenuation(l, local.z);  // cosine-weighted: its mean is 1
       break;
+    }
     case LightKind::Sun: {
       const Vec3 d = to_world(sample_uniform_cone(u3, u4, l.cos_sun), l.direction);
       e.ray = {scene_disk_origin(l, d, u1, u2), d};
@@ -281,7 +294,7 @@ bool sample_direct(const Light& l, const Vec3& p, const Vec3& n, double u1, doub
       out.wi = d / out.distance;
       const double cos_l = -glm::dot(out.wi, l.direction);
       if (cos_l <= 0.0) return false;
-      out.value = l.radiance * (cos_l * light_area(l) / dist2);
+      out.value = l.radiance * (cos_l * light_area(l) / dist2 * spread_attenuation(l, cos_l));
       return true;
     }
     case LightKind::Sun:
@@ -333,7 +346,7 @@ Color light_seen(const Light& l, const Ray& ray, double tmax, double& t) {
       const double b = glm::dot(q, l.axis_v) / glm::dot(l.axis_v, l.axis_v);
       const bool inside = l.kind == LightKind::Disk ? a * a + b * b <= 1.0
                                                     : std::fabs(a) <= 1.0 && std::fabs(b) <= 1.0;
-      return inside ? l.radiance : Color(0.0);
+      return inside ? l.radiance * spread_attenuation(l, -denom) : Color(0.0);
     }
     default:
       return Color(0.0);

@@ -33,6 +33,7 @@ struct Light {
   double cos_half_spot = -1.0;     // spot: cos of half the spot angle
   double spot_smooth = 0.0;        // spot: (1 - cos_half_spot) * blend
   double cos_sun = 1.0;            // sun: cos of half the angular diameter
+  double spread = kPi;             // rectangle, disk: Cycles' spread angle (pi: a Lambertian emitter)
   // Cycles 3.x multiplies a spot's intensity by the cosine to its axis (4.0 dropped it).
   bool spot_cosine_falloff = false;
   // Cycles' soft falloff for sphere lights (the only behaviour before 4.0, the
@@ -94,6 +95,12 @@ Color light_seen(const Light& light, const Ray& ray, double tmax, double& t);
 inline Color background_radiance(const Light& light, const Vec3& dir) {
   return light.environment != nullptr ? light.environment->radiance(dir) : light.radiance;
 }
+
+// Cycles' area light spread (a soft box's grid): the factor on the radiance
+// leaving at `cos_a` to the light's normal, max(tan h - tan a, 0) / (tan h - h)
+// for the half angle h, normalised so that the power stays that of a
+// Lambertian emitter; 1 for a spread of pi.
+double spread_attenuation(const Light& light, double cos_a);
 
 // Cycles' spot falloff: smoothstep over the blend region.
 double spot_attenuation(const Light& light, const Vec3& dir_from_light);

@@ -249,6 +249,7 @@ void Scene::add_light(Light light) {
   if (light.kind == LightKind::Spot && !(light.spot_smooth >= 0.0)) fail(what, "spot blend must be >= 0");
   if (light.kind == LightKind::Sun && !(light.cos_sun > -1.0 && light.cos_sun <= 1.0))
     fail(what, "sun angle must be in [0, pi]");
+  if (!(light.spread > 1e-6 && light.spread <= kPi)) fail(what, "spread must be in (1e-6, pi]");
   if (light.kind == LightKind::Background || light.kind == LightKind::Triangle)
     fail(what, "use set_background or an emissive material for this kind");
   user_lights_.push_back(light);

@@ -83,6 +83,24 @@ def test_disk_and_rectangle_lights_on_axis(mode, passes, tol):
         assert image.mean() == pytest.approx(RHO * expected_e / math.pi, rel=tol), kind
 
 
+@pytest.mark.parametrize("mode,passes,tol", [("sampled", 60, 0.01), ("photons", 60, 0.03)])
+def test_a_spread_narrows_an_area_light_and_keeps_its_power(mode, passes, tol):
+    """A small disk 1 m above the plane, of spread 2h: the radiance leaving at angle a is Lambertian
+    times Cycles' soft-box factor (tan h - tan a) / (tan h - h), whose mean over the emitted
+    directions is 1 (the power is kept, and photons carry it); outside the spread, nothing."""
+    h = math.radians(60)
+    scene = plane_scene(8, 8, extent=0.02)
+    scene.add_light("disk", power=10.0, position=(0, 0, 1.0), direction=(0, 0, -1), size=0.01, spread=2 * h)
+    image = render(scene, passes, direct_light=mode, photons_per_pass=100_000, initial_radius=0.05)
+    x = (np.arange(8) + 0.5) / 8 * 0.02 - 0.01
+    tan_a = np.hypot(*np.meshgrid(x, x))  # the pixels' distance from the axis, at 1 m
+    irradiance = 10.0 / math.pi * (math.tan(h) - tan_a) / (math.tan(h) - h) / (1 + tan_a**2) ** 2  # L A f cos^4
+    assert image.mean() == pytest.approx(RHO * irradiance.mean() / math.pi, rel=tol)
+    aside = plane_scene(8, 8, extent=0.02)  # the plane's centre seen 63 degrees off the axis
+    aside.add_light("disk", power=10.0, position=(2.0, 0, 1.0), direction=(0, 0, -1), size=0.01, spread=2 * h)
+    assert render(aside, 2, direct_light=mode, photons_per_pass=20_000, initial_radius=0.05).max() == 0.0
+
+
 @pytest.mark.parametrize("mode,passes,tol", [("sampled", 1, 1e-6), ("photons", 60, 0.04)])
 def test_spot_inside_and_outside_the_cone(mode, passes, tol):
     scene = plane_scene(16, 16, extent=4.0)

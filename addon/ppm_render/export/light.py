@@ -107,13 +107,14 @@ def add_light(core_scene, name, light_object, matrix, warn):
                              spot_angle=float(light.spot_size), spot_blend=float(light.spot_blend),
                              spot_cosine_falloff=SPOT_COSINE_FALLOFF, soft_falloff=_soft_falloff(light), **seen)
     elif kind == "AREA":
-        if getattr(light, "spread", math.pi) < math.pi - 1e-6:
-            warn(f"light '{name}': area light spread below 180 degrees is not supported; rendered as 180")
         try:
             flux, size, disk = area_flux(light, m)
         except ValueError as error:
             raise ValueError(f"light '{name}': {error}") from None
-        core_scene.add_light("disk" if disk else "rectangle", name=name, power=flux, matrix=m, size=size, **seen)
+        # Blender's largest spread, pi in float32, is a hair above pi in double.
+        spread = min(float(getattr(light, "spread", math.pi)), math.pi)
+        core_scene.add_light("disk" if disk else "rectangle", name=name, power=flux, matrix=m, size=size,
+                             spread=spread, **seen)
     elif kind == "SUN":
         if SUN_OF_180_DEGREES_IS_DARK and light.angle >= math.pi - 1e-6:
             raise ValueError("its angle is 180 degrees, for which Cycles of this Blender emits no light; left "
