@@ -41,8 +41,9 @@ BLOCKS = (3, 4)  # rows, columns
 ALBEDO = 0.5
 TOLERANCE = 0.03
 DARK = 1e-4  # radiance below which a block counts as black
-KINDS = ("point", "sphere", "spot", "spot_radius", "area_spread", "area_square", "area_rectangle", "area_disk", "area_ellipse",
-         "sun", "sun_hemisphere", "emissive_mesh", "world", "camera_ortho_shift", "camera_vertical_fit_shift")
+KINDS = ("point", "sphere", "spot", "spot_radius", "area_spread", "area_square", "area_rectangle", "area_disk",
+         "area_ellipse", "sun", "sun_hemisphere", "emissive_mesh", "world", "camera_ortho_shift",
+         "camera_vertical_fit_shift")
 # An Empty as the scene camera: Cycles of bpy 5.2.3 crashes on it (SIGSEGV, measured), so the
 # comparison runs up to 5.0 (5.1 untested); PPM renders it in every version (tests/addon).
 KINDS_CAMERA_EMPTY = ("camera_empty",)
