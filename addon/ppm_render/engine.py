@@ -130,6 +130,7 @@ class PPMRenderEngine(bpy.types.RenderEngine):
                 return
             if view:  # one eye of stereo 3D, or one camera of a multi-view render
                 self.active_view_set(view)
+            if view and camera_object.type == "CAMERA":  # (Blender crashes asked for an Empty's views)
                 per_view = (self.camera_model_matrix(camera_object), self.camera_shift_x(camera_object))
                 camera_args = export.camera.camera_arguments(camera_object, frame, lambda _: None,
                                                              scene.ppm.dof_mode, view=per_view)

@@ -1,7 +1,9 @@
 """Random hostile Blender scenes for the add-on's export: objects with any transform (zero, negative,
 huge and tiny scales, far away), vertices that are NaN or Inf, lights of every kind with extreme or
 negative values, cameras of every type (and an Empty or a light as the camera), extreme materials
-and worlds. Cycles renders every one of these frames, so PPM must too.
+and worlds (constant, or an environment image with extreme texels and any Mapping rotation), any
+ray visibility, holdouts, transparent film and stereo. Cycles renders every one of these frames, so
+PPM must too.
 
 Used by tests/addon/test_fuzz_scenes.py (a few dozen scenes in `make test`) and by
 bench/stress.py --addon (many more).
@@ -40,16 +42,28 @@ def material(rng, name):
         mat.use_nodes = True
     nodes = mat.node_tree.nodes
     kind = pick(rng, ("ShaderNodeBsdfPrincipled", "ShaderNodeBsdfDiffuse", "ShaderNodeBsdfGlass",
-                      "ShaderNodeEmission", "ShaderNodeBsdfGlossy"))
+                      "ShaderNodeEmission", "ShaderNodeBsdfGlossy", "ShaderNodeHoldout"))
     out = next(n for n in nodes if n.bl_idname == "ShaderNodeOutputMaterial")
     node = nodes.new(kind)
-    for socket in node.inputs:
+    for socket in node.inputs if kind != "ShaderNodeHoldout" else ():
         if rng.random() < 0.3 and socket.type == "VALUE":
             socket.default_value = float(pick(rng, EXTREME))
         elif rng.random() < 0.3 and socket.type == "RGBA":
             socket.default_value = (*(float(pick(rng, EXTREME)) for _ in range(3)), 1.0)
     mat.node_tree.links.new(node.outputs[0], out.inputs["Surface"])
     return mat
+
+
+RAY_FLAGS = ("visible_camera", "visible_diffuse", "visible_glossy", "visible_transmission", "visible_shadow")
+
+
+def set_visibility(rng, obj):
+    """Now and then a ray kind the object hides from, or a holdout."""
+    for flag in RAY_FLAGS:
+        if hasattr(obj, flag) and rng.random() < 0.15:
+            setattr(obj, flag, not getattr(obj, flag))
+    if rng.random() < 0.1:
+        obj.is_holdout = True
 
 
 def mesh_object(rng, index):
@@ -61,6 +75,7 @@ def mesh_object(rng, index):
     mesh.materials.append(material(rng, f"material{index}"))
     obj = bpy.data.objects.new(f"mesh{index}", mesh)
     set_transform(rng, obj)
+    set_visibility(rng, obj)
     return obj
 
 
@@ -77,10 +92,15 @@ def light_object(rng, index):
     if kind == "AREA":
         light.shape = pick(rng, ("SQUARE", "RECTANGLE", "DISK", "ELLIPSE"))
         light.size, light.size_y = float(pick(rng, SCALES[:5])) ** 2, float(pick(rng, SCALES[:5])) ** 2
+    if kind == "AREA" and hasattr(light, "spread"):
+        light.spread = float(pick(rng, (math.radians(1), 0.05, 1.0, math.pi)))
     if kind == "SUN":
         light.angle = float(pick(rng, (0.0, 1e-6, 0.1, 3.0, math.pi)))
+    if rng.random() < 0.2:
+        light.use_shadow = False
     obj = bpy.data.objects.new(f"light{index}", light)
     set_transform(rng, obj)
+    set_visibility(rng, obj)
     return obj
 
 
@@ -110,7 +130,29 @@ def world(rng):
         w.use_nodes = True
     background = next(n for n in w.node_tree.nodes if n.bl_idname == "ShaderNodeBackground")
     background.inputs["Strength"].default_value = float(pick(rng, EXTREME))
+    if rng.random() < 0.4:
+        environment_texture(rng, w, background)
+    if rng.random() < 0.2:
+        w.cycles_visibility.camera = False
     return w
+
+
+def environment_texture(rng, w, background):
+    """An Environment Texture of a small float image with extreme texels, perhaps turned by any rotation."""
+    nodes, links = w.node_tree.nodes, w.node_tree.links
+    width, height = int(pick(rng, (1, 2, 16))), int(pick(rng, (1, 8)))
+    image = bpy.data.images.new("sky", width, height, float_buffer=True)
+    pixels = rng.uniform(0.0, 2.0, width * height * 4)
+    pixels[rng.random(pixels.size) < 0.2] = pick(rng, EXTREME)
+    image.pixels.foreach_set(pixels.astype(np.float32))
+    environment = nodes.new("ShaderNodeTexEnvironment")
+    environment.image = image
+    environment.projection = pick(rng, ("EQUIRECTANGULAR", "MIRROR_BALL"))
+    links.new(environment.outputs["Color"], background.inputs["Color"])
+    if rng.random() < 0.5:
+        mapping = nodes.new("ShaderNodeMapping")
+        mapping.inputs["Rotation"].default_value = vector(rng, spread=3.0, odd=0.2)
+        links.new(mapping.outputs["Vector"], environment.inputs["Vector"])
 
 
 def build(seed):
@@ -131,4 +173,6 @@ def build(seed):
     scene.ppm.passes, scene.ppm.photons_per_pass, scene.ppm.samples_per_pixel = 1, 2000, 1
     scene.ppm.dof_mode = pick(rng, ("OFF", "POST", "LENS"))
     scene.ppm.hit_points = pick(rng, ("FIXED", "STOCHASTIC"))
+    scene.render.film_transparent = rng.random() < 0.3
+    scene.render.use_multiview = rng.random() < 0.1
     return scene

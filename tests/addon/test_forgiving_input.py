@@ -247,3 +247,22 @@ def test_material_values_outside_the_cores_range_are_clamped_with_one_warning(tm
     assert warnings == ["material 'wild': outside what can be rendered, clamped: base color (2, 0.5, nan) -> "
                         "(1, 0.5, 0)"], warnings
     renders(scene, tmp_path)
+
+
+def test_stereo_through_an_empty_renders_both_views(tmp_path):
+    """Blender crashes when asked for an Empty's per-view matrix: each view then looks through the
+    Empty as it is."""
+    scene = floor_scene()
+    empty = bpy.data.objects.new("viewer", None)
+    empty.location = (0.0, 0.0, 3.0)
+    scene.collection.objects.link(empty)
+    scene.camera = empty
+    scene.render.use_multiview, scene.render.views_format = True, "STEREO_3D"
+    scene.render.image_settings.views_format = "INDIVIDUAL"
+    scene.ppm.passes, scene.ppm.photons_per_pass = 1, 2000
+    scene.render.image_settings.file_format = "OPEN_EXR"
+    scene.render.filepath = str(tmp_path / "stereo.exr")
+    scene.render.use_file_extension = False
+    bpy.ops.render.render(write_still=True)
+    assert (tmp_path / "stereo_L.exr").exists() and (tmp_path / "stereo_R.exr").exists()
+
