@@ -13,7 +13,6 @@ saved file is rendered by both engines: the mean colour (premultiplied, as Blend
 import math
 import os
 import sys
-import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
@@ -92,35 +91,24 @@ def compare(case, workdir, samples, passes):
     cycles, ppm = (cycles_compare.block_means(images[e][..., :3]) for e in ("CYCLES", "PPM"))
     alpha_cycles, alpha_ppm = (block_alpha(images[e]) for e in ("CYCLES", "PPM"))
     relative = (ppm - cycles) / np.maximum(cycles, cycles_compare.DARK)
-    return {"case": case, "blender": bpy.app.version_string, "max_block_error": float(np.abs(relative).max()),
+    return {"blender": bpy.app.version_string, "max_block_error": float(np.abs(relative).max()),
             "max_alpha_error": float(np.abs(alpha_ppm - alpha_cycles).max()),
             "alpha_cycles": alpha_cycles.round(4).tolist(), "alpha_ppm": alpha_ppm.round(4).tolist(),
             "blocks_cycles": cycles.round(5).tolist(), "blocks_ppm": ppm.round(5).tolist()}
 
 
 def compare_cases(cases=CASES, samples=256, passes=32):
-    rows = []
-    with tempfile.TemporaryDirectory() as workdir:
-        for case in cases:
-            row = compare(case, workdir, samples, passes)
-            rows.append(row)
-            print(f"alpha_compare: Blender {row['blender']} {case:24s} worst block colour "
-                  f"{100 * row['max_block_error']:.2f}%, alpha {row['max_alpha_error']:.4f}", flush=True)
-    return rows
+    return cycles_compare.run_cases(
+        "alpha_compare", cases, lambda case, workdir: compare(case, workdir, samples, passes),
+        lambda row: f"worst block colour {100 * row['max_block_error']:.2f}%, alpha {row['max_alpha_error']:.4f}")
+
+
+def failed(row):
+    return cycles_compare.beyond_tolerance(row) or row["max_alpha_error"] > ALPHA_TOLERANCE
 
 
 def main():
-    try:
-        rows = compare_cases()
-    finally:
-        cycles_compare.unregister_checkout_addon()
-    failed = [r for r in rows
-              if r["max_block_error"] > cycles_compare.TOLERANCE or r["max_alpha_error"] > ALPHA_TOLERANCE]
-    for row in failed:
-        print(f"alpha_compare: {row['case']}: cycles {row['blocks_cycles']} alpha {row['alpha_cycles']}; "
-              f"ppm {row['blocks_ppm']} alpha {row['alpha_ppm']}")
-    if failed:
-        sys.exit(1)
+    cycles_compare.run_as_script("alpha_compare", compare_cases, failed)
 
 
 if __name__ == "__main__":

@@ -268,6 +268,53 @@ def block_means(rgb):
                      for r in range(rows)])
 
 
+def block_comparison(name, workdir, samples, passes, bounces=4):
+    """Renders the scene just built with both engines: their 4x3 block means and the worst relative
+    error (absolute below DARK)."""
+    images = render_with_both_engines(name, workdir, samples, passes, bounces)
+    cycles, ppm = (block_means(images[e]) for e in ("CYCLES", "PPM"))
+    relative = (ppm - cycles) / np.maximum(cycles, DARK)
+    return {"blender": bpy.app.version_string, "cycles_mean": float(cycles.mean()), "ppm_mean": float(ppm.mean()),
+            "max_block_error": float(np.abs(relative).max()), "blocks_cycles": cycles.round(5).tolist(),
+            "blocks_ppm": ppm.round(5).tolist()}
+
+
+def run_cases(label, cases, compare_one, describe):
+    """compare_one(case, workdir) for each case in one temporary folder, printing
+    "<label>: Blender <version> <case> <describe(row)>" for each; the rows."""
+    rows = []
+    with tempfile.TemporaryDirectory() as workdir:
+        for case in cases:
+            row = {"case": case, **compare_one(case, workdir)}
+            rows.append(row)
+            print(f"{label}: Blender {row['blender']} {case:28s} {describe(row)}", flush=True)
+    return rows
+
+
+def describe_blocks(row):
+    return (f"cycles {row['cycles_mean']:.5f} ppm {row['ppm_mean']:.5f} "
+            f"worst block {100 * row['max_block_error']:.2f}%")
+
+
+def run_as_script(label, compare_cases, failed):
+    """main() of a comparison script: runs it, unregisters the checkout's add-on, prints the rows
+    `failed` picks and exits 1 if there are any."""
+    try:
+        rows = compare_cases()
+    finally:
+        unregister_checkout_addon()
+    bad = [row for row in rows if failed(row)]
+    for row in bad:
+        print(f"{label}: {row['case']}: " + ", ".join(f"{k} {v}" for k, v in row.items() if k.startswith(
+            ("blocks", "alpha_"))), flush=True)
+    if bad:
+        sys.exit(1)
+
+
+def beyond_tolerance(row):
+    return row["max_block_error"] > TOLERANCE
+
+
 # Kinds that need more passes than the rest. A spread area light's direct light is noisy: each
 # sample picks a point anywhere on the light, and from most of them the narrowed beam misses (at
 # 24 passes a corner block was 5% off, at 256 passes within 1.3%).
@@ -277,16 +324,9 @@ MIN_PASSES = {"area_spread": 128}
 def compare(kind, workdir, samples=256, passes=32):
     """Cycles and PPM block means for one light kind, rendered from the same saved .blend."""
     build(kind)
-    passes = max(passes, MIN_PASSES.get(kind, 0))
-    results = {engine: block_means(rgb) for engine, rgb in
-               render_with_both_engines(kind, workdir, samples, passes).items()}
-    cycles, ppm = results["CYCLES"], results["PPM"]
-    # Relative error; below 1e-4 (a dark block: a light Cycles renders as none) the error is absolute.
-    relative = (ppm - cycles) / np.maximum(cycles, DARK)
-    return {"kind": kind, "blender": bpy.app.version_string, "cycles_mean": float(cycles.mean()),
-            "ppm_mean": float(ppm.mean()), "mean_error": float((ppm.mean() - cycles.mean()) / max(cycles.mean(), DARK)),
-            "max_block_error": float(np.abs(relative).max()), "blocks_cycles": cycles.round(5).tolist(),
-            "blocks_ppm": ppm.round(5).tolist()}
+    row = block_comparison(kind, workdir, samples, max(passes, MIN_PASSES.get(kind, 0)))
+    row["mean_error"] = (row["ppm_mean"] - row["cycles_mean"]) / max(row["cycles_mean"], DARK)
+    return {"kind": kind, **row}
 
 
 def compare_kinds(kinds, samples, passes=32):

@@ -21,12 +21,10 @@ within 3%.
 import math
 import os
 import sys
-import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
 import bpy
-import numpy as np
 
 import cycles_compare
 
@@ -93,35 +91,17 @@ def build(case):
 
 def compare(case, workdir, samples, passes):
     build(case)
-    images = cycles_compare.render_with_both_engines(case, workdir, samples, passes)
-    cycles, ppm = (cycles_compare.block_means(images[e]) for e in ("CYCLES", "PPM"))
-    relative = (ppm - cycles) / np.maximum(cycles, cycles_compare.DARK)
-    return {"case": case, "blender": bpy.app.version_string, "cycles_mean": float(cycles.mean()),
-            "ppm_mean": float(ppm.mean()), "max_block_error": float(np.abs(relative).max()),
-            "blocks_cycles": cycles.round(5).tolist(), "blocks_ppm": ppm.round(5).tolist()}
+    return cycles_compare.block_comparison(case, workdir, samples, passes)
 
 
 def compare_cases(cases=CASES, samples=1024, passes=64):
-    rows = []
-    with tempfile.TemporaryDirectory() as workdir:
-        for case in cases:
-            row = compare(case, workdir, samples, passes)
-            rows.append(row)
-            print(f"world_compare: Blender {row['blender']} {case:28s} cycles {row['cycles_mean']:.5f} "
-                  f"ppm {row['ppm_mean']:.5f} worst block {100 * row['max_block_error']:.2f}%", flush=True)
-    return rows
+    def one(case, workdir):
+        return compare(case, workdir, samples, passes)
+    return cycles_compare.run_cases("world_compare", cases, one, cycles_compare.describe_blocks)
 
 
 def main():
-    try:
-        rows = compare_cases()
-    finally:
-        cycles_compare.unregister_checkout_addon()
-    failed = [r for r in rows if r["max_block_error"] > cycles_compare.TOLERANCE]
-    for row in failed:
-        print(f"world_compare: {row['case']}: cycles {row['blocks_cycles']} ppm {row['blocks_ppm']}")
-    if failed:
-        sys.exit(1)
+    cycles_compare.run_as_script("world_compare", compare_cases, cycles_compare.beyond_tolerance)
 
 
 if __name__ == "__main__":
