@@ -53,6 +53,29 @@ struct EyeTracer {
     }
   }
 
+  // A path that leaves the scene: transparent, or what it sees of the suns and the background.
+  void escape(const EyeVertex& v, Color& emitted, double& transparency) const {
+    if (settings.transparent_background && transparent_path(v)) {
+      transparency += mean(v.throughput);
+      return;
+    }
+    see_suns(v.ray, v.throughput, emitted);
+    if (background != nullptr && (background->visibility & v.ray.kind))
+      emitted += v.throughput * background_radiance(*background, v.ray.direction);
+  }
+
+  // Cycles: a camera ray that meets a holdout cuts a hole, whether or not the film is transparent.
+  // Other rays see a Holdout object as its material, the Holdout shader black. True if the path ends.
+  bool ends_at_holdout(const EyeVertex& v, const Hit& hit, const Material& m, double& transparency) const {
+    const bool holdout_shader = m.kind == MaterialKind::Holdout;
+    if (!holdout_shader && !scene.is_holdout(hit)) return false;
+    if (v.depth == 0 || (settings.transparent_background && transparent_path(v))) {
+      transparency += mean(v.throughput);
+      return true;
+    }
+    return holdout_shader;
+  }
+
   // Adds the radiance of lights nearer than the surface; returns true if one blocks the view.
   bool see_lights(const Ray& ray, double t_surface, const Color& throughput, Color& emitted) const {
     double nearest = t_surface;
@@ -105,26 +128,11 @@ struct EyeTracer {
       const bool found = scene.intersect(v.ray, hit, v.depth == 0 ? tmax0 : kInf);
       if (see_lights(v.ray, found ? hit.t : kInf, v.throughput, emitted)) continue;
       if (!found) {
-        if (settings.transparent_background && transparent_path(v)) {
-          transparency += mean(v.throughput);
-          continue;
-        }
-        see_suns(v.ray, v.throughput, emitted);
-        if (background != nullptr && (background->visibility & v.ray.kind))
-          emitted += v.throughput * background_radiance(*background, v.ray.direction);
+        escape(v, emitted, transparency);
         continue;
       }
       const Material& m = scene.material(hit.material);
-      const bool holdout_shader = m.kind == MaterialKind::Holdout;
-      if (holdout_shader || scene.is_holdout(hit)) {
-        // Cycles: a camera ray that meets a holdout cuts a hole, whether or not the film is
-        // transparent. Other rays see a Holdout object as its material, the Holdout shader black.
-        if (v.depth == 0 || (settings.transparent_background && transparent_path(v))) {
-          transparency += mean(v.throughput);
-          continue;
-        }
-        if (holdout_shader) continue;
-      }
+      if (ends_at_holdout(v, hit, m, transparency)) continue;
       if (m.emits()) emitted += v.throughput * m.emission;
       if (is_black(m)) continue;
       const EyeVertex here{v.ray, v.throughput, v.depth, v.length + hit.t, v.glass_only};
