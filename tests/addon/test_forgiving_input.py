@@ -158,14 +158,18 @@ def test_a_sun_of_blenders_largest_angle_renders(tmp_path):
     renders(scene, tmp_path)
 
 
-@pytest.mark.parametrize("kind", ["EMPTY", "LIGHT"])
-def test_any_object_can_be_the_camera(kind, tmp_path):
-    scene = floor_scene()
-    data = None if kind == "EMPTY" else bpy.data.lights.new("lamp", "POINT")
+def look_through(scene, data):
+    """Makes an object of `data` (None: an Empty) 3 m above the floor the scene camera."""
     viewer = bpy.data.objects.new("viewer", data)
     viewer.location = (0.0, 0.0, 3.0)
     scene.collection.objects.link(viewer)
     scene.camera = viewer
+
+
+@pytest.mark.parametrize("kind", ["EMPTY", "LIGHT"])
+def test_any_object_can_be_the_camera(kind, tmp_path):
+    scene = floor_scene()
+    look_through(scene, None if kind == "EMPTY" else bpy.data.lights.new("lamp", "POINT"))
     _, warnings = export_scene(scene)
     assert len(warnings) == 1 and "'viewer'" in warnings[0] and "50 mm" in warnings[0]
     renders(scene, tmp_path)
@@ -253,10 +257,7 @@ def test_stereo_through_an_empty_renders_both_views(tmp_path):
     """Blender crashes when asked for an Empty's per-view matrix: each view then looks through the
     Empty as it is."""
     scene = floor_scene()
-    empty = bpy.data.objects.new("viewer", None)
-    empty.location = (0.0, 0.0, 3.0)
-    scene.collection.objects.link(empty)
-    scene.camera = empty
+    look_through(scene, None)
     scene.render.use_multiview, scene.render.views_format = True, "STEREO_3D"
     scene.render.image_settings.views_format = "INDIVIDUAL"
     scene.ppm.passes, scene.ppm.photons_per_pass = 1, 2000
