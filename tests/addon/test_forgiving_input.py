@@ -267,3 +267,17 @@ def test_stereo_through_an_empty_renders_both_views(tmp_path):
     bpy.ops.render.render(write_still=True)
     assert (tmp_path / "stereo_L.exr").exists() and (tmp_path / "stereo_R.exr").exists()
 
+
+def test_a_light_node_driven_by_another_node_uses_its_own_value_with_a_warning():
+    scene = floor_scene()
+    lamp = add_light("lamp", "POINT", energy=100.0)
+    if bpy.app.version < (5, 1, 0):
+        lamp.data.use_nodes = True
+    tree = lamp.data.node_tree
+    emission = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeEmission")
+    emission.inputs["Strength"].default_value = 2.0
+    blackbody = tree.nodes.new("ShaderNodeBlackbody")
+    tree.links.new(blackbody.outputs[0], emission.inputs["Color"])
+    _, warnings = export_scene(scene)
+    assert len(warnings) == 1 and "light 'lamp'" in warnings[0] and "'Color'" in warnings[0]
+

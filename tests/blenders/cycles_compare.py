@@ -42,7 +42,7 @@ ALBEDO = 0.5
 TOLERANCE = 0.03
 DARK = 1e-4  # radiance below which a block counts as black
 KINDS = ("point", "sphere", "spot", "spot_radius", "area_spread", "area_square", "area_rectangle", "area_disk",
-         "area_ellipse", "sun", "sun_hemisphere", "emissive_mesh", "world", "camera_ortho_shift",
+         "area_ellipse", "sun", "sun_hemisphere", "emissive_mesh", "world", "light_nodes", "camera_ortho_shift",
          "camera_vertical_fit_shift")
 # An Empty as the scene camera: Cycles of bpy 5.2.3 crashes on it (SIGSEGV, measured), so the
 # comparison runs up to 5.0 (5.1 untested); PPM renders it in every version (tests/addon).
@@ -162,6 +162,13 @@ def build(kind):
         add_light("POINT", 100.0, (0.3, 0.2, 2.2), shadow_soft_size=0.0)
     elif kind == "sphere":
         add_light("POINT", 100.0, (0.3, 0.2, 2.2), shadow_soft_size=0.3)
+    elif kind == "light_nodes":  # Emission strength and colour in the light's node tree scale its power
+        lamp = add_light("POINT", 100.0, (0.3, 0.2, 2.2), shadow_soft_size=0.3)
+        if bpy.app.version < (5, 1, 0):  # 5.1+ always uses a light's nodes (use_nodes warns there)
+            lamp.data.use_nodes = True
+        emission = next(n for n in lamp.data.node_tree.nodes if n.bl_idname == "ShaderNodeEmission")
+        emission.inputs["Strength"].default_value = 2.5
+        emission.inputs["Color"].default_value = (1.0, 0.5, 0.25, 1.0)
     elif kind == "spot":
         add_light("SPOT", 300.0, (0.0, 0.0, 2.5), spot_size=math.radians(40), spot_blend=0.3, shadow_soft_size=0.0)
     elif kind == "spot_radius":  # a sphere in a cone: soft edges and, over the post, a soft shadow

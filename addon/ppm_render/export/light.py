@@ -88,12 +88,37 @@ def _sun_irradiance(light):
     return strength
 
 
+def node_emission(light, name, warn):
+    """Strength x Color of the Emission node feeding a light's node tree output, which Cycles
+    multiplies the light's power by: (1, 1, 1) without a node tree, black with nothing connected.
+    A socket driven by another node (a Blackbody, a texture) counts as its own value, with a warning."""
+    tree = light.node_tree
+    # Blender 5.1+ always uses a light's nodes (use_nodes is deprecated there and warns).
+    if tree is None or (bpy.app.version < (5, 1, 0) and not light.use_nodes):
+        return (1.0, 1.0, 1.0)
+    outputs = [n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputLight"]
+    active = [n for n in outputs if n.is_active_output] or outputs
+    if not active or not active[0].inputs["Surface"].links:
+        return (0.0, 0.0, 0.0)
+    node = active[0].inputs["Surface"].links[0].from_node
+    if node.bl_idname != "ShaderNodeEmission":
+        warn(f"light '{name}': node '{node.name}' ({node.bl_idname}) is not supported; the light's own power is used")
+        return (1.0, 1.0, 1.0)
+    for socket in (node.inputs["Color"], node.inputs["Strength"]):
+        if socket.links:
+            warn(f"light '{name}': '{socket.name}' of node '{node.name}' is driven by "
+                 f"'{socket.links[0].from_node.name}', which is not supported; using the socket's value")
+    strength = float(node.inputs["Strength"].default_value)
+    return tuple(float(c) * strength for c in tuple(node.inputs["Color"].default_value)[:3])
+
+
 def add_light(core_scene, name, light_object, matrix, warn):
     """Adds one Blender light (an object of type LIGHT, at world `matrix`) to the core scene."""
     light = light_object.data
     m = np.array(matrix, dtype=float)
     kind = light.type
-    seen = {"visibility": visibility.ray_visibility(light_object), "cast_shadow": visibility.casts_shadow(light)}
+    seen = {"visibility": visibility.ray_visibility(light_object), "cast_shadow": visibility.casts_shadow(light),
+            "color": node_emission(light, name, warn)}
     if light.energy < 0.0:
         raise ValueError("its power is negative (Cycles subtracts such a light's contribution; PPM does not "
                          "render negative lights)")
