@@ -73,8 +73,8 @@ def add_file_bytes(core_scene, image, byte_storage):
     try:
         if buffer.buffer_type != "BYTE":
             return None  # float files are turned into scene-linear floats by the data-block: use it
-        with buffer.with_buffer() as texels:
-            return core_scene.add_texture(image.name, texels, storage=byte_storage)
+        with buffer.with_buffer() as view:
+            return core_scene.add_texture(image.name, view, storage=byte_storage)
     finally:
         buffer.free()
 

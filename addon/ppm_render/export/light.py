@@ -19,7 +19,7 @@ import math
 import bpy
 import numpy as np
 
-from . import visibility
+from . import nodes, visibility
 
 AREA_RADIANCE_IS_OVER_PI = bpy.app.version >= (4, 0, 0)
 # Cycles 3.x multiplies a spot's intensity by the cosine to its axis; 4.0 dropped the factor.
@@ -92,15 +92,11 @@ def node_emission(light, name, warn):
     """Strength x Color of the Emission node feeding a light's node tree output, which Cycles
     multiplies the light's power by: (1, 1, 1) without a node tree, black with nothing connected.
     A socket driven by another node (a Blackbody, a texture) counts as its own value, with a warning."""
-    tree = light.node_tree
-    # Blender 5.1+ always uses a light's nodes (use_nodes is deprecated there and warns).
-    if tree is None or (bpy.app.version < (5, 1, 0) and not light.use_nodes):
+    if not nodes.uses_nodes(light, always_from=(5, 1, 0)):  # lights' use_nodes went at 5.1
         return (1.0, 1.0, 1.0)
-    outputs = [n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputLight"]
-    active = [n for n in outputs if n.is_active_output] or outputs
-    if not active or not active[0].inputs["Surface"].links:
+    node = nodes.surface_source(light.node_tree, "ShaderNodeOutputLight")
+    if node is None:
         return (0.0, 0.0, 0.0)
-    node = active[0].inputs["Surface"].links[0].from_node
     if node.bl_idname != "ShaderNodeEmission":
         warn(f"light '{name}': node '{node.name}' ({node.bl_idname}) is not supported; the light's own power is used")
         return (1.0, 1.0, 1.0)

@@ -12,10 +12,10 @@ material's viewport colour, with one warning naming the material and node.
 
 import math
 
-import bpy
 import numpy as np
 
 from . import image as image_export
+from . import nodes
 
 DEFAULT_GREY = (0.8, 0.8, 0.8)
 
@@ -47,19 +47,6 @@ def _value(node, *names, default=0.0):
         return tuple(value)[:3]
     except TypeError:
         return float(value)
-
-
-def _surface_node(material):
-    """The node feeding the active material output's Surface socket, or None."""
-    tree = material.node_tree
-    if tree is None:
-        return None
-    outputs = [n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial"]
-    active = [n for n in outputs if n.is_active_output and n.target in ("ALL", "CYCLES")] or outputs
-    if not active:
-        return None
-    links = active[0].inputs["Surface"].links
-    return links[0].from_node if links else None
 
 
 class MaterialExporter:
@@ -124,7 +111,8 @@ class MaterialExporter:
 
     def describe(self, material):
         """Keyword arguments for Scene.add_material."""
-        node = _surface_node(material) if _uses_nodes(material) else None
+        node = (nodes.surface_source(material.node_tree, "ShaderNodeOutputMaterial", targets=("ALL", "CYCLES"))
+                if nodes.uses_nodes(material) else None)
         if node is None:
             return {"kind": "diffuse", "base_color": tuple(material.diffuse_color)[:3]}
         handler = NODE_HANDLERS.get(node.bl_idname)
@@ -163,13 +151,6 @@ class MaterialExporter:
 
 def _rgb(values):
     return "(" + ", ".join(f"{float(v):g}" for v in values) + ")"
-
-
-def _uses_nodes(material):
-    # Blender 5.0 deprecates use_nodes (nodes are always used); 3.x still honours it.
-    if material.node_tree is None:
-        return False
-    return True if bpy.app.version >= (5, 0, 0) else material.use_nodes
 
 
 def _emission(node, color_names, strength_names):

@@ -9,31 +9,13 @@ Visibility, `cycles_visibility`) decides which escaping rays see it.
 
 import math
 
-import bpy
 import numpy as np
 
 from . import image as image_export
+from . import nodes
 
 PROJECTIONS = {"EQUIRECTANGULAR": "equirectangular", "MIRROR_BALL": "mirror_ball"}
 WORLD_RAY_FLAGS = ("camera", "diffuse", "glossy", "transmission", "shadow")
-
-
-def _uses_nodes(world):
-    # Blender 5.0 deprecates use_nodes (nodes are always used); 3.x still honours it.
-    if world.node_tree is None:
-        return False
-    return True if bpy.app.version >= (5, 0, 0) else world.use_nodes
-
-
-def _background_node(world):
-    if not _uses_nodes(world):
-        return None
-    tree = world.node_tree
-    outputs = [n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputWorld"]
-    active = [n for n in outputs if n.is_active_output] or outputs
-    if not active or not active[0].inputs["Surface"].links:
-        return None
-    return active[0].inputs["Surface"].links[0].from_node
 
 
 def _linked_node(socket):
@@ -56,10 +38,11 @@ class WorldExporter:
                   f"'{source.name}' ({source.bl_idname}), which is not supported; using the socket's value")
 
     def export(self):
-        node = _background_node(self.world)
+        node = (nodes.surface_source(self.world.node_tree, "ShaderNodeOutputWorld")
+                if nodes.uses_nodes(self.world) else None)
         if node is None:
             # A node tree with nothing connected renders black in Cycles; without nodes, the world colour.
-            color = (0.0, 0.0, 0.0) if _uses_nodes(self.world) else tuple(self.world.color)
+            color = (0.0, 0.0, 0.0) if nodes.uses_nodes(self.world) else tuple(self.world.color)
             self.scene.set_background(color, visibility=visibility(self.world))
             return
         if node.bl_idname != "ShaderNodeBackground":

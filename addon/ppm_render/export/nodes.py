@@ -1,0 +1,23 @@
+"""What materials, worlds and lights share in reading a Blender node tree: whether it is used, and
+which node feeds the active output's Surface."""
+
+import bpy
+
+
+def uses_nodes(datablock, always_from=(5, 0, 0)):
+    """Whether Blender renders `datablock` (a material, world or light) from its node tree. From
+    Blender `always_from` on, use_nodes is deprecated (it warns) and the tree is always used."""
+    if datablock.node_tree is None:
+        return False
+    return True if bpy.app.version >= always_from else datablock.use_nodes
+
+
+def surface_source(tree, output_type, targets=None):
+    """The node linked to the Surface socket of the tree's active output of type `output_type` (its
+    first one if none is active, or none active for one of `targets`), or None."""
+    outputs = [n for n in tree.nodes if n.bl_idname == output_type]
+    active = [n for n in outputs if n.is_active_output and (targets is None or n.target in targets)] or outputs
+    if not active:
+        return None
+    links = active[0].inputs["Surface"].links
+    return links[0].from_node if links else None
