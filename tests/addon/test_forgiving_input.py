@@ -276,8 +276,8 @@ def test_a_light_node_driven_by_another_node_uses_its_own_value_with_a_warning()
     tree = lamp.data.node_tree
     emission = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeEmission")
     emission.inputs["Strength"].default_value = 2.0
-    blackbody = tree.nodes.new("ShaderNodeBlackbody")
-    tree.links.new(blackbody.outputs[0], emission.inputs["Color"])
+    checker = tree.nodes.new("ShaderNodeTexChecker")  # a Blackbody is read: test_light_blackbody.py
+    tree.links.new(checker.outputs["Color"], emission.inputs["Color"])
     _, warnings = export_scene(scene)
     assert len(warnings) == 1 and "light 'lamp'" in warnings[0] and "'Color'" in warnings[0]
 

@@ -2,7 +2,8 @@
 
 One .blend per light kind: a diffuse floor (albedo 0.5) seen from straight
 above by a perspective camera, lit by a single light kind (point, sphere,
-spot, area square/disk/rectangle/ellipse, sun, emissive mesh, world). The
+spot, area square/disk/rectangle/ellipse, sun, emissive mesh, world, a light's node tree with a
+Blackbody at 3200 K and 9000 K, compared channel by channel). The
 lights sit behind the camera or out of frame so only the floor is compared. Two
 camera variants (orthographic with shift; vertical sensor fit with shift and a
 tilt) under the point light check that the camera looks where Cycles' does;
@@ -42,8 +43,11 @@ ALBEDO = 0.5
 TOLERANCE = 0.03
 DARK = 1e-4  # radiance below which a block counts as black
 KINDS = ("point", "sphere", "spot", "spot_radius", "area_spread", "area_square", "area_rectangle", "area_disk",
-         "area_ellipse", "sun", "sun_hemisphere", "emissive_mesh", "world", "light_nodes", "camera_ortho_shift",
-         "camera_vertical_fit_shift")
+         "area_ellipse", "sun", "sun_hemisphere", "emissive_mesh", "world", "light_nodes", "light_blackbody",
+         "light_blackbody_hot", "camera_ortho_shift", "camera_vertical_fit_shift")
+# A Blackbody sets a light's hue, which the mean of the channels would hide: these kinds also
+# compare R, G and B block by block.
+PER_CHANNEL_KINDS = {"light_blackbody", "light_blackbody_hot"}
 # An Empty as the scene camera: Cycles of bpy 5.2.3 crashes on it (SIGSEGV, measured), so the
 # comparison runs up to 5.0 (5.1 untested); PPM renders it in every version (tests/addon).
 KINDS_CAMERA_EMPTY = ("camera_empty",)
@@ -169,6 +173,19 @@ def build(kind):
         emission = next(n for n in lamp.data.node_tree.nodes if n.bl_idname == "ShaderNodeEmission")
         emission.inputs["Strength"].default_value = 2.5
         emission.inputs["Color"].default_value = (1.0, 0.5, 0.25, 1.0)
+    elif kind.startswith("light_blackbody"):  # Emission Color from a Blackbody node, through a reroute
+        lamp = add_light("POINT", 100.0, (0.3, 0.2, 2.2), shadow_soft_size=0.3)
+        if bpy.app.version < (5, 1, 0):
+            lamp.data.use_nodes = True
+        tree = lamp.data.node_tree
+        emission = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeEmission")
+        emission.inputs["Strength"].default_value = 2.5
+        emission.inputs["Color"].default_value = (0.0, 1.0, 0.0, 1.0)  # unused: the Blackbody drives it
+        blackbody, reroute = tree.nodes.new("ShaderNodeBlackbody"), tree.nodes.new("NodeReroute")
+        # 3200 K (a tungsten lamp) and 9000 K (a blue sky) lie in different intervals of Cycles' fit.
+        blackbody.inputs["Temperature"].default_value = 9000.0 if kind == "light_blackbody_hot" else 3200.0
+        tree.links.new(blackbody.outputs["Color"], reroute.inputs[0])
+        tree.links.new(reroute.outputs[0], emission.inputs["Color"])
     elif kind == "spot":
         add_light("SPOT", 300.0, (0.0, 0.0, 2.5), spot_size=math.radians(40), spot_blend=0.3, shadow_soft_size=0.0)
     elif kind == "spot_radius":  # a sphere in a cone: soft edges and, over the post, a soft shadow
@@ -267,23 +284,32 @@ def render_with_both_engines(name, workdir, samples, passes, bounces=4, channels
     return images
 
 
-def block_means(rgb):
+def block_means(rgb, channel=None):
+    """4x3 block means of the mean of the channels, or of one channel."""
     rows, cols = BLOCKS
     h, w = HEIGHT // rows, WIDTH // cols
-    luminance = rgb.mean(axis=2)
-    return np.array([[luminance[r * h:(r + 1) * h, c * w:(c + 1) * w].mean() for c in range(cols)]
+    values = rgb.mean(axis=2) if channel is None else rgb[..., channel]
+    return np.array([[values[r * h:(r + 1) * h, c * w:(c + 1) * w].mean() for c in range(cols)]
                      for r in range(rows)])
 
 
-def block_comparison(name, workdir, samples, passes, bounces=4):
+def worst_block_error(images, channel=None):
+    cycles, ppm = (block_means(images[e], channel) for e in ("CYCLES", "PPM"))
+    return float(np.abs((ppm - cycles) / np.maximum(cycles, DARK)).max())
+
+
+def block_comparison(name, workdir, samples, passes, bounces=4, per_channel=False):
     """Renders the scene just built with both engines: their 4x3 block means and the worst relative
-    error (absolute below DARK)."""
+    error (absolute below DARK); with per_channel, the worst over R, G and B too."""
     images = render_with_both_engines(name, workdir, samples, passes, bounces)
     cycles, ppm = (block_means(images[e]) for e in ("CYCLES", "PPM"))
-    relative = (ppm - cycles) / np.maximum(cycles, DARK)
-    return {"blender": bpy.app.version_string, "cycles_mean": float(cycles.mean()), "ppm_mean": float(ppm.mean()),
-            "max_block_error": float(np.abs(relative).max()), "blocks_cycles": cycles.round(5).tolist(),
-            "blocks_ppm": ppm.round(5).tolist()}
+    row = {"blender": bpy.app.version_string, "cycles_mean": float(cycles.mean()), "ppm_mean": float(ppm.mean()),
+           "max_block_error": worst_block_error(images), "blocks_cycles": cycles.round(5).tolist(),
+           "blocks_ppm": ppm.round(5).tolist()}
+    if per_channel:
+        row["max_block_error_rgb"] = [worst_block_error(images, c) for c in range(3)]
+        row["max_block_error"] = max(row["max_block_error"], *row["max_block_error_rgb"])
+    return row
 
 
 def run_cases(label, cases, compare_one, describe):
@@ -331,7 +357,8 @@ MIN_PASSES = {"area_spread": 128}
 def compare(kind, workdir, samples=256, passes=32):
     """Cycles and PPM block means for one light kind, rendered from the same saved .blend."""
     build(kind)
-    row = block_comparison(kind, workdir, samples, max(passes, MIN_PASSES.get(kind, 0)))
+    row = block_comparison(kind, workdir, samples, max(passes, MIN_PASSES.get(kind, 0)),
+                           per_channel=kind in PER_CHANNEL_KINDS)
     row["mean_error"] = (row["ppm_mean"] - row["cycles_mean"]) / max(row["cycles_mean"], DARK)
     return {"kind": kind, **row}
 
@@ -345,7 +372,8 @@ def compare_kinds(kinds, samples, passes=32):
             rows.append(row)
             print(f"cycles_compare: Blender {row['blender']} {kind:15s} cycles {row['cycles_mean']:.5f} "
                   f"ppm {row['ppm_mean']:.5f} mean {100 * row['mean_error']:+.2f}% "
-                  f"worst block {100 * row['max_block_error']:.2f}%", flush=True)
+                  f"worst block {100 * row['max_block_error']:.2f}%" + "".join(
+                      f" {c} {100 * e:.2f}%" for c, e in zip("RGB", row.get("max_block_error_rgb", ()))), flush=True)
     return rows
 
 

@@ -19,7 +19,7 @@ import math
 import bpy
 import numpy as np
 
-from . import nodes, visibility
+from . import blackbody, nodes, visibility
 
 AREA_RADIANCE_IS_OVER_PI = bpy.app.version >= (4, 0, 0)
 # Cycles 3.x multiplies a spot's intensity by the cosine to its axis; 4.0 dropped the factor.
@@ -88,10 +88,18 @@ def _sun_irradiance(light):
     return strength
 
 
+def _is_fixed_blackbody(node):
+    """Whether `node` is an unmuted Blackbody node whose Temperature nothing drives: Cycles folds it
+    to one colour."""
+    return (node.bl_idname == "ShaderNodeBlackbody" and not node.mute
+            and nodes.driving_node(node.inputs["Temperature"]) is None)
+
+
 def node_emission(light, name, warn):
     """Strength x Color of the Emission node feeding a light's node tree output, which Cycles
     multiplies the light's power by: (1, 1, 1) without a node tree, black with nothing connected.
-    A socket driven by another node (a Blackbody, a texture) counts as its own value, with a warning."""
+    A Color driven (through reroutes) by a Blackbody node of fixed temperature is its colour; a
+    socket driven by any other node counts as its own value, with a warning."""
     if not nodes.uses_nodes(light, always_from=(5, 1, 0)):  # lights' use_nodes went at 5.1
         return (1.0, 1.0, 1.0)
     node = nodes.surface_source(light.node_tree, "ShaderNodeOutputLight")
@@ -100,12 +108,19 @@ def node_emission(light, name, warn):
     if node.bl_idname != "ShaderNodeEmission":
         warn(f"light '{name}': node '{node.name}' ({node.bl_idname}) is not supported; the light's own power is used")
         return (1.0, 1.0, 1.0)
-    for socket in (node.inputs["Color"], node.inputs["Strength"]):
-        if socket.links:
-            warn(f"light '{name}': '{socket.name}' of node '{node.name}' is driven by "
-                 f"'{socket.links[0].from_node.name}', which is not supported; using the socket's value")
+    color = tuple(float(c) for c in tuple(node.inputs["Color"].default_value)[:3])
     strength = float(node.inputs["Strength"].default_value)
-    return tuple(float(c) * strength for c in tuple(node.inputs["Color"].default_value)[:3])
+    for socket in (node.inputs["Color"], node.inputs["Strength"]):
+        source = nodes.driving_node(socket)
+        if source is None:
+            continue
+        if socket.name == "Color" and _is_fixed_blackbody(source):
+            color = blackbody.blackbody_rgb(source.inputs["Temperature"].default_value)
+            continue
+        hint = " (a Blackbody only with an unlinked Temperature)" if source.bl_idname == "ShaderNodeBlackbody" else ""
+        warn(f"light '{name}': '{socket.name}' of node '{node.name}' is driven by '{source.name}', which is not "
+             f"supported{hint}; using the socket's value")
+    return tuple(c * strength for c in color)
 
 
 def add_light(core_scene, name, light_object, matrix, warn):

@@ -21,3 +21,25 @@ def surface_source(tree, output_type, targets=None):
         return None
     links = active[0].inputs["Surface"].links
     return links[0].from_node if links else None
+
+
+def _renders(link):
+    """Whether Cycles uses a link: it drops muted and invalid ones and those to or from a hidden
+    (disabled) socket (blender/shader.cpp, "connect nodes")."""
+    return (link.is_valid and not getattr(link, "is_muted", False) and link.from_socket.enabled
+            and link.to_socket.enabled)
+
+
+def driving_node(socket):
+    """The node whose output drives `socket` in Cycles, through reroutes; None when nothing does (the
+    socket's own value counts). A reroute fed by nothing is returned itself: Cycles reads black from it
+    up to Blender 4.5 and the socket's own value from 5.0 on (measured), so callers warn."""
+    node = None
+    while True:
+        links = [link for link in socket.links if _renders(link)]
+        if not links:
+            return node
+        node = links[0].from_node
+        if node.bl_idname != "NodeReroute":
+            return node
+        socket = node.inputs[0]
