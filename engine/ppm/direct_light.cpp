@@ -39,14 +39,17 @@ bool direct_light_pass(const Scene& scene, const LightSampler& lights, const Set
                        std::atomic<bool>& cancel, const std::function<bool()>& poll) {
   const size_t n = hp.size(), chunks = (n + kChunk - 1) / kChunk;
   sums.resize(n);  // every entry is written below before any is added
+  const BounceLimits limits = BounceLimits::of(settings, scene);
   auto work = [&](int, size_t chunk) {
     for (size_t i = chunk * kChunk; i < std::min(n, (chunk + 1) * kChunk); ++i) {
       Rng rng(settings.seed, kDirectStream + pass, i);
+      const int depth = limits.active ? hp.chain[i].total : 0;  // the eye chain's scatterings
       Color sum(0.0);
       for (uint32_t l : lights.analytic()) {
         const Light& light = scene.lights()[l];
         for (int strategy = 0; strategy < direct_samples(light); ++strategy) {
           const double u1 = rng.uniform(), u2 = rng.uniform();
+          if (depth > light.max_bounces) continue;  // its own Max Bounces (the numbers are drawn all the same)
           sum += light_contribution(scene, light, hp.points[i], hp.shading[i], u1, u2, strategy);
         }
       }

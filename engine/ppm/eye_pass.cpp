@@ -20,11 +20,16 @@ struct EyeVertex {
   int depth;
   double length;    // distance travelled, for the pixel footprint
   bool glass_only;  // every interface so far refracted through smooth glass (or none: a camera ray)
+  Bounces chain;    // its scatterings by kind (depth is their total)
+  // Past a bounce limit: the ray still sees lights, emission and the world, as in Cycles (a limit
+  // stops the path after the next surface's emission), but records no hit point and goes no further.
+  bool emission_only;
 };
 
 struct ChunkOutput {
   std::vector<HitPoint> points;
   std::vector<HitPointShading> shading;
+  std::vector<Bounces> chain;  // with bounce limits
 };
 
 struct EyeTracer {
@@ -36,6 +41,10 @@ struct EyeTracer {
   const Light* background;  // what rays that escape see (nullptr: black)
   double footprint;
   bool orthographic;
+  BounceLimits limits;
+
+  // A light's own Max Bounces: does it reach a path that has scattered `depth` times?
+  static bool reaches(const Light& light, int depth) { return depth <= light.max_bounces; }
 
   // Does this vertex's path make the pixel transparent where it escapes or meets a holdout?
   // Cycles: camera rays, and with transparent glass those refracted through glass only.
@@ -45,10 +54,10 @@ struct EyeTracer {
 
   // Adds the radiance of the suns whose disc an escaping ray points into (Cycles shows a sun to
   // glossy and transmission rays, and to camera rays if it is visible to them).
-  void see_suns(const Ray& ray, const Color& throughput, Color& emitted) const {
+  void see_suns(const Ray& ray, int depth, const Color& throughput, Color& emitted) const {
     for (uint32_t i : visible_suns) {
       const Light& sun = scene.lights()[i];
-      if ((sun.visibility & ray.kind) && -glm::dot(ray.direction, sun.direction) >= sun.cos_sun)
+      if ((sun.visibility & ray.kind) && reaches(sun, depth) && -glm::dot(ray.direction, sun.direction) >= sun.cos_sun)
         emitted += throughput * sun.radiance;
     }
   }
@@ -59,8 +68,8 @@ struct EyeTracer {
       transparency += mean(v.throughput);
       return;
     }
-    see_suns(v.ray, v.throughput, emitted);
-    if (background != nullptr && (background->visibility & v.ray.kind))
+    see_suns(v.ray, v.depth, v.throughput, emitted);
+    if (background != nullptr && (background->visibility & v.ray.kind) && reaches(*background, v.depth))
       emitted += v.throughput * background_radiance(*background, v.ray.direction);
   }
 
@@ -77,12 +86,12 @@ struct EyeTracer {
   }
 
   // Adds the radiance of lights nearer than the surface; returns true if one blocks the view.
-  bool see_lights(const Ray& ray, double t_surface, const Color& throughput, Color& emitted) const {
+  bool see_lights(const Ray& ray, int depth, double t_surface, const Color& throughput, Color& emitted) const {
     double nearest = t_surface;
     Color seen(0.0);
     for (uint32_t i : visible_lights) {
       const Light& light = scene.lights()[i];
-      if (!(light.visibility & ray.kind)) continue;
+      if (!(light.visibility & ray.kind) || !reaches(light, depth)) continue;
       double t;
       const Color L = light_seen(light, ray, nearest, t);
       if (max_component(L) > 0.0) {
@@ -113,6 +122,7 @@ struct EyeTracer {
     hp.glossy = glossy ? 1u : 0u;
     out.points.push_back(hp);
     out.shading.push_back(HitPointShading{sp.ng, sp.ns, wo, v.throughput, sp.albedo, hit.material, pixel});
+    if (limits.active) out.chain.push_back(v.chain);
   }
 
   // Adds what the path sees directly to `emitted` and what of it is transparent to `transparency`.
@@ -120,13 +130,13 @@ struct EyeTracer {
              Color& emitted, double& transparency) const {
     EyeVertex stack[2 * kSplitDepth + 4];
     int top = 0;
-    stack[top++] = EyeVertex{primary, weight, 0, 0.0, true};
+    stack[top++] = EyeVertex{primary, weight, 0, 0.0, true, Bounces{}, false};
     const double tmax0 = scene.camera().clip_end - scene.camera().clip_start;
     while (top > 0) {
       const EyeVertex v = stack[--top];
       Hit hit;
       const bool found = scene.intersect(v.ray, hit, v.depth == 0 ? tmax0 : kInf);
-      if (see_lights(v.ray, found ? hit.t : kInf, v.throughput, emitted)) continue;
+      if (see_lights(v.ray, v.depth, found ? hit.t : kInf, v.throughput, emitted)) continue;
       if (!found) {
         escape(v, emitted, transparency);
         continue;
@@ -134,13 +144,14 @@ struct EyeTracer {
       const Material& m = scene.material(hit.material);
       if (ends_at_holdout(v, hit, m, transparency)) continue;
       if (m.emits()) emitted += v.throughput * m.emission;
-      if (is_black(m)) continue;
-      const EyeVertex here{v.ray, v.throughput, v.depth, v.length + hit.t, v.glass_only};
+      if (is_black(m) || v.emission_only) continue;
+      const EyeVertex here{v.ray, v.throughput, v.depth, v.length + hit.t, v.glass_only, v.chain, false};
       if (!is_specular(m)) {
         record(hit, here, pixel, out);
         continue;
       }
-      if (!options.follow_specular || v.depth + 1 >= settings.max_bounces) continue;
+      // With Cycles' limits, one ray more than the total: it may still see emission.
+      if (!options.follow_specular || v.depth + 1 >= settings.path_bounces() + (limits.by_kind ? 1 : 0)) continue;
       BsdfSample branches[2];
       const SurfacePoint sp = scene.surface_point(hit);
       int count = specular_branches(m, sp, -v.ray.direction, branches);
@@ -159,7 +170,10 @@ struct EyeTracer {
         const Vec3 origin = offset_point(hit.position, hit.geometric_normal, wi, scene.offset_floor());
         const uint8_t kind = scattered_ray_kind(m, hit.geometric_normal, v.ray.direction, wi);
         const bool glass_only = v.glass_only && m.kind == MaterialKind::Glass && kind == kTransmissionRay;
-        stack[top++] = EyeVertex{Ray{origin, wi, kind}, thr, v.depth + 1, here.length, glass_only};
+        const Bounces chain = plus(v.chain, kind);
+        const bool emission_only = limits.by_kind && !within(chain, limits.max);
+        stack[top++] =
+            EyeVertex{Ray{origin, wi, kind}, thr, v.depth + 1, here.length, glass_only, chain, emission_only};
       }
     }
   }
@@ -171,7 +185,7 @@ bool eye_pass(const Scene& scene, const Settings& settings, const EyePassOptions
               std::atomic<bool>& cancel, const std::function<bool()>& poll) {
   const Camera& cam = scene.camera();
   EyeTracer tracer{scene, settings, options, {}, {}, nullptr, cam.pixel_footprint(),
-                   cam.projection == Projection::Orthographic};
+                   cam.projection == Projection::Orthographic, BounceLimits::of(settings, scene)};
   for (uint32_t i = 0; i < scene.lights().size(); ++i) {
     const LightKind k = scene.lights()[i].kind;
     const bool spot_sphere = k == LightKind::Spot && scene.lights()[i].radius > 0.0;
@@ -194,6 +208,7 @@ bool eye_pass(const Scene& scene, const Settings& settings, const EyePassOptions
     // About one hit point per eye sample: reserving saves the regrowth copies and their page faults.
     o.points.reserve(size_t(kRowsPerChunk) * W * spp);
     o.shading.reserve(size_t(kRowsPerChunk) * W * spp);
+    if (tracer.limits.active) o.chain.reserve(size_t(kRowsPerChunk) * W * spp);
     for (int y = static_cast<int>(chunk) * kRowsPerChunk; y < std::min(H, (static_cast<int>(chunk) + 1) * kRowsPerChunk); ++y)
       for (int x = 0; x < W; ++x) {
         const uint32_t pixel = static_cast<uint32_t>(y) * W + x;  // row 0 = bottom
@@ -233,6 +248,7 @@ bool eye_pass(const Scene& scene, const Settings& settings, const EyePassOptions
   out.points.resize(total);
   out.shading.resize(total);
   out.stats.resize(total);
+  out.chain.resize(tracer.limits.active ? total : 0);
   parallel_each(options.threads, chunks, [&](size_t c) {
     ChunkOutput& o = outputs[c];
     for (size_t k = 0; k < o.points.size(); ++k) {
@@ -241,9 +257,11 @@ bool eye_pass(const Scene& scene, const Settings& settings, const EyePassOptions
       out.points[first[c] + k] = hp;
       out.shading[first[c] + k] = o.shading[k];
       out.stats[first[c] + k] = HitPointStats{};
+      if (tracer.limits.active) out.chain[first[c] + k] = o.chain[k];
     }
     ChunkOutput().points.swap(o.points);
     ChunkOutput().shading.swap(o.shading);
+    ChunkOutput().chain.swap(o.chain);
   });
   out.pixel_begin.assign(counts.size() + 1, 0);
   for (size_t p = 0; p < counts.size(); ++p) out.pixel_begin[p + 1] = out.pixel_begin[p] + counts[p];

@@ -7,6 +7,7 @@
 #pragma once
 
 #include "math/types.h"
+#include "ppm/bounce_limits.h"
 #include "ppm/fill_vector.h"
 
 #include <vector>
@@ -52,6 +53,7 @@ struct HitPoints {
   std::vector<Color> emitted;         // per pixel: emission and background seen along eye paths
   std::vector<double> transparency;   // per pixel: the share of eye samples that leave it transparent
   std::vector<float> depth;           // per pixel: mean view-axis depth of the first hit (inf: none); optional
+  FillVector<Bounces> chain;          // with bounce limits: each eye chain's scatterings (bounce_limits.h)
   size_t size() const { return points.size(); }
 };
 

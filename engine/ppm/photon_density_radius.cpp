@@ -31,11 +31,12 @@ bool trace_pilot(const Scene& scene, const LightSampler& lights, const Settings&
   const uint64_t photons = pilot_photons(settings);
   const size_t chunks = (photons + kPhotonChunk - 1) / kPhotonChunk;
   std::vector<std::vector<Vec3>> buffers(chunks);
+  const BounceLimits limits = BounceLimits::of(settings, scene);
   auto trace = [&](int, size_t c) {
     trace_photons(
-        scene, lights, settings, c * kPhotonChunk, std::min<uint64_t>(photons, (c + 1) * kPhotonChunk),
+        scene, lights, settings, limits, c * kPhotonChunk, std::min<uint64_t>(photons, (c + 1) * kPhotonChunk),
         [&](uint64_t i) { return Rng(settings.seed, kPilotStream, i); },
-        [&](const Vec3& pos, const Vec3&, const Vec3&, const Color&) { buffers[c].push_back(pos); });
+        [&](const Vec3& pos, const Vec3&, const Vec3&, const Color&, const Bounces&) { buffers[c].push_back(pos); });
   };
   if (!parallel_chunks(threads, chunks, trace, cancel, poll, settings.progress_interval)) return false;
   for (const std::vector<Vec3>& b : buffers) positions.insert(positions.end(), b.begin(), b.end());

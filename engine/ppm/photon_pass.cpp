@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstring>
+#include <type_traits>
 
 namespace ppm {
 namespace {
@@ -72,6 +73,14 @@ inline bool photon_weight(const Scene& scene, const HitPoints& hp, uint32_t i, c
   return weight.x > 0.0f || weight.y > 0.0f || weight.z > 0.0f;
 }
 
+// Bounce limits: does a photon whose path scattered `used` fit in what hit point i's eye chain left?
+inline bool within_budget(const BounceLimits& limits, const HitPoints& hp, uint32_t i, Bounces used,
+                          const Vec3f& photon_normal) {
+  const HitPoint& h = hp.points[i];
+  if (h.glossy && glm::dot(h.normal, photon_normal) < 0.0f) used = through_glass(used);
+  return within(used, limits.budget(hp.chain[i]));
+}
+
 }  // namespace
 
 PhotonPass::PhotonPass(const Settings& settings, int threads)
@@ -103,6 +112,7 @@ void PhotonPass::build_hit_point_index(const HitPoints& hp, PhotonPassCounters& 
 
 bool PhotonPass::run(const Scene& scene, const LightSampler& lights, uint64_t pass, HitPoints& hp,
                      std::atomic<bool>& cancel, const std::function<bool()>& poll, PhotonPassCounters& counters) {
+  limits_ = BounceLimits::of(settings_, scene);
   if (settings_.gather == GatherOrganisation::HitPoints) {
     if ((!index_built_ || mean_r2(hp) < kReindexRatio * indexed_mean_r2_) &&
         !run_polled([&] { build_hit_point_index(hp, counters); }, cancel, poll, settings_.progress_interval))
@@ -136,13 +146,14 @@ bool PhotonPass::run_hit_point_index(const Grid& grid, const Scene& scene, const
     for (uint64_t begin = first; begin < last; begin += kPhotonChunk) {
       if (cancel.load(std::memory_order_relaxed)) return;
       deposits += trace_photons(
-          scene, lights, settings_, begin, std::min(last, begin + kPhotonChunk),
+          scene, lights, settings_, limits_, begin, std::min(last, begin + kPhotonChunk),
           [&](uint64_t i) { return Rng(settings_.seed, kPhotonStream + pass, i); },
-          [&](const Vec3& pos, const Vec3& dir, const Vec3& normal, const Color& flux) {
+          [&](const Vec3& pos, const Vec3& dir, const Vec3& normal, const Color& flux, const Bounces& used) {
             const Vec3f d(dir), nf(normal), f(flux);
             grid.for_each_candidate_at(pos, [&](uint32_t h) {
               Vec3f w;
               if (!photon_weight(scene, hp, h, pos, d, nf, w)) return;
+              if (limits_.active && !within_budget(limits_, hp, h, used, nf)) return;
               ++m[h];
               tau[h] += w * f;
             });
@@ -199,6 +210,7 @@ size_t PhotonPass::index_photons(Grid& grid, size_t chunks, const HitPoints& hp)
   });
   positions_.resize(count);
   arrivals_.resize(count);
+  arrival_bounces_.resize(limits_.active ? count : 0);
   parallel_each(threads_, chunks, [&](size_t c) {
     const std::vector<Photon>& buffer = chunk_photons_[c];
     const uint32_t* new_index = new_of_old_.data() + chunk_first_[c];
@@ -206,6 +218,7 @@ size_t PhotonPass::index_photons(Grid& grid, size_t chunks, const HitPoints& hp)
       const Photon& p = buffer[k];
       positions_[new_index[k]] = p.position;
       arrivals_[new_index[k]] = Arrival{p.normal, p.flux, p.direction};
+      if (limits_.active) arrival_bounces_[new_index[k]] = p.bounces;
     }
   });
   return count;
@@ -225,10 +238,11 @@ bool PhotonPass::run_photon_index(Grid& grid, const Scene& scene, const LightSam
     auto& buffer = chunk_photons_[chunk];
     buffer.clear();
     trace_photons(
-        scene, lights, settings_, chunk * kPhotonChunk, std::min<uint64_t>(photons, (chunk + 1) * kPhotonChunk),
+        scene, lights, settings_, limits_, chunk * kPhotonChunk,
+        std::min<uint64_t>(photons, (chunk + 1) * kPhotonChunk),
         [&](uint64_t i) { return Rng(settings_.seed, kPhotonStream + pass, i); },
-        [&](const Vec3& pos, const Vec3& dir, const Vec3& normal, const Color& flux) {
-          buffer.push_back(Photon{pos, Vec3f(dir), Vec3f(normal), Vec3f(flux)});
+        [&](const Vec3& pos, const Vec3& dir, const Vec3& normal, const Color& flux, const Bounces& used) {
+          buffer.push_back(Photon{pos, Vec3f(dir), Vec3f(normal), Vec3f(flux), used});
         });
   };
   if (!parallel_chunks(threads_, chunks, trace, cancel, poll, settings_.progress_interval)) return false;
@@ -246,6 +260,8 @@ bool PhotonPass::run_photon_index(Grid& grid, const Scene& scene, const LightSam
   auto gather = [&](int, size_t chunk) {
     const Vec3* position = positions_.data();
     const Arrival* arrival = arrivals_.data();
+    const Bounces* bounces = arrival_bounces_.data();
+    const bool limited = limits_.active;
     for (size_t i = chunk * kHitPointChunk; i < std::min(n, (chunk + 1) * kHitPointChunk); ++i) {
       const HitPoint& h = hp.points[i];
       const Vec3 center = h.position;
@@ -256,18 +272,29 @@ bool PhotonPass::run_photon_index(Grid& grid, const Scene& scene, const LightSam
         // Diffuse: the weight is the same for every photon, so sum the flux and weigh once.
         const Vec3f normal_f = h.normal;
         const Vec3 normal(normal_f);
+        const Bounces budget = limited ? limits_.budget(hp.chain[i]) : Bounces{};
         Color flux(0.0);
-        grid.for_each_run_in_box(center - r, center + r, [&](uint32_t begin, uint32_t end) {
-          for (uint32_t p = begin; p < end; ++p) {
-            // Most candidates fail the distance test, which reads positions only.
-            const Vec3 d = position[p] - center;
-            if (glm::dot(d, d) > r2) continue;
-            const Arrival& a = arrival[p];
-            if (!counts_for_diffuse(d, normal, normal_f, a.direction, a.normal)) continue;
-            ++m;
-            flux += Color(a.flux);
-          }
-        });
+        // Compiled twice, so that the loop without bounce limits has no test for them.
+        auto sum = [&](auto with_limits) {
+          grid.for_each_run_in_box(center - r, center + r, [&](uint32_t begin, uint32_t end) {
+            for (uint32_t p = begin; p < end; ++p) {
+              // Most candidates fail the distance test, which reads positions only.
+              const Vec3 d = position[p] - center;
+              if (glm::dot(d, d) > r2) continue;
+              const Arrival& a = arrival[p];
+              if (!counts_for_diffuse(d, normal, normal_f, a.direction, a.normal)) continue;
+              if constexpr (decltype(with_limits)::value) {
+                if (!within(bounces[p], budget)) continue;
+              }
+              ++m;
+              flux += Color(a.flux);
+            }
+          });
+        };
+        if (limited)
+          sum(std::true_type{});
+        else
+          sum(std::false_type{});
         tau = flux * Color(h.weight);
       } else {
         grid.for_each_run_in_box(center - r, center + r, [&](uint32_t begin, uint32_t end) {
@@ -275,6 +302,7 @@ bool PhotonPass::run_photon_index(Grid& grid, const Scene& scene, const LightSam
             Vec3f w;
             const Arrival& a = arrival[p];
             if (!photon_weight(scene, hp, static_cast<uint32_t>(i), position[p], a.direction, a.normal, w)) continue;
+            if (limited && !within_budget(limits_, hp, static_cast<uint32_t>(i), bounces[p], a.normal)) continue;
             ++m;
             tau += Color(w * a.flux);
           }
@@ -302,7 +330,8 @@ size_t PhotonPass::memory_bytes() const {
   for (const auto& v : m_acc_) bytes += v.capacity() * sizeof(uint32_t);
   for (const auto& v : tau_acc_) bytes += v.capacity() * sizeof(Vec3f);
   for (const auto& v : chunk_photons_) bytes += v.capacity() * sizeof(Photon);
-  bytes += (traced_positions_.capacity() + positions_.capacity()) * sizeof(Vec3) + arrivals_.capacity() * sizeof(Arrival);
+  bytes += (traced_positions_.capacity() + positions_.capacity()) * sizeof(Vec3) + arrivals_.capacity() * sizeof(Arrival) +
+           arrival_bounces_.capacity() * sizeof(Bounces);
   bytes += (gathered_m_.capacity() + old_of_new_.capacity() + new_of_old_.capacity()) * sizeof(uint32_t) +
            gathered_tau_.capacity() * sizeof(Color);
   bytes += centers_.capacity() * sizeof(Vec3) + radii_.capacity() * sizeof(double);

@@ -10,6 +10,7 @@
 //     scattered writes).
 #pragma once
 
+#include "ppm/bounce_limits.h"
 #include "ppm/hash_grid.h"
 #include "ppm/hit_point.h"
 #include "ppm/quantile_grid.h"
@@ -48,6 +49,7 @@ class PhotonPass {
     Vec3f direction;
     Vec3f normal;  // of the surface, on the side the photon arrived on
     Vec3f flux;
+    Bounces bounces;  // with bounce limits (in what would be padding)
   };
   // The rest of a photon, in cell order beside its position; read only for
   // the photons that pass the distance test.
@@ -72,6 +74,7 @@ class PhotonPass {
 
   Settings settings_;
   int threads_;
+  BounceLimits limits_;  // of the scene of the current pass
   QuantileGrid quantile_;
   HashGrid hash_;
   double indexed_mean_r2_ = 0.0;  // mean r^2 when the hit-point index was last built
@@ -90,6 +93,7 @@ class PhotonPass {
   std::vector<uint32_t> new_of_old_;    // and the inverse
   std::vector<Vec3> positions_;         // cell order
   std::vector<Arrival> arrivals_;       // cell order
+  std::vector<Bounces> arrival_bounces_;  // cell order, with bounce limits only
   // One pass's gather per hit point, added to the statistics once the pass completes.
   std::vector<uint32_t> gathered_m_;
   std::vector<Color> gathered_tau_;

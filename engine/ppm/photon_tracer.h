@@ -8,9 +8,13 @@
 // other's cache misses, then every path takes its bounce. A photon's random
 // numbers and its path are the same as traced alone; only the order in which
 // different photons deposit changes.
+//
+// With bounce limits (bounce_limits.h) a path counts its scatterings, hands the
+// counts to each deposit, and ends once no hit point could take its photons.
 #pragma once
 
 #include "math/rng.h"
+#include "ppm/bounce_limits.h"
 #include "ppm/settings.h"
 #include "scene/light_sampler.h"
 #include "scene/scene.h"
@@ -25,10 +29,12 @@ struct PhotonPath {
   Color flux;
   Ray ray;
   int bounce;
+  Bounces used;  // scatterings after the first, plus the light's head start (bounce_limits.h)
 };
 
 // Emits a photon from a light picked in proportion to its flux.
-inline PhotonPath emit_photon_path(const Scene& scene, const LightSampler& lights, Rng rng) {
+inline PhotonPath emit_photon_path(const Scene& scene, const LightSampler& lights, const BounceLimits& limits,
+                                   Rng rng) {
   double pick_pdf;
   const Light& light = scene.lights()[lights.pick_emitter(rng.uniform(), pick_pdf)];
   const double u1 = rng.uniform(), u2 = rng.uniform(), u3 = rng.uniform(), u4 = rng.uniform(), u5 = rng.uniform();
@@ -36,17 +42,19 @@ inline PhotonPath emit_photon_path(const Scene& scene, const LightSampler& light
   // On its way from the light a photon carries direct light, which Cycles
   // traces with shadow rays: it passes through what casts no shadow.
   e.ray.kind = kShadowRay;
-  return PhotonPath{rng, e.flux / (pick_pdf * lights.flux_unit()), e.ray, 0};  // its share of the total
+  const Bounces start = limits.active ? limits.start(light) : Bounces{};
+  return PhotonPath{rng, e.flux / (pick_pdf * lights.flux_unit()), e.ray, 0, start};  // its share of the total
 }
 
 // Takes the path one bounce on, given what its ray hit (nullptr: nothing):
 // deposits (counted in `deposits`), then scatters. False when the path ends.
-// `deposit(position, travel_direction, normal, flux)`, where `normal` is the
-// surface's shading normal turned to the side the photon arrived on (as hit
-// points turn theirs to the viewer).
+// `deposit(position, travel_direction, normal, flux, bounces)`, where `normal`
+// is the surface's shading normal turned to the side the photon arrived on (as
+// hit points turn theirs to the viewer), and `bounces` the path's counts with
+// the hit point's own scattering (meaningful only when `limits.active`).
 template <class Deposit>
-bool bounce_photon(const Scene& scene, const Settings& settings, PhotonPath& p, const Hit* hit, Deposit&& deposit,
-                   uint64_t& deposits) {
+bool bounce_photon(const Scene& scene, const Settings& settings, const BounceLimits& limits, PhotonPath& p,
+                   const Hit* hit, Deposit&& deposit, uint64_t& deposits) {
   if (hit == nullptr) return false;
   const Material& m = scene.material(hit->material);
   if (is_black(m)) return false;
@@ -54,7 +62,9 @@ bool bounce_photon(const Scene& scene, const Settings& settings, PhotonPath& p, 
   const SurfacePoint sp = scene.surface_point(*hit);
   const bool deposit_direct = settings.direct_light == DirectLight::Photons;
   if (!is_specular(m) && (p.bounce > 0 || deposit_direct)) {
-    deposit(hit->position, p.ray.direction, glm::dot(wo, sp.ng) >= 0.0 ? sp.ns : -sp.ns, p.flux);
+    const uint8_t here = m.kind == MaterialKind::Diffuse ? kDiffuseRay : kGlossyRay;
+    const Bounces bounces = limits.active && p.bounce > 0 ? plus(p.used, here) : p.used;
+    deposit(hit->position, p.ray.direction, glm::dot(wo, sp.ng) >= 0.0 ? sp.ns : -sp.ns, p.flux, bounces);
     ++deposits;
   }
   BsdfSample s;
@@ -66,7 +76,12 @@ bool bounce_photon(const Scene& scene, const Settings& settings, PhotonPath& p, 
   p.flux *= s.weight / survive;
   p.ray = Ray{offset_point(hit->position, hit->geometric_normal, s.wi, scene.offset_floor()), s.wi,
               scattered_ray_kind(m, hit->geometric_normal, p.ray.direction, s.wi)};
-  return ++p.bounce < settings.max_bounces;
+  if (limits.active) {
+    if (p.bounce > 0) p.used = plus(p.used, p.ray.kind);
+    // Every later deposit adds the hit point's own scattering to the total.
+    if (!within(p.used, limits.max) || p.used.total >= limits.max.total) return false;
+  }
+  return ++p.bounce < settings.path_bounces();
 }
 
 constexpr int kPhotonWave = 64;  // paths live at a time in a wave
@@ -74,15 +89,14 @@ constexpr int kPhotonWave = 64;  // paths live at a time in a wave
 // Traces photons [first, last), photon i with the random numbers of
 // `rng_of(i)`; returns the number of deposits.
 template <class RngOf, class Deposit>
-uint64_t trace_photons(const Scene& scene, const LightSampler& lights, const Settings& settings, uint64_t first,
-                       uint64_t last, RngOf&& rng_of, Deposit&& deposit) {
+uint64_t trace_photons(const Scene& scene, const LightSampler& lights, const Settings& settings,
+                       const BounceLimits& limits, uint64_t first, uint64_t last, RngOf&& rng_of, Deposit&& deposit) {
   uint64_t deposits = 0;
-  if (settings.max_bounces <= 0) return deposits;
   if (!scene.interleaves_walks()) {  // a BVH in cache gains nothing from waves: one photon after the other
     for (uint64_t i = first; i < last; ++i) {
-      PhotonPath p = emit_photon_path(scene, lights, rng_of(i));
+      PhotonPath p = emit_photon_path(scene, lights, limits, rng_of(i));
       Hit hit;
-      while (scene.intersect(p.ray, hit) && bounce_photon(scene, settings, p, &hit, deposit, deposits)) {
+      while (scene.intersect(p.ray, hit) && bounce_photon(scene, settings, limits, p, &hit, deposit, deposits)) {
       }
     }
     return deposits;
@@ -93,14 +107,14 @@ uint64_t trace_photons(const Scene& scene, const LightSampler& lights, const Set
   int live = 0;
   uint64_t next = first;
   for (;;) {
-    for (; live < kPhotonWave && next < last; ++next) paths[live++] = emit_photon_path(scene, lights, rng_of(next));
+    for (; live < kPhotonWave && next < last; ++next) paths[live++] = emit_photon_path(scene, lights, limits, rng_of(next));
     if (live == 0) return deposits;
     for (int k = 0; k < live; ++k) rays[k] = paths[k].ray;
     scene.intersect_many(rays, live, hits);
     int kept = 0;
     for (int k = 0; k < live; ++k) {
       const Hit* hit = hits[k].found() ? &hits[k] : nullptr;
-      if (bounce_photon(scene, settings, paths[k], hit, deposit, deposits)) paths[kept++] = paths[k];
+      if (bounce_photon(scene, settings, limits, paths[k], hit, deposit, deposits)) paths[kept++] = paths[k];
     }
     live = kept;
   }

@@ -256,7 +256,7 @@ size_t memory_bytes(const HitPoints& h) {
   return h.points.capacity() * sizeof(HitPoint) + h.shading.capacity() * sizeof(HitPointShading) +
          h.stats.capacity() * sizeof(HitPointStats) + h.pixel_begin.capacity() * sizeof(uint32_t) +
          h.emitted.capacity() * sizeof(Color) + h.transparency.capacity() * sizeof(double) +
-         h.depth.capacity() * sizeof(float);
+         h.depth.capacity() * sizeof(float) + h.chain.capacity() * sizeof(Bounces);
 }
 
 void refuse_while_running(const std::atomic<bool>& running, const char* what) {

@@ -2,6 +2,7 @@
 // builds it from keyword arguments and rejects unknown names.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <string>
 
@@ -31,6 +32,15 @@ struct Settings {
   double alpha = 0.7;               // radius reduction (Hachisuka 2008)
   uint32_t threshold = 30;          // P of the cross-generation rule; 1 = classic PPM (bench/threshold_scenes.py)
   int max_bounces = 12;             // photon path length and eye specular chain length
+  // Cycles' Light Paths limits, honoured when light_path_limits is on (bounce_limits.h): a full
+  // camera-to-light path then continues from at most total_bounces scatterings, of which at most
+  // diffuse_bounces diffuse, ... (Cycles' defaults). Photon paths and eye chains are then as long
+  // as total_bounces allows, and max_bounces is not used.
+  bool light_path_limits = false;
+  int total_bounces = 12;
+  int diffuse_bounces = 4;
+  int glossy_bounces = 4;
+  int transmission_bounces = 12;
   int samples_per_pixel = 4;        // jittered eye samples per pixel (fixed hit points)
   uint64_t seed = 0;
   int threads = 0;                  // 0 = all cores
@@ -50,6 +60,9 @@ struct Settings {
   // instead of showing the background; with transparent_glass also those that escape through smooth glass.
   bool transparent_background = false;
   bool transparent_glass = false;
+
+  // Scatterings a photon path or an eye chain may take.
+  int path_bounces() const { return light_path_limits ? std::min(total_bounces, 1000) + 1 : max_bounces; }
 
   // Throws std::invalid_argument naming the setting when a value is out of range.
   void validate() const;

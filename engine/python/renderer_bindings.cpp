@@ -58,6 +58,13 @@ const std::map<std::string, SettingAccess>& setting_table() {
       {"alpha", number(&Settings::alpha, "radius reduction alpha in (0, 1)")},
       {"threshold", number(&Settings::threshold, "P of the cross-generation rule (1 = classic PPM)")},
       {"max_bounces", number(&Settings::max_bounces, "longest photon path / eye specular chain")},
+      {"light_path_limits", number(&Settings::light_path_limits,
+                                   "honour total/diffuse/glossy/transmission_bounces as Cycles' Light Paths")},
+      {"total_bounces", number(&Settings::total_bounces, "light_path_limits: scatterings of a full path")},
+      {"diffuse_bounces", number(&Settings::diffuse_bounces, "light_path_limits: diffuse scatterings")},
+      {"glossy_bounces", number(&Settings::glossy_bounces, "light_path_limits: glossy scatterings")},
+      {"transmission_bounces",
+       number(&Settings::transmission_bounces, "light_path_limits: transmission scatterings")},
       {"samples_per_pixel", number(&Settings::samples_per_pixel, "jittered eye samples per pixel")},
       {"seed", number(&Settings::seed, "random seed")},
       {"threads", number(&Settings::threads, "worker threads, 0 = all cores")},
@@ -182,7 +189,7 @@ void bind_renderer(py::module_& m) {
              for (const auto& [k, v] : overrides) values[k] = v;
              const Settings s = settings_from(values);
              scene->build();
-             scene->check_energy_range(s.max_bounces);
+             scene->check_energy_range(s.path_bounces());
              return std::make_unique<Renderer>(scene, s);
            }),
            py::arg("scene"), py::arg("settings") = py::none())

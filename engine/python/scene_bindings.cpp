@@ -191,13 +191,14 @@ void add_light(Scene& s, const std::string& kind, const std::string& name, const
                const py::object& color_obj, const py::object& position, const py::object& direction,
                const py::object& matrix, const py::object& size, double radius, double spot_angle,
                double spot_blend, double angle, bool spot_cosine_falloff, bool soft_falloff,
-               const py::object& visible_to, bool cast_shadow, double spread) {
+               const py::object& visible_to, bool cast_shadow, double spread, int max_bounces) {
   const std::string what = "light '" + checked_name(name, "light") + "'";
   Light l;
   l.name = name;
   l.visibility = visibility(visible_to, what);
   l.cast_shadow = cast_shadow;
   l.spread = spread;
+  l.max_bounces = max_bounces;
   l.kind = choice<LightKind>(kind,
                              {{"point", LightKind::Point},
                               {"sphere", LightKind::Sphere},
@@ -420,6 +421,7 @@ void bind_scene(py::module_& m) {
            py::arg("radius") = 0.0, py::arg("spot_angle") = kPi / 4.0, py::arg("spot_blend") = 0.15,
            py::arg("angle") = 0.0, py::arg("spot_cosine_falloff") = false, py::arg("soft_falloff") = false,
            py::arg("visibility") = py::none(), py::arg("cast_shadow") = true, py::arg("spread") = kPi,
+           py::arg("max_bounces") = 1024,
            "Adds a light in Cycles units. point/sphere/spot: power in W (intensity P/(4 pi)); rectangle/disk: "
            "emitted flux in W; sun: irradiance in W/m^2. Orientation from `matrix` (Blender's: emits along "
            "local -Z) or from position/direction. radius: a point's or spot's sphere. spot_cosine_falloff: "
@@ -427,7 +429,8 @@ void bind_scene(py::module_& m) {
            "I cos/(d^2 + r^2) for direct light. spread: a rectangle's or disk's spread angle in radians, as "
            "Cycles' (pi: Lambertian). visibility: the ray kinds that see a light with a surface when they "
            "reach it (as for add_mesh; Blender lights leave out 'camera'); cast_shadow: False lights through "
-           "everything in the way.")
+           "everything in the way. max_bounces: Cycles' per-light Max Bounces, the longest path (in "
+           "scatterings) the light reaches; 1024 is no limit.")
       .def("set_camera", &set_camera, py::arg("matrix"), py::arg("width"), py::arg("height"),
            py::arg("projection") = "perspective", py::arg("fov") = 0.8575560591178853, py::arg("ortho_scale") = 7.0,
            py::arg("sensor_fit") = "auto", py::arg("shift_x") = 0.0, py::arg("shift_y") = 0.0,
@@ -438,30 +441,31 @@ void bind_scene(py::module_& m) {
            "metres, focal_length in metres (0: focus distance >> focal length).")
       .def(
           "set_background",
-          [](Scene& s, const py::object& c, const py::object& visible_to) {
-            s.set_background(color(c, "background", "color"), visibility(visible_to, "background"));
+          [](Scene& s, const py::object& c, const py::object& visible_to, int max_bounces) {
+            s.set_background(color(c, "background", "color"), visibility(visible_to, "background"), max_bounces);
           },
-          py::arg("color"), py::arg("visibility") = py::none(),
+          py::arg("color"), py::arg("visibility") = py::none(), py::arg("max_bounces") = 1024,
           "Constant background radiance in W/(m^2 sr). visibility: the ray kinds that see it when they "
-          "escape (as for add_mesh; its light on surfaces stays).")
+          "escape (as for add_mesh; its light on surfaces stays). max_bounces: as for add_light (the "
+          "world's Max Bounces).")
       .def(
           "set_environment",
           [](Scene& s, uint32_t texture, const py::object& rotation, const py::object& strength,
-             const std::string& projection, const py::object& visible_to) {
+             const std::string& projection, const py::object& visible_to, int max_bounces) {
             const Mat4 m = rotation.is_none() ? Mat4(1.0) : mat4(rotation, "environment", "world_to_texture");
             s.set_environment(texture, m, color(strength, "environment", "strength"),
                               choice<EnvironmentProjection>(projection,
                                                             {{"equirectangular", EnvironmentProjection::Equirectangular},
                                                              {"mirror_ball", EnvironmentProjection::MirrorBall}},
                                                             "environment", "projection"),
-                              visibility(visible_to, "environment"));
+                              visibility(visible_to, "environment"), max_bounces);
           },
           py::arg("texture"), py::arg("world_to_texture") = py::none(), py::arg("strength") = py::make_tuple(1.0, 1.0, 1.0),
-          py::arg("projection") = "equirectangular", py::arg("visibility") = py::none(),
+          py::arg("projection") = "equirectangular", py::arg("visibility") = py::none(), py::arg("max_bounces") = 1024,
           "The world as an image around the scene (Blender's Environment Texture): texture is an index "
           "from add_texture (linear radiance), looked up in the direction world_to_texture (a 4x4 "
           "rotation, the Mapping node's) gives, as Cycles maps 'equirectangular' or 'mirror_ball' "
-          "images; times strength (RGB). Replaces set_background; visibility as there.")
+          "images; times strength (RGB). Replaces set_background; visibility and max_bounces as there.")
       .def("build", &Scene::build, "Builds the BVH (done automatically by Renderer and intersect).")
       .def("intersect", &intersect, py::arg("origins"), py::arg("directions"), py::arg("threads") = 0,
            py::arg("ray_kind") = py::none(),

@@ -45,6 +45,9 @@ struct Light {
   // default), and whether its direct light is blocked by what is in the way.
   uint8_t visibility = kAllRayKinds;
   bool cast_shadow = true;
+  // Cycles' Max Bounces of a light (and the world's): the light reaches only the paths that
+  // continue from at most this many scatterings (bounce_limits.h). Cycles' default, 1024, is no limit.
+  int max_bounces = 1024;
   // Background: an image around the scene, or (nullptr) `power` from every direction.
   const Environment* environment = nullptr;
   // Emissive triangle.

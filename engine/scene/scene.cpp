@@ -39,6 +39,11 @@ void check_coordinates(const Vec3& v, const std::string& what, const std::string
                    number(kMaxCoordinate) + " m");
 }
 // Light power, irradiance or radiance: finite, >= 0 and at most kMaxPower.
+// Cycles' range for a light's Max Bounces.
+void check_max_bounces(int max_bounces, const std::string& what) {
+  if (max_bounces < 0 || max_bounces > 1024) fail(what, "max_bounces must be in [0, 1024]");
+}
+
 void check_power(const Color& c, const std::string& what, const std::string& field) {
   check_finite(c, 0.0, what, field);
   if (max_component(c) > kMaxPower)
@@ -250,6 +255,7 @@ void Scene::add_light(Light light) {
   if (light.kind == LightKind::Sun && !(light.cos_sun > -1.0 && light.cos_sun <= 1.0))
     fail(what, "sun angle must be in [0, pi]");
   if (!(light.spread > 1e-6 && light.spread <= kPi)) fail(what, "spread must be in (1e-6, pi]");
+  check_max_bounces(light.max_bounces, what);
   if (light.kind == LightKind::Background || light.kind == LightKind::Triangle)
     fail(what, "use set_background or an emissive material for this kind");
   user_lights_.push_back(light);
@@ -295,19 +301,22 @@ void Scene::set_camera(const Camera& c) {
   has_camera_ = true;
 }
 
-void Scene::set_background(const Color& radiance, uint8_t visibility) {
+void Scene::set_background(const Color& radiance, uint8_t visibility, int max_bounces) {
   ensure_mutable();
   check_power(radiance, "background", "radiance");
+  check_max_bounces(max_bounces, "background");
   background_ = radiance;
   environment_input_.reset();
   background_visibility_ = visibility;
+  background_max_bounces_ = max_bounces;
   invalidate();
 }
 
 void Scene::set_environment(uint32_t texture, const Mat4& world_to_texture, const Color& strength,
-                            EnvironmentProjection projection, uint8_t visibility) {
+                            EnvironmentProjection projection, uint8_t visibility, int max_bounces) {
   ensure_mutable();
   const std::string what = "environment";
+  check_max_bounces(max_bounces, what);
   if (texture >= textures_.size()) fail(what, "texture index out of range");
   check_power(strength, what, "strength");
   const Mat3 rotation(world_to_texture);
@@ -321,6 +330,7 @@ void Scene::set_environment(uint32_t texture, const Mat4& world_to_texture, cons
   environment_input_ = std::make_unique<EnvironmentInput>(EnvironmentInput{texture, rotation, strength, projection});
   background_ = Color(0.0);
   background_visibility_ = visibility;
+  background_max_bounces_ = max_bounces;
   invalidate();
 }
 
@@ -383,6 +393,7 @@ void Scene::build() {
     l.power = background_;
     l.environment = environment_.get();
     l.visibility = background_visibility_;
+    l.max_bounces = background_max_bounces_;
     prepare_light(l, light_bounds);
     lights_.push_back(l);
   }

@@ -83,9 +83,10 @@ class Scene {
   // add_texture) seen through the rotation `world_to_texture` and scaled by
   // `strength`. Either replaces the other. `visibility`: the RayKinds that see
   // it when they escape (its light on surfaces is not affected).
-  void set_background(const Color& radiance, uint8_t visibility = kAllRayKinds);
+  // `max_bounces` as Light::max_bounces.
+  void set_background(const Color& radiance, uint8_t visibility = kAllRayKinds, int max_bounces = 1024);
   void set_environment(uint32_t texture, const Mat4& world_to_texture, const Color& strength,
-                       EnvironmentProjection projection, uint8_t visibility = kAllRayKinds);
+                       EnvironmentProjection projection, uint8_t visibility = kAllRayKinds, int max_bounces = 1024);
 
   // A renderer reads the scene while it lives: builders refuse to change it then.
   void attach_renderer() const { ++renderers_; }
@@ -190,6 +191,7 @@ class Scene {
   std::unique_ptr<EnvironmentInput> environment_input_;  // null: the constant background_
   std::unique_ptr<Environment> environment_;             // built from it
   uint8_t background_visibility_ = kAllRayKinds;
+  int background_max_bounces_ = 1024;
   Camera camera_;
   bool has_camera_ = false;
 

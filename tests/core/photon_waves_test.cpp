@@ -69,19 +69,20 @@ TEST(PhotonWaves, SameDepositsAsOnePhotonAtATime) {
 
     std::vector<Deposit> waves;
     auto record = [](std::vector<Deposit>& out) {
-      return [&out](const Vec3& p, const Vec3& d, const Vec3& n, const Color& f) {
+      return [&out](const Vec3& p, const Vec3& d, const Vec3& n, const Color& f, const Bounces&) {
         out.push_back({p.x, p.y, p.z, d.x, d.y, d.z, n.x, n.y, n.z, f.x, f.y, f.z});
       };
     };
-    const uint64_t counted = trace_photons(scene, lights, settings, 0, photons, rng_of, record(waves));
+    const BounceLimits limits = BounceLimits::of(settings, scene);
+    const uint64_t counted = trace_photons(scene, lights, settings, limits, 0, photons, rng_of, record(waves));
 
     std::vector<Deposit> alone;
     uint64_t deposits = 0;
     int longest = 0;
     for (uint64_t i = 0; i < photons; ++i) {
-      PhotonPath p = emit_photon_path(scene, lights, rng_of(i));
+      PhotonPath p = emit_photon_path(scene, lights, limits, rng_of(i));
       Hit hit;
-      while (scene.intersect(p.ray, hit) && bounce_photon(scene, settings, p, &hit, record(alone), deposits)) {
+      while (scene.intersect(p.ray, hit) && bounce_photon(scene, settings, limits, p, &hit, record(alone), deposits)) {
       }
       longest = std::max(longest, p.bounce);
     }
