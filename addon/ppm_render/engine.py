@@ -15,7 +15,7 @@ import numpy as np
 
 from . import core, export, passes
 from .export.camera import Frame
-from .properties import core_settings, film_settings
+from .properties import core_settings, film_settings, light_path_settings
 
 DISPLAY_INTERVAL = 1.0  # seconds between refreshes of the render window
 
@@ -142,7 +142,8 @@ class PPMRenderEngine(bpy.types.RenderEngine):
         """Renders one view into its result; False after a failure."""
         scene = depsgraph.scene
         try:
-            renderer = ppm_core.Renderer(ppm_scene, **core_settings(scene.ppm), **film_settings(scene))
+            renderer = ppm_core.Renderer(ppm_scene, **core_settings(scene.ppm), **film_settings(scene),
+                                         **light_path_settings(scene))
         except Exception as error:  # noqa: BLE001 - every failure must reach the user
             self.fail(error)
             return False

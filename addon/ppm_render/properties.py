@@ -23,8 +23,14 @@ class PPMSceneSettings(bpy.types.PropertyGroup):
         name="Threshold (P)", default=30, min=1, soft_max=1000,
         description="Photons a hit point gathers before its radius shrinks; 1 = classic PPM")
     max_bounces: IntProperty(
-        name="Max Bounces", default=12, min=1, max=1024,
-        description="Longest photon path and eye specular chain")
+        name="Max Bounces", default=12, min=1, max=1000,
+        description="Longest photon path and eye specular chain (with Cycles Light Paths off)")
+    cycles_light_paths: BoolProperty(
+        name="Cycles Light Paths", default=False,
+        description="Limit bounces as the scene's Cycles settings do (Render Properties > Light Paths > Max "
+                    "Bounces: total, diffuse, glossy, transmission), to match a Cycles render; off, light "
+                    "bounces up to Max Bounces times of any kind. Lights' and the world's own Max Bounces "
+                    "are honoured either way")
     samples_per_pixel: IntProperty(
         name="Samples per Pixel", default=4, min=1, soft_max=64,
         description="Jittered eye samples per pixel (anti-aliasing)")
@@ -88,6 +94,19 @@ def film_settings(scene):
     cycles = getattr(scene, "cycles", None)
     return {"transparent_background": bool(scene.render.film_transparent),
             "transparent_glass": bool(getattr(cycles, "film_transparent_glass", False))}
+
+
+def light_path_settings(scene):
+    """Cycles' Light Paths > Max Bounces when the user asks for them (scene.ppm.cycles_light_paths),
+    read where the Cycles add-on is present; without it, Cycles' defaults."""
+    if not scene.ppm.cycles_light_paths:
+        return {"light_path_limits": False}
+    cycles = getattr(scene, "cycles", None)
+    limits = {"total_bounces": 12, "diffuse_bounces": 4, "glossy_bounces": 4, "transmission_bounces": 12}
+    if cycles is not None:
+        limits = {"total_bounces": cycles.max_bounces, "diffuse_bounces": cycles.diffuse_bounces,
+                  "glossy_bounces": cycles.glossy_bounces, "transmission_bounces": cycles.transmission_bounces}
+    return {"light_path_limits": True, **limits}
 
 
 classes = (PPMSceneSettings, PPMObjectSettings)

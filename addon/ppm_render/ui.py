@@ -77,7 +77,10 @@ class RENDER_PT_ppm_sampling(PPMRenderPanel, bpy.types.Panel):
         col.separator()
         col.prop(settings, "alpha")
         col.prop(settings, "threshold")
-        col.prop(settings, "max_bounces")
+        col.prop(settings, "cycles_light_paths")
+        sub = col.column()
+        sub.active = not settings.cycles_light_paths
+        sub.prop(settings, "max_bounces")
         col.prop(settings, "samples_per_pixel")
 
 

@@ -63,11 +63,35 @@ def test_settings_reach_the_core(spy, tmp_path):
     for key, value in values.items():
         assert renderer.settings[key] == pytest.approx(value), key
     assert set(spy.kwargs[-1]) == set(CORE_KEYS) | {"dof_mode", "hit_points", "transparent_background",
-                                                    "transparent_glass"}
+                                                    "transparent_glass", "light_path_limits"}
+    assert spy.kwargs[-1]["light_path_limits"] is False
     assert renderer.settings["dof_mode"] == "off" and renderer.settings["hit_points"] == "stochastic"
     stats = renderer.stats()
     assert stats["passes"] == 3
     assert stats["photons_emitted"] == 3 * 12_345
+
+
+def test_cycles_light_paths_reach_the_core(spy, tmp_path):
+    """With Cycles Light Paths on, the scene's Cycles Max Bounces go to the core; a light's and the
+    world's own Max Bounces go with them either way."""
+    scene = simple_scene()
+    cycles = scene.cycles
+    cycles.max_bounces, cycles.diffuse_bounces, cycles.glossy_bounces, cycles.transmission_bounces = 7, 1, 2, 3
+    lamp = next(o for o in scene.objects if o.type == "LIGHT")
+    lamp.data.cycles.max_bounces = 5
+    scene.world = bpy.data.worlds.new("limited world")
+    scene.world.cycles.max_bounces = 2
+    render_file(scene, tmp_path / "a.exr", passes=1, cycles_light_paths=True)
+    assert {k: spy.kwargs[-1][k] for k in ("light_path_limits", "total_bounces", "diffuse_bounces",
+                                           "glossy_bounces", "transmission_bounces")} == {
+        "light_path_limits": True, "total_bounces": 7, "diffuse_bounces": 1, "glossy_bounces": 2,
+        "transmission_bounces": 3}
+    renderer = spy.renderers[-1]
+    assert renderer.settings["light_path_limits"] is True and renderer.settings["diffuse_bounces"] == 1
+    assert export.visibility.own_max_bounces(lamp.data) == 5
+    assert export.visibility.own_max_bounces(scene.world) == 2
+    render_file(scene, tmp_path / "b.exr", passes=1, cycles_light_paths=False)
+    assert spy.kwargs[-1]["light_path_limits"] is False and "diffuse_bounces" not in spy.kwargs[-1]
 
 
 def test_an_animated_seed_differs_from_frame_to_frame():

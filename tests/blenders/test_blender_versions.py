@@ -60,7 +60,7 @@ def run_in_blender(version, zip_path, tmp_path, *args):
     run = subprocess.run(command, capture_output=True, text=True, timeout=900, env=env, cwd=str(tmp_path))
     assert run.returncode == 0 and report.exists(), run.stdout[-3000:] + run.stderr[-3000:]
     comparisons = ("cycles_compare", "lens_compare", "visibility_compare", "world_compare", "alpha_compare",
-                   "stereo_compare")
+                   "stereo_compare", "light_paths_compare")
     print("\n".join(line for line in run.stdout.splitlines() if line.startswith(comparisons)))
     return json.loads(report.read_text()), str(user)
 
@@ -93,6 +93,8 @@ def test_zip_installs_renders_and_agrees_with_cycles(version, addon_zip, tmp_pat
     assert len(alpha) == 6 and all(c <= TOLERANCE and a <= ALPHA_TOLERANCE for c, a in alpha.values()), alpha
     stereo = report["stereo"]
     assert max(stereo["max_block_error_L"], stereo["max_block_error_R"]) <= TOLERANCE and stereo["views_differ"] > 0.01
+    light_paths = {row["case"]: row["max_block_error"] for row in report["light_paths"]}
+    assert len(light_paths) == 5 and all(error <= TOLERANCE for error in light_paths.values()), light_paths
     assert report["addon_warnings"] == []
 
 

@@ -129,6 +129,7 @@ def add_light(core_scene, name, light_object, matrix, warn):
     m = np.array(matrix, dtype=float)
     kind = light.type
     seen = {"visibility": visibility.ray_visibility(light_object), "cast_shadow": visibility.casts_shadow(light),
+            "max_bounces": visibility.own_max_bounces(light),
             "color": node_emission(light, name, warn)}
     if light.energy < 0.0:
         raise ValueError("its power is negative (Cycles subtracts such a light's contribution; PPM does not "

@@ -1,5 +1,6 @@
 """Cycles' ray visibility of objects and lights (Object > Visibility > Ray Visibility), as the core's
-`visibility` lists of ray kinds, objects' Holdout, and whether a light casts shadows.
+`visibility` lists of ray kinds, objects' Holdout, whether a light casts shadows, and how many
+bounces a light or the world reaches.
 
 Volume scatter has no counterpart: the core has no volumes.
 """
@@ -27,3 +28,9 @@ def casts_shadow(light):
     if bpy.app.version < (4, 0, 0) and hasattr(cycles, "cast_shadow"):
         return bool(cycles.cast_shadow)
     return bool(getattr(light, "use_shadow", True))
+
+
+def own_max_bounces(light_or_world):
+    """A light's or the world's Cycles Max Bounces: the longest path it lights (1024, no limit, where
+    the Cycles add-on is absent)."""
+    return int(getattr(getattr(light_or_world, "cycles", None), "max_bounces", 1024))

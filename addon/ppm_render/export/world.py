@@ -4,7 +4,8 @@ ball, optionally turned by a Mapping node), times the strength.
 
 Reads the Background node feeding the active World Output. Anything else linked to its sockets falls
 back to the socket's own value with a warning. The world's ray visibility (World > Settings > Ray
-Visibility, `cycles_visibility`) decides which escaping rays see it.
+Visibility, `cycles_visibility`) decides which escaping rays see it, and its Max Bounces (World >
+Settings > Light Path) the longest path it lights.
 """
 
 import math
@@ -13,6 +14,7 @@ import numpy as np
 
 from . import image as image_export
 from . import nodes
+from .visibility import own_max_bounces
 
 PROJECTIONS = {"EQUIRECTANGULAR": "equirectangular", "MIRROR_BALL": "mirror_ball"}
 WORLD_RAY_FLAGS = ("camera", "diffuse", "glossy", "transmission", "shadow")
@@ -33,6 +35,10 @@ class WorldExporter:
     def __init__(self, core_scene, world, warn):
         self.scene, self.world, self.warn = core_scene, world, warn
 
+    def reach(self):
+        """The rays that see the world, and the paths it lights."""
+        return {"visibility": visibility(self.world), "max_bounces": own_max_bounces(self.world)}
+
     def unsupported(self, node, socket, source):
         self.warn(f"world '{self.world.name}': '{socket.name}' of node '{node.name}' is driven by "
                   f"'{source.name}' ({source.bl_idname}), which is not supported; using the socket's value")
@@ -43,7 +49,7 @@ class WorldExporter:
         if node is None:
             # A node tree with nothing connected renders black in Cycles; without nodes, the world colour.
             color = (0.0, 0.0, 0.0) if nodes.uses_nodes(self.world) else tuple(self.world.color)
-            self.scene.set_background(color, visibility=visibility(self.world))
+            self.scene.set_background(color, **self.reach())
             return
         if node.bl_idname != "ShaderNodeBackground":
             self.warn(f"world '{self.world.name}': node '{node.name}' ({node.bl_idname}) is not supported; "
@@ -61,7 +67,7 @@ class WorldExporter:
         if source is not None and source.bl_idname != "ShaderNodeTexEnvironment":
             self.unsupported(node, color_socket, source)
         color = tuple(float(c) * strength for c in tuple(color_socket.default_value)[:3])
-        self.scene.set_background(color, visibility=visibility(self.world))
+        self.scene.set_background(color, **self.reach())
 
     def add_environment(self, node, strength):
         """The Environment Texture `node` as the background; False (with a warning) if it cannot be."""
@@ -77,7 +83,7 @@ class WorldExporter:
             self.warn(f"image '{node.image.name}': {repaired}")
         self.scene.set_environment(texture, world_to_texture=self.mapping(node), strength=(strength,) * 3,
                                    projection=PROJECTIONS.get(node.projection, "equirectangular"),
-                                   visibility=visibility(self.world))
+                                   **self.reach())
         return True
 
     def mapping(self, node):

@@ -1,0 +1,120 @@
+"""PPM with *Cycles Light Paths* on against Cycles with the same Light Paths > Max Bounces, in the
+running Blender: the limits a user sets to match a Cycles render truncate PPM's light the same way.
+
+A closed bright room (albedo 0.8, where every further diffuse bounce still adds a lot) lit by a small
+sphere light, seen from inside, with a glass ball or a mirror ball in some cases. Cases: a limit on
+diffuse bounces, on the total, on transmission (the glass ball then shows only its reflections), on
+glossy bounces (no mirror), and a light's own Max Bounces with the scene's limits off. The same saved
+file is rendered by both engines (Cycles 512 samples, PPM 48 passes); the mean radiance of 4x3 image
+blocks must agree within 3%.
+
+    .venv/bin/python tests/blenders/light_paths_compare.py       # Blender 5.0 (bpy); likewise 4.2-5.2
+    blender -b --factory-startup --python-exit-code 1 -P tests/blenders/light_paths_compare.py
+"""
+
+import math
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+
+import bpy
+
+import cycles_compare
+
+# Cycles' Light Paths per case: (total, diffuse, glossy, transmission), and the light's own Max Bounces.
+CASES = {
+    "diffuse_1": ((12, 1, 4, 12), 1024),
+    "total_2": ((2, 12, 12, 12), 1024),
+    "glass_transmission_1": ((12, 2, 4, 1), 1024),
+    "mirror_glossy_0": ((12, 2, 0, 12), 1024),
+    "light_max_bounces_1": (None, 1),  # the scene's limits off in PPM, unlimited in Cycles
+}
+UNLIMITED = (64, 64, 64, 64)
+
+
+def glass_material(name):
+    mat = cycles_compare.diffuse_material(name, (1.0, 1.0, 1.0))
+    nodes = mat.node_tree.nodes
+    nodes.remove(next(n for n in nodes if n.bl_idname == "ShaderNodeBsdfDiffuse"))
+    glass = nodes.new("ShaderNodeBsdfGlass")
+    glass.inputs["Roughness"].default_value = 0.0
+    glass.inputs["IOR"].default_value = 1.5
+    out = next(n for n in nodes if n.bl_idname == "ShaderNodeOutputMaterial")
+    mat.node_tree.links.new(glass.outputs[0], out.inputs["Surface"])
+    return mat
+
+
+def ball(name, location, material):
+    bpy.ops.mesh.primitive_uv_sphere_add(segments=48, ring_count=24, radius=0.45, location=location)
+    obj = bpy.context.object
+    obj.name = name
+    bpy.ops.object.shade_smooth()
+    obj.data.materials.append(material)
+
+
+def build(case):
+    cycles_compare.reset()
+    scene = bpy.context.scene
+    bpy.ops.mesh.primitive_cube_add(size=1.0, location=(0.0, 0.0, 1.25))
+    room = bpy.context.object
+    room.scale = (4.0, 4.0, 2.5)
+    room.data.materials.append(cycles_compare.diffuse_material("room", (0.8, 0.8, 0.8)))
+    if case.startswith("glass"):
+        ball("glass", (0.3, 0.6, 0.45), glass_material("glass"))
+    if case.startswith("mirror"):
+        ball("mirror", (0.3, 0.6, 0.45), cycles_compare.glossy_material("mirror", (0.9, 0.9, 0.9)))
+    lamp = cycles_compare.add_light("AREA", 150.0, (-0.8, 0.4, 2.4), shape="DISK", size=0.6)
+    lamp.data.cycles.max_bounces = CASES[case][1]
+    cam = bpy.data.objects.new("camera", bpy.data.cameras.new("camera"))
+    cam.location, cam.rotation_euler = (0.0, -1.9, 1.2), (math.radians(80), 0.0, 0.0)
+    cam.data.lens = 20.0
+    scene.collection.objects.link(cam)
+    scene.camera = cam
+    render = scene.render
+    render.resolution_x, render.resolution_y, render.resolution_percentage = (cycles_compare.WIDTH,
+                                                                              cycles_compare.HEIGHT, 100)
+    render.image_settings.file_format, render.image_settings.color_depth = "OPEN_EXR", "32"
+    render.use_file_extension = False
+
+
+def set_limits(scene, limits):
+    c = scene.cycles
+    c.max_bounces, c.diffuse_bounces, c.glossy_bounces, c.transmission_bounces = limits
+
+
+def compare(case, workdir, samples, passes):
+    build(case)
+    limits = CASES[case][0]
+    blend = os.path.join(workdir, f"{case}.blend")
+    bpy.ops.wm.save_as_mainfile(filepath=blend)
+    images = {}
+    for engine in ("CYCLES", "PPM"):
+        bpy.ops.wm.open_mainfile(filepath=blend)
+        scene = bpy.context.scene
+        if engine == "CYCLES":
+            cycles_compare.configure_cycles(scene, samples)
+            set_limits(scene, limits or UNLIMITED)
+        else:
+            cycles_compare.configure_ppm(scene, passes)
+            scene.ppm.cycles_light_paths = limits is not None
+            set_limits(scene, limits or UNLIMITED)
+        images[engine] = cycles_compare.render_to_array(scene, os.path.join(workdir, f"{case}_{engine}.exr"))
+    cycles, ppm = (cycles_compare.block_means(images[e]) for e in ("CYCLES", "PPM"))
+    return {"blender": bpy.app.version_string, "cycles_mean": float(cycles.mean()), "ppm_mean": float(ppm.mean()),
+            "max_block_error": cycles_compare.worst_block_error(images), "blocks_cycles": cycles.round(5).tolist(),
+            "blocks_ppm": ppm.round(5).tolist()}
+
+
+def compare_cases(cases=tuple(CASES), samples=512, passes=48):
+    def one(case, workdir):
+        return compare(case, workdir, samples, passes)
+    return cycles_compare.run_cases("light_paths_compare", cases, one, cycles_compare.describe_blocks)
+
+
+def main():
+    cycles_compare.run_as_script("light_paths_compare", compare_cases, cycles_compare.beyond_tolerance)
+
+
+if __name__ == "__main__":
+    main()
