@@ -270,9 +270,9 @@ def render_to_array(scene, path, channels=3):
     return read_image(path)[..., :channels]
 
 
-def render_with_both_engines(name, workdir, samples, passes, bounces=4, channels=3):
+def render_with_both_engines(name, workdir, samples, passes, bounces=4, channels=3, configure=None):
     """{"CYCLES": rgb, "PPM": rgb} of the scene just built (RGBA with channels=4), saved once and opened
-    for each engine."""
+    for each engine; `configure(scene, engine)`, if given, adjusts each after the standard settings."""
     blend = os.path.join(workdir, f"{name}.blend")
     bpy.ops.wm.save_as_mainfile(filepath=blend)
     images = {}
@@ -280,6 +280,8 @@ def render_with_both_engines(name, workdir, samples, passes, bounces=4, channels
         bpy.ops.wm.open_mainfile(filepath=blend)
         scene = bpy.context.scene
         configure_cycles(scene, samples, bounces) if engine == "CYCLES" else configure_ppm(scene, passes)
+        if configure is not None:
+            configure(scene, engine)
         images[engine] = render_to_array(scene, os.path.join(workdir, f"{name}_{engine}.exr"), channels)
     return images
 
@@ -298,10 +300,11 @@ def worst_block_error(images, channel=None):
     return float(np.abs((ppm - cycles) / np.maximum(cycles, DARK)).max())
 
 
-def block_comparison(name, workdir, samples, passes, bounces=4, per_channel=False):
-    """Renders the scene just built with both engines: their 4x3 block means and the worst relative
-    error (absolute below DARK); with per_channel, the worst over R, G and B too."""
-    images = render_with_both_engines(name, workdir, samples, passes, bounces)
+def block_comparison(name, workdir, samples, passes, bounces=4, per_channel=False, configure=None):
+    """Renders the scene just built with both engines (`configure` as for render_with_both_engines):
+    their 4x3 block means and the worst relative error (absolute below DARK); with per_channel, the
+    worst over R, G and B too."""
+    images = render_with_both_engines(name, workdir, samples, passes, bounces, configure=configure)
     cycles, ppm = (block_means(images[e]) for e in ("CYCLES", "PPM"))
     row = {"blender": bpy.app.version_string, "cycles_mean": float(cycles.mean()), "ppm_mean": float(ppm.mean()),
            "max_block_error": worst_block_error(images), "blocks_cycles": cycles.round(5).tolist(),

@@ -78,32 +78,17 @@ def build(case):
     render.use_file_extension = False
 
 
-def set_limits(scene, limits):
-    c = scene.cycles
-    c.max_bounces, c.diffuse_bounces, c.glossy_bounces, c.transmission_bounces = limits
-
-
 def compare(case, workdir, samples, passes):
     build(case)
     limits = CASES[case][0]
-    blend = os.path.join(workdir, f"{case}.blend")
-    bpy.ops.wm.save_as_mainfile(filepath=blend)
-    images = {}
-    for engine in ("CYCLES", "PPM"):
-        bpy.ops.wm.open_mainfile(filepath=blend)
-        scene = bpy.context.scene
-        if engine == "CYCLES":
-            cycles_compare.configure_cycles(scene, samples)
-            set_limits(scene, limits or UNLIMITED)
-        else:
-            cycles_compare.configure_ppm(scene, passes)
+
+    def set_limits(scene, engine):
+        c = scene.cycles
+        c.max_bounces, c.diffuse_bounces, c.glossy_bounces, c.transmission_bounces = limits or UNLIMITED
+        if engine == "PPM":
             scene.ppm.cycles_light_paths = limits is not None
-            set_limits(scene, limits or UNLIMITED)
-        images[engine] = cycles_compare.render_to_array(scene, os.path.join(workdir, f"{case}_{engine}.exr"))
-    cycles, ppm = (cycles_compare.block_means(images[e]) for e in ("CYCLES", "PPM"))
-    return {"blender": bpy.app.version_string, "cycles_mean": float(cycles.mean()), "ppm_mean": float(ppm.mean()),
-            "max_block_error": cycles_compare.worst_block_error(images), "blocks_cycles": cycles.round(5).tolist(),
-            "blocks_ppm": ppm.round(5).tolist()}
+
+    return cycles_compare.block_comparison(case, workdir, samples, passes, configure=set_limits)
 
 
 def compare_cases(cases=tuple(CASES), samples=512, passes=48):
