@@ -16,7 +16,6 @@ namespace ppm {
 struct EyePassOptions {
   int threads = 1;
   bool follow_specular = true;  // false when the scene has no specular surface (skip the branching)
-  bool use_textures = true;
   int samples_per_pixel = 4;
   uint64_t generation = 0;      // stochastic PPM draws new eye samples every pass
   bool lens = false;            // sample the aperture (thin lens)

@@ -55,6 +55,12 @@ struct HitPoints {
   std::vector<float> depth;           // per pixel: mean view-axis depth of the first hit (inf: none); optional
   FillVector<Bounces> chain;          // with bounce limits: each eye chain's scatterings (bounce_limits.h)
   size_t size() const { return points.size(); }
+  size_t memory_bytes() const {
+    return points.capacity() * sizeof(HitPoint) + shading.capacity() * sizeof(HitPointShading) +
+           stats.capacity() * sizeof(HitPointStats) + pixel_begin.capacity() * sizeof(uint32_t) +
+           emitted.capacity() * sizeof(Color) + transparency.capacity() * sizeof(double) +
+           depth.capacity() * sizeof(float) + chain.capacity() * sizeof(Bounces);
+  }
 };
 
 }  // namespace ppm

@@ -18,10 +18,6 @@ SceneAnalysis analyse_scene(const Scene& scene, const LightSampler& lights, cons
     a.follow_specular = false;
     a.skipped.push_back("eye specular chains: no mirror or glass material");
   }
-  if (scene.textures().empty()) {
-    a.use_textures = false;
-    a.skipped.push_back("texture lookups: no textures");
-  }
   if (lights.dropped() > 0)
     a.skipped.push_back("zero-power lights: " + std::to_string(lights.dropped()) + " left out of sampling");
   const bool photons_direct = settings.direct_light == DirectLight::Photons;

@@ -13,7 +13,6 @@ namespace ppm {
 
 struct SceneAnalysis {
   bool follow_specular = true;      // eye pass follows mirror/glass chains
-  bool use_textures = true;
   bool trace_photons = true;        // photon passes can add anything
   bool resample_direct = true;      // direct light needs a new sample every pass
   bool sample_direct = true;        // direct light sampled at all

@@ -69,7 +69,7 @@ bool safe_normalize(const Vec3& v, Vec3& out) {
 }  // namespace
 
 void Scene::ensure_mutable() const {
-  if (renderers_ > 0)
+  if (leases_.count.load() > 0)
     throw std::runtime_error("scene: cannot change a scene while a Renderer uses it; build a new Scene");
 }
 

@@ -14,6 +14,7 @@
 #include "scene/material.h"
 #include "scene/texture.h"
 
+#include <atomic>
 #include <memory>
 #include <string>
 #include <vector>
@@ -88,9 +89,19 @@ class Scene {
   void set_environment(uint32_t texture, const Mat4& world_to_texture, const Color& strength,
                        EnvironmentProjection projection, uint8_t visibility = kAllRayKinds, int max_bounces = 1024);
 
-  // A renderer reads the scene while it lives: builders refuse to change it then.
-  void attach_renderer() const { ++renderers_; }
-  void detach_renderer() const { --renderers_; }
+  // Renderers read a scene from their own threads without locks, so while one
+  // holds a Lease on it the builders refuse to change it (std::runtime_error).
+  // Leases may be taken and dropped on any thread at once: the count is atomic.
+  class Lease {
+   public:
+    explicit Lease(const Scene& scene) : scene_(scene) { scene_.leases_.count.fetch_add(1); }
+    ~Lease() { scene_.leases_.count.fetch_sub(1); }
+    Lease(const Lease&) = delete;
+    Lease& operator=(const Lease&) = delete;
+
+   private:
+    const Scene& scene_;
+  };
 
   // Builds the BVH and prepares the lights. Idempotent; builders called after it rebuild.
   void build();
@@ -201,7 +212,14 @@ class Scene {
   double offset_floor_ = 1e-12;
   bool interleave_ = false;  // BVH larger than kInterleaveBytes
   bool built_ = false;
-  mutable int renderers_ = 0;
+  // The leases on this scene. Movable so that Scene is (a leased scene is never moved: its
+  // renderers hold it by shared_ptr).
+  struct LeaseCount {
+    std::atomic<int> count{0};
+    LeaseCount() = default;
+    LeaseCount(LeaseCount&& other) noexcept : count(other.count.load()) {}
+  };
+  mutable LeaseCount leases_;
 };
 
 }  // namespace ppm

@@ -1,0 +1,36 @@
+// The two estimators the renderer can run, behind one interface: the render
+// loop (renderer.cpp) is the same for both.
+//   FixedHitPoints (fixed_hit_points.h): progressive photon mapping (Hachisuka
+//     et al. 2008), one eye pass, statistics kept per hit point;
+//   StochasticHitPoints (stochastic_hit_points.h): stochastic PPM (Hachisuka &
+//     Jensen 2009), new eye samples every pass, statistics kept per pixel.
+#pragma once
+
+#include "ppm/render_context.h"
+
+#include <memory>
+
+namespace ppm {
+
+struct PixelValue {
+  Color radiance;       // premultiplied by 1 - transparency, as Blender expects
+  double transparency;  // the share of the pixel's eye samples that leave it transparent
+};
+
+class Estimator {
+ public:
+  virtual ~Estimator() = default;
+  // Before the first pass (fixed: the eye pass). False if cancelled; then called again.
+  virtual bool prepare(const Poll& poll) = 0;
+  // One pass: photons, direct light, the progressive update. False if cancelled.
+  virtual bool pass(const Poll& poll) = 0;
+  // Pixel p (row 0 at the bottom) after the passes so far; only once prepared.
+  virtual PixelValue pixel(size_t p) const = 0;
+  virtual double radius_mean() const = 0;
+  virtual size_t memory_bytes() const = 0;
+};
+
+// The estimator `context.settings.hit_points` names; `context` must outlive it.
+std::unique_ptr<Estimator> make_estimator(RenderContext& context);
+
+}  // namespace ppm

@@ -1,0 +1,27 @@
+// Progressive photon mapping with fixed hit points (Hachisuka et al. 2008):
+// one eye pass records the hit points, every photon pass adds to their
+// statistics, and a pixel is the sum of its hit points' estimates.
+#pragma once
+
+#include "ppm/estimator.h"
+
+namespace ppm {
+
+class FixedHitPoints : public Estimator {
+ public:
+  explicit FixedHitPoints(RenderContext& context) : c_(context) {}
+  bool prepare(const Poll& poll) override;
+  bool pass(const Poll& poll) override;
+  PixelValue pixel(size_t p) const override;
+  double radius_mean() const override;
+  size_t memory_bytes() const override { return hit_points_.memory_bytes(); }
+
+ private:
+  void widen_to_photon_spacing();
+  void report_empty_pixels();
+
+  RenderContext& c_;
+  HitPoints hit_points_;
+};
+
+}  // namespace ppm

@@ -1,0 +1,110 @@
+// The shared part of a render (see render_context.h).
+#include "ppm/render_context.h"
+
+#include "post/dof_post.h"
+#include "ppm/photon_density_radius.h"
+#include "ppm/progressive.h"
+
+#include <stdexcept>
+#include <thread>
+
+namespace ppm {
+namespace {
+
+int resolve_threads(int requested) {
+  if (requested > 0) return requested;
+  const unsigned hw = std::thread::hardware_concurrency();
+  return hw > 0 ? static_cast<int>(hw) : 1;
+}
+
+const Scene& checked(const std::shared_ptr<const Scene>& scene) {
+  if (!scene) throw std::invalid_argument("Renderer: scene is null");
+  if (!scene->built()) throw std::invalid_argument("Renderer: scene is not built");
+  if (!scene->has_camera()) throw std::invalid_argument("Renderer: the scene has no camera (call set_camera)");
+  return *scene;
+}
+
+}  // namespace
+
+RenderContext::RenderContext(std::shared_ptr<const Scene> scene_in, const Settings& settings_in)
+    : scene(std::move(scene_in)),
+      settings((settings_in.validate(), settings_in)),
+      lease(checked(scene)),
+      threads(resolve_threads(settings.threads)),
+      lights(scene->lights(), settings.scene_analysis),
+      analysis(analyse_scene(*scene, lights, settings)),
+      photon_pass(settings, threads) {
+  stats.threads = threads;
+  stats.skipped = analysis.skipped;
+  decide_depth_of_field();
+}
+
+// Depth of field costs a depth buffer and a blur (POST) or lens sampling
+// (LENS); skip both when it is off or cannot blur anything by a pixel.
+void RenderContext::decide_depth_of_field() {
+  const Camera& cam = scene->camera();
+  if (settings.dof_mode == DofMode::Off) {
+    stats.skipped.push_back("depth of field: off (no depth buffer, blur or lens sampling)");
+    return;
+  }
+  const Aabb b = scene->bounds();
+  double near = kInf, far = 0.0;
+  for (int i = 0; i < 8 && !b.empty(); ++i) {
+    const Vec3 corner((i & 1) ? b.hi.x : b.lo.x, (i & 2) ? b.hi.y : b.lo.y, (i & 4) ? b.hi.z : b.lo.z);
+    const double z = cam.depth_of(corner);
+    near = std::fmin(near, z);
+    far = std::fmax(far, z);
+  }
+  if (settings.scene_analysis && (b.empty() || far <= 0.0 || max_coc_pixels(cam, near, far) < 1.0)) {
+    stats.skipped.push_back("depth of field: circle of confusion under a pixel over the scene's depth range");
+    return;
+  }
+  dof_post = settings.dof_mode == DofMode::Post;
+  dof_lens = settings.dof_mode == DofMode::Lens;
+}
+
+EyePassOptions RenderContext::eye_options(uint64_t generation, int samples_per_pixel) const {
+  EyePassOptions o;
+  o.threads = threads;
+  o.follow_specular = analysis.follow_specular;
+  o.samples_per_pixel = samples_per_pixel;
+  o.generation = generation;
+  o.lens = dof_lens;
+  o.record_depth = dof_post && depth.empty();
+  return o;
+}
+
+bool RenderContext::measure_photon_spacing_once(const HitPoints& hp, const Poll& poll) {
+  if (spacing_measured || !settings.density_radius || settings.initial_radius > 0.0 || !analysis.trace_photons ||
+      hp.size() == 0)
+    return true;
+  double start = 0.0;  // where the neighbour search begins: the hit points' mean radius
+  for (const HitPoint& h : hp.points) start += std::sqrt(h.r2);
+  PhotonSpacing spacing;
+  if (!measure_photon_spacing(*scene, lights, settings, threads, start / hp.size(), cancel, poll, spacing))
+    return false;
+  spacing_measured = true;
+  min_initial_r2 = spacing.radius * spacing.radius;
+  stats.photon_spacing = spacing.radius;
+  stats.density_radius_seconds = spacing.seconds;
+  return true;
+}
+
+bool RenderContext::trace_photons(HitPoints& hp, uint64_t pass, const Poll& poll, PhotonPassCounters& counters) {
+  if (!analysis.trace_photons) {
+    counters.emitted += settings.photons_per_pass;  // an empty pass still counts its photons
+    return true;
+  }
+  return photon_pass.run(*scene, lights, pass, hp, cancel, poll, counters);
+}
+
+Color RenderContext::photon_radiance(double r2, const HitPointStats& s) const {
+  if (!analysis.trace_photons) return Color(0.0);
+  return ppm::photon_radiance(r2, s, static_cast<double>(stats.photon.emitted), lights.flux_unit());
+}
+
+size_t RenderContext::memory_bytes() const {
+  return depth.capacity() * sizeof(float) + photon_pass.memory_bytes() + direct_scratch.capacity() * sizeof(Color);
+}
+
+}  // namespace ppm

@@ -1,0 +1,57 @@
+// What the two estimators (fixed_hit_points.h, stochastic_hit_points.h) share
+// of a render: the scene and settings and what is derived from them once, the
+// pass machinery, and the statistics they report.
+#pragma once
+
+#include "ppm/eye_pass.h"
+#include "ppm/photon_pass.h"
+#include "ppm/render_stats.h"
+#include "ppm/scene_analysis.h"
+#include "ppm/settings.h"
+#include "scene/light_sampler.h"
+#include "scene/scene.h"
+
+#include <atomic>
+#include <functional>
+#include <memory>
+#include <vector>
+
+namespace ppm {
+
+using Poll = std::function<bool()>;  // false: cancel (the pass in progress is dropped)
+
+struct RenderContext {
+  RenderContext(std::shared_ptr<const Scene> scene, const Settings& settings);
+
+  // The options of an eye pass with `samples_per_pixel`; `generation` numbers its random samples.
+  EyePassOptions eye_options(uint64_t generation, int samples_per_pixel) const;
+  // The photons' spacing, once per render, before any initial radius is set (automatic radii
+  // only): `min_initial_r2` is then its square. False if cancelled.
+  bool measure_photon_spacing_once(const HitPoints& hp, const Poll& poll);
+  // One pass's photons into the hit points' pending statistics, counted in `counters` (a copy
+  // the caller keeps once the pass completes). With nothing to trace, only their number.
+  bool trace_photons(HitPoints& hp, uint64_t pass, const Poll& poll, PhotonPassCounters& counters);
+  // Radiance of the photons gathered at radius^2 `r2` into `s`, over the photons emitted so far.
+  Color photon_radiance(double r2, const HitPointStats& s) const;
+  size_t memory_bytes() const;
+
+  std::shared_ptr<const Scene> scene;
+  Settings settings;
+  Scene::Lease lease;  // the scene refuses changes while this render lives
+  int threads;
+  LightSampler lights;
+  SceneAnalysis analysis;
+  PhotonPass photon_pass;
+  std::vector<Color> direct_scratch;  // direct_light_pass's sums, kept so that no pass allocates
+  bool dof_post = false, dof_lens = false;
+  std::vector<float> depth;  // per pixel, bottom row first like the eye pass (POST depth of field)
+  double min_initial_r2 = 0.0;  // floor for automatic initial radii (photon_density_radius.h)
+  bool spacing_measured = false;
+  std::atomic<bool> cancel{false};
+  RenderStats stats;
+
+ private:
+  void decide_depth_of_field();
+};
+
+}  // namespace ppm

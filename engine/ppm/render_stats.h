@@ -1,0 +1,38 @@
+// What a render reports: progress to its callback while it runs, and its
+// statistics (Renderer::stats()) between runs.
+#pragma once
+
+#include "ppm/photon_pass.h"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace ppm {
+
+struct Progress {
+  uint64_t passes;
+  uint64_t photons_emitted;
+  double seconds;  // since this run() started
+};
+
+struct RenderStats {
+  uint64_t passes = 0;
+  uint64_t photons_emitted = 0;
+  uint64_t photons_deposited = 0;
+  uint64_t hit_points = 0;
+  uint64_t direct_samples = 0;  // direct-light samples per hit point so far
+  double eye_seconds = 0, direct_seconds = 0, update_seconds = 0, total_seconds = 0;
+  PhotonPassCounters photon;
+  bool cancelled = false;
+  size_t memory_bytes = 0;
+  int threads = 1;
+  double initial_radius_mean = 0.0;
+  double photon_spacing = 0.0;  // floor of the automatic initial radius (photon_density_radius.h); 0 if none
+  uint64_t radii_widened = 0;   // hit points (fixed) or pixels (stochastic) whose initial radius it raised
+  double density_radius_seconds = 0.0;
+  double radius_mean = 0.0;
+  std::vector<std::string> skipped;
+};
+
+}  // namespace ppm

@@ -1,0 +1,53 @@
+"""The two estimators behind the render loop (engine/ppm/estimator.h): fixed hit points (PPM) and
+stochastic hit points (SPPM) reach the same known answer, keep their statistics where they should,
+and drop a cancelled pass without a trace."""
+
+import numpy as np
+import pytest
+
+import core_scenes
+import ppm_core
+
+RADIUS, ALBEDO, POWER = 1.0, 0.5, 100.0
+EXPECTED = core_scenes.expected_closed_sphere_radiance(RADIUS, ALBEDO, POWER)
+
+
+def closed_sphere(hit_points, **settings):
+    scene = core_scenes.closed_sphere_with_point_light(radius=RADIUS, albedo=ALBEDO, power=POWER)
+    return ppm_core.Renderer(scene, photons_per_pass=20_000, threads=2, hit_points=hit_points, **settings)
+
+
+@pytest.mark.parametrize("hit_points", ["fixed", "stochastic"])
+def test_both_estimators_reach_the_closed_sphere_radiance(hit_points):
+    renderer = closed_sphere(hit_points)
+    renderer.run(passes=60)
+    assert renderer.image()[..., :3].mean() == pytest.approx(EXPECTED, rel=0.015)
+
+
+def test_fixed_hit_points_come_from_one_eye_pass_and_stochastic_from_each_pass():
+    fixed, stochastic = closed_sphere("fixed", samples_per_pixel=4), closed_sphere("stochastic")
+    for renderer in (fixed, stochastic):
+        renderer.run(passes=3)
+    pixels = 32 * 32  # every pixel of the closed sphere sees its wall
+    assert fixed.stats()["hit_points"] == 4 * pixels
+    assert stochastic.stats()["hit_points"] == pixels  # the latest pass's, one eye sample per pixel
+    assert fixed.stats()["seconds"]["eye_pass"] > 0.0 and stochastic.stats()["seconds"]["eye_pass"] > 0.0
+
+
+@pytest.mark.parametrize("hit_points", ["fixed", "stochastic"])
+def test_a_cancelled_pass_leaves_no_trace(hit_points):
+    renderer = closed_sphere(hit_points, progress_interval=1e-6)
+    renderer.run(passes=2)
+    before, stats = renderer.image(), renderer.stats()
+    calls = []
+
+    def cancel_inside_the_pass(info):
+        calls.append(info)
+        return False
+
+    assert renderer.run(passes=1, callback=cancel_inside_the_pass) == 0
+    assert calls, "the callback should have been called inside the pass"
+    after = renderer.stats()
+    assert after["cancelled"] and after["passes"] == stats["passes"]
+    assert after["photons_emitted"] == stats["photons_emitted"]
+    assert np.array_equal(renderer.image(), before)
