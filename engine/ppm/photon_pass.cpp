@@ -228,11 +228,35 @@ template <class Grid>
 bool PhotonPass::run_photon_index(Grid& grid, const Scene& scene, const LightSampler& lights, uint64_t pass,
                                   HitPoints& hp, std::atomic<bool>& cancel, const std::function<bool()>& poll,
                                   PhotonPassCounters& counters) {
+  const size_t chunks = (settings_.photons_per_pass + kPhotonChunk - 1) / kPhotonChunk;
   auto t0 = std::chrono::steady_clock::now();
+  if (!trace_into_chunks(scene, lights, pass, chunks, cancel, poll)) return false;
+  counters.trace_seconds += seconds_since(t0);
+  t0 = std::chrono::steady_clock::now();
+  size_t count = 0;
+  if (!run_polled([&] { count = index_photons(grid, chunks, hp); }, cancel, poll, settings_.progress_interval))
+    return false;
+  counters.index_seconds += seconds_since(t0);
+  t0 = std::chrono::steady_clock::now();
+  if (!gather_at_hit_points(grid, scene, hp, cancel, poll)) return false;
+  parallel_for(threads_, hp.size(), [&](size_t begin, size_t end) {
+    for (size_t i = begin; i < end; ++i) {
+      hp.stats[i].m += gathered_m_[i];
+      hp.stats[i].tau_m += gathered_tau_[i];
+    }
+  });
+  counters.deposited += count;
+  counters.emitted += settings_.photons_per_pass;
+  counters.gather_seconds += seconds_since(t0);
+  return true;
+}
+
+// The pass's photons, traced in parallel into one buffer per chunk (kept across
+// passes): merged in chunk order, the photon list is the same whichever thread
+// traced which chunk.
+bool PhotonPass::trace_into_chunks(const Scene& scene, const LightSampler& lights, uint64_t pass, size_t chunks,
+                                   std::atomic<bool>& cancel, const std::function<bool()>& poll) {
   const uint64_t photons = settings_.photons_per_pass;
-  const size_t chunks = (photons + kPhotonChunk - 1) / kPhotonChunk;
-  // One buffer per chunk (kept across passes): merged in chunk order, the
-  // photon list is the same whichever thread traced which chunk.
   if (chunk_photons_.size() < chunks) chunk_photons_.resize(chunks);
   auto trace = [&](int, size_t chunk) {
     auto& buffer = chunk_photons_[chunk];
@@ -245,15 +269,13 @@ bool PhotonPass::run_photon_index(Grid& grid, const Scene& scene, const LightSam
           buffer.push_back(Photon{pos, Vec3f(dir), Vec3f(normal), Vec3f(flux), used});
         });
   };
-  if (!parallel_chunks(threads_, chunks, trace, cancel, poll, settings_.progress_interval)) return false;
-  counters.trace_seconds += seconds_since(t0);
-  t0 = std::chrono::steady_clock::now();
-  size_t count = 0;
-  if (!run_polled([&] { count = index_photons(grid, chunks, hp); }, cancel, poll, settings_.progress_interval))
-    return false;
-  counters.index_seconds += seconds_since(t0);
+  return parallel_chunks(threads_, chunks, trace, cancel, poll, settings_.progress_interval);
+}
 
-  t0 = std::chrono::steady_clock::now();
+// Every hit point sums the indexed photons within its radius into gathered_m_ and gathered_tau_.
+template <class Grid>
+bool PhotonPass::gather_at_hit_points(const Grid& grid, const Scene& scene, const HitPoints& hp,
+                                      std::atomic<bool>& cancel, const std::function<bool()>& poll) {
   const size_t n = hp.size(), hchunks = (n + kHitPointChunk - 1) / kHitPointChunk;
   gathered_m_.resize(n);
   gathered_tau_.resize(n);
@@ -312,17 +334,7 @@ bool PhotonPass::run_photon_index(Grid& grid, const Scene& scene, const LightSam
       gathered_tau_[i] = tau;
     }
   };
-  if (!parallel_chunks(threads_, hchunks, gather, cancel, poll, settings_.progress_interval)) return false;
-  parallel_for(threads_, n, [&](size_t begin, size_t end) {
-    for (size_t i = begin; i < end; ++i) {
-      hp.stats[i].m += gathered_m_[i];
-      hp.stats[i].tau_m += gathered_tau_[i];
-    }
-  });
-  counters.deposited += count;
-  counters.emitted += photons;
-  counters.gather_seconds += seconds_since(t0);
-  return true;
+  return parallel_chunks(threads_, hchunks, gather, cancel, poll, settings_.progress_interval);
 }
 
 size_t PhotonPass::memory_bytes() const {

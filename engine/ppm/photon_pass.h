@@ -67,8 +67,14 @@ class PhotonPass {
   bool run_photon_index(Grid& grid, const Scene& scene, const LightSampler& lights, uint64_t pass,
                         HitPoints& hp, std::atomic<bool>& cancel, const std::function<bool()>& poll,
                         PhotonPassCounters& counters);
+  // The three steps of a Photons-organisation pass.
+  bool trace_into_chunks(const Scene& scene, const LightSampler& lights, uint64_t pass, size_t chunks,
+                         std::atomic<bool>& cancel, const std::function<bool()>& poll);
   template <class Grid>
   size_t index_photons(Grid& grid, size_t chunks, const HitPoints& hp);
+  template <class Grid>
+  bool gather_at_hit_points(const Grid& grid, const Scene& scene, const HitPoints& hp, std::atomic<bool>& cancel,
+                            const std::function<bool()>& poll);
   void build_hit_point_index(const HitPoints& hp, PhotonPassCounters& counters);
   double mean_r2(const HitPoints& hp) const;
 
