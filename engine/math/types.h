@@ -51,6 +51,14 @@ inline Vec3 offset_point(const Vec3& p, const Vec3& geometric_normal, const Vec3
 }
 
 // Orthonormal basis around a unit vector (Duff et al. 2017).
+// Direction / length without overflow or underflow in the length; false for zero or non-finite.
+inline bool unit_direction(const Vec3& v, Vec3& out) {
+  const double m = max_abs(v);
+  if (!(m > 0.0) || !std::isfinite(m)) return false;
+  out = glm::normalize(v / m);
+  return true;
+}
+
 inline void make_basis(const Vec3& n, Vec3& t, Vec3& b) {
   const double sign = std::copysign(1.0, n.z);
   const double a = -1.0 / (sign + n.z);

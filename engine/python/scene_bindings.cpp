@@ -55,14 +55,6 @@ uint8_t visibility(const py::object& names, const std::string& what) {
   return mask;
 }
 
-// Direction / length without overflow or underflow in the length; false for zero or non-finite.
-bool unit(const Vec3& v, Vec3& out) {
-  const double m = max_abs(v);
-  if (!(m > 0.0) || !std::isfinite(m)) return false;
-  out = glm::normalize(v / m);
-  return true;
-}
-
 // Byte pixels are kept as bytes (a memoryview of a Blender ImBuf, or uint8
 // numpy); anything else becomes float32 (no copy if it already is) and is
 // converted to the storage. The conversion runs without the GIL.
@@ -193,59 +185,38 @@ void add_light(Scene& s, const std::string& kind, const std::string& name, const
                double spot_blend, double angle, bool spot_cosine_falloff, bool soft_falloff,
                const py::object& visible_to, bool cast_shadow, double spread, int max_bounces) {
   const std::string what = "light '" + checked_name(name, "light") + "'";
-  Light l;
-  l.name = name;
-  l.visibility = visibility(visible_to, what);
-  l.cast_shadow = cast_shadow;
-  l.spread = spread;
-  l.max_bounces = max_bounces;
-  l.kind = choice<LightKind>(kind,
-                             {{"point", LightKind::Point},
-                              {"sphere", LightKind::Sphere},
-                              {"spot", LightKind::Spot},
-                              {"rectangle", LightKind::Rectangle},
-                              {"disk", LightKind::Disk},
-                              {"sun", LightKind::Sun}},
-                             what, "kind");
-  l.power = color(power, what, "power") * color(color_obj, what, "color");
-  Vec3 u(1, 0, 0), v(0, 1, 0);
-  if (!matrix.is_none()) {
-    // Blender's light matrix: emits along local -Z, size along local X and Y.
-    const Mat4 m = mat4(matrix, what, "matrix");
-    l.position = Vec3(m[3]);
-    l.direction = -Vec3(m[2]);
-    u = Vec3(m[0]);
-    v = Vec3(m[1]);
-  } else {
-    if (!position.is_none()) l.position = vec3(position, what, "position");
-    if (!direction.is_none()) l.direction = vec3(direction, what, "direction");
-    Vec3 d;
-    if (unit(l.direction, d)) make_basis(d, u, v);
-  }
-  double sx = 1.0, sy = 1.0;
+  LightSpec spec;
+  spec.name = name;
+  spec.kind = choice<LightKind>(kind,
+                                {{"point", LightKind::Point},
+                                 {"sphere", LightKind::Sphere},
+                                 {"spot", LightKind::Spot},
+                                 {"rectangle", LightKind::Rectangle},
+                                 {"disk", LightKind::Disk},
+                                 {"sun", LightKind::Sun}},
+                                what, "kind");
+  spec.visibility = visibility(visible_to, what);
+  spec.power = color(power, what, "power") * color(color_obj, what, "color");
+  spec.has_matrix = !matrix.is_none();
+  if (spec.has_matrix) spec.matrix = mat4(matrix, what, "matrix");
+  if (!position.is_none()) spec.position = vec3(position, what, "position");
+  if (!direction.is_none()) spec.direction = vec3(direction, what, "direction");
   if (!size.is_none()) {
     const DoubleArray a = numbers_or_null(size);
     if (!a || (a.size() != 1 && a.size() != 2)) fail(what, "size must be one number or (size_x, size_y)");
-    sx = a.data()[0];
-    sy = a.data()[a.size() - 1];
+    spec.size_x = a.data()[0];
+    spec.size_y = a.data()[a.size() - 1];
   }
-  if (!(sx > 0.0 && sy > 0.0 && std::isfinite(sx) && std::isfinite(sy))) {
-    if (l.kind == LightKind::Rectangle || l.kind == LightKind::Disk) fail(what, "size must be positive");
-  }
-  l.axis_u = u * (0.5 * sx);
-  l.axis_v = v * (0.5 * sy);
-  l.radius = radius;
-  if (l.kind == LightKind::Point && radius > 0.0) l.kind = LightKind::Sphere;  // Blender: a point with a radius
-  if (!std::isfinite(radius) || radius < 0.0) fail(what, "radius must be >= 0");
-  if (!(spot_angle > 0.0 && spot_angle <= 2.0 * kPi)) fail(what, "spot_angle must be in (0, 2*pi]");
-  if (!(spot_blend >= 0.0 && spot_blend <= 1.0)) fail(what, "spot_blend must be in [0, 1]");
-  if (!(angle >= 0.0 && angle <= kPi)) fail(what, "angle must be in [0, pi]");  // pi: a hemisphere, as in Blender
-  l.cos_half_spot = std::cos(0.5 * spot_angle);
-  l.spot_smooth = (1.0 - l.cos_half_spot) * spot_blend;
-  l.cos_sun = std::cos(0.5 * angle);
-  l.spot_cosine_falloff = spot_cosine_falloff;
-  l.soft_falloff = soft_falloff;
-  s.add_light(l);
+  spec.radius = radius;
+  spec.spot_angle = spot_angle;
+  spec.spot_blend = spot_blend;
+  spec.angle = angle;
+  spec.spot_cosine_falloff = spot_cosine_falloff;
+  spec.soft_falloff = soft_falloff;
+  spec.cast_shadow = cast_shadow;
+  spec.spread = spread;
+  spec.max_bounces = max_bounces;
+  s.add_light(make_light(spec));
 }
 
 void set_camera(Scene& s, const py::object& matrix, int width, int height, const std::string& projection,
@@ -274,6 +245,24 @@ void set_camera(Scene& s, const py::object& matrix, int width, int height, const
   s.set_camera(c);
 }
 
+// The camera's primary ray through every pixel centre, bottom row first: (origins, directions),
+// each (width * height, 3).
+py::tuple camera_rays(const Scene& s) {
+  if (!s.has_camera()) fail("camera_rays", "the scene has no camera (call set_camera)");
+  const Camera& cam = s.camera();
+  const size_t n = static_cast<size_t>(cam.width) * cam.height;
+  py::array_t<double> origins({n, size_t(3)}), directions({n, size_t(3)});
+  double* o = origins.mutable_data();
+  double* d = directions.mutable_data();
+  for (int y = 0; y < cam.height; ++y)
+    for (int x = 0; x < cam.width; ++x) {
+      const Ray ray = cam.generate_ray(x + 0.5, y + 0.5);
+      const size_t i = 3 * (static_cast<size_t>(y) * cam.width + x);
+      for (int k = 0; k < 3; ++k) o[i + k] = ray.origin[k], d[i + k] = ray.direction[k];
+    }
+  return py::make_tuple(origins, directions);
+}
+
 py::dict intersect(Scene& s, const py::object& origins, const py::object& directions, int threads,
                    const py::object& ray_kind) {
   const uint8_t kind = ray_kind.is_none() ? kAllRayKinds
@@ -291,7 +280,7 @@ py::dict intersect(Scene& s, const py::object& origins, const py::object& direct
     const Vec3 dir(dp_in[3 * i], dp_in[3 * i + 1], dp_in[3 * i + 2]);
     if (!is_finite(org)) fail("intersect", "origin " + std::to_string(i) + " is not finite");
     Vec3 unit_dir;
-    if (!unit(dir, unit_dir)) fail("intersect", "direction " + std::to_string(i) + " is zero or not finite");
+    if (!unit_direction(dir, unit_dir)) fail("intersect", "direction " + std::to_string(i) + " is zero or not finite");
   }
   s.build();
   py::array_t<double> t(n);
@@ -321,7 +310,7 @@ py::dict intersect(Scene& s, const py::object& origins, const py::object& direct
           const size_t count = std::min(kBatch, end - first);
           for (size_t b = 0; b < count; ++b) {
             const size_t i = first + b;
-            unit(Vec3(dp_in[3 * i], dp_in[3 * i + 1], dp_in[3 * i + 2]), rays[b].direction);  // checked above
+            unit_direction(Vec3(dp_in[3 * i], dp_in[3 * i + 1], dp_in[3 * i + 2]), rays[b].direction);  // checked above
             rays[b].origin = Vec3(op_in[3 * i], op_in[3 * i + 1], op_in[3 * i + 2]);
             rays[b].kind = kind;
           }
@@ -467,6 +456,9 @@ void bind_scene(py::module_& m) {
           "rotation, the Mapping node's) gives, as Cycles maps 'equirectangular' or 'mirror_ball' "
           "images; times strength (RGB). Replaces set_background; visibility and max_bounces as there.")
       .def("build", &Scene::build, "Builds the BVH (done automatically by Renderer and intersect).")
+      .def("camera_rays", &camera_rays,
+           "The camera's primary rays through the pixel centres, bottom row first: (origins, directions), "
+           "each (width * height, 3), as the renderer generates them (clip start included).")
       .def("intersect", &intersect, py::arg("origins"), py::arg("directions"), py::arg("threads") = 0,
            py::arg("ray_kind") = py::none(),
            "Casts rays: returns dict(t (inf on miss), normal (geometric), primitive, object (-1 on miss)). "

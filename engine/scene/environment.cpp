@@ -1,3 +1,4 @@
+// Image-based light (see environment.h): the luminance distribution, lookups and sampling.
 #include "scene/environment.h"
 
 #include <algorithm>

@@ -123,6 +123,10 @@ bool sample_environment(const Environment& env, const Vec3& n, double u1, double
   return true;
 }
 
+[[noreturn]] void fail(const std::string& what, const std::string& message) {
+  throw std::invalid_argument(what + ": " + message);
+}
+
 }  // namespace
 
 double spot_attenuation(const Light& l, const Vec3& dir_from_light) {
@@ -141,6 +145,47 @@ double spread_attenuation(const Light& l, double cos_a) {
   // tan h - h loses its digits for small h: its series h^3/3 (Cycles switches at 0.05).
   const double normalization = h > 0.05 ? tan_h - h : h * h * h / 3.0;
   return std::fmax(tan_h - tan_a, 0.0) / normalization;
+}
+
+Light make_light(const LightSpec& spec) {
+  const std::string what = "light '" + spec.name + "'";
+  Light l;
+  l.kind = spec.kind;
+  l.name = spec.name;
+  l.power = spec.power;
+  l.visibility = spec.visibility;
+  l.cast_shadow = spec.cast_shadow;
+  l.spread = spec.spread;
+  l.max_bounces = spec.max_bounces;
+  Vec3 u(1, 0, 0), v(0, 1, 0);
+  if (spec.has_matrix) {  // Blender's light matrix: emits along local -Z, size along local X and Y
+    l.position = Vec3(spec.matrix[3]);
+    l.direction = -Vec3(spec.matrix[2]);
+    u = Vec3(spec.matrix[0]);
+    v = Vec3(spec.matrix[1]);
+  } else {
+    l.position = spec.position;
+    l.direction = spec.direction;
+    Vec3 d;
+    if (unit_direction(l.direction, d)) make_basis(d, u, v);
+  }
+  const double sx = spec.size_x, sy = spec.size_y;
+  const bool has_size = spec.kind == LightKind::Rectangle || spec.kind == LightKind::Disk;
+  if (has_size && !(sx > 0.0 && sy > 0.0 && std::isfinite(sx) && std::isfinite(sy))) fail(what, "size must be positive");
+  l.axis_u = u * (0.5 * sx);
+  l.axis_v = v * (0.5 * sy);
+  l.radius = spec.radius;
+  if (l.kind == LightKind::Point && spec.radius > 0.0) l.kind = LightKind::Sphere;  // Blender: a point with a radius
+  if (!std::isfinite(spec.radius) || spec.radius < 0.0) fail(what, "radius must be >= 0");
+  if (!(spec.spot_angle > 0.0 && spec.spot_angle <= 2.0 * kPi)) fail(what, "spot_angle must be in (0, 2*pi]");
+  if (!(spec.spot_blend >= 0.0 && spec.spot_blend <= 1.0)) fail(what, "spot_blend must be in [0, 1]");
+  if (!(spec.angle >= 0.0 && spec.angle <= kPi)) fail(what, "angle must be in [0, pi]");  // pi: a hemisphere, as in Blender
+  l.cos_half_spot = std::cos(0.5 * spec.spot_angle);
+  l.spot_smooth = (1.0 - l.cos_half_spot) * spec.spot_blend;
+  l.cos_sun = std::cos(0.5 * spec.angle);
+  l.spot_cosine_falloff = spec.spot_cosine_falloff;
+  l.soft_falloff = spec.soft_falloff;
+  return l;
 }
 
 bool light_is_delta(const Light& l) {

@@ -62,6 +62,34 @@ struct Light {
   double spot_solid_angle = 0.0;  // integral of the spot falloff over the sphere
 };
 
+// A light as Blender describes it, which make_light turns into the model
+// above: what the bindings fill in from Python.
+struct LightSpec {
+  LightKind kind = LightKind::Point;  // Point, Sphere, Spot, Rectangle, Disk or Sun
+  std::string name = "light";
+  Color power{100.0};  // times the light's colour (see the file comment for the unit)
+  // Blender's object matrix (emits along local -Z, size along local X and Y), or else position and direction.
+  bool has_matrix = false;
+  Mat4 matrix{1.0};
+  Vec3 position{0.0};
+  Vec3 direction{0.0, 0.0, -1.0};
+  double size_x = 1.0, size_y = 1.0;  // rectangle, disk: full sizes along the light's axes
+  double radius = 0.0;                // point, spot: a sphere of this radius (a point with one is a sphere light)
+  double spot_angle = kPi / 4.0;      // full cone angle, radians
+  double spot_blend = 0.15;
+  double angle = 0.0;                 // sun: angular diameter, radians (pi: a hemisphere)
+  bool spot_cosine_falloff = false;
+  bool soft_falloff = false;
+  uint8_t visibility = kAllRayKinds;
+  bool cast_shadow = true;
+  double spread = kPi;
+  int max_bounces = 1024;
+};
+
+// Throws std::invalid_argument naming the light and the setting out of range
+// (Scene::add_light checks the rest: coordinates, sizes, power).
+Light make_light(const LightSpec& spec);
+
 struct PhotonEmission {
   Ray ray;
   Color flux;  // flux carried by this sample, an unbiased estimate of the light's total

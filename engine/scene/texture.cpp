@@ -1,3 +1,4 @@
+// Texture storage and lookup (see texture.h).
 #include "scene/texture.h"
 
 #include "math/half.h"

@@ -3,6 +3,7 @@ alone, and primitive ids that follow the order triangles, then spheres, whatever
 order the BVH keeps."""
 
 import numpy as np
+import pytest
 
 import ppm_core
 
@@ -61,3 +62,24 @@ def test_a_ray_cast_alone_gets_the_batch_answer():
         alone = s.intersect(o[i : i + 1], d[i : i + 1], threads=1)
         for key in ("t", "normal", "primitive", "object"):
             np.testing.assert_array_equal(alone[key][0], batch[key][i])
+
+
+def test_camera_rays_are_the_renderers_through_pixel_centres():
+    """Scene.camera_rays (the add-on's Depth and Normal passes) gives the camera's own rays: from the
+    eye plus clip start, through each pixel centre, bottom row first."""
+    scene = ppm_core.Scene()
+    camera = np.eye(4)
+    camera[:3, 3] = (1.0, 2.0, 3.0)  # looks down -Z
+    scene.set_camera(camera, 4, 2, fov=np.radians(90), clip_start=0.5, shift_x=0.0)
+    origins, directions = scene.camera_rays()
+    assert origins.shape == directions.shape == (8, 3)
+    np.testing.assert_allclose(np.linalg.norm(directions, axis=1), 1.0)
+    # Pixel (x, y) centre at image-plane ((x + 0.5 - 2) / 2, (y + 0.5 - 1) / 2) at unit distance (fov 90 deg).
+    for index, (x, y) in enumerate([(x, y) for y in range(2) for x in range(4)]):
+        expected = np.array([(x + 0.5 - 2) / 2, (y + 0.5 - 1) / 2, -1.0])
+        expected /= np.linalg.norm(expected)
+        np.testing.assert_allclose(directions[index], expected, atol=1e-12)
+        # Clip start is measured along the view axis: the origin lies on the plane z = 3 - 0.5.
+        np.testing.assert_allclose(origins[index][2], 2.5, atol=1e-12)
+    with pytest.raises(ValueError, match="no camera"):
+        ppm_core.Scene().camera_rays()
