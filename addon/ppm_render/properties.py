@@ -49,8 +49,8 @@ class PPMSceneSettings(bpy.types.PropertyGroup):
         default='OFF', description="How the camera's depth of field is rendered")
     hit_points: EnumProperty(
         name="Hit Points",
-        items=[('AUTO', "Auto", "Stochastic: it reached a third of fixed hit points' error at equal time on the "
-                                "bundled scenes (bench/README.md)"),
+        items=[('AUTO', "Auto", "Stochastic: at equal time, 0.32-0.37 of fixed hit points' relative MSE on the "
+                                "Cornell boxes (bench/README.md)"),
                ('FIXED', "Fixed", "One eye pass (PPM): fastest per pass, anti-aliasing from samples per pixel"),
                ('STOCHASTIC', "Stochastic", "New eye samples every pass (SPPM): converges anti-aliasing, "
                                            "glossy surfaces and lens blur")],
@@ -60,7 +60,7 @@ class PPMSceneSettings(bpy.types.PropertyGroup):
 class PPMObjectSettings(bpy.types.PropertyGroup):
     revolve: BoolProperty(
         name="Bezier Revolve", default=False,
-        description="Render this curve as the exact surface of revolution of its Bezier profile about local Z")
+        description="Render this curve as the exact surface of revolution of its Bezier profile about local Y")
 
 
 # The core's settings keys that scene.ppm carries one-to-one.
@@ -71,7 +71,7 @@ def core_settings(settings):
     """The keyword arguments for ppm_core.Renderer from scene.ppm.
 
     AUTO picks stochastic hit points: at equal time they had 0.32-0.37 of fixed
-    hit points' error on the Cornell boxes (bench/ablations.py), converge the
+    hit points' relative MSE on the Cornell boxes (bench/ablations.py), converge the
     light's edges and glossy surfaces that fixed ones freeze, and LENS depth of
     field needs them."""
     args = {key: getattr(settings, key) for key in CORE_KEYS}
