@@ -6,7 +6,7 @@ PY313 := .venvs/bpy-5.2/bin/python
 ENGINE_SOURCES := $(shell find engine -name '*.cpp' -o -name '*.h') CMakeLists.txt pyproject.toml
 JOBS ?= $(shell nproc)
 
-.PHONY: setup build demo test test-cpp test-cross test-python bench bench-cpp lint clean
+.PHONY: setup build demo demo-core test test-cpp test-cross test-python bench bench-cpp lint clean
 
 setup: .venv/.setup-done build
 
@@ -22,8 +22,13 @@ build/.cores-installed: .venv/.setup-done tools/build_cores.sh $(ENGINE_SOURCES)
 	touch $@
 
 # Render the bundled Cornell box (report figure 1) to out/cornell_3spheres.{exr,png}.
+# A bundled .blend rendered end to end through the add-on (Blender 5.0 as the bpy module).
 demo: setup
-	$(PY) blend_scenes/render_core_scene.py cornell_3spheres --output out/cornell_3spheres.exr --seconds 20
+	$(PY) render.py blend_scenes/cornell_3spheres.blend --output out/cornell_3spheres.png --time-limit 20
+
+# The core alone, without Blender: the same scene built in Python and rendered through ppm_core.
+demo-core: setup
+	$(PY) blend_scenes/render_core_scene.py cornell_3spheres --output out/cornell_3spheres_core.exr --seconds 20
 
 test: setup test-cpp test-python test-addon
 
