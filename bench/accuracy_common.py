@@ -162,7 +162,7 @@ def _material_kind(obj):
 def region_masks(name, reference, width=W, height=H):
     """Boolean (H, W) masks, top row first: all, emitter, glass, mirror, caustic, walls (module docstring)."""
     import ppm_core
-    from ppm_render import export, passes
+    from ppm_render import export
     from ppm_render.export.camera import Frame
 
     scene = open_scene(name, width, height)
@@ -171,13 +171,13 @@ def region_masks(name, reference, width=W, height=H):
     class NamingExporter(export.Exporter):
         names = {}
 
-        def add_geometry(self, obj, matrix, name):
-            self.names[self.next_id] = obj.original.name
-            super().add_geometry(obj, matrix, name)
+        def add_geometry(self, item):
+            self.names[item.object_id] = item.obj.original.name
+            super().add_geometry(item)
 
-        def add_revolve(self, obj, matrix, name):
-            self.names[self.next_id] = obj.original.name
-            super().add_revolve(obj, matrix, name)
+        def add_revolve(self, item):
+            self.names[item.object_id] = item.obj.original.name
+            super().add_revolve(item)
 
     exporter = NamingExporter(ppm_core, lambda message: None)
     for instance in depsgraph.object_instances:
@@ -186,8 +186,9 @@ def region_masks(name, reference, width=W, height=H):
     core_scene = exporter.scene
     frame = Frame.from_render_settings(scene.render)
     args = export.camera.camera_arguments(scene.camera.evaluated_get(depsgraph), frame, lambda m: None, "OFF")
-    origins, directions, _ = passes.camera_rays(args)
-    hits = core_scene.intersect(np.ascontiguousarray(origins), directions)
+    core_scene.set_camera(**args)
+    origins, directions = core_scene.camera_rays()
+    hits = core_scene.intersect(origins, directions)
     t, obj_id = np.asarray(hits["t"]), np.asarray(hits["object"])
     kinds = {i: _material_kind(bpy.data.objects[n]) for i, n in exporter.names.items()}
     kind = np.array([kinds.get(int(i), "none") for i in obj_id])

@@ -28,7 +28,7 @@ def export_seconds(obj):
     depsgraph = bpy.context.evaluated_depsgraph_get()
     start = time.monotonic()
     exporter = export.Exporter(core.load(), print)
-    exporter.add_geometry(obj.evaluated_get(depsgraph), np.eye(4), "grid")
+    exporter.add_geometry(export.instance.Instance(obj.evaluated_get(depsgraph), "grid", np.eye(4), 0))
     return time.monotonic() - start, exporter.triangles
 
 

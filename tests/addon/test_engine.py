@@ -248,7 +248,7 @@ def test_a_million_triangles_export_whole():
     obj = bpy.context.object
     depsgraph = bpy.context.evaluated_depsgraph_get()
     exporter = export.Exporter(ppm_core, print)
-    exporter.add_geometry(obj.evaluated_get(depsgraph), np.eye(4), "grid")
+    exporter.add_geometry(export.instance.Instance(obj.evaluated_get(depsgraph), "grid", np.eye(4), 0))
     assert exporter.triangles == 2 * 708 * 708
     exporter.scene.set_camera(np.eye(4), 4, 4)
     hits = exporter.scene.intersect(np.array([[0.3, -0.7, 1.0]]), np.array([[0.0, 0.0, -1.0]]))

@@ -20,7 +20,8 @@ import re
 
 import numpy as np
 
-from . import bezier, camera, light, material, mesh, visibility, world
+from . import bezier, camera, light, material, mesh, world
+from .instance import Instance
 
 GEOMETRY_TYPES = {"MESH", "CURVE", "SURFACE", "META", "FONT", "CURVES", "POINTCLOUD", "VOLUME"}
 CURVE_TYPES = {"CURVE", "SURFACE", "FONT"}
@@ -52,25 +53,24 @@ class Exporter:
         slots = [self.materials.index(slot.material) for slot in obj.material_slots]
         return slots or [self.materials.index(None)]
 
-    def add_geometry(self, obj, matrix, name):
+    def add_geometry(self, item):
+        obj = item.obj
         key = (obj.data.as_pointer() if obj.data is not None else obj.as_pointer(),
                tuple(s.material.name if s.material else "" for s in obj.material_slots))
         if key not in self.meshes:
             self.meshes[key] = mesh.MeshData.from_object(obj)
         data = self.meshes[key]
         if data is not None:
-            dropped = data.add_to_scene(self.scene, name, matrix, self.slot_materials(obj), self.object_id(),
-                                        **visibility.object_flags(obj))
+            dropped = data.add_to_scene(self.scene, item, self.slot_materials(obj))
             self.triangles += len(data.triangles) - dropped
             if dropped:
                 self.skip(obj, f"{dropped} of its {len(data.triangles)} triangles have a corner that is not "
                                "finite (NaN or Inf); left out")
 
-    def add_revolve(self, obj, matrix, name):
-        slots = self.slot_materials(obj)
-        index = self.materials.without_emission(slots[0], f"'{name}'")
-        bezier.add_revolve(self.scene, name, obj, matrix, index, self.object_id(), self.warn,
-                           **visibility.object_flags(obj))
+    def add_revolve(self, item):
+        slots = self.slot_materials(item.obj)
+        index = self.materials.without_emission(slots[0], f"'{item.name}'")
+        bezier.add_revolve(self.scene, item, index, self.warn)
 
     def skip(self, obj, what):
         """Notes a warning about `obj` (once per object, counting its instances)."""
@@ -96,28 +96,29 @@ class Exporter:
     def visit_unchecked(self, instance):
         obj = instance.object
         parent = instance.instance_object if instance.is_instance else None
-        matrix = np.array(instance.matrix_world, dtype=float)  # copy: the record is reused
-        name = obj.name if parent is None else f"{parent.name}/{obj.name}.{self.next_id}"
+        object_id = self.object_id()
+        name = obj.name if parent is None else f"{parent.name}/{obj.name}.{object_id}"
+        item = Instance(obj, name, np.array(instance.matrix_world, dtype=float), object_id)
         if obj.type == "LIGHT":
-            light.add_light(self.scene, name, obj, matrix, self.warn)
+            light.add_light(self.scene, item, self.warn)
         elif parent is not None and parent.type in CURVE_TYPES and parent.original == obj.original:
             # The evaluated geometry of a curve, listed as a MESH instance of the curve itself.
             self.curves_with_mesh.add(parent.original.name)
             if not bezier.is_revolve(parent):
-                self.add_geometry(obj, matrix, name)
+                self.add_geometry(item)
         elif bezier.is_revolve(obj):
-            self.add_revolve(obj, matrix, name)
+            self.add_revolve(item)
         elif obj.type in CURVE_TYPES and parent is None:
-            self.plain_curves.append((obj, matrix, name))  # exported later unless a MESH instance shows up
+            self.plain_curves.append(item)  # exported later unless a MESH instance shows up
         elif obj.type in GEOMETRY_TYPES:
             if parent is None and not getattr(instance, "show_self", True):
                 return
-            self.add_geometry(obj, matrix, name)
+            self.add_geometry(item)
 
     def finish_curves(self):
-        for obj, matrix, name in self.plain_curves:
-            if obj.original.name not in self.curves_with_mesh:
-                self.guarded(obj, self.add_geometry, obj, matrix, name)
+        for item in self.plain_curves:
+            if item.obj.original.name not in self.curves_with_mesh:
+                self.guarded(item.obj, self.add_geometry, item)
 
 
 def build_scene(core_module, depsgraph, frame, warn, cancelled=lambda: False):

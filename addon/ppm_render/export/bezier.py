@@ -12,6 +12,8 @@ cyclic spline closes back to p0). Local z is ignored.
 
 import numpy as np
 
+from . import visibility
+
 # Core local (x, y, z) -> curve local (x, z, -y): core Z (the axis) becomes curve Y.
 CORE_TO_CURVE = np.array([[1.0, 0.0, 0.0, 0.0],
                           [0.0, 0.0, 1.0, 0.0],
@@ -53,13 +55,14 @@ def spline_profile(spline):
     return np.asarray(chain)[:, :2].copy()
 
 
-def add_revolve(core_scene, name, curve_object, matrix, material_index, object_id, warn, visibility=None,
-                holdout=False):
-    """Adds every Bezier spline of `curve_object` (evaluated) as a revolve, seen by the ray kinds in
-    `visibility` (None: all), a holdout or not; returns how many."""
-    core_matrix = np.asarray(matrix, dtype=float) @ CORE_TO_CURVE
+def add_revolve(core_scene, item, material_index, warn):
+    """Adds every Bezier spline of a curve (an Instance, evaluated) as a revolve, with its object's
+    ray visibility and holdout; returns how many."""
+    name = item.name
+    core_matrix = item.matrix @ CORE_TO_CURVE
+    flags = visibility.object_flags(item.obj)
     added = 0
-    for index, spline in enumerate(curve_object.data.splines):
+    for index, spline in enumerate(item.obj.data.splines):
         if spline.type != "BEZIER":
             warn(f"'{name}': spline {index} is {spline.type}, not Bezier; skipped by the revolve export")
             continue
@@ -72,7 +75,6 @@ def add_revolve(core_scene, name, curve_object, matrix, material_index, object_i
                  "surface; skipped")
             continue
         core_scene.add_bezier_revolve(f"{name}.{index}", profile, kind="chain", matrix=core_matrix,
-                                      material=material_index, object_id=object_id, visibility=visibility,
-                                      holdout=holdout)
+                                      material=material_index, object_id=item.object_id, **flags)
         added += 1
     return added

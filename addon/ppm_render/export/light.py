@@ -123,12 +123,11 @@ def node_emission(light, name, warn):
     return tuple(c * strength for c in color)
 
 
-def add_light(core_scene, name, light_object, matrix, warn):
-    """Adds one Blender light (an object of type LIGHT, at world `matrix`) to the core scene."""
-    light = light_object.data
-    m = np.array(matrix, dtype=float)
+def add_light(core_scene, item, warn):
+    """Adds one Blender light (an Instance of an object of type LIGHT) to the core scene."""
+    light, name, m = item.obj.data, item.name, item.matrix
     kind = light.type
-    seen = {"visibility": visibility.ray_visibility(light_object), "cast_shadow": visibility.casts_shadow(light),
+    seen = {"visibility": visibility.ray_visibility(item.obj), "cast_shadow": visibility.casts_shadow(light),
             "max_bounces": visibility.own_max_bounces(light),
             "color": node_emission(light, name, warn)}
     if light.energy < 0.0:

@@ -10,6 +10,8 @@ once. Per-corner normals cover flat, smooth and custom normals alike.
 import bpy
 import numpy as np
 
+from . import visibility
+
 HAS_CORNER_NORMALS = bpy.app.version >= (4, 1, 0)
 
 
@@ -68,15 +70,15 @@ class MeshData:
         finally:
             obj.to_mesh_clear()
 
-    def add_to_scene(self, core_scene, name, matrix, material_indices, object_id, visibility=None, holdout=False):
-        """Adds the mesh, transformed by the 4x4 `matrix`, with slot -> core material mapping, seen by
-        the ray kinds in `visibility` (None: all), a holdout or not.
+    def add_to_scene(self, core_scene, item, material_indices):
+        """Adds the mesh as one Instance (transformed by its matrix), with slot -> core material
+        mapping, its object's ray visibility and holdout.
 
         Returns the number of triangles left out because a corner is not finite (NaN or Inf in the
         mesh or the matrix). A matrix that flattens the mesh to a line or a point (a zero scale, the
         usual way to hide an object in an animation) adds nothing, as in Cycles; one zero axis
         leaves a flat mesh that is rendered."""
-        m = np.asarray(matrix, dtype=np.float64)
+        m = item.matrix
         if np.isfinite(m).all() and np.linalg.matrix_rank(m[:3, :3]) < 2:
             return 0
         with np.errstate(invalid="ignore", over="ignore"):
@@ -95,9 +97,9 @@ class MeshData:
         normals /= np.maximum(np.linalg.norm(normals, axis=1, keepdims=True), 1e-30)
         slots = np.clip(slots, 0, len(material_indices) - 1)
         materials = np.asarray(material_indices, dtype=np.int64)[slots]
-        core_scene.add_mesh(name, positions, triangles, normals=normals.reshape(-1, 3, 3),
-                            uvs=uvs, materials=materials, object_id=object_id, visibility=visibility,
-                            holdout=holdout)
+        core_scene.add_mesh(item.name, positions, triangles, normals=normals.reshape(-1, 3, 3),
+                            uvs=uvs, materials=materials, object_id=item.object_id,
+                            **visibility.object_flags(item.obj))
         return len(self.triangles) - kept
 
 

@@ -1,0 +1,16 @@
+"""One depsgraph instance as every exporter of an object receives it, so that the light, mesh and
+revolve exporters share one shape (as Cycles' sync_light, sync_mesh and sync_camera do): the
+evaluated object, a name unique in the core scene (warnings name it), its world matrix and the
+object id the core reports for its primitives."""
+
+from dataclasses import dataclass
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class Instance:
+    obj: object         # the evaluated Blender object
+    name: str
+    matrix: np.ndarray  # 4x4 object-to-world, a copy (the depsgraph reuses its records)
+    object_id: int
