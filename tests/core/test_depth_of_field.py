@@ -10,7 +10,6 @@ import math
 import numpy as np
 import pytest
 
-import core_scenes
 import ppm_core
 
 W, H = 128, 32
@@ -93,19 +92,3 @@ def test_dof_work_is_skipped_when_it_cannot_show():
     assert any("depth of field: off" in s for s in stats["skipped"])
 
 
-@pytest.mark.parametrize("threshold", [1, 10])
-def test_stochastic_ppm_closed_sphere(threshold):
-    scene = core_scenes.closed_sphere_with_point_light(radius=1.0, albedo=0.5, power=100.0)
-    r = ppm_core.Renderer(scene, photons_per_pass=20_000, threads=2, hit_points="stochastic", threshold=threshold)
-    r.run(passes=80)
-    expected = core_scenes.expected_closed_sphere_radiance(1.0, 0.5, 100.0)
-    assert r.image()[..., :3].mean() == pytest.approx(expected, rel=0.01)
-
-
-def test_stochastic_and_fixed_agree_on_the_cornell_box():
-    def mean(**s):
-        r = ppm_core.Renderer(core_scenes.cornell_3spheres(64, 48), photons_per_pass=50_000, threads=2, **s)
-        r.run(passes=60)
-        return r.image()[..., :3].mean(axis=(0, 1))
-
-    np.testing.assert_allclose(mean(hit_points="stochastic"), mean(samples_per_pixel=4), rtol=0.03)

@@ -3,7 +3,6 @@
 import threading
 import time
 
-import numpy as np
 import pytest
 
 import core_scenes
@@ -59,44 +58,6 @@ def test_exception_in_callback_propagates():
 
     with pytest.raises(KeyError, match="from the callback"):
         renderer.run(passes=5, callback=callback)
-
-
-def render(seed, threads, **settings):
-    scene = core_scenes.cornell_3spheres(96, 72)
-    renderer = ppm_core.Renderer(scene, photons_per_pass=20_000, threads=threads, seed=seed, **settings)
-    renderer.run(passes=4)
-    return renderer.image()
-
-
-@pytest.mark.parametrize("gather", ["hit_points", "photons"])
-def test_same_seed_same_threads_same_image(gather):
-    a = render(7, 2, gather=gather)
-    b = render(7, 2, gather=gather)
-    assert np.array_equal(a, b)
-    c = render(8, 2, gather=gather)
-    assert not np.array_equal(a, c)
-
-
-@pytest.mark.parametrize("hit_points", ["fixed", "stochastic"])
-def test_thread_count_does_not_change_the_image(hit_points):
-    # Photon i always uses the same random stream and every result is kept per
-    # chunk, never per thread, so the image is the same to the last bit.
-    a, b = render(7, 1, hit_points=hit_points), render(7, 2, hit_points=hit_points)
-    assert np.array_equal(a, b)
-
-
-def test_thread_count_changes_only_rounding_when_hit_points_are_indexed():
-    # Indexing hit points sums per block of photons, one block per thread.
-    a, b = render(7, 1, gather="hit_points"), render(7, 2, gather="hit_points")
-    np.testing.assert_allclose(a, b, rtol=1e-4, atol=1e-6)
-
-
-@pytest.mark.parametrize("gather", ["hit_points", "photons"])
-@pytest.mark.parametrize("grid", ["quantile", "hash"])
-def test_gather_organisations_and_grids_agree(gather, grid):
-    reference = render(5, 2)
-    image = render(5, 2, gather=gather, grid=grid)
-    np.testing.assert_allclose(image, reference, rtol=2e-4, atol=1e-6)
 
 
 def test_stats_report_work_and_memory_stays_flat():
