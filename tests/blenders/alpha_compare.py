@@ -10,7 +10,6 @@ saved file is rendered by both engines: the mean colour (premultiplied, as Blend
     blender -b --factory-startup --python-exit-code 1 -P tests/blenders/alpha_compare.py
 """
 
-import math
 import os
 import sys
 
@@ -20,7 +19,6 @@ import bpy
 import numpy as np
 
 import cycles_compare
-import world_compare
 
 ALPHA_TOLERANCE = 0.01
 CASES = ("opaque_film", "transparent_film", "glass_over_background", "transparent_glass", "holdout_object",
@@ -53,30 +51,22 @@ def build(case):
     cycles_compare.reset()
     scene = bpy.context.scene
     cycles_compare.plane("floor", 3.0, 0.0, cycles_compare.diffuse_material("floor", (cycles_compare.ALBEDO,) * 3))
-    left = world_compare.ball("left", (-0.6, 0.0, 0.5), cycles_compare.diffuse_material("matte", (0.7, 0.7, 0.7)))
+    left = cycles_compare.ball("left", (-0.6, 0.0, 0.5), 0.5, cycles_compare.diffuse_material("matte", (0.7, 0.7, 0.7)))
     left.is_holdout = case == "holdout_object"
     matte = lambda: cycles_compare.diffuse_material("m", (0.3, 0.5, 0.7))  # noqa: E731
     right = {"glass_over_background": glass_material, "transparent_glass": glass_material,
              "holdout_shader": holdout_material}.get(case, matte)
     # Raised so that the camera sees the sky through the glass.
-    world_compare.ball("right", (0.6, 0.0, 1.1), right())
+    cycles_compare.ball("right", (0.6, 0.0, 1.1), 0.5, right())
     # Lit by the sky alone. A point light's caustic through the glass ball is one Cycles cannot render
     # (PPM's was 5% of a block that Cycles, converged, left without it), and the glint of a sun in
     # the ball was 4% brighter in PPM than in Cycles at 2048 samples (0.003 of a sky of 0.6; not
     # explained yet): neither is what this checks.
     cycles_compare.set_world(0.6)
-    cam = bpy.data.objects.new("camera", bpy.data.cameras.new("camera"))
-    cam.location, cam.rotation_euler = (0.0, -4.0, 1.3), (math.radians(80), 0.0, 0.0)
-    cam.data.lens = 30.0
-    scene.collection.objects.link(cam)
-    scene.camera = cam
-    render = scene.render
-    render.resolution_x, render.resolution_y, render.resolution_percentage = (cycles_compare.WIDTH,
-                                                                              cycles_compare.HEIGHT, 100)
-    render.image_settings.file_format, render.image_settings.color_depth = "OPEN_EXR", "32"
-    render.image_settings.color_mode = "RGBA"
-    render.use_file_extension = False
-    render.film_transparent = case != "opaque_film" and case != "holdout_object"
+    cycles_compare.side_camera((0.0, -4.0, 1.3), 30.0)
+    cycles_compare.set_exr_output(scene)
+    scene.render.image_settings.color_mode = "RGBA"
+    scene.render.film_transparent = case != "opaque_film" and case != "holdout_object"
     scene.cycles.film_transparent_glass = case == "transparent_glass"
 
 

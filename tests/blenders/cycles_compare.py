@@ -119,6 +119,35 @@ def plane(name, half, z, material, flip=False):
     return obj
 
 
+def ball(name, location, radius, material):
+    """A smooth UV sphere of `material`."""
+    bpy.ops.mesh.primitive_uv_sphere_add(segments=48, ring_count=24, radius=radius, location=location)
+    obj = bpy.context.object
+    obj.name = name
+    bpy.ops.object.shade_smooth()
+    obj.data.materials.append(material)
+    return obj
+
+
+def side_camera(location, lens):
+    """The scene camera at `location`, looking along +Y and 10 degrees down."""
+    scene = bpy.context.scene
+    cam = bpy.data.objects.new("camera", bpy.data.cameras.new("camera"))
+    cam.location, cam.rotation_euler = location, (math.radians(80), 0.0, 0.0)
+    cam.data.lens = lens
+    scene.collection.objects.link(cam)
+    scene.camera = cam
+    return cam
+
+
+def set_exr_output(scene):
+    """The compared image size, written as 32-bit EXR where render.filepath says."""
+    render = scene.render
+    render.resolution_x, render.resolution_y, render.resolution_percentage = WIDTH, HEIGHT, 100
+    render.image_settings.file_format, render.image_settings.color_depth = "OPEN_EXR", "32"
+    render.use_file_extension = False
+
+
 def add_light(kind, energy, location, rotation=(0.0, 0.0, 0.0), **props):
     data = bpy.data.lights.new(kind, kind)
     data.energy = energy
@@ -214,11 +243,8 @@ def build(kind):
     elif kind == "emissive_mesh":
         panel = plane("panel", 0.4, 2.0, emission_material("glow", (1.0, 0.9, 0.8), 3.0), flip=True)
         panel.rotation_euler = (math.radians(20), 0.0, 0.0)
-    render = scene.render
-    render.resolution_x, render.resolution_y, render.resolution_percentage = WIDTH, HEIGHT, 100
-    render.image_settings.file_format, render.image_settings.color_depth = "OPEN_EXR", "32"
-    render.use_file_extension = False
-    render.film_transparent = False
+    set_exr_output(scene)
+    scene.render.film_transparent = False
     return scene
 
 

@@ -12,7 +12,6 @@ blocks must agree within 3%.
     blender -b --factory-startup --python-exit-code 1 -P tests/blenders/light_paths_compare.py
 """
 
-import math
 import os
 import sys
 
@@ -45,14 +44,6 @@ def glass_material(name):
     return mat
 
 
-def ball(name, location, material):
-    bpy.ops.mesh.primitive_uv_sphere_add(segments=48, ring_count=24, radius=0.45, location=location)
-    obj = bpy.context.object
-    obj.name = name
-    bpy.ops.object.shade_smooth()
-    obj.data.materials.append(material)
-
-
 def build(case):
     cycles_compare.reset()
     scene = bpy.context.scene
@@ -61,21 +52,13 @@ def build(case):
     room.scale = (4.0, 4.0, 2.5)
     room.data.materials.append(cycles_compare.diffuse_material("room", (0.8, 0.8, 0.8)))
     if case.startswith("glass"):
-        ball("glass", (0.3, 0.6, 0.45), glass_material("glass"))
+        cycles_compare.ball("glass", (0.3, 0.6, 0.45), 0.45, glass_material("glass"))
     if case.startswith("mirror"):
-        ball("mirror", (0.3, 0.6, 0.45), cycles_compare.glossy_material("mirror", (0.9, 0.9, 0.9)))
+        cycles_compare.ball("mirror", (0.3, 0.6, 0.45), 0.45, cycles_compare.glossy_material("mirror", (0.9, 0.9, 0.9)))
     lamp = cycles_compare.add_light("AREA", 150.0, (-0.8, 0.4, 2.4), shape="DISK", size=0.6)
     lamp.data.cycles.max_bounces = CASES[case][1]
-    cam = bpy.data.objects.new("camera", bpy.data.cameras.new("camera"))
-    cam.location, cam.rotation_euler = (0.0, -1.9, 1.2), (math.radians(80), 0.0, 0.0)
-    cam.data.lens = 20.0
-    scene.collection.objects.link(cam)
-    scene.camera = cam
-    render = scene.render
-    render.resolution_x, render.resolution_y, render.resolution_percentage = (cycles_compare.WIDTH,
-                                                                              cycles_compare.HEIGHT, 100)
-    render.image_settings.file_format, render.image_settings.color_depth = "OPEN_EXR", "32"
-    render.use_file_extension = False
+    cycles_compare.side_camera((0.0, -1.9, 1.2), 20.0)
+    cycles_compare.set_exr_output(scene)
 
 
 def compare(case, workdir, samples, passes):

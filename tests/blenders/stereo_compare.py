@@ -20,12 +20,11 @@ import bpy
 import numpy as np
 
 import cycles_compare
-import world_compare
 
 
 def build():
     cycles_compare.build("point")
-    world_compare.ball("ball", (0.3, 0.1, 0.3), cycles_compare.diffuse_material("clay", (0.7, 0.4, 0.3)))
+    cycles_compare.ball("ball", (0.3, 0.1, 0.3), 0.5, cycles_compare.diffuse_material("clay", (0.7, 0.4, 0.3)))
     scene = bpy.context.scene
     scene.render.use_multiview, scene.render.views_format = True, "STEREO_3D"
     scene.render.image_settings.views_format = "INDIVIDUAL"

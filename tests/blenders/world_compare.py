@@ -35,15 +35,6 @@ def hdri_path(name):
     return os.path.join(bpy.utils.system_resource("DATAFILES"), "studiolights", "world", name + ".exr")
 
 
-def ball(name, location, material):
-    bpy.ops.mesh.primitive_uv_sphere_add(segments=48, ring_count=24, radius=0.5, location=location)
-    obj = bpy.context.object
-    obj.name = name
-    bpy.ops.object.shade_smooth()
-    obj.data.materials.append(material)
-    return obj
-
-
 def set_environment(case):
     world = bpy.data.worlds.new("World")
     if world.node_tree is None or bpy.app.version < (5, 0, 0):
@@ -72,21 +63,13 @@ def build(case):
     cycles_compare.reset()
     scene = bpy.context.scene
     cycles_compare.plane("floor", 3.0, 0.0, cycles_compare.diffuse_material("floor", (cycles_compare.ALBEDO,) * 3))
-    ball("matte", (-0.6, 0.0, 0.5), cycles_compare.diffuse_material("matte", (0.7, 0.7, 0.7)))
+    cycles_compare.ball("matte", (-0.6, 0.0, 0.5), 0.5, cycles_compare.diffuse_material("matte", (0.7, 0.7, 0.7)))
     right = (cycles_compare.diffuse_material("matte right", (0.3, 0.5, 0.7)) if case.startswith("sunrise")
              else cycles_compare.glossy_material("mirror", (0.9, 0.9, 0.9)))
-    ball("right", (0.6, 0.0, 0.5), right)
-    cam = bpy.data.objects.new("camera", bpy.data.cameras.new("camera"))
-    cam.location, cam.rotation_euler = (0.0, -4.0, 1.3), (math.radians(80), 0.0, 0.0)
-    cam.data.lens = 30.0
-    scene.collection.objects.link(cam)
-    scene.camera = cam
+    cycles_compare.ball("right", (0.6, 0.0, 0.5), 0.5, right)
+    cycles_compare.side_camera((0.0, -4.0, 1.3), 30.0)
     set_environment(case)
-    render = scene.render
-    render.resolution_x, render.resolution_y, render.resolution_percentage = (cycles_compare.WIDTH,
-                                                                              cycles_compare.HEIGHT, 100)
-    render.image_settings.file_format, render.image_settings.color_depth = "OPEN_EXR", "32"
-    render.use_file_extension = False
+    cycles_compare.set_exr_output(scene)
 
 
 def compare(case, workdir, samples, passes):
