@@ -26,25 +26,11 @@ CASES = ("opaque_film", "transparent_film", "glass_over_background", "transparen
 
 
 def holdout_material():
-    mat = cycles_compare.diffuse_material("holdout", (0.5, 0.5, 0.5))
-    nodes = mat.node_tree.nodes
-    nodes.remove(next(n for n in nodes if n.bl_idname == "ShaderNodeBsdfDiffuse"))
-    holdout = nodes.new("ShaderNodeHoldout")
-    out = next(n for n in nodes if n.bl_idname == "ShaderNodeOutputMaterial")
-    mat.node_tree.links.new(holdout.outputs[0], out.inputs["Surface"])
-    return mat
+    return cycles_compare.shader_material("holdout", "ShaderNodeHoldout")
 
 
 def glass_material():
-    mat = cycles_compare.diffuse_material("glass", (1.0, 1.0, 1.0))
-    nodes = mat.node_tree.nodes
-    nodes.remove(next(n for n in nodes if n.bl_idname == "ShaderNodeBsdfDiffuse"))
-    glass = nodes.new("ShaderNodeBsdfGlass")
-    glass.inputs["Roughness"].default_value = 0.0
-    glass.inputs["IOR"].default_value = 1.45
-    out = next(n for n in nodes if n.bl_idname == "ShaderNodeOutputMaterial")
-    mat.node_tree.links.new(glass.outputs[0], out.inputs["Surface"])
-    return mat
+    return cycles_compare.glass_material("glass", 1.45)
 
 
 def build(case):

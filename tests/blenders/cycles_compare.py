@@ -71,42 +71,38 @@ def reset():
         ppm_render.register()
 
 
-def diffuse_material(name, rgb):
+def shader_material(name, node_type, **inputs):
+    """A material whose Surface is one shader node of `node_type`, its inputs set by name."""
     mat = bpy.data.materials.new(name)
     if mat.node_tree is None or bpy.app.version < (5, 0, 0):
         mat.use_nodes = True
     nodes = mat.node_tree.nodes
     nodes.clear()
     out = nodes.new("ShaderNodeOutputMaterial")
-    bsdf = nodes.new("ShaderNodeBsdfDiffuse")
-    bsdf.inputs["Color"].default_value = (*rgb, 1.0)
-    mat.node_tree.links.new(bsdf.outputs[0], out.inputs["Surface"])
+    shader = nodes.new(node_type)
+    for socket, value in inputs.items():
+        shader.inputs[socket].default_value = value
+    mat.node_tree.links.new(shader.outputs[0], out.inputs["Surface"])
     return mat
+
+
+def diffuse_material(name, rgb):
+    return shader_material(name, "ShaderNodeBsdfDiffuse", Color=(*rgb, 1.0))
 
 
 def glossy_material(name, rgb):
     """A perfect mirror of colour `rgb` (a Glossy BSDF of roughness 0)."""
-    mat = diffuse_material(name, rgb)
-    nodes = mat.node_tree.nodes
-    nodes.remove(next(n for n in nodes if n.bl_idname == "ShaderNodeBsdfDiffuse"))
-    glossy = nodes.new("ShaderNodeBsdfGlossy" if bpy.app.version < (4, 0, 0) else "ShaderNodeBsdfAnisotropic")
-    glossy.inputs["Color"].default_value = (*rgb, 1.0)
-    glossy.inputs["Roughness"].default_value = 0.0
-    out = next(n for n in nodes if n.bl_idname == "ShaderNodeOutputMaterial")
-    mat.node_tree.links.new(glossy.outputs[0], out.inputs["Surface"])
-    return mat
+    glossy = "ShaderNodeBsdfGlossy" if bpy.app.version < (4, 0, 0) else "ShaderNodeBsdfAnisotropic"
+    return shader_material(name, glossy, Color=(*rgb, 1.0), Roughness=0.0)
+
+
+def glass_material(name, ior):
+    """Smooth clear glass (a Glass BSDF of roughness 0)."""
+    return shader_material(name, "ShaderNodeBsdfGlass", Roughness=0.0, IOR=ior)
 
 
 def emission_material(name, rgb, strength):
-    mat = diffuse_material(name, (0, 0, 0))
-    nodes = mat.node_tree.nodes
-    nodes.remove(next(n for n in nodes if n.bl_idname == "ShaderNodeBsdfDiffuse"))
-    em = nodes.new("ShaderNodeEmission")
-    em.inputs["Color"].default_value = (*rgb, 1.0)
-    em.inputs["Strength"].default_value = strength
-    out = next(n for n in nodes if n.bl_idname == "ShaderNodeOutputMaterial")
-    mat.node_tree.links.new(em.outputs[0], out.inputs["Surface"])
-    return mat
+    return shader_material(name, "ShaderNodeEmission", Color=(*rgb, 1.0), Strength=strength)
 
 
 def plane(name, half, z, material, flip=False):

@@ -32,18 +32,6 @@ CASES = {
 UNLIMITED = (64, 64, 64, 64)
 
 
-def glass_material(name):
-    mat = cycles_compare.diffuse_material(name, (1.0, 1.0, 1.0))
-    nodes = mat.node_tree.nodes
-    nodes.remove(next(n for n in nodes if n.bl_idname == "ShaderNodeBsdfDiffuse"))
-    glass = nodes.new("ShaderNodeBsdfGlass")
-    glass.inputs["Roughness"].default_value = 0.0
-    glass.inputs["IOR"].default_value = 1.5
-    out = next(n for n in nodes if n.bl_idname == "ShaderNodeOutputMaterial")
-    mat.node_tree.links.new(glass.outputs[0], out.inputs["Surface"])
-    return mat
-
-
 def build(case):
     cycles_compare.reset()
     scene = bpy.context.scene
@@ -52,7 +40,7 @@ def build(case):
     room.scale = (4.0, 4.0, 2.5)
     room.data.materials.append(cycles_compare.diffuse_material("room", (0.8, 0.8, 0.8)))
     if case.startswith("glass"):
-        cycles_compare.ball("glass", (0.3, 0.6, 0.45), 0.45, glass_material("glass"))
+        cycles_compare.ball("glass", (0.3, 0.6, 0.45), 0.45, cycles_compare.glass_material("glass", 1.5))
     if case.startswith("mirror"):
         cycles_compare.ball("mirror", (0.3, 0.6, 0.45), 0.45, cycles_compare.glossy_material("mirror", (0.9, 0.9, 0.9)))
     lamp = cycles_compare.add_light("AREA", 150.0, (-0.8, 0.4, 2.4), shape="DISK", size=0.6)
