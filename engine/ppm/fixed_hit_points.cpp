@@ -49,7 +49,7 @@ bool FixedHitPoints::pass(const Poll& poll) {
   const uint64_t pass = stats.passes;
   // Photons first: a pass cancelled inside the photon pass leaves no trace.
   PhotonPassCounters counters = stats.photon;
-  if (!c_.trace_photons(hit_points_, pass, poll, counters)) return false;
+  if (!c_.run_photon_pass(hit_points_, pass, poll, counters)) return false;
   stats.photon = counters;
   // Direct light adds its sums only when complete, so a cancel here keeps the image consistent.
   bool completed = true;

@@ -90,7 +90,7 @@ bool RenderContext::measure_photon_spacing_once(const HitPoints& hp, const Poll&
   return true;
 }
 
-bool RenderContext::trace_photons(HitPoints& hp, uint64_t pass, const Poll& poll, PhotonPassCounters& counters) {
+bool RenderContext::run_photon_pass(HitPoints& hp, uint64_t pass, const Poll& poll, PhotonPassCounters& counters) {
   if (!analysis.trace_photons) {
     counters.emitted += settings.photons_per_pass;  // an empty pass still counts its photons
     return true;

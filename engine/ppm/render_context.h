@@ -30,7 +30,7 @@ struct RenderContext {
   bool measure_photon_spacing_once(const HitPoints& hp, const Poll& poll);
   // One pass's photons into the hit points' pending statistics, counted in `counters` (a copy
   // the caller keeps once the pass completes). With nothing to trace, only their number.
-  bool trace_photons(HitPoints& hp, uint64_t pass, const Poll& poll, PhotonPassCounters& counters);
+  bool run_photon_pass(HitPoints& hp, uint64_t pass, const Poll& poll, PhotonPassCounters& counters);
   // Radiance of the photons gathered at radius^2 `r2` into `s`, over the photons emitted so far.
   Color photon_radiance(double r2, const HitPointStats& s) const;
   size_t memory_bytes() const;

@@ -27,7 +27,7 @@ bool StochasticHitPoints::pass(const Poll& poll) {
   // Photons and direct light into the fresh hit points; a cancel drops the whole pass.
   PhotonPassCounters counters = stats.photon;
   c_.photon_pass.reset_index();
-  if (!c_.trace_photons(fresh, pass, poll, counters)) return false;
+  if (!c_.run_photon_pass(fresh, pass, poll, counters)) return false;
   if (c_.analysis.sample_direct) {
     ScopedSeconds timer(stats.direct_seconds);
     if (!direct_light_pass(*c_.scene, c_.lights, c_.settings, pass, c_.threads, fresh, c_.direct_scratch, c_.cancel,
