@@ -47,16 +47,17 @@ test-cross: .venv/.setup-done
 
 # The core's Python tests under both Pythons (3.13 also brings numpy 2, as Blender 5.2 does).
 test-python: build
-	$(PY) -m pytest -q tests/core
+	$(PY) -m pytest -q tests/core tests/bench
 	$(PY313) -m pytest -q tests/core
 
-# Benchmarks: figures and the commands behind them are in bench/README.md.
+# Benchmarks: figures and the commands behind them are in bench/README.md; every experiment is
+# `$(PY) bench/run.py NAME` (bench/experiments/NAME.toml); these are the speed ones.
 bench: setup bench-cpp .venv/.bench-deps
 	build/bench/bezier_bench
 	build/bench/grid_bench
-	$(PY) bench/throughput.py
-	$(PY) bench/raycast.py
-	$(PY) bench/skips.py
+	$(PY) bench/run.py throughput
+	$(PY) bench/run.py raycast
+	$(PY) bench/run.py skips
 
 .venv/.bench-deps: bench/requirements.txt .venv/.setup-done
 	$(PY) -m pip install -q -r bench/requirements.txt

@@ -71,7 +71,7 @@ def core_settings(settings):
     """The keyword arguments for ppm_core.Renderer from scene.ppm.
 
     AUTO picks stochastic hit points: at equal time they had 0.32-0.37 of fixed
-    hit points' relative MSE on the Cornell boxes (bench/ablations.py), converge the
+    hit points' relative MSE on the Cornell boxes (bench/run.py ablation_hit_points), converge the
     light's edges and glossy surfaces that fixed ones freeze, and LENS depth of
     field needs them."""
     args = {key: getattr(settings, key) for key in CORE_KEYS}

@@ -30,7 +30,7 @@ enum class DofPostPreset : uint8_t {
 struct Settings {
   uint64_t photons_per_pass = 200000;
   double alpha = 0.7;               // radius reduction (Hachisuka 2008)
-  uint32_t threshold = 30;          // P of the cross-generation rule; 1 = classic PPM (bench/threshold_scenes.py)
+  uint32_t threshold = 30;          // P of the cross-generation rule; 1 = classic PPM (bench/run.py threshold_scenes)
   int max_bounces = 12;             // photon path length and eye specular chain length
   // Cycles' Light Paths limits, honoured when light_path_limits is on (bounce_limits.h): a full
   // camera-to-light path then continues from at most total_bounces scatterings, of which at most
@@ -48,7 +48,7 @@ struct Settings {
   double initial_radius_pixels = 2.0;  // automatic radius, in pixels at the hit point's distance
   bool density_radius = true;       // automatic radius also widened to the photon density (photon_density_radius.h)
   DirectLight direct_light = DirectLight::Sampled;
-  GatherOrganisation gather = GatherOrganisation::Photons;  // measured faster: bench/throughput.py
+  GatherOrganisation gather = GatherOrganisation::Photons;  // measured faster: bench/run.py throughput
   GridKind grid = GridKind::Quantile;
   double progress_interval = 0.1;   // seconds between progress callbacks inside a pass
   HitPointMode hit_points = HitPointMode::Fixed;

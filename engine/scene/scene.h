@@ -43,7 +43,7 @@ constexpr double kMaxPhotonGain = 1e25;
 // BVH size (nodes and leaf records) above which intersect_many interleaves
 // rays' walks. Below it the BVH stays in a core's cache, there are no misses
 // to overlap, and the bookkeeping only costs. Measured on the 2-core EPYC
-// (2 MB L2 per core), asteroid meshes of bench/raycast.py: up to 7,500
+// (2 MB L2 per core), asteroid meshes of bench/run.py raycast: up to 7,500
 // triangles (about 0.7 MB) cast 0-11% faster one ray at a time, 30,000
 // (about 3 MB) broke even, and 99,372 (about 10 MB) gained 18-32%.
 constexpr double kInterleaveBytes = 2.0 * 1024 * 1024;

@@ -6,7 +6,7 @@ ray visibility, holdouts, transparent film and stereo. Cycles renders every one 
 PPM must too.
 
 Used by tests/addon/test_fuzz_scenes.py (a few dozen scenes in `make test`) and by
-bench/stress.py --addon (many more).
+bench/run.py fuzz_addon (thousands, in every Blender version).
 """
 
 import math

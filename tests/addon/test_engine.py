@@ -243,7 +243,7 @@ def test_instances_are_exported_with_their_own_matrices():
 
 
 def test_a_million_triangles_export_whole():
-    """Every triangle of a 708x708 grid reaches the core (its speed: bench/export_speed.py)."""
+    """Every triangle of a 708x708 grid reaches the core (its speed: bench/run.py export_speed)."""
     bpy.ops.mesh.primitive_grid_add(x_subdivisions=708, y_subdivisions=708, size=2.0)
     obj = bpy.context.object
     depsgraph = bpy.context.evaluated_depsgraph_get()

@@ -9,7 +9,7 @@ Blender. Whenever the scene accepts a camera, a tiny render (8x6 or smaller,
 
 Brief by default (derandomised, a few seconds in `make test`). Longer runs:
     PPM_FUZZ_EXAMPLES=5000 pytest tests/core/test_fuzz.py   # random seed
-    python bench/stress.py --minutes 10                     # the benchmark
+    python bench/run.py stress --set minutes=10             # the benchmark
 PPM_FUZZ_LOG=file writes each example before it runs, so that a crash (which
 hypothesis cannot report) leaves the input that caused it behind;
 PPM_FUZZ_STATS=file writes counts of calls and outcomes (JSON) at exit.

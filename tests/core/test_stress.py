@@ -3,8 +3,8 @@ triangles, lights inside objects, very bright and very dim lights, long runs,
 1 and 2 threads. Every test checks values against an answer (analytic, or the
 same render without the stressor), not only that the render finished.
 
-The long versions (10,000 passes, memory over time, fuzz for minutes) are in
-bench/stress.py.
+The long versions (10,000 passes, memory over time, fuzz for minutes): bench/run.py
+stress.
 """
 
 import math
@@ -286,7 +286,7 @@ def test_lights_on_and_inside_surfaces(kind):
 # ------------------------------------------------------- passes and threads
 
 def test_many_passes_radius_shrinks_and_estimate_converges():
-    """A short version of bench/stress.py: radii shrink monotonically, stay positive, the image stays right."""
+    """A short version of bench/run.py stress: radii shrink monotonically, stay positive, the image stays right."""
     renderer = ppm_core.Renderer(closed_sphere(1.0, width=8, height=8), photons_per_pass=500, threads=2,
                                  samples_per_pixel=1, seed=16)
     radii = []
