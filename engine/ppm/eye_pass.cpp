@@ -146,15 +146,23 @@ struct EyeTracer {
       if (m.emits()) emitted += v.throughput * m.emission;
       if (is_black(m) || v.emission_only) continue;
       const EyeVertex here{v.ray, v.throughput, v.depth, v.length + hit.t, v.glass_only, v.chain, false};
-      if (!is_specular(m)) {
-        record(hit, here, pixel, out);
+      const SurfacePoint sp = scene.surface_point(hit);
+      double delta_share = is_specular(m) ? 1.0 : 0.0;
+      if (m.kind == MaterialKind::Mixture && delta_share == 0.0 && closure_has_delta(m.lobes))
+        delta_share = closure_delta_share(m.lobes, sp, -v.ray.direction);
+      // A mixture of delta and other lobes: one or the other, divided by its probability.
+      const bool follow_delta = delta_share >= 1.0 || (delta_share > 0.0 && rng.uniform() < delta_share);
+      if (!follow_delta) {
+        record(hit, EyeVertex{here.ray, here.throughput / (1.0 - delta_share), here.depth, here.length,
+                              here.glass_only, here.chain, false}, pixel, out);
         continue;
       }
       // With Cycles' limits, one ray more than the total: it may still see emission.
       if (!options.follow_specular || v.depth + 1 >= settings.path_bounces() + (limits.by_kind ? 1 : 0)) continue;
       BsdfSample branches[2];
-      const SurfacePoint sp = scene.surface_point(hit);
-      int count = specular_branches(m, sp, -v.ray.direction, branches);
+      const double u_lobe = m.kind == MaterialKind::Mixture ? rng.uniform() : 0.5;
+      int count = specular_branches(m, sp, -v.ray.direction, u_lobe, branches);
+      for (int b = 0; b < count; ++b) branches[b].weight /= delta_share;
       if (count == 2 && v.depth >= kSplitDepth) {  // past the split depth: follow one branch
         const double w0 = luminance(branches[0].weight), w1 = luminance(branches[1].weight);
         const double p0 = w0 + w1 > 0.0 ? w0 / (w0 + w1) : 0.5;
@@ -168,8 +176,10 @@ struct EyeTracer {
         if (!(max_component(thr) > 0.0)) continue;
         const Vec3 wi = branches[b].wi;
         const Vec3 origin = offset_point(hit.position, hit.geometric_normal, wi, scene.offset_floor());
-        const uint8_t kind = scattered_ray_kind(m, hit.geometric_normal, v.ray.direction, wi);
-        const bool glass_only = v.glass_only && m.kind == MaterialKind::Glass && kind == kTransmissionRay;
+        const uint8_t kind = branches[b].ray_kind ? branches[b].ray_kind : v.ray.kind;  // 0: transparency
+        const bool through = branches[b].ray_kind == 0 || branches[b].ray_kind == kTransmissionRay;
+        const bool glass_only =
+            v.glass_only && through && (m.kind == MaterialKind::Glass || m.kind == MaterialKind::Mixture);
         const Bounces chain = plus(v.chain, kind);
         const bool emission_only = limits.by_kind && !within(chain, limits.max);
         stack[top++] =

@@ -62,20 +62,21 @@ bool bounce_photon(const Scene& scene, const Settings& settings, const BounceLim
   const SurfacePoint sp = scene.surface_point(*hit);
   const bool deposit_direct = settings.direct_light == DirectLight::Photons;
   if (!is_specular(m) && (p.bounce > 0 || deposit_direct)) {
-    const uint8_t here = m.kind == MaterialKind::Diffuse ? kDiffuseRay : kGlossyRay;
+    const uint8_t here = scattering_ray_kind(m);
     const Bounces bounces = limits.active && p.bounce > 0 ? plus(p.used, here) : p.used;
     deposit(hit->position, p.ray.direction, glm::dot(wo, sp.ng) >= 0.0 ? sp.ns : -sp.ns, p.flux, bounces);
     ++deposits;
   }
   BsdfSample s;
   const double v1 = p.rng.uniform(), v2 = p.rng.uniform(), v3 = p.rng.uniform();
-  if (!bsdf_sample(m, sp, wo, v1, v2, v3, s)) return false;
+  const double v4 = m.kind == MaterialKind::Mixture ? p.rng.uniform() : 0.0;
+  if (!bsdf_sample(m, sp, wo, v1, v2, v3, v4, true, s)) return false;
   // Russian roulette on the scattering weight keeps the flux per photon steady.
   const double survive = std::fmin(1.0, max_component(s.weight));
   if (!(survive > 0.0) || p.rng.uniform() >= survive) return false;
   p.flux *= s.weight / survive;
   p.ray = Ray{offset_point(hit->position, hit->geometric_normal, s.wi, scene.offset_floor()), s.wi,
-              scattered_ray_kind(m, hit->geometric_normal, p.ray.direction, s.wi)};
+              s.ray_kind ? s.ray_kind : p.ray.kind};  // 0: through a transparent surface
   if (limits.active) {
     if (p.bounce > 0) p.used = plus(p.used, p.ray.kind);
     // Every later deposit adds the hit point's own scattering to the total.

@@ -4,6 +4,7 @@
 
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <atomic>
 #include <thread>
 #include <vector>
@@ -14,9 +15,43 @@ using namespace ppm::py_convert;
 
 namespace {
 
+// One lobe of a mixture from a dict: kind, weight, color, tint, roughness, ior, parts, layer, textured.
+Lobe lobe_from(const py::handle& item, const std::string& what) {
+  if (!py::isinstance<py::dict>(item)) fail(what, "each lobe must be a dict");
+  const py::dict d = py::reinterpret_borrow<py::dict>(item);
+  static const char* const kKeys[] = {"kind",      "weight", "color", "tint",    "roughness",
+                                      "ior",       "parts",  "layer", "textured"};
+  for (const auto& [key, value] : d) {
+    const std::string k = py::str(key);
+    if (std::find_if(std::begin(kKeys), std::end(kKeys), [&](const char* n) { return k == n; }) == std::end(kKeys))
+      fail(what, "unknown lobe key '" + printable(k) + "'");
+  }
+  Lobe l;
+  l.kind = choice<LobeKind>(d.contains("kind") ? py::str(d["kind"]) : py::str("diffuse"),
+                            {{"diffuse", LobeKind::Diffuse},
+                             {"translucent", LobeKind::Translucent},
+                             {"transparent", LobeKind::Transparent},
+                             {"conductor", LobeKind::Conductor},
+                             {"glossy", LobeKind::Glossy},
+                             {"dielectric", LobeKind::Dielectric}},
+                            what, "lobe kind");
+  if (d.contains("weight")) l.weight = color(d["weight"], what, "lobe weight");
+  if (d.contains("color")) l.color = color(d["color"], what, "lobe color");
+  if (d.contains("tint")) l.tint = color(d["tint"], what, "lobe tint");
+  if (d.contains("roughness")) l.roughness = py::cast<double>(d["roughness"]);
+  if (d.contains("ior")) l.ior = py::cast<double>(d["ior"]);
+  if (d.contains("parts"))
+    l.parts = choice<uint8_t>(py::str(d["parts"]),
+                              {{"both", kReflectionAndRefraction}, {"reflection", kReflection}, {"refraction", kRefraction}},
+                              what, "lobe parts");
+  if (d.contains("layer")) l.layer = py::cast<bool>(d["layer"]);
+  if (d.contains("textured")) l.textured = py::cast<bool>(d["textured"]);
+  return l;
+}
+
 uint32_t add_material(Scene& s, const std::string& name, const std::string& kind, const py::object& base_color,
                       int texture, double roughness, double ior, const py::object& specular_tint,
-                      const py::object& emission) {
+                      const py::object& emission, const py::object& lobes) {
   const std::string what = "material '" + checked_name(name, "material") + "'";
   Material m;
   m.name = name;
@@ -26,7 +61,8 @@ uint32_t add_material(Scene& s, const std::string& name, const std::string& kind
                                  {"metal", MaterialKind::Metal},
                                  {"glass", MaterialKind::Glass},
                                  {"emission", MaterialKind::Emission},
-                                 {"holdout", MaterialKind::Holdout}},
+                                 {"holdout", MaterialKind::Holdout},
+                                 {"mixture", MaterialKind::Mixture}},
                                 what, "kind");
   m.base_color = color(base_color, what, "base_color");
   m.texture = texture;
@@ -35,7 +71,12 @@ uint32_t add_material(Scene& s, const std::string& name, const std::string& kind
   m.ior = ior;
   m.specular_tint = color(specular_tint, what, "specular_tint");
   m.emission = color(emission, what, "emission");
-  return s.add_material(m);
+  if (!lobes.is_none()) {
+    if (m.kind != MaterialKind::Mixture) fail(what, "lobes are for kind 'mixture' only");
+    if (py::isinstance<py::str>(lobes) || !py::isinstance<py::iterable>(lobes)) fail(what, "lobes must be a list");
+    for (const py::handle item : lobes) m.lobes.push_back(lobe_from(item, what));
+  }
+  return s.add_material(std::move(m));
 }
 
 const std::initializer_list<std::pair<const char*, uint8_t>> kRayKindNames = {
@@ -355,9 +396,13 @@ void bind_scene(py::module_& m) {
       .def("add_material", &add_material, py::arg("name"), py::arg("kind") = "diffuse",
            py::arg("base_color") = py::make_tuple(0.8, 0.8, 0.8), py::arg("texture") = -1, py::arg("roughness") = 0.0,
            py::arg("ior") = 1.45, py::arg("specular_tint") = py::make_tuple(1.0, 1.0, 1.0),
-           py::arg("emission") = py::make_tuple(0.0, 0.0, 0.0),
+           py::arg("emission") = py::make_tuple(0.0, 0.0, 0.0), py::arg("lobes") = py::none(),
            "Adds a material; returns its index. kind: diffuse, mirror, metal, glass, emission, holdout "
-           "(a hole in the image: alpha 0 where camera rays reach it). "
+           "(a hole in the image: alpha 0 where camera rays reach it), mixture (`lobes`: a list of dicts "
+           "with kind diffuse, translucent, transparent, conductor, glossy or dielectric, weight, color, tint, "
+           "roughness, ior, parts ('both', 'reflection', 'refraction'), layer (a dielectric reflection "
+           "that attenuates the lobes after it, as a Principled BSDF's specular layer or coat) and textured "
+           "(its colour times the material's `texture`)). "
            "emission is radiance in W/(m^2 sr) (Blender colour * strength).")
       .def("add_texture", &add_texture, py::arg("name"), py::arg("pixels"), py::arg("storage") = py::none(),
            py::arg("clear_unusable") = false,

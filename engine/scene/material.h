@@ -1,12 +1,14 @@
-// Materials: one kind each, chosen by the exporter. Parameters follow Blender's
-// meaning (base colour, roughness, IOR). Any kind may also emit: `emission` is
-// radiance in W/(m^2 sr) per colour channel (Blender's colour * strength),
-// leaving both sides of the surface as in Cycles.
+// Materials: one kind each, chosen by the exporter; a mixture holds weighted lobes (Blender's
+// Mix and Add shaders, the Principled BSDF's layers). Parameters follow Blender's meaning (base
+// colour, roughness, IOR). Any kind may also emit: `emission` is radiance in W/(m^2 sr) per colour
+// channel (Blender's colour * strength), leaving both sides of the surface as in Cycles.
 #pragma once
 
 #include "math/types.h"
+#include "shading/closure.h"
 
 #include <string>
+#include <vector>
 
 namespace ppm {
 
@@ -17,6 +19,7 @@ enum class MaterialKind : uint8_t {
   Glass,    // dielectric Fresnel with `ior`; transmission tinted by base_color; GGX if rough
   Emission, // black surface that only emits
   Holdout,  // black surface that cuts a hole in the image: alpha 0 where camera rays reach it (Cycles' Holdout)
+  Mixture,  // weighted lobes (shading/closure.h); base_color is their summed colour (an albedo bound)
 };
 
 struct Material {
@@ -28,18 +31,24 @@ struct Material {
   double ior = 1.45;
   Color specular_tint{1.0};    // metal: F82 tint
   Color emission{0.0};
+  std::vector<Lobe> lobes;     // Mixture only
 
   bool emits() const { return max_component(emission) > 0.0; }
 };
 
-// Below this roughness a surface is treated as perfectly smooth: the eye pass
-// follows it and photons pass it without depositing.
-constexpr double kSmoothRoughness = 1e-3;
-
 inline bool is_specular(const Material& m) {
+  if (m.kind == MaterialKind::Mixture) return closure_is_delta(m.lobes);
   return m.kind == MaterialKind::Mirror ||
          ((m.kind == MaterialKind::Metal || m.kind == MaterialKind::Glass) && m.roughness < kSmoothRoughness);
 }
+// Whether some of the surface is a delta lobe the eye pass must follow (all of it, or part of a mixture).
+inline bool has_delta(const Material& m) {
+  return is_specular(m) || (m.kind == MaterialKind::Mixture && closure_has_delta(m.lobes));
+}
 inline bool is_black(const Material& m) { return m.kind == MaterialKind::Emission || m.kind == MaterialKind::Holdout; }
+// Whether light scatters through the surface at a non-delta lobe (photons on its far side count).
+inline bool transmits(const Material& m) {
+  return m.kind == MaterialKind::Glass || (m.kind == MaterialKind::Mixture && closure_transmits(m.lobes));
+}
 
 }  // namespace ppm

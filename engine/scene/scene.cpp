@@ -81,9 +81,33 @@ Scene::Scene() = default;
 Scene::~Scene() = default;
 Scene::Scene(Scene&&) noexcept = default;
 
-uint32_t Scene::add_material(const Material& m) {
+// A mixture's lobes: in range, at most kMaxLobes, layers prepared; base_color becomes their summed
+// colour (a bound of the albedo, for the energy check and the scene analysis).
+void Scene::check_lobes(Material& m, const std::string& what) const {
+  if (m.lobes.empty() || m.lobes.size() > static_cast<size_t>(kMaxLobes))
+    fail(what, "a mixture needs 1 to " + std::to_string(kMaxLobes) + " lobes");
+  Color bound(0.0);
+  for (size_t i = 0; i < m.lobes.size(); ++i) {
+    Lobe& l = m.lobes[i];
+    const std::string lobe = "lobe " + std::to_string(i);
+    check_finite(l.weight, 0.0, what, lobe + " weight");
+    check_finite(l.color, 0.0, what, lobe + " color");
+    check_finite(l.tint, 0.0, what, lobe + " tint");
+    if (!std::isfinite(l.roughness) || l.roughness < 0.0 || l.roughness > 1.0)
+      fail(what, lobe + " roughness must be in [0, 1]");
+    if (!std::isfinite(l.ior) || l.ior <= 0.0) fail(what, lobe + " ior must be a positive number");
+    if (l.layer && !(l.kind == LobeKind::Dielectric && l.parts == kReflection))
+      fail(what, lobe + ": only a dielectric reflection can be a layer");
+    prepare_lobe(l);
+    bound += l.weight * (l.kind == LobeKind::Dielectric ? glm::max(l.color, l.tint) : l.color);
+  }
+  m.base_color = bound;
+}
+
+uint32_t Scene::add_material(Material m) {
   ensure_mutable();
   const std::string what = quoted("material", m.name);
+  if (m.kind == MaterialKind::Mixture) check_lobes(m, what);
   check_finite(m.base_color, 0.0, what, "base_color");
   check_power(m.emission, what, "emission");
   check_finite(m.specular_tint, 0.0, what, "specular_tint");
@@ -91,7 +115,7 @@ uint32_t Scene::add_material(const Material& m) {
     fail(what, "roughness must be in [0, 1]");
   if (!std::isfinite(m.ior) || m.ior <= 0.0) fail(what, "ior must be a positive number");
   if (m.texture >= static_cast<int>(textures_.size())) fail(what, "texture index out of range");
-  materials_.push_back(m);
+  materials_.push_back(std::move(m));
   invalidate();
   return static_cast<uint32_t>(materials_.size() - 1);
 }
@@ -582,7 +606,10 @@ SurfacePoint Scene::surface_point(const Hit& hit) const {
   SurfacePoint sp;
   sp.ng = hit.geometric_normal;
   sp.ns = hit.shading_normal;
-  sp.albedo = m.texture >= 0 ? textures_[m.texture].lookup(hit.uv) * m.base_color : m.base_color;
+  if (m.kind == MaterialKind::Mixture)  // the texel its textured lobes multiply their colours by
+    sp.albedo = m.texture >= 0 ? textures_[m.texture].lookup(hit.uv) : Color(1.0);
+  else
+    sp.albedo = m.texture >= 0 ? textures_[m.texture].lookup(hit.uv) * m.base_color : m.base_color;
   return sp;
 }
 

@@ -66,7 +66,7 @@ class Scene {
   ~Scene();
   Scene(Scene&&) noexcept;
 
-  uint32_t add_material(const Material& m);
+  uint32_t add_material(Material m);
   // Texels that cannot be an albedo (see UnusableTexel) are an error naming the
   // first one, or, with clear_unusable, stay black (Texture::unusable_texels).
   uint32_t add_texture(const std::string& name, Texture texture, bool clear_unusable = false);
@@ -161,6 +161,7 @@ class Scene {
 
   void check_material(uint32_t material, const std::string& what) const;
   void check_not_emissive(uint32_t material, const std::string& what) const;
+  void check_lobes(Material& m, const std::string& what) const;
   void invalidate();
   void ensure_mutable() const;
   // One record per BVH leaf slot (see Bvh::prim_order), in leaf order: a

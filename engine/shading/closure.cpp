@@ -1,0 +1,177 @@
+// Mixtures of lobes (see closure.h).
+#include "shading/closure.h"
+
+#include "shading/microfacet.h"
+
+#include <cmath>
+
+namespace ppm {
+namespace {
+
+constexpr int kLayerAlbedoSamples = 1024;
+
+double layer_albedo(const Lobe& lobe, double mu) {
+  const double x = glm::clamp(mu, 0.0, 1.0) * (kLayerAlbedoSteps - 1);
+  const int i = std::min(static_cast<int>(x), kLayerAlbedoSteps - 2);
+  const double t = x - i;
+  return (1.0 - t) * lobe.albedo[i] + t * lobe.albedo[i + 1];
+}
+
+// Each lobe's weight towards `view`, attenuated by the layers above it.
+void effective_weights(const std::vector<Lobe>& lobes, const SurfacePoint& sp, const Vec3& view, Color eff[]) {
+  const double mu = std::fabs(glm::dot(view, sp.ns));
+  double cover = 1.0;
+  for (size_t i = 0; i < lobes.size(); ++i) {
+    eff[i] = lobes[i].weight * cover;
+    if (lobes[i].layer) cover *= glm::clamp(1.0 - max_component(lobes[i].tint) * layer_albedo(lobes[i], mu), 0.0, 1.0);
+  }
+}
+
+// A rough guess of how much of the light a lobe scatters towards the viewer, for picking lobes.
+double albedo_guess(const Lobe& lobe, const SurfacePoint& sp, const Vec3& wo) {
+  const Color color = lobe.color_at(sp.albedo);
+  if (lobe.kind != LobeKind::Dielectric) return luminance(color);
+  if (lobe.parts == kReflectionAndRefraction) return 0.5 * (luminance(lobe.tint) + luminance(color));
+  const double mu = std::fabs(glm::dot(wo, sp.ns));
+  const bool inside = lobe.parts != kReflection && glm::dot(wo, sp.ng) < 0.0;  // as dielectric_side
+  const double F = inside ? fresnel_dielectric(mu, lobe.ior, 1.0) : fresnel_dielectric(mu, 1.0, lobe.ior);
+  return lobe.parts == kReflection ? luminance(lobe.tint) * std::fmax(F, 0.02) : luminance(color) * (1.0 - F);
+}
+
+// Picking probabilities over the lobes `use` selects; returns their sum before normalising.
+template <class Use>
+double pick_probabilities(const std::vector<Lobe>& lobes, const SurfacePoint& sp, const Vec3& wo, const Color eff[],
+                          Use&& use, double prob[]) {
+  double total = 0.0;
+  for (size_t i = 0; i < lobes.size(); ++i) {
+    prob[i] = use(lobes[i]) ? std::fmax(luminance(eff[i]), 0.0) * albedo_guess(lobes[i], sp, wo) : 0.0;
+    total += prob[i];
+  }
+  if (total > 0.0)
+    for (size_t i = 0; i < lobes.size(); ++i) prob[i] /= total;
+  return total;
+}
+
+int pick(const std::vector<Lobe>& lobes, const double prob[], double u) {
+  double sum = 0.0;
+  int last = -1;
+  for (size_t i = 0; i < lobes.size(); ++i) {
+    if (prob[i] <= 0.0) continue;
+    last = static_cast<int>(i);
+    sum += prob[i];
+    if (u < sum) return last;
+  }
+  return last;  // rounding left u past the sum
+}
+
+Color lobe_eval(const Lobe& l, const SurfacePoint& sp, const Vec3& wo, const Vec3& wi) {
+  const Color color = l.color_at(sp.albedo);
+  switch (l.kind) {
+    case LobeKind::Diffuse: return lambert_eval(color, sp, wo, wi, false);
+    case LobeKind::Translucent: return lambert_eval(color, sp, wo, wi, true);
+    case LobeKind::Transparent: return Color(0.0);
+    case LobeKind::Conductor: return conductor_eval({color, l.tint, l.roughness}, sp, wo, wi);
+    case LobeKind::Glossy: return conductor_eval({color, l.tint, l.roughness, true}, sp, wo, wi);
+    case LobeKind::Dielectric: return dielectric_eval({l.ior, l.roughness, l.tint, color, l.parts}, sp, wo, wi);
+  }
+  return Color(0.0);
+}
+
+bool lobe_sample(const Lobe& l, const SurfacePoint& sp, const Vec3& wo, double u1, double u2, double u3, bool photon,
+                 BsdfSample& out) {
+  const Color color = l.color_at(sp.albedo);
+  switch (l.kind) {
+    case LobeKind::Diffuse: return lambert_sample(color, sp, wo, u1, u2, false, out);
+    case LobeKind::Translucent: return lambert_sample(color, sp, wo, u1, u2, true, out);
+    case LobeKind::Transparent: out = BsdfSample{-wo, color, true, 0}; return true;
+    case LobeKind::Conductor: return conductor_sample({color, l.tint, l.roughness}, sp, wo, u1, u2, out);
+    case LobeKind::Glossy: return conductor_sample({color, l.tint, l.roughness, true}, sp, wo, u1, u2, out);
+    case LobeKind::Dielectric:
+      return dielectric_sample({l.ior, l.roughness, l.tint, color, l.parts}, sp, wo, u1, u2, u3, photon, out);
+  }
+  return false;
+}
+
+}  // namespace
+
+void prepare_lobe(Lobe& lobe) {
+  if (!lobe.layer) return;
+  for (int i = 0; i < kLayerAlbedoSteps; ++i) {
+    const double mu = static_cast<double>(i) / (kLayerAlbedoSteps - 1);
+    lobe.albedo[i] = static_cast<float>(dielectric_reflectance(lobe.ior, lobe.roughness, mu, kLayerAlbedoSamples));
+  }
+}
+
+Color closure_eval(const std::vector<Lobe>& lobes, const SurfacePoint& sp, const Vec3& wo, const Vec3& wi) {
+  Color eff[kMaxLobes];
+  effective_weights(lobes, sp, wo, eff);
+  Color f(0.0);
+  for (size_t i = 0; i < lobes.size(); ++i)
+    if (!lobes[i].delta()) f += eff[i] * lobe_eval(lobes[i], sp, wo, wi);
+  return f;
+}
+
+bool closure_sample(const std::vector<Lobe>& lobes, const SurfacePoint& sp, const Vec3& wo, double u_pick,
+                    double u1, double u2, double u3, bool adjoint, BsdfSample& out) {
+  Color eff[kMaxLobes];
+  double prob[kMaxLobes];
+  effective_weights(lobes, sp, wo, eff);
+  if (!(pick_probabilities(lobes, sp, wo, eff, [](const Lobe&) { return true; }, prob) > 0.0)) return false;
+  const int i = pick(lobes, prob, u_pick);
+  if (i < 0 || !lobe_sample(lobes[i], sp, wo, u1, u2, u3, adjoint, out)) return false;
+  if (adjoint) effective_weights(lobes, sp, out.wi, eff);
+  out.weight *= eff[i] / prob[i];
+  return true;
+}
+
+double closure_delta_share(const std::vector<Lobe>& lobes, const SurfacePoint& sp, const Vec3& wo) {
+  Color eff[kMaxLobes];
+  double prob[kMaxLobes];
+  effective_weights(lobes, sp, wo, eff);
+  if (!(pick_probabilities(lobes, sp, wo, eff, [](const Lobe&) { return true; }, prob) > 0.0)) return 0.0;
+  double share = 0.0;
+  for (size_t i = 0; i < lobes.size(); ++i)
+    if (lobes[i].delta()) share += prob[i];
+  return glm::clamp(share, 0.0, 1.0);
+}
+
+int closure_delta_branches(const std::vector<Lobe>& lobes, const SurfacePoint& sp, const Vec3& wo, double u,
+                           BsdfSample out[2]) {
+  Color eff[kMaxLobes];
+  double prob[kMaxLobes];
+  effective_weights(lobes, sp, wo, eff);
+  if (!(pick_probabilities(lobes, sp, wo, eff, [](const Lobe& l) { return l.delta(); }, prob) > 0.0)) return 0;
+  const int i = pick(lobes, prob, u);
+  if (i < 0) return 0;
+  const Lobe& l = lobes[i];
+  int count = 0;
+  if (l.kind == LobeKind::Dielectric) {
+    count = dielectric_branches({l.ior, l.roughness, l.tint, l.color_at(sp.albedo), l.parts}, sp, wo, false, out);
+  } else {
+    count = lobe_sample(l, sp, wo, 0.5, 0.5, 0.5, false, out[0]) ? 1 : 0;
+  }
+  for (int b = 0; b < count; ++b) out[b].weight *= eff[i] / prob[i];
+  return count;
+}
+
+bool closure_has_delta(const std::vector<Lobe>& lobes) {
+  for (const Lobe& l : lobes)
+    if (l.delta()) return true;
+  return false;
+}
+
+bool closure_is_delta(const std::vector<Lobe>& lobes) {
+  for (const Lobe& l : lobes)
+    if (!l.delta()) return false;
+  return !lobes.empty();
+}
+
+bool closure_transmits(const std::vector<Lobe>& lobes) {
+  for (const Lobe& l : lobes)
+    if (!l.delta() && (l.kind == LobeKind::Translucent ||
+                       (l.kind == LobeKind::Dielectric && (l.parts & kRefraction))))
+      return true;
+  return false;
+}
+
+}  // namespace ppm

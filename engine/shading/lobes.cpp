@@ -1,0 +1,200 @@
+// The lobe families' scattering functions (see lobes.h).
+#include "shading/lobes.h"
+
+#include "math/sampling.h"
+#include "shading/microfacet.h"
+
+namespace ppm {
+namespace {
+
+Vec3 facing_normal(const SurfacePoint& sp, const Vec3& wo) { return glm::dot(wo, sp.ng) >= 0.0 ? sp.ns : -sp.ns; }
+
+// Side-aware quantities for dielectrics: the normal facing wo and the indices.
+struct DielectricSide {
+  Vec3 n;               // shading normal on wo's side
+  double eta_o, eta_i;  // index on wo's side and on the far side
+};
+// A reflection-only dielectric (a specular layer, a coat) is seen from outside on either side, as
+// in Cycles: only a surface that refracts has an inside.
+DielectricSide dielectric_side(const DielectricParams& p, const SurfacePoint& sp, const Vec3& wo) {
+  const bool outside = glm::dot(wo, sp.ng) >= 0.0;
+  if (p.parts == kReflection) return DielectricSide{outside ? sp.ns : -sp.ns, 1.0, p.ior};
+  return outside ? DielectricSide{sp.ns, 1.0, p.ior} : DielectricSide{-sp.ns, p.ior, 1.0};
+}
+
+double alpha_of(double roughness) { return roughness * roughness; }
+
+Color reflectance(const ConductorParams& p, double mu) { return p.constant ? p.f0 : conductor_fresnel(p.f0, p.f82, mu); }
+
+}  // namespace
+
+Color lambert_eval(const Color& color, const SurfacePoint& sp, const Vec3& wo, const Vec3& wi, bool far_side) {
+  const double so = glm::dot(wo, sp.ng), si = glm::dot(wi, sp.ng);
+  if (far_side ? so * si >= 0.0 : so * si <= 0.0) return Color(0.0);
+  return color * kInvPi;
+}
+
+bool lambert_sample(const Color& color, const SurfacePoint& sp, const Vec3& wo, double u1, double u2, bool far_side,
+                    BsdfSample& out) {
+  const Vec3 n = far_side ? -facing_normal(sp, wo) : facing_normal(sp, wo);
+  out.wi = to_world(sample_cosine_hemisphere(u1, u2), n);
+  const double side = glm::dot(out.wi, sp.ng) * glm::dot(wo, sp.ng);
+  if (far_side ? side >= 0.0 : side <= 0.0) return false;  // the shading normal pushed it to the wrong side
+  out.weight = color;
+  out.specular = false;
+  out.ray_kind = kDiffuseRay;
+  return true;
+}
+
+Color conductor_eval(const ConductorParams& p, const SurfacePoint& sp, const Vec3& wo, const Vec3& wi) {
+  if (p.roughness < kSmoothRoughness) return Color(0.0);
+  const LocalFrame f(facing_normal(sp, wo));
+  const Vec3 lo = f.to_local(wo), li = f.to_local(wi);
+  if (lo.z <= 0.0 || li.z <= 0.0) return Color(0.0);
+  const double a2 = alpha_of(p.roughness) * alpha_of(p.roughness);
+  const Vec3 h = glm::normalize(lo + li);
+  return reflectance(p, glm::dot(lo, h)) * ggx_d(h, a2) * ggx_g2(lo, li, a2) / (4.0 * lo.z * li.z);
+}
+
+bool conductor_sample(const ConductorParams& p, const SurfacePoint& sp, const Vec3& wo, double u1, double u2,
+                      BsdfSample& out) {
+  const Vec3 n = facing_normal(sp, wo);
+  out.ray_kind = kGlossyRay;
+  if (p.roughness < kSmoothRoughness) {
+    const double mu = glm::dot(wo, n);
+    if (mu <= 0.0) return false;
+    out.wi = reflect(wo, n);
+    out.weight = reflectance(p, mu);
+    out.specular = true;
+    return true;
+  }
+  const LocalFrame f(n);
+  const Vec3 lo = f.to_local(wo);
+  if (lo.z <= 0.0) return false;
+  const double a = std::fmax(alpha_of(p.roughness), 1e-4), a2 = a * a;
+  const Vec3 h = ggx_sample_vndf(lo, a, u1, u2);
+  const double oh = glm::dot(lo, h);
+  if (oh <= 0.0) return false;
+  const Vec3 li = reflect(lo, h);
+  if (li.z <= 0.0) return false;
+  out.wi = f.to_world(li);
+  out.weight = reflectance(p, oh) * (ggx_g2(lo, li, a2) / ggx_g1(lo, a2));
+  out.specular = false;
+  return true;
+}
+
+Color dielectric_eval(const DielectricParams& p, const SurfacePoint& sp, const Vec3& wo, const Vec3& wi) {
+  if (p.roughness < kSmoothRoughness) return Color(0.0);
+  const DielectricSide s = dielectric_side(p, sp, wo);
+  const LocalFrame f(s.n);
+  const Vec3 lo = f.to_local(wo), li = f.to_local(wi);
+  if (lo.z <= 0.0 || li.z == 0.0) return Color(0.0);
+  const double a2 = alpha_of(p.roughness) * alpha_of(p.roughness);
+  if (li.z > 0.0) {
+    if (!(p.parts & kReflection)) return Color(0.0);
+    const Vec3 h = glm::normalize(lo + li);
+    const double F = fresnel_dielectric(glm::dot(lo, h), s.eta_o, s.eta_i);
+    return p.reflection_tint * (F * ggx_d(h, a2) * ggx_g2(lo, li, a2) / (4.0 * lo.z * li.z));
+  }
+  if (!(p.parts & kRefraction)) return Color(0.0);
+  // Walter 2007, eq. 21, radiance form with wi the light side.
+  Vec3 h = -(s.eta_o * lo + s.eta_i * li);
+  if (glm::dot(h, h) == 0.0) return Color(0.0);
+  h = glm::normalize(h);
+  if (h.z < 0.0) h = -h;
+  const double oh = glm::dot(lo, h), ih = glm::dot(li, h);
+  if (oh <= 0.0 || ih >= 0.0) return Color(0.0);
+  const double F = fresnel_dielectric(oh, s.eta_o, s.eta_i);
+  const double denom = s.eta_i * ih + s.eta_o * oh;
+  const Vec3 li_up(li.x, li.y, -li.z);
+  const double value = std::fabs(ih) * oh * s.eta_o * s.eta_o * (1.0 - F) * ggx_d(h, a2) * ggx_g2(lo, li_up, a2) /
+                       (lo.z * std::fabs(li.z) * denom * denom);
+  return p.refraction_tint * value;
+}
+
+int dielectric_branches(const DielectricParams& p, const SurfacePoint& sp, const Vec3& wo, bool photon,
+                        BsdfSample out[2]) {
+  const DielectricSide s = dielectric_side(p, sp, wo);
+  const double mu = glm::dot(wo, s.n);
+  if (mu <= 0.0) return 0;
+  const double F = fresnel_dielectric(mu, s.eta_o, s.eta_i);
+  Vec3 t(0.0);
+  const bool refracts = F < 1.0 && refract(wo, s.n, s.eta_o / s.eta_i, t);
+  int count = 0;
+  if (p.parts & kReflection) {
+    out[count++] = BsdfSample{reflect(wo, s.n), p.reflection_tint * (refracts ? F : 1.0), true, kGlossyRay};
+  }
+  if ((p.parts & kRefraction) && refracts) {
+    const double scale = photon ? (s.eta_o / s.eta_i) * (s.eta_o / s.eta_i) : 1.0;
+    out[count++] = BsdfSample{t, (1.0 - F) * scale * p.refraction_tint, true, kTransmissionRay};
+  }
+  return count;
+}
+
+bool dielectric_sample(const DielectricParams& p, const SurfacePoint& sp, const Vec3& wo, double u1, double u2,
+                       double u3, bool photon, BsdfSample& out) {
+  if (p.roughness < kSmoothRoughness) {
+    BsdfSample branches[2];
+    const int count = dielectric_branches(p, sp, wo, photon, branches);
+    if (count == 0) return false;
+    if (count == 1) {
+      out = branches[0];
+      return true;
+    }
+    // Choose by the branches' weights, then divide by the choice probability.
+    const double w0 = luminance(branches[0].weight), w1 = luminance(branches[1].weight);
+    const double p0 = w0 + w1 > 0.0 ? w0 / (w0 + w1) : 0.5;
+    out = u3 < p0 ? branches[0] : branches[1];
+    out.weight /= u3 < p0 ? p0 : 1.0 - p0;
+    return true;
+  }
+  const DielectricSide s = dielectric_side(p, sp, wo);
+  const LocalFrame f(s.n);
+  const Vec3 lo = f.to_local(wo);
+  if (lo.z <= 0.0) return false;
+  const double a = std::fmax(alpha_of(p.roughness), 1e-4), a2 = a * a;
+  const Vec3 h = ggx_sample_vndf(lo, a, u1, u2);
+  const double oh = glm::dot(lo, h);
+  if (oh <= 0.0) return false;
+  const double F = fresnel_dielectric(oh, s.eta_o, s.eta_i);
+  Vec3 li(0.0);
+  const bool refracts = refract(lo, h, s.eta_o / s.eta_i, li);
+  // Both parts: reflect with probability F (the weight's F cancels); one part: its Fresnel share.
+  const bool reflects = p.parts == kReflectionAndRefraction ? (u3 < F || !refracts) : p.parts == kReflection;
+  out.specular = false;
+  if (reflects) {
+    li = reflect(lo, h);
+    if (li.z <= 0.0) return false;
+    const double share = p.parts == kReflectionAndRefraction ? 1.0 : (refracts ? F : 1.0);
+    out.weight = p.reflection_tint * (share * ggx_g2(lo, li, a2) / ggx_g1(lo, a2));
+    out.ray_kind = kGlossyRay;
+  } else {
+    if (!refracts || li.z >= 0.0) return false;
+    const double share = p.parts == kReflectionAndRefraction ? 1.0 : 1.0 - F;
+    const double scale = photon ? (s.eta_o / s.eta_i) * (s.eta_o / s.eta_i) : 1.0;  // Cycles' rule (lobes.h)
+    out.weight = p.refraction_tint * (scale * share * ggx_g2(lo, Vec3(li.x, li.y, -li.z), a2) / ggx_g1(lo, a2));
+    out.ray_kind = kTransmissionRay;
+  }
+  out.wi = f.to_world(li);
+  return true;
+}
+
+double dielectric_reflectance(double ior, double roughness, double cos_o, int samples) {
+  cos_o = glm::clamp(cos_o, 1e-4, 1.0);
+  if (roughness < kSmoothRoughness) return fresnel_dielectric(cos_o, 1.0, ior);
+  const Vec3 lo(std::sqrt(1.0 - cos_o * cos_o), 0.0, cos_o);
+  const double a = std::fmax(alpha_of(roughness), 1e-4), a2 = a * a;
+  const int side = std::max(1, static_cast<int>(std::sqrt(static_cast<double>(samples))));
+  double sum = 0.0;
+  for (int i = 0; i < side; ++i) {
+    for (int j = 0; j < side; ++j) {
+      const Vec3 h = ggx_sample_vndf(lo, a, (i + 0.5) / side, (j + 0.5) / side);
+      const Vec3 li = reflect(lo, h);
+      if (li.z <= 0.0) continue;
+      sum += fresnel_dielectric(glm::dot(lo, h), 1.0, ior) * ggx_g2(lo, li, a2) / ggx_g1(lo, a2);
+    }
+  }
+  return sum / (side * side);
+}
+
+}  // namespace ppm

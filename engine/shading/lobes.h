@@ -1,0 +1,48 @@
+// The scattering functions of the lobe families, on plain parameters, so that the single-kind
+// materials (scene/bsdf.h) and mixtures (shading/closure.h) share one implementation of each.
+// Rough lobes use GGX (microfacet.h); rough refraction follows Walter et al. 2007.
+#pragma once
+
+#include "shading/scatter.h"
+
+namespace ppm {
+
+// f of a Lambertian surface on wo's side (reflection) or the far side (translucency).
+Color lambert_eval(const Color& color, const SurfacePoint& sp, const Vec3& wo, const Vec3& wi, bool far_side);
+bool lambert_sample(const Color& color, const SurfacePoint& sp, const Vec3& wo, double u1, double u2, bool far_side,
+                    BsdfSample& out);
+
+struct ConductorParams {
+  Color f0;   // reflectance at normal incidence (Blender's base colour)
+  Color f82;  // the F82 tint
+  double roughness;
+  bool constant = false;  // reflectance f0 at every angle (Cycles' Glossy BSDF), no Fresnel
+};
+Color conductor_eval(const ConductorParams& p, const SurfacePoint& sp, const Vec3& wo, const Vec3& wi);
+bool conductor_sample(const ConductorParams& p, const SurfacePoint& sp, const Vec3& wo, double u1, double u2,
+                      BsdfSample& out);
+
+enum DielectricParts : uint8_t { kReflection = 1, kRefraction = 2, kReflectionAndRefraction = 3 };
+struct DielectricParams {
+  double ior;
+  double roughness;
+  Color reflection_tint;
+  Color refraction_tint;
+  uint8_t parts = kReflectionAndRefraction;
+};
+Color dielectric_eval(const DielectricParams& p, const SurfacePoint& sp, const Vec3& wo, const Vec3& wi);
+// `photon`: Cycles lets radiance pass an interface unscaled, so a surface behind a single glass
+// surface (a pane, a water surface) gets 1/eta^2 of the flux that crosses; photons follow that rule
+// (refraction scales them by (eta_o / eta_i)^2, eta_o on the side they come from), so that such a
+// surface is as bright as in Cycles. Into and out of a closed object the factors cancel.
+bool dielectric_sample(const DielectricParams& p, const SurfacePoint& sp, const Vec3& wo, double u1, double u2,
+                       double u3, bool photon, BsdfSample& out);
+// Both branches of a smooth dielectric with their Fresnel weights (0 to 2 written). `photon`: the
+// refraction also scales by (eta_o / eta_i)^2 (see dielectric_sample).
+int dielectric_branches(const DielectricParams& p, const SurfacePoint& sp, const Vec3& wo, bool photon,
+                        BsdfSample out[2]);
+// The fraction of light a smooth or rough dielectric reflects towards wo (its directional albedo),
+// estimated by `samples` stratified VNDF samples; for smooth ones the Fresnel term.
+double dielectric_reflectance(double ior, double roughness, double cos_o, int samples);
+
+}  // namespace ppm

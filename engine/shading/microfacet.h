@@ -1,0 +1,91 @@
+// The GGX microfacet distribution with Smith height-correlated masking, visible-normal sampling
+// (Heitz 2018), and the Fresnel terms of dielectrics and conductors. Local frames have the normal
+// along +Z.
+#pragma once
+
+#include "math/types.h"
+
+#include <cmath>
+
+namespace ppm {
+
+inline Vec3 reflect(const Vec3& w, const Vec3& n) { return 2.0 * glm::dot(w, n) * n - w; }
+
+// Refracts w (pointing away, on n's side) through a surface with relative index
+// eta = eta_i / eta_t. False on total internal reflection.
+inline bool refract(const Vec3& w, const Vec3& n, double eta, Vec3& out) {
+  const double cos_i = glm::dot(w, n);
+  const double sin2_t = eta * eta * std::fmax(0.0, 1.0 - cos_i * cos_i);
+  if (sin2_t >= 1.0) return false;
+  const double cos_t = std::sqrt(1.0 - sin2_t);
+  out = glm::normalize(-eta * w + (eta * cos_i - cos_t) * n);
+  return true;
+}
+
+// Fresnel reflectance of a dielectric for cos_i on the side with index eta_i.
+inline double fresnel_dielectric(double cos_i, double eta_i, double eta_t) {
+  cos_i = glm::clamp(cos_i, 0.0, 1.0);
+  const double sin_t = eta_i / eta_t * std::sqrt(std::fmax(0.0, 1.0 - cos_i * cos_i));
+  if (sin_t >= 1.0) return 1.0;
+  const double cos_t = std::sqrt(std::fmax(0.0, 1.0 - sin_t * sin_t));
+  const double rs = (eta_i * cos_i - eta_t * cos_t) / (eta_i * cos_i + eta_t * cos_t);
+  const double rp = (eta_t * cos_i - eta_i * cos_t) / (eta_t * cos_i + eta_i * cos_t);
+  return 0.5 * (rs * rs + rp * rp);
+}
+
+inline Color schlick(const Color& f0, double mu) {
+  const double m = std::fmax(0.0, 1.0 - mu), m5 = m * m * m * m * m;
+  return f0 + (Color(1.0) - f0) * m5;
+}
+
+// Conductor Fresnel: Schlick with the F82-tint correction (Hoffman 2023), as
+// Blender's Principled BSDF uses for metals.
+inline Color conductor_fresnel(const Color& f0, const Color& tint, double mu) {
+  constexpr double mu_bar = 1.0 / 7.0;
+  const double denom = mu_bar * std::pow(1.0 - mu_bar, 6.0);
+  const Color f_bar = schlick(f0, mu_bar);
+  const Color a = f_bar * (Color(1.0) - tint) / denom;
+  const Color f = schlick(f0, mu) - a * mu * std::pow(std::fmax(0.0, 1.0 - mu), 6.0);
+  return glm::clamp(f, 0.0, 1.0);
+}
+
+inline double ggx_d(const Vec3& h, double a2) {
+  if (h.z <= 0.0) return 0.0;
+  const double c2 = h.z * h.z;
+  const double d = c2 * (a2 - 1.0) + 1.0;
+  return a2 / (kPi * d * d);
+}
+inline double ggx_lambda(const Vec3& w, double a2) {
+  const double c2 = w.z * w.z;
+  if (c2 <= 0.0) return kInf;
+  const double t2 = std::fmax(0.0, 1.0 - c2) / c2;
+  return 0.5 * (-1.0 + std::sqrt(1.0 + a2 * t2));
+}
+inline double ggx_g1(const Vec3& w, double a2) { return 1.0 / (1.0 + ggx_lambda(w, a2)); }
+inline double ggx_g2(const Vec3& wo, const Vec3& wi, double a2) {
+  return 1.0 / (1.0 + ggx_lambda(wo, a2) + ggx_lambda(wi, a2));
+}
+
+// Visible normal sampling (Heitz 2018); wo.z > 0.
+inline Vec3 ggx_sample_vndf(const Vec3& wo, double alpha, double u1, double u2) {
+  const Vec3 vh = glm::normalize(Vec3(alpha * wo.x, alpha * wo.y, wo.z));
+  const double len2 = vh.x * vh.x + vh.y * vh.y;
+  const Vec3 t1 = len2 > 0.0 ? Vec3(-vh.y, vh.x, 0.0) / std::sqrt(len2) : Vec3(1.0, 0.0, 0.0);
+  const Vec3 t2 = glm::cross(vh, t1);
+  const double r = std::sqrt(u1), phi = 2.0 * kPi * u2;
+  const double p1 = r * std::cos(phi);
+  double p2 = r * std::sin(phi);
+  const double s = 0.5 * (1.0 + vh.z);
+  p2 = (1.0 - s) * std::sqrt(std::fmax(0.0, 1.0 - p1 * p1)) + s * p2;
+  const Vec3 nh = p1 * t1 + p2 * t2 + std::sqrt(std::fmax(0.0, 1.0 - p1 * p1 - p2 * p2)) * vh;
+  return glm::normalize(Vec3(alpha * nh.x, alpha * nh.y, std::fmax(1e-12, nh.z)));
+}
+
+struct LocalFrame {
+  Vec3 t, b, n;
+  explicit LocalFrame(const Vec3& normal) : n(normal) { make_basis(normal, t, b); }
+  Vec3 to_local(const Vec3& v) const { return Vec3(glm::dot(v, t), glm::dot(v, b), glm::dot(v, n)); }
+  Vec3 to_world(const Vec3& v) const { return v.x * t + v.y * b + v.z * n; }
+};
+
+}  // namespace ppm

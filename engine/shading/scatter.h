@@ -1,0 +1,28 @@
+// What every scattering function shares: the surface point it scatters at and a sampled direction.
+// Directions point away from the surface: `wo` towards the viewer or the previous path vertex,
+// `wi` towards the light or the next vertex.
+#pragma once
+
+#include "geometry/ray.h"
+#include "math/types.h"
+
+namespace ppm {
+
+struct SurfacePoint {
+  Vec3 ng;       // geometric normal, outward as the primitive defines it
+  Vec3 ns;       // shading normal, same hemisphere as ng
+  Color albedo;  // base colour, texture applied
+};
+
+struct BsdfSample {
+  Vec3 wi;
+  Color weight;           // f * |cos| / pdf
+  bool specular = false;  // a delta lobe was sampled
+  uint8_t ray_kind = 0;   // the RayKind of the scattered ray; 0: the ray goes on as it was (transparency)
+};
+
+// Below this roughness a surface is treated as perfectly smooth: the eye pass
+// follows it and photons pass it without depositing.
+constexpr double kSmoothRoughness = 1e-3;
+
+}  // namespace ppm

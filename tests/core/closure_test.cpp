@@ -1,0 +1,160 @@
+// Mixtures of lobes (shading/closure.h): sampling agrees with evaluation, for eye paths and for
+// photons (the adjoint); a white mixture of lossless lobes loses nothing, also under a layer;
+// layers attenuate what lies below by their tabulated albedo; the eye pass's delta split is whole.
+#include "math/rng.h"
+#include "math/sampling.h"
+#include "shading/closure.h"
+#include "shading/microfacet.h"
+
+#include <gtest/gtest.h>
+
+namespace ppm {
+namespace {
+
+const SurfacePoint kFlat{Vec3(0, 0, 1), Vec3(0, 0, 1), Color(1.0)};
+
+Vec3 direction(double cos_theta, double phi = 0.0) {
+  const double s = std::sqrt(std::fmax(0.0, 1.0 - cos_theta * cos_theta));
+  return Vec3(s * std::cos(phi), s * std::sin(phi), cos_theta);
+}
+
+Lobe lobe(LobeKind kind, Color weight, Color color, double roughness = 0.0) {
+  Lobe l;
+  l.kind = kind;
+  l.weight = weight;
+  l.color = color;
+  l.roughness = roughness;
+  return l;
+}
+
+Lobe specular_layer(double roughness, double ior = 1.5) {
+  Lobe l = lobe(LobeKind::Dielectric, Color(1.0), Color(1.0), roughness);
+  l.parts = kReflection;
+  l.layer = true;
+  l.ior = ior;
+  prepare_lobe(l);
+  return l;
+}
+
+// Mean sampled weight (all directions) against the integral of f cos over the sphere, both red.
+// `adjoint`: photons, whose mean weight is the integral of f(wi, wo) cos(wi).
+void expect_sampling_matches_eval(const std::vector<Lobe>& lobes, const Vec3& wo, bool adjoint, double tol) {
+  Rng rng(5, 6, 7);
+  const int n = 300000;
+  double sampled = 0.0, integrated = 0.0;
+  for (int i = 0; i < n; ++i) {
+    BsdfSample s;
+    if (closure_sample(lobes, kFlat, wo, rng.uniform(), rng.uniform(), rng.uniform(), rng.uniform(), adjoint, s) &&
+        !s.specular)
+      sampled += s.weight.x;
+    for (int k = 0; k < 8; ++k) {
+      const Vec3 wi = sample_uniform_sphere((k + rng.uniform()) / 8.0, rng.uniform());
+      const Color f = adjoint ? closure_eval(lobes, kFlat, wi, wo) : closure_eval(lobes, kFlat, wo, wi);
+      integrated += f.x * std::fabs(wi.z) * 4.0 * kPi / 8.0;
+    }
+  }
+  EXPECT_NEAR(sampled / n, integrated / n, tol) << (adjoint ? "photons" : "eye");
+}
+
+TEST(Closure, SamplingMatchesEvaluationForEyePathsAndPhotons) {
+  const std::vector<Lobe> lobes = {specular_layer(0.4), lobe(LobeKind::Diffuse, Color(0.5), Color(0.8)),
+                                   lobe(LobeKind::Conductor, Color(0.3), Color(0.9, 0.6, 0.3), 0.5),
+                                   lobe(LobeKind::Translucent, Color(0.2), Color(0.7))};
+  for (double cos_o : {0.95, 0.5, 0.15}) {
+    expect_sampling_matches_eval(lobes, direction(cos_o, 0.3), false, 0.01);
+    expect_sampling_matches_eval(lobes, direction(cos_o, 0.3), true, 0.01);
+  }
+}
+
+// Energy sent anywhere by one sample, averaged: delta lobes included.
+double mean_albedo(const std::vector<Lobe>& lobes, const Vec3& wo, bool adjoint) {
+  Rng rng(11, 12, 13);
+  const int n = 200000;
+  double sum = 0.0;
+  for (int i = 0; i < n; ++i) {
+    BsdfSample s;
+    if (closure_sample(lobes, kFlat, wo, rng.uniform(), rng.uniform(), rng.uniform(), rng.uniform(), adjoint, s))
+      sum += luminance(s.weight);
+  }
+  return sum / n;
+}
+
+TEST(Closure, WhiteLosslessMixturesLoseNothing) {
+  Lobe glass = lobe(LobeKind::Dielectric, Color(0.3), Color(1.0));
+  glass.tint = Color(1.0);
+  const std::vector<Lobe> mix = {lobe(LobeKind::Diffuse, Color(0.4), Color(1.0)), glass,
+                                 lobe(LobeKind::Transparent, Color(0.2), Color(1.0)),
+                                 lobe(LobeKind::Conductor, Color(0.1), Color(1.0))};
+  for (double cos_o : {0.9, 0.4, 0.1}) EXPECT_NEAR(mean_albedo(mix, direction(cos_o), false), 1.0, 0.005);
+}
+
+TEST(Closure, WhiteDiffuseUnderALayerLosesNothing) {
+  // What the layer reflects plus what it lets through to a white diffuse base is all the light:
+  // exactly for a smooth layer, and for a rough one because the layer's attenuation is its own
+  // single-scattering albedo.
+  for (double roughness : {0.0, 0.3, 0.7}) {
+    const std::vector<Lobe> lobes = {specular_layer(roughness), lobe(LobeKind::Diffuse, Color(1.0), Color(1.0))};
+    for (double cos_o : {0.9, 0.5, 0.2})
+      EXPECT_NEAR(mean_albedo(lobes, direction(cos_o), false), 1.0, 0.01) << roughness << " " << cos_o;
+  }
+}
+
+TEST(Closure, ALayerAttenuatesWhatLiesBelowByItsAlbedo) {
+  const std::vector<Lobe> lobes = {specular_layer(0.0), lobe(LobeKind::Diffuse, Color(1.0), Color(0.5))};
+  for (double cos_o : {1.0, 0.5, 0.1}) {
+    const Vec3 wo = direction(cos_o), wi = direction(0.7, 2.0);
+    const double F = fresnel_dielectric(cos_o, 1.0, 1.5);
+    EXPECT_NEAR(closure_eval(lobes, kFlat, wo, wi).x, (1.0 - F) * 0.5 / kPi, 2e-3 * 0.5 / kPi) << cos_o;
+  }
+  // The tabulated albedo of a rough layer is the integral of its reflection.
+  const Lobe rough = specular_layer(0.5);
+  for (double cos_o : {0.9, 0.3}) {
+    Rng rng(3, 3, 3);
+    double integrated = 0.0;
+    const int n = 400000;
+    for (int i = 0; i < n; ++i) {
+      const Vec3 wi = sample_uniform_sphere(rng.uniform(), rng.uniform());
+      integrated += dielectric_eval({1.5, 0.5, Color(1.0), Color(1.0), kReflection}, kFlat, direction(cos_o), wi).x *
+                    std::fabs(wi.z) * 4.0 * kPi;
+    }
+    EXPECT_NEAR(dielectric_reflectance(1.5, 0.5, cos_o, 4096), integrated / n, 0.005) << cos_o;
+  }
+}
+
+TEST(Closure, WithoutLayersItIsReciprocal) {
+  const std::vector<Lobe> lobes = {lobe(LobeKind::Diffuse, Color(0.5), Color(0.8)),
+                                   lobe(LobeKind::Conductor, Color(0.5), Color(0.9), 0.4)};
+  Rng rng(2, 2, 2);
+  for (int i = 0; i < 100; ++i) {
+    const Vec3 a = direction(0.05 + 0.95 * rng.uniform(), 6.28 * rng.uniform());
+    const Vec3 b = direction(0.05 + 0.95 * rng.uniform(), 6.28 * rng.uniform());
+    const Color fab = closure_eval(lobes, kFlat, a, b), fba = closure_eval(lobes, kFlat, b, a);
+    EXPECT_NEAR(fab.x, fba.x, 1e-9 * (1.0 + fab.x));
+  }
+}
+
+TEST(Closure, DeltaShareAndBranchesSplitTheSurfaceWhole) {
+  // Half smooth mirror, half diffuse (both white): the eye pass follows the mirror with
+  // probability `share` and divides by it, so the expected mirror weight is its own, 0.5.
+  const std::vector<Lobe> lobes = {lobe(LobeKind::Conductor, Color(0.5), Color(1.0)),
+                                   lobe(LobeKind::Diffuse, Color(0.5), Color(1.0))};
+  const Vec3 wo = direction(0.8);
+  const double share = closure_delta_share(lobes, kFlat, wo);
+  EXPECT_NEAR(share, 0.5, 1e-9);
+  BsdfSample b[2];
+  ASSERT_EQ(closure_delta_branches(lobes, kFlat, wo, 0.3, b), 1);
+  EXPECT_TRUE(b[0].specular);
+  EXPECT_NEAR(b[0].weight.x, 0.5, 1e-9);  // its weight 0.5, Fresnel 1, the only delta lobe (picked always)
+  EXPECT_NEAR(b[0].wi.z, wo.z, 1e-12);
+  EXPECT_TRUE(closure_has_delta(lobes));
+  EXPECT_FALSE(closure_is_delta(lobes));
+  // A transparent lobe keeps the ray's kind and direction.
+  const std::vector<Lobe> clear = {lobe(LobeKind::Transparent, Color(1.0), Color(0.5, 1.0, 1.0))};
+  ASSERT_EQ(closure_delta_branches(clear, kFlat, wo, 0.9, b), 1);
+  EXPECT_EQ(b[0].ray_kind, 0);
+  EXPECT_NEAR(glm::dot(b[0].wi, -wo), 1.0, 1e-12);
+  EXPECT_NEAR(b[0].weight.x, 0.5, 1e-12);
+}
+
+}  // namespace
+}  // namespace ppm
