@@ -199,26 +199,6 @@ def test_unsupported_node_warns_once_naming_material_and_node():
     assert len(warnings) == 1 and "odd" in warnings[0] and toon.name in warnings[0]
 
 
-def principled(**inputs):
-    mat = bpy.data.materials.new("p")
-    if mat.node_tree is None or bpy.app.version < (5, 0, 0):
-        mat.use_nodes = True
-    bsdf = next(n for n in mat.node_tree.nodes if n.bl_idname == "ShaderNodeBsdfPrincipled")
-    for name, value in inputs.items():
-        bsdf.inputs[name].default_value = value
-    return material_export.MaterialExporter(ppm_core.Scene(), print).describe(mat)
-
-
-def test_principled_mapping_uses_the_blender_4_socket_names():
-    assert principled(**{"Base Color": (0.2, 0.3, 0.4, 1.0)})["kind"] == "diffuse"
-    metal = principled(Metallic=1.0, Roughness=0.2)
-    assert metal["kind"] == "metal" and metal["roughness"] == pytest.approx(0.2)
-    glass = principled(**{"Transmission Weight": 1.0, "IOR": 1.33})
-    assert glass["kind"] == "glass" and glass["ior"] == pytest.approx(1.33)
-    glow = principled(**{"Emission Color": (1.0, 0.5, 0.0, 1.0), "Emission Strength": 4.0})
-    assert glow["emission"] == pytest.approx((4.0, 2.0, 0.0))
-
-
 def test_instances_are_exported_with_their_own_matrices():
     scene = simple_scene()
     coll = bpy.data.collections.new("things")

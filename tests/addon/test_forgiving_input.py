@@ -248,7 +248,7 @@ def test_material_values_outside_the_cores_range_are_clamped_with_one_warning(tm
     bsdf.inputs["Roughness"].default_value = 7.0  # Cycles clamps roughness: no warning for it
     bpy.data.objects["floor"].data.materials.append(mat)
     _, warnings = export_scene(scene)
-    assert warnings == ["material 'wild': outside what can be rendered, clamped: base color (2, 0.5, nan) -> "
+    assert warnings == ["material 'wild': outside what can be rendered, clamped: diffuse color (2, 0.5, nan) -> "
                         "(1, 0.5, 0)"], warnings
     renders(scene, tmp_path)
 

@@ -23,7 +23,7 @@ def surface_source(tree, output_type, targets=None):
     return links[0].from_node if links else None
 
 
-def _renders(link):
+def link_renders(link):
     """Whether Cycles uses a link: it drops muted and invalid ones and those to or from a hidden
     (disabled) socket (blender/shader.cpp, "connect nodes")."""
     return (link.is_valid and not getattr(link, "is_muted", False) and link.from_socket.enabled
@@ -36,7 +36,7 @@ def driving_node(socket):
     up to Blender 4.5 and the socket's own value from 5.0 on (measured), so callers warn."""
     node = None
     while True:
-        links = [link for link in socket.links if _renders(link)]
+        links = [link for link in socket.links if link_renders(link)]
         if not links:
             return node
         node = links[0].from_node

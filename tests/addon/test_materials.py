@@ -1,0 +1,172 @@
+"""Materials as the exporter reads them (export/closure.py, export/material.py): Mix and Add
+shaders fold into lobe weights, node groups, reroutes and muted nodes pass as in Blender, the
+Principled BSDF becomes its layers, and bad graphs get one warning naming material and node."""
+
+import pytest
+
+import ppm_core
+from conftest import bpy
+from ppm_render.export import material as material_export
+
+
+def node_material(name="m"):
+    mat = bpy.data.materials.new(name)
+    if mat.node_tree is None or bpy.app.version < (5, 0, 0):
+        mat.use_nodes = True
+    tree = mat.node_tree
+    tree.nodes.clear()
+    out = tree.nodes.new("ShaderNodeOutputMaterial")
+    return mat, tree, out
+
+
+def add(tree, kind, **inputs):
+    node = tree.nodes.new(kind)
+    for key, value in inputs.items():
+        node.inputs[key].default_value = value
+    return node
+
+
+def describe(mat):
+    warnings = []
+    params = material_export.MaterialExporter(ppm_core.Scene(), warnings.append).describe(mat)
+    return params, warnings
+
+
+def lobes_by_kind(params):
+    return {lobe["kind"]: lobe for lobe in params["lobes"]}
+
+
+def test_mix_and_add_fold_into_weights():
+    mat, tree, out = node_material()
+    diffuse = add(tree, "ShaderNodeBsdfDiffuse", Color=(1.0, 0.0, 0.0, 1.0))
+    glossy = add(tree, "ShaderNodeBsdfGlossy", Roughness=0.3)
+    glass = add(tree, "ShaderNodeBsdfGlass", IOR=1.33)
+    mix = add(tree, "ShaderNodeMixShader", Fac=0.25)
+    add_shader = add(tree, "ShaderNodeAddShader")
+    tree.links.new(diffuse.outputs[0], mix.inputs[1])
+    tree.links.new(glossy.outputs[0], mix.inputs[2])
+    tree.links.new(mix.outputs[0], add_shader.inputs[0])
+    tree.links.new(glass.outputs[0], add_shader.inputs[1])
+    tree.links.new(add_shader.outputs[0], out.inputs["Surface"])
+    params, warnings = describe(mat)
+    assert warnings == []
+    lobes = lobes_by_kind(params)
+    assert params["kind"] == "mixture" and set(lobes) == {"diffuse", "glossy", "dielectric"}
+    assert lobes["diffuse"]["weight"] == pytest.approx((0.75,) * 3)
+    assert lobes["glossy"]["weight"] == pytest.approx((0.25,) * 3)
+    assert lobes["glossy"]["roughness"] == pytest.approx(0.3)
+    assert lobes["dielectric"]["weight"] == pytest.approx((1.0,) * 3)
+    assert lobes["dielectric"]["ior"] == pytest.approx(1.33)
+
+
+def test_zero_weight_branches_and_unconnected_inputs_are_dropped():
+    mat, tree, out = node_material()
+    diffuse = add(tree, "ShaderNodeBsdfDiffuse", Color=(0.5, 0.5, 0.5, 1.0))
+    glossy = add(tree, "ShaderNodeBsdfGlossy")
+    mix = add(tree, "ShaderNodeMixShader", Fac=0.0)
+    tree.links.new(diffuse.outputs[0], mix.inputs[1])
+    tree.links.new(glossy.outputs[0], mix.inputs[2])
+    tree.links.new(mix.outputs[0], out.inputs["Surface"])
+    params, _ = describe(mat)
+    # Only diffuse is left: the cheap diffuse material, not a mixture.
+    assert params["kind"] == "diffuse" and params["base_color"] == pytest.approx((0.5, 0.5, 0.5))
+    mix.inputs["Fac"].default_value = 0.5
+    tree.links.remove(mix.inputs[2].links[0])  # half of the surface is black, as in Cycles
+    params, _ = describe(mat)
+    assert params["kind"] == "diffuse" and params["base_color"] == pytest.approx((0.25, 0.25, 0.25))
+
+
+def group_with_diffuse(color_default):
+    """A node group whose shader output is a Diffuse BSDF of the group's Color input."""
+    group = bpy.data.node_groups.new("tinted", "ShaderNodeTree")
+    if hasattr(group, "interface"):
+        group.interface.new_socket("Color", in_out="INPUT", socket_type="NodeSocketColor")
+        group.interface.new_socket("Shader", in_out="OUTPUT", socket_type="NodeSocketShader")
+    else:  # Blender 3.x
+        group.inputs.new("NodeSocketColor", "Color")
+        group.outputs.new("NodeSocketShader", "Shader")
+    gin, gout = group.nodes.new("NodeGroupInput"), group.nodes.new("NodeGroupOutput")
+    diffuse = group.nodes.new("ShaderNodeBsdfDiffuse")
+    reroute = group.nodes.new("NodeReroute")
+    group.links.new(gin.outputs[0], diffuse.inputs["Color"])
+    group.links.new(diffuse.outputs[0], reroute.inputs[0])
+    group.links.new(reroute.outputs[0], gout.inputs[0])
+    return group
+
+
+def test_node_groups_reroutes_and_group_inputs_pass_values():
+    mat, tree, out = node_material()
+    group = group_with_diffuse(None)
+    node = tree.nodes.new("ShaderNodeGroup")
+    node.node_tree = group
+    node.inputs[0].default_value = (0.1, 0.2, 0.3, 1.0)
+    rgb = tree.nodes.new("ShaderNodeRGB")
+    rgb.outputs[0].default_value = (0.6, 0.5, 0.4, 1.0)
+    tree.links.new(node.outputs[0], out.inputs["Surface"])
+    params, warnings = describe(mat)
+    assert warnings == [] and params["base_color"] == pytest.approx((0.1, 0.2, 0.3))
+    tree.links.new(rgb.outputs[0], node.inputs[0])  # an RGB node is a constant
+    params, warnings = describe(mat)
+    assert warnings == [] and params["base_color"] == pytest.approx((0.6, 0.5, 0.4))
+
+
+def test_a_muted_mix_passes_its_first_shader():
+    mat, tree, out = node_material()
+    red = add(tree, "ShaderNodeBsdfDiffuse", Color=(1.0, 0.0, 0.0, 1.0))
+    blue = add(tree, "ShaderNodeBsdfDiffuse", Color=(0.0, 0.0, 1.0, 1.0))
+    mix = add(tree, "ShaderNodeMixShader", Fac=0.5)
+    tree.links.new(red.outputs[0], mix.inputs[1])
+    tree.links.new(blue.outputs[0], mix.inputs[2])
+    tree.links.new(mix.outputs[0], out.inputs["Surface"])
+    mix.mute = True
+    params, _ = describe(mat)
+    assert params["base_color"] == pytest.approx((1.0, 0.0, 0.0))
+
+
+def test_a_cycle_of_links_renders_what_blender_keeps():
+    """Blender refuses a group inside itself, and marks links that close a cycle invalid; Cycles
+    drops those, and so does the exporter: the shaders outside the cycle still render."""
+    mat, tree, out = node_material("loop")
+    first, second = add(tree, "ShaderNodeMixShader", Fac=0.5), add(tree, "ShaderNodeMixShader", Fac=0.5)
+    diffuse = add(tree, "ShaderNodeBsdfDiffuse", Color=(0.4, 0.4, 0.4, 1.0))
+    tree.links.new(first.outputs[0], out.inputs["Surface"])
+    tree.links.new(second.outputs[0], first.inputs[1])
+    tree.links.new(first.outputs[0], second.inputs[1])  # closes the cycle
+    tree.links.new(diffuse.outputs[0], first.inputs[2])
+    params, warnings = describe(mat)
+    assert params["kind"] == "diffuse" and params["base_color"] == pytest.approx((0.2, 0.2, 0.2))
+
+
+def principled(**inputs):
+    mat, tree, out = node_material("p")
+    bsdf = add(tree, "ShaderNodeBsdfPrincipled", **inputs)
+    tree.links.new(bsdf.outputs[0], out.inputs["Surface"])
+    return describe(mat)[0]
+
+
+def test_the_principled_bsdf_becomes_its_layers():
+    plastic = lobes_by_kind(principled(**{"Base Color": (0.2, 0.3, 0.4, 1.0)}))
+    assert plastic["dielectric"]["layer"] and plastic["dielectric"]["parts"] == "reflection"
+    assert plastic["dielectric"]["ior"] == pytest.approx(1.5)
+    assert plastic["diffuse"]["color"] == pytest.approx((0.2, 0.3, 0.4))
+    metal = lobes_by_kind(principled(Metallic=1.0, Roughness=0.2))
+    assert set(metal) == {"conductor"} and metal["conductor"]["roughness"] == pytest.approx(0.2)
+    glass = lobes_by_kind(principled(**{"Transmission Weight": 1.0, "IOR": 1.33}))
+    assert set(glass) == {"dielectric"} and glass["dielectric"]["ior"] == pytest.approx(1.33)
+    coated = principled(**{"Coat Weight": 1.0, "Metallic": 1.0})["lobes"]
+    assert [lobe["kind"] for lobe in coated] == ["dielectric", "conductor"] and coated[0]["layer"]
+    glow = principled(**{"Emission Color": (1.0, 0.5, 0.0, 1.0), "Emission Strength": 4.0})
+    assert glow["emission"] == pytest.approx((4.0, 2.0, 0.0))
+    half = principled(Alpha=0.25)
+    assert lobes_by_kind(half)["transparent"]["weight"] == pytest.approx((0.75,) * 3)
+
+
+def test_a_value_driven_by_an_unsupported_node_warns_once_and_uses_its_own():
+    mat, tree, out = node_material("noisy")
+    diffuse = add(tree, "ShaderNodeBsdfDiffuse", Color=(0.3, 0.3, 0.3, 1.0))
+    noise = tree.nodes.new("ShaderNodeTexNoise")
+    tree.links.new(noise.outputs["Color"], diffuse.inputs["Color"])
+    tree.links.new(diffuse.outputs[0], out.inputs["Surface"])
+    params, warnings = describe(mat)
+    assert params["base_color"] == pytest.approx((0.3, 0.3, 0.3))
+    assert len(warnings) == 1 and "'noisy'" in warnings[0] and noise.name in warnings[0]
