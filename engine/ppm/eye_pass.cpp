@@ -147,22 +147,23 @@ struct EyeTracer {
       if (is_black(m) || v.emission_only) continue;
       const EyeVertex here{v.ray, v.throughput, v.depth, v.length + hit.t, v.glass_only, v.chain, false};
       const SurfacePoint sp = scene.surface_point(hit);
-      double delta_share = is_specular(m) ? 1.0 : 0.0;
-      if (m.kind == MaterialKind::Mixture && delta_share == 0.0 && closure_has_delta(m.lobes))
-        delta_share = closure_delta_share(m.lobes, sp, -v.ray.direction);
-      // A mixture of delta and other lobes: one or the other, divided by its probability.
-      const bool follow_delta = delta_share >= 1.0 || (delta_share > 0.0 && rng.uniform() < delta_share);
-      if (!follow_delta) {
-        record(hit, EyeVertex{here.ray, here.throughput / (1.0 - delta_share), here.depth, here.length,
+      double followed = is_specular(m) ? 1.0 : 0.0;
+      if (m.kind == MaterialKind::Mixture && followed == 0.0 && closure_has_followed(m.lobes))
+        followed = closure_followed_share(m.lobes, sp, -v.ray.direction);
+      // A mixture of followed and stored lobes: one or the other, divided by its probability.
+      if (!(followed >= 1.0 || (followed > 0.0 && rng.uniform() < followed))) {
+        record(hit, EyeVertex{here.ray, here.throughput / (1.0 - followed), here.depth, here.length,
                               here.glass_only, here.chain, false}, pixel, out);
         continue;
       }
       // With Cycles' limits, one ray more than the total: it may still see emission.
       if (!options.follow_specular || v.depth + 1 >= settings.path_bounces() + (limits.by_kind ? 1 : 0)) continue;
       BsdfSample branches[2];
-      const double u_lobe = m.kind == MaterialKind::Mixture ? rng.uniform() : 0.5;
-      int count = specular_branches(m, sp, -v.ray.direction, u_lobe, branches);
-      for (int b = 0; b < count; ++b) branches[b].weight /= delta_share;
+      double u[4] = {0.5, 0.5, 0.5, 0.5};  // only a mixture draws: other scenes keep their random streams
+      if (m.kind == MaterialKind::Mixture)
+        for (double& x : u) x = rng.uniform();
+      int count = specular_branches(m, sp, -v.ray.direction, u[0], u[1], u[2], u[3], branches);
+      for (int b = 0; b < count; ++b) branches[b].weight /= followed;
       if (count == 2 && v.depth >= kSplitDepth) {  // past the split depth: follow one branch
         const double w0 = luminance(branches[0].weight), w1 = luminance(branches[1].weight);
         const double p0 = w0 + w1 > 0.0 ? w0 / (w0 + w1) : 0.5;

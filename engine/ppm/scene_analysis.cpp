@@ -10,7 +10,7 @@ SceneAnalysis analyse_scene(const Scene& scene, const LightSampler& lights, cons
   if (!settings.scene_analysis) return a;  // everything else on, for measuring what the skips save
   bool any_specular = false, any_receiver = false, any_scatter = false;
   for (const Material& m : scene.materials()) {
-    any_specular |= has_delta(m);
+    any_specular |= has_followed(m);
     if (!is_specular(m) && !is_black(m)) any_receiver = true;
     if (!is_black(m) && max_component(m.base_color) > 0.0) any_scatter = true;
   }

@@ -15,12 +15,13 @@ using namespace ppm::py_convert;
 
 namespace {
 
-// One lobe of a mixture from a dict: kind, weight, color, tint, roughness, ior, parts, layer, textured.
+// One lobe of a mixture from a dict: kind, weight, color, tint, roughness, ior, parts, layer, textured,
+// multiscatter, tint_f0.
 Lobe lobe_from(const py::handle& item, const std::string& what) {
   if (!py::isinstance<py::dict>(item)) fail(what, "each lobe must be a dict");
   const py::dict d = py::reinterpret_borrow<py::dict>(item);
-  static const char* const kKeys[] = {"kind",      "weight", "color", "tint",    "roughness",
-                                      "ior",       "parts",  "layer", "textured"};
+  static const char* const kKeys[] = {"kind",  "weight", "color",    "tint",         "roughness", "ior",
+                                      "parts", "layer",  "textured", "multiscatter", "tint_f0"};
   for (const auto& [key, value] : d) {
     const std::string k = py::str(key);
     if (std::find_if(std::begin(kKeys), std::end(kKeys), [&](const char* n) { return k == n; }) == std::end(kKeys))
@@ -46,6 +47,8 @@ Lobe lobe_from(const py::handle& item, const std::string& what) {
                               what, "lobe parts");
   if (d.contains("layer")) l.layer = py::cast<bool>(d["layer"]);
   if (d.contains("textured")) l.textured = py::cast<bool>(d["textured"]);
+  if (d.contains("multiscatter")) l.multiscatter = py::cast<bool>(d["multiscatter"]);
+  if (d.contains("tint_f0")) l.tint_f0 = py::cast<bool>(d["tint_f0"]);
   return l;
 }
 
@@ -401,8 +404,9 @@ void bind_scene(py::module_& m) {
            "(a hole in the image: alpha 0 where camera rays reach it), mixture (`lobes`: a list of dicts "
            "with kind diffuse, translucent, transparent, conductor, glossy or dielectric, weight, color, tint, "
            "roughness, ior, parts ('both', 'reflection', 'refraction'), layer (a dielectric reflection "
-           "that attenuates the lobes after it, as a Principled BSDF's specular layer or coat) and textured "
-           "(its colour times the material's `texture`)). "
+           "that attenuates the lobes after it, as a Principled BSDF's specular layer or coat), textured "
+           "(its colour times the material's `texture`), multiscatter (Cycles' Multiscatter GGX energy) "
+           "and tint_f0 (a dielectric's tint scales F0 only, as the Principled BSDF's Specular Tint)). "
            "emission is radiance in W/(m^2 sr) (Blender colour * strength).")
       .def("add_texture", &add_texture, py::arg("name"), py::arg("pixels"), py::arg("storage") = py::none(),
            py::arg("clear_unusable") = false,

@@ -42,12 +42,13 @@ bool bsdf_sample(const Material& m, const SurfacePoint& sp, const Vec3& wo, doub
   return false;
 }
 
-int specular_branches(const Material& m, const SurfacePoint& sp, const Vec3& wo, double u, BsdfSample out[2]) {
+int specular_branches(const Material& m, const SurfacePoint& sp, const Vec3& wo, double u, double u1, double u2,
+                      double u3, BsdfSample out[2]) {
   switch (m.kind) {
     case MaterialKind::Mirror:
     case MaterialKind::Metal: return conductor_sample(conductor(m, sp), sp, wo, 0.5, 0.5, out[0]) ? 1 : 0;
     case MaterialKind::Glass: return dielectric_branches(dielectric(m), sp, wo, false, out);
-    case MaterialKind::Mixture: return closure_delta_branches(m.lobes, sp, wo, u, out);
+    case MaterialKind::Mixture: return closure_followed_branches(m.lobes, sp, wo, u, u1, u2, u3, out);
     default: return 0;
   }
 }

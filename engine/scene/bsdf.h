@@ -19,9 +19,11 @@ bool bsdf_sample(const Material& m, const SurfacePoint& sp, const Vec3& wo, doub
                  double u4, bool adjoint, BsdfSample& out);
 
 // The branches of a smooth surface, so the eye pass can follow reflection and refraction with their
-// Fresnel weights instead of choosing one at random; for a mixture, those of one delta lobe picked
-// with u (see closure_delta_branches). Returns the number of branches written (0 to 2).
-int specular_branches(const Material& m, const SurfacePoint& sp, const Vec3& wo, double u, BsdfSample out[2]);
+// Fresnel weights instead of choosing one at random; for a mixture, those of one followed lobe
+// picked with u, a rough one sampled with u1 to u3 (see closure_followed_branches). Returns the
+// number of branches written (0 to 2).
+int specular_branches(const Material& m, const SurfacePoint& sp, const Vec3& wo, double u, double u1, double u2,
+                      double u3, BsdfSample out[2]);
 
 // The RayKind a material's non-delta scattering gives rays (for bounce counts at hit points).
 inline uint8_t scattering_ray_kind(const Material& m) {

@@ -37,16 +37,16 @@ struct Material {
 };
 
 inline bool is_specular(const Material& m) {
-  if (m.kind == MaterialKind::Mixture) return closure_is_delta(m.lobes);
+  if (m.kind == MaterialKind::Mixture) return closure_is_followed(m.lobes);
   return m.kind == MaterialKind::Mirror ||
          ((m.kind == MaterialKind::Metal || m.kind == MaterialKind::Glass) && m.roughness < kSmoothRoughness);
 }
-// Whether some of the surface is a delta lobe the eye pass must follow (all of it, or part of a mixture).
-inline bool has_delta(const Material& m) {
-  return is_specular(m) || (m.kind == MaterialKind::Mixture && closure_has_delta(m.lobes));
+// Whether the eye pass follows some of the surface (all of it, or lobes of a mixture).
+inline bool has_followed(const Material& m) {
+  return is_specular(m) || (m.kind == MaterialKind::Mixture && closure_has_followed(m.lobes));
 }
 inline bool is_black(const Material& m) { return m.kind == MaterialKind::Emission || m.kind == MaterialKind::Holdout; }
-// Whether light scatters through the surface at a non-delta lobe (photons on its far side count).
+// Whether light scatters through the surface at a lobe hit points store (photons on its far side count).
 inline bool transmits(const Material& m) {
   return m.kind == MaterialKind::Glass || (m.kind == MaterialKind::Mixture && closure_transmits(m.lobes));
 }

@@ -98,6 +98,8 @@ void Scene::check_lobes(Material& m, const std::string& what) const {
     if (!std::isfinite(l.ior) || l.ior <= 0.0) fail(what, lobe + " ior must be a positive number");
     if (l.layer && !(l.kind == LobeKind::Dielectric && l.parts == kReflection))
       fail(what, lobe + ": only a dielectric reflection can be a layer");
+    if (l.multiscatter && l.kind == LobeKind::Dielectric && l.parts != kReflection)
+      fail(what, lobe + ": multiscatter is for reflection lobes (conductor, glossy, dielectric reflection)");
     prepare_lobe(l);
     bound += l.weight * (l.kind == LobeKind::Dielectric ? glm::max(l.color, l.tint) : l.color);
   }

@@ -1,6 +1,7 @@
 // Mixtures of lobes (see closure.h).
 #include "shading/closure.h"
 
+#include "shading/ggx_albedo.h"
 #include "shading/microfacet.h"
 
 #include <cmath>
@@ -8,7 +9,34 @@
 namespace ppm {
 namespace {
 
-constexpr int kLayerAlbedoSamples = 1024;
+// Cycles' estimate of a microfacet lobe's average Fresnel over the hemisphere (Fss), for the
+// energy of multiple scattering: analytic for the F82-tint conductor; Kulla and Conty's fit of the
+// real dielectric's, put through the generalized Schlick model for a tinted F0.
+Color average_fresnel(const Lobe& l, const Color& texel) {
+  const Color color = l.color_at(texel);
+  if (l.kind == LobeKind::Glossy) return color;
+  if (l.kind == LobeKind::Conductor) {
+    constexpr double kSchlickAt82 = 0.46266436;  // (1 - 1/7)^5
+    constexpr double kB = 17.651384;             // 1 / (1/7 (1 - 1/7)^6)
+    const Color b = glm::mix(color, Color(1.0), kSchlickAt82) * (Color(1.0) - l.tint) * kB;
+    return glm::clamp(glm::mix(color, Color(1.0), 1.0 / 21.0) - b / 126.0, 0.0, 1.0);
+  }
+  const double eta = l.ior >= 1.0 ? l.ior : 1.0 / l.ior;
+  const double real = (eta - 1.0) / (4.08567 + 1.00071 * eta);
+  const double f0 = (eta - 1.0) * (eta - 1.0) / ((eta + 1.0) * (eta + 1.0));
+  if (!l.tint_f0) return l.tint * real;
+  const double s = glm::clamp((real - f0) / (1.0 - f0), 0.0, 1.0);
+  return glm::mix(l.tint * f0, Color(1.0), s);
+}
+
+// Multiscatter GGX (Cycles, after Kulla and Conty): single scattering times 1 + Fms (1 - E) / E.
+Color multiscatter_factor(const Lobe& l, const Color& texel, double mu) {
+  if (!l.multiscatter || l.roughness < kSmoothRoughness) return Color(1.0);
+  const double e = ggx_albedo(l.roughness, mu), e_avg = ggx_average_albedo(l.roughness);
+  const Color fss = average_fresnel(l, texel);
+  const Color fms = fss * e_avg / (Color(1.0) - fss * (1.0 - e_avg));
+  return Color(1.0) + fms * ((1.0 - e) / e);
+}
 
 double layer_albedo(const Lobe& lobe, double mu) {
   const double x = glm::clamp(mu, 0.0, 1.0) * (kLayerAlbedoSteps - 1);
@@ -17,13 +45,13 @@ double layer_albedo(const Lobe& lobe, double mu) {
   return (1.0 - t) * lobe.albedo[i] + t * lobe.albedo[i + 1];
 }
 
-// Each lobe's weight towards `view`, attenuated by the layers above it.
+// Each lobe's weight towards `view`: its own weight, its multiple scattering, and the layers above.
 void effective_weights(const std::vector<Lobe>& lobes, const SurfacePoint& sp, const Vec3& view, Color eff[]) {
-  const double mu = std::fabs(glm::dot(view, sp.ns));
+  const double mu = glm::clamp(std::fabs(glm::dot(view, sp.ns)), 0.0, 1.0);
   double cover = 1.0;
   for (size_t i = 0; i < lobes.size(); ++i) {
-    eff[i] = lobes[i].weight * cover;
-    if (lobes[i].layer) cover *= glm::clamp(1.0 - max_component(lobes[i].tint) * layer_albedo(lobes[i], mu), 0.0, 1.0);
+    eff[i] = lobes[i].weight * cover * multiscatter_factor(lobes[i], sp.albedo, mu);
+    if (lobes[i].layer) cover *= glm::clamp(1.0 - layer_albedo(lobes[i], mu), 0.0, 1.0);
   }
 }
 
@@ -35,7 +63,7 @@ double albedo_guess(const Lobe& lobe, const SurfacePoint& sp, const Vec3& wo) {
   const double mu = std::fabs(glm::dot(wo, sp.ns));
   const bool inside = lobe.parts != kReflection && glm::dot(wo, sp.ng) < 0.0;  // as dielectric_side
   const double F = inside ? fresnel_dielectric(mu, lobe.ior, 1.0) : fresnel_dielectric(mu, 1.0, lobe.ior);
-  return lobe.parts == kReflection ? luminance(lobe.tint) * std::fmax(F, 0.02) : luminance(color) * (1.0 - F);
+  return lobe.parts == kReflection ? luminance(lobe.tint) * std::fmax(F, 0.02) : luminance(color);
 }
 
 // Picking probabilities over the lobes `use` selects; returns their sum before normalising.
@@ -72,7 +100,7 @@ Color lobe_eval(const Lobe& l, const SurfacePoint& sp, const Vec3& wo, const Vec
     case LobeKind::Transparent: return Color(0.0);
     case LobeKind::Conductor: return conductor_eval({color, l.tint, l.roughness}, sp, wo, wi);
     case LobeKind::Glossy: return conductor_eval({color, l.tint, l.roughness, true}, sp, wo, wi);
-    case LobeKind::Dielectric: return dielectric_eval({l.ior, l.roughness, l.tint, color, l.parts}, sp, wo, wi);
+    case LobeKind::Dielectric: return dielectric_eval(l.dielectric(sp.albedo), sp, wo, wi);
   }
   return Color(0.0);
 }
@@ -87,7 +115,7 @@ bool lobe_sample(const Lobe& l, const SurfacePoint& sp, const Vec3& wo, double u
     case LobeKind::Conductor: return conductor_sample({color, l.tint, l.roughness}, sp, wo, u1, u2, out);
     case LobeKind::Glossy: return conductor_sample({color, l.tint, l.roughness, true}, sp, wo, u1, u2, out);
     case LobeKind::Dielectric:
-      return dielectric_sample({l.ior, l.roughness, l.tint, color, l.parts}, sp, wo, u1, u2, u3, photon, out);
+      return dielectric_sample(l.dielectric(sp.albedo), sp, wo, u1, u2, u3, photon, out);
   }
   return false;
 }
@@ -96,9 +124,20 @@ bool lobe_sample(const Lobe& l, const SurfacePoint& sp, const Vec3& wo, double u
 
 void prepare_lobe(Lobe& lobe) {
   if (!lobe.layer) return;
-  for (int i = 0; i < kLayerAlbedoSteps; ++i) {
-    const double mu = static_cast<double>(i) / (kLayerAlbedoSteps - 1);
-    lobe.albedo[i] = static_cast<float>(dielectric_reflectance(lobe.ior, lobe.roughness, mu, kLayerAlbedoSamples));
+  constexpr int kSide = 32;  // stratified samples per axis
+  const SurfacePoint flat{Vec3(0, 0, 1), Vec3(0, 0, 1), Color(1.0)};
+  for (int m = 0; m < kLayerAlbedoSteps; ++m) {
+    const double mu = std::max(static_cast<double>(m) / (kLayerAlbedoSteps - 1), 1e-3);
+    const Vec3 wo(std::sqrt(1.0 - mu * mu), 0.0, mu);
+    double sum = 0.0;
+    for (int i = 0; i < kSide; ++i)
+      for (int j = 0; j < kSide; ++j) {
+        BsdfSample s;
+        if (lobe_sample(lobe, flat, wo, (i + 0.5) / kSide, (j + 0.5) / kSide, 0.5, false, s))
+          sum += max_component(s.weight);
+      }
+    const Color ms = multiscatter_factor(lobe, flat.albedo, mu);
+    lobe.albedo[m] = static_cast<float>(sum / (kSide * kSide) * max_component(ms));
   }
 }
 
@@ -107,7 +146,7 @@ Color closure_eval(const std::vector<Lobe>& lobes, const SurfacePoint& sp, const
   effective_weights(lobes, sp, wo, eff);
   Color f(0.0);
   for (size_t i = 0; i < lobes.size(); ++i)
-    if (!lobes[i].delta()) f += eff[i] * lobe_eval(lobes[i], sp, wo, wi);
+    if (!lobes[i].followed()) f += eff[i] * lobe_eval(lobes[i], sp, wo, wi);
   return f;
 }
 
@@ -124,51 +163,51 @@ bool closure_sample(const std::vector<Lobe>& lobes, const SurfacePoint& sp, cons
   return true;
 }
 
-double closure_delta_share(const std::vector<Lobe>& lobes, const SurfacePoint& sp, const Vec3& wo) {
+double closure_followed_share(const std::vector<Lobe>& lobes, const SurfacePoint& sp, const Vec3& wo) {
   Color eff[kMaxLobes];
   double prob[kMaxLobes];
   effective_weights(lobes, sp, wo, eff);
   if (!(pick_probabilities(lobes, sp, wo, eff, [](const Lobe&) { return true; }, prob) > 0.0)) return 0.0;
   double share = 0.0;
   for (size_t i = 0; i < lobes.size(); ++i)
-    if (lobes[i].delta()) share += prob[i];
+    if (lobes[i].followed()) share += prob[i];
   return glm::clamp(share, 0.0, 1.0);
 }
 
-int closure_delta_branches(const std::vector<Lobe>& lobes, const SurfacePoint& sp, const Vec3& wo, double u,
-                           BsdfSample out[2]) {
+int closure_followed_branches(const std::vector<Lobe>& lobes, const SurfacePoint& sp, const Vec3& wo, double u,
+                              double u1, double u2, double u3, BsdfSample out[2]) {
   Color eff[kMaxLobes];
   double prob[kMaxLobes];
   effective_weights(lobes, sp, wo, eff);
-  if (!(pick_probabilities(lobes, sp, wo, eff, [](const Lobe& l) { return l.delta(); }, prob) > 0.0)) return 0;
+  if (!(pick_probabilities(lobes, sp, wo, eff, [](const Lobe& l) { return l.followed(); }, prob) > 0.0)) return 0;
   const int i = pick(lobes, prob, u);
   if (i < 0) return 0;
   const Lobe& l = lobes[i];
   int count = 0;
-  if (l.kind == LobeKind::Dielectric) {
-    count = dielectric_branches({l.ior, l.roughness, l.tint, l.color_at(sp.albedo), l.parts}, sp, wo, false, out);
+  if (l.kind == LobeKind::Dielectric && l.delta()) {
+    count = dielectric_branches(l.dielectric(sp.albedo), sp, wo, false, out);
   } else {
-    count = lobe_sample(l, sp, wo, 0.5, 0.5, 0.5, false, out[0]) ? 1 : 0;
+    count = lobe_sample(l, sp, wo, u1, u2, u3, false, out[0]) ? 1 : 0;
   }
   for (int b = 0; b < count; ++b) out[b].weight *= eff[i] / prob[i];
   return count;
 }
 
-bool closure_has_delta(const std::vector<Lobe>& lobes) {
+bool closure_has_followed(const std::vector<Lobe>& lobes) {
   for (const Lobe& l : lobes)
-    if (l.delta()) return true;
+    if (l.followed()) return true;
   return false;
 }
 
-bool closure_is_delta(const std::vector<Lobe>& lobes) {
+bool closure_is_followed(const std::vector<Lobe>& lobes) {
   for (const Lobe& l : lobes)
-    if (!l.delta()) return false;
+    if (!l.followed()) return false;
   return !lobes.empty();
 }
 
 bool closure_transmits(const std::vector<Lobe>& lobes) {
   for (const Lobe& l : lobes)
-    if (!l.delta() && (l.kind == LobeKind::Translucent ||
+    if (!l.followed() && (l.kind == LobeKind::Translucent ||
                        (l.kind == LobeKind::Dielectric && (l.parts & kRefraction))))
       return true;
   return false;

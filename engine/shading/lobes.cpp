@@ -83,6 +83,17 @@ bool conductor_sample(const ConductorParams& p, const SurfacePoint& sp, const Ve
   return true;
 }
 
+FresnelSplit fresnel_split(const DielectricParams& p, double F) {
+  // Refraction alone (Cycles' Refraction BSDF) has no Fresnel: all of it passes, but for total
+  // internal reflection, where the path ends.
+  if (p.parts == kRefraction) return {Color(0.0), F < 1.0 ? p.refraction_tint : Color(0.0)};
+  if (!p.tint_f0) return {p.reflection_tint * F, p.refraction_tint * (1.0 - F)};
+  const double f0 = (p.ior - 1.0) * (p.ior - 1.0) / ((p.ior + 1.0) * (p.ior + 1.0));
+  const double s = f0 < 1.0 ? glm::clamp((F - f0) / (1.0 - f0), 0.0, 1.0) : 1.0;
+  const Color reflected = glm::mix(p.reflection_tint * f0, Color(1.0), s);
+  return {reflected, p.refraction_tint * (Color(1.0) - reflected)};
+}
+
 Color dielectric_eval(const DielectricParams& p, const SurfacePoint& sp, const Vec3& wo, const Vec3& wi) {
   if (p.roughness < kSmoothRoughness) return Color(0.0);
   const DielectricSide s = dielectric_side(p, sp, wo);
@@ -94,10 +105,11 @@ Color dielectric_eval(const DielectricParams& p, const SurfacePoint& sp, const V
     if (!(p.parts & kReflection)) return Color(0.0);
     const Vec3 h = glm::normalize(lo + li);
     const double F = fresnel_dielectric(glm::dot(lo, h), s.eta_o, s.eta_i);
-    return p.reflection_tint * (F * ggx_d(h, a2) * ggx_g2(lo, li, a2) / (4.0 * lo.z * li.z));
+    return fresnel_split(p, F).reflected * (ggx_d(h, a2) * ggx_g2(lo, li, a2) / (4.0 * lo.z * li.z));
   }
   if (!(p.parts & kRefraction)) return Color(0.0);
-  // Walter 2007, eq. 21, radiance form with wi the light side.
+  // Walter 2007, eq. 21, with wi the light side, times (eta_i / eta_o)^2: Cycles' rule, radiance
+  // passing the interface unscaled (see dielectric_sample), which photons follow too.
   Vec3 h = -(s.eta_o * lo + s.eta_i * li);
   if (glm::dot(h, h) == 0.0) return Color(0.0);
   h = glm::normalize(h);
@@ -107,9 +119,9 @@ Color dielectric_eval(const DielectricParams& p, const SurfacePoint& sp, const V
   const double F = fresnel_dielectric(oh, s.eta_o, s.eta_i);
   const double denom = s.eta_i * ih + s.eta_o * oh;
   const Vec3 li_up(li.x, li.y, -li.z);
-  const double value = std::fabs(ih) * oh * s.eta_o * s.eta_o * (1.0 - F) * ggx_d(h, a2) * ggx_g2(lo, li_up, a2) /
+  const double value = std::fabs(ih) * oh * s.eta_i * s.eta_i * ggx_d(h, a2) * ggx_g2(lo, li_up, a2) /
                        (lo.z * std::fabs(li.z) * denom * denom);
-  return p.refraction_tint * value;
+  return fresnel_split(p, F).refracted * value;
 }
 
 int dielectric_branches(const DielectricParams& p, const SurfacePoint& sp, const Vec3& wo, bool photon,
@@ -120,13 +132,12 @@ int dielectric_branches(const DielectricParams& p, const SurfacePoint& sp, const
   const double F = fresnel_dielectric(mu, s.eta_o, s.eta_i);
   Vec3 t(0.0);
   const bool refracts = F < 1.0 && refract(wo, s.n, s.eta_o / s.eta_i, t);
+  const FresnelSplit split = fresnel_split(p, refracts ? F : 1.0);
   int count = 0;
-  if (p.parts & kReflection) {
-    out[count++] = BsdfSample{reflect(wo, s.n), p.reflection_tint * (refracts ? F : 1.0), true, kGlossyRay};
-  }
+  if (p.parts & kReflection) out[count++] = BsdfSample{reflect(wo, s.n), split.reflected, true, kGlossyRay};
   if ((p.parts & kRefraction) && refracts) {
     const double scale = photon ? (s.eta_o / s.eta_i) * (s.eta_o / s.eta_i) : 1.0;
-    out[count++] = BsdfSample{t, (1.0 - F) * scale * p.refraction_tint, true, kTransmissionRay};
+    out[count++] = BsdfSample{t, split.refracted * scale, true, kTransmissionRay};
   }
   return count;
 }
@@ -159,42 +170,26 @@ bool dielectric_sample(const DielectricParams& p, const SurfacePoint& sp, const 
   const double F = fresnel_dielectric(oh, s.eta_o, s.eta_i);
   Vec3 li(0.0);
   const bool refracts = refract(lo, h, s.eta_o / s.eta_i, li);
-  // Both parts: reflect with probability F (the weight's F cancels); one part: its Fresnel share.
-  const bool reflects = p.parts == kReflectionAndRefraction ? (u3 < F || !refracts) : p.parts == kReflection;
+  // Both parts: reflect with probability F, dividing by it; one part: its share, not chosen.
+  const bool both = p.parts == kReflectionAndRefraction;
+  const double F_eff = refracts ? F : 1.0;
+  const FresnelSplit split = fresnel_split(p, F_eff);
+  const bool reflects = both ? u3 < F_eff : p.parts == kReflection;
   out.specular = false;
   if (reflects) {
     li = reflect(lo, h);
     if (li.z <= 0.0) return false;
-    const double share = p.parts == kReflectionAndRefraction ? 1.0 : (refracts ? F : 1.0);
-    out.weight = p.reflection_tint * (share * ggx_g2(lo, li, a2) / ggx_g1(lo, a2));
+    out.weight = split.reflected * ((both ? 1.0 / F_eff : 1.0) * ggx_g2(lo, li, a2) / ggx_g1(lo, a2));
     out.ray_kind = kGlossyRay;
   } else {
     if (!refracts || li.z >= 0.0) return false;
-    const double share = p.parts == kReflectionAndRefraction ? 1.0 : 1.0 - F;
     const double scale = photon ? (s.eta_o / s.eta_i) * (s.eta_o / s.eta_i) : 1.0;  // Cycles' rule (lobes.h)
-    out.weight = p.refraction_tint * (scale * share * ggx_g2(lo, Vec3(li.x, li.y, -li.z), a2) / ggx_g1(lo, a2));
+    const double g = ggx_g2(lo, Vec3(li.x, li.y, -li.z), a2) / ggx_g1(lo, a2);
+    out.weight = split.refracted * ((both ? 1.0 / (1.0 - F_eff) : 1.0) * scale * g);
     out.ray_kind = kTransmissionRay;
   }
   out.wi = f.to_world(li);
   return true;
-}
-
-double dielectric_reflectance(double ior, double roughness, double cos_o, int samples) {
-  cos_o = glm::clamp(cos_o, 1e-4, 1.0);
-  if (roughness < kSmoothRoughness) return fresnel_dielectric(cos_o, 1.0, ior);
-  const Vec3 lo(std::sqrt(1.0 - cos_o * cos_o), 0.0, cos_o);
-  const double a = std::fmax(alpha_of(roughness), 1e-4), a2 = a * a;
-  const int side = std::max(1, static_cast<int>(std::sqrt(static_cast<double>(samples))));
-  double sum = 0.0;
-  for (int i = 0; i < side; ++i) {
-    for (int j = 0; j < side; ++j) {
-      const Vec3 h = ggx_sample_vndf(lo, a, (i + 0.5) / side, (j + 0.5) / side);
-      const Vec3 li = reflect(lo, h);
-      if (li.z <= 0.0) continue;
-      sum += fresnel_dielectric(glm::dot(lo, h), 1.0, ior) * ggx_g2(lo, li, a2) / ggx_g1(lo, a2);
-    }
-  }
-  return sum / (side * side);
 }
 
 }  // namespace ppm

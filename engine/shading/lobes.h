@@ -29,7 +29,15 @@ struct DielectricParams {
   Color reflection_tint;
   Color refraction_tint;
   uint8_t parts = kReflectionAndRefraction;
+  bool tint_f0 = false;  // the reflection tint scales F0 only, as Cycles' generalized Schlick Fresnel
+                         // of the Principled BSDF; else it scales the whole reflection
 };
+
+// The reflected and refracted shares of light at a (micro)surface of real Fresnel reflectance F.
+struct FresnelSplit {
+  Color reflected, refracted;
+};
+FresnelSplit fresnel_split(const DielectricParams& p, double F);
 Color dielectric_eval(const DielectricParams& p, const SurfacePoint& sp, const Vec3& wo, const Vec3& wi);
 // `photon`: Cycles lets radiance pass an interface unscaled, so a surface behind a single glass
 // surface (a pane, a water surface) gets 1/eta^2 of the flux that crosses; photons follow that rule
@@ -41,8 +49,4 @@ bool dielectric_sample(const DielectricParams& p, const SurfacePoint& sp, const 
 // refraction also scales by (eta_o / eta_i)^2 (see dielectric_sample).
 int dielectric_branches(const DielectricParams& p, const SurfacePoint& sp, const Vec3& wo, bool photon,
                         BsdfSample out[2]);
-// The fraction of light a smooth or rough dielectric reflects towards wo (its directional albedo),
-// estimated by `samples` stratified VNDF samples; for smooth ones the Fresnel term.
-double dielectric_reflectance(double ior, double roughness, double cos_o, int samples);
-
 }  // namespace ppm
