@@ -26,6 +26,7 @@ import itertools
 from dataclasses import dataclass
 
 import numpy as np
+
 from harness import metrics, plots
 from harness.references import has_reference, load_reference, reference_noise
 

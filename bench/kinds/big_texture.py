@@ -15,6 +15,7 @@ import sys
 import time
 
 import numpy as np
+
 from harness import blenders
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))

@@ -13,6 +13,7 @@ region of the reference: edges (occlusion and texture edges: top 10% of its grad
 from __future__ import annotations
 
 import numpy as np
+
 from harness import addon_route, metrics
 
 DOF = "camera.data.dof.use_dof"  # the setting, a property path from the scene

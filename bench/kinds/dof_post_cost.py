@@ -13,9 +13,8 @@ from __future__ import annotations
 
 import time
 
-from harness.core_route import build_scene
-
 import ppm_core
+from harness.core_route import build_scene
 
 W, H = 640, 480
 

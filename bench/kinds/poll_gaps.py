@@ -10,9 +10,8 @@ from __future__ import annotations
 
 import time
 
-from harness.core_route import build_scene
-
 import ppm_core
+from harness.core_route import build_scene
 
 
 def gaps(mode, gather, photons, passes):

@@ -16,9 +16,8 @@ from the virtual environment) and run with PYTHONPATH=build/prof.
 
 from __future__ import annotations
 
-from harness.core_route import build_scene
-
 import ppm_core
+from harness.core_route import build_scene
 
 
 def run(experiment, results):

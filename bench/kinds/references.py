@@ -22,6 +22,7 @@ import os
 import time
 
 import numpy as np
+
 from harness import metrics, plots
 from harness.exr_io import read_exr, write_exr
 from harness.references import REF_DIR, reference_path

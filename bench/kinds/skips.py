@@ -20,10 +20,10 @@ import statistics
 import time
 
 import numpy as np
-from harness.core_route import build_scene
 
 import core_scenes
 import ppm_core
+from harness.core_route import build_scene
 
 W, H = 320, 240
 

@@ -28,10 +28,10 @@ import sys
 import time
 
 import numpy as np
-from harness.core_route import build_scene
 
 import core_scenes
 import ppm_core
+from harness.core_route import build_scene
 from kinds.raycast import SEED, terrain
 
 W, H = 640, 480

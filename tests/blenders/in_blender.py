@@ -6,9 +6,9 @@
 Installs the add-on zip the way a user does (an extension in 4.2+, a legacy add-on in 3.4) into the
 user folders the caller chose (BLENDER_USER_RESOURCES, or BLENDER_USER_SCRIPTS/CONFIG for 3.4), then
 renders every bundled .blend through it at low resolution, runs the per-light-kind, per-lens,
-ray-visibility, image-based-light, alpha, stereo and light-path-limit Cycles agreement (cycles_compare.py,
-lens_compare.py, visibility_compare.py, world_compare.py, alpha_compare.py, stereo_compare.py,
-light_paths_compare.py) and
+ray-visibility, image-based-light, alpha, stereo, light-path-limit and material Cycles agreement
+(cycles_compare.py, lens_compare.py, visibility_compare.py, world_compare.py, alpha_compare.py,
+stereo_compare.py, light_paths_compare.py, materials_compare.py) and
 records every Python warning raised in the add-on's files (deprecations included). With --no-core
 it only tries one render and records the error. The assertions are in test_blender_versions.py,
 which runs this in each version.
@@ -32,6 +32,7 @@ import alpha_compare
 import cycles_compare
 import lens_compare
 import light_paths_compare
+import materials_compare
 import stereo_compare
 import visibility_compare
 import world_compare
@@ -124,6 +125,7 @@ def main():
         report["alpha"] = alpha_compare.compare_cases()
         report["stereo"] = stereo_compare.compare()
         report["light_paths"] = light_paths_compare.compare_cases()
+        report["materials"] = materials_compare.compare_cases(samples=256, passes=32)
     report["addon_warnings"] = found_warnings
     with open(args.report, "w") as f:
         json.dump(report, f, indent=1)

@@ -23,6 +23,7 @@ BUILD_ADDON = os.path.join(ROOT, "addon", "build_addon.py")
 TOLERANCE = 0.03  # cycles_compare.TOLERANCE (not imported: importing it needs bpy)
 LENS_TOLERANCE = 0.05  # lens_compare.TOLERANCE
 ALPHA_TOLERANCE = 0.01  # alpha_compare.ALPHA_TOLERANCE
+MATERIAL_TOLERANCE = 0.05  # materials_compare.TOLERANCE
 
 
 def bpy_python(venv):
@@ -60,7 +61,7 @@ def run_in_blender(version, zip_path, tmp_path, *args):
     run = subprocess.run(command, capture_output=True, text=True, timeout=900, env=env, cwd=str(tmp_path))
     assert run.returncode == 0 and report.exists(), run.stdout[-3000:] + run.stderr[-3000:]
     comparisons = ("cycles_compare", "lens_compare", "visibility_compare", "world_compare", "alpha_compare",
-                   "stereo_compare", "light_paths_compare")
+                   "stereo_compare", "light_paths_compare", "materials_compare")
     print("\n".join(line for line in run.stdout.splitlines() if line.startswith(comparisons)))
     return json.loads(report.read_text()), str(user)
 
@@ -95,6 +96,8 @@ def test_zip_installs_renders_and_agrees_with_cycles(version, addon_zip, tmp_pat
     assert max(stereo["max_block_error_L"], stereo["max_block_error_R"]) <= TOLERANCE and stereo["views_differ"] > 0.01
     light_paths = {row["case"]: row["max_block_error"] for row in report["light_paths"]}
     assert len(light_paths) == 5 and all(error <= TOLERANCE for error in light_paths.values()), light_paths
+    materials = {row["case"]: row["error"] for row in report["materials"] if not row["approximated"]}
+    assert len(materials) >= 28 and all(e <= MATERIAL_TOLERANCE for e in materials.values()), materials
     assert report["addon_warnings"] == []
 
 

@@ -207,6 +207,12 @@ def _roughness(reader, node, ctx, name="Roughness", default=0.5):
     return min(max(reader.value(node, name, ctx, default), 0.0), 1.0)
 
 
+def _multiscatter(node):
+    """Whether the node's microfacet distribution restores multiple scattering's energy (Cycles'
+    Multiscatter GGX, the default of the Principled, Glossy and Metallic BSDFs from Blender 4.0)."""
+    return getattr(node, "distribution", "GGX") == "MULTI_GGX"
+
+
 def _diffuse(reader, node, ctx, w):
     color, textured = reader.color(node, "Color", ctx)
     reader.out.add(w, kind="diffuse", color=tuple(color), textured=textured)
@@ -225,7 +231,7 @@ def _glossy(reader, node, ctx, w):
     color, textured = reader.color(node, "Color", ctx, (1.0, 1.0, 1.0))
     if reader.value(node, "Anisotropy", ctx, 0.0) != 0.0 or reader.value(node, "Anisotropic", ctx, 0.0) != 0.0:
         reader.warn(node, "anisotropy is not supported yet; rendered isotropic")
-    reader.out.add(w, kind="glossy", color=tuple(color), textured=textured,
+    reader.out.add(w, kind="glossy", color=tuple(color), textured=textured, multiscatter=_multiscatter(node),
                    roughness=_roughness(reader, node, ctx, default=0.5))
 
 
@@ -236,7 +242,7 @@ def _metallic(reader, node, ctx, w):
     color, textured = reader.color(node, "Base Color", ctx)
     tint = reader.value(node, "Edge Tint", ctx, 1.0, color=True)
     reader.out.add(w, kind="conductor", color=tuple(np.clip(color, 0.0, 1.0)), tint=tuple(np.clip(tint, 0.0, 1.0)),
-                   textured=textured, roughness=_roughness(reader, node, ctx))
+                   textured=textured, multiscatter=_multiscatter(node), roughness=_roughness(reader, node, ctx))
 
 
 def _glass(reader, node, ctx, w, parts="both"):
@@ -314,20 +320,21 @@ def principled_v2(reader, node, ctx, w):
     if metallic > CUTOFF:
         f82 = np.clip(reader.value(node, "Specular Tint", ctx, 1.0, color=True), 0.0, 1.0)
         reader.out.add(w * metallic, kind="conductor", color=tuple(np.clip(base, 0.0, 1.0)), tint=tuple(f82),
-                       textured=textured, roughness=roughness)
+                       textured=textured, multiscatter=_multiscatter(node), roughness=roughness)
         w = w * (1.0 - metallic)
     ior = max(v("IOR", 1.5), 1e-5)
     specular_tint = np.clip(reader.value(node, "Specular Tint", ctx, 1.0, color=True), 0.0, None)
     transmission = min(max(v("Transmission Weight"), 0.0), 1.0)
     if transmission > CUTOFF:
         reader.out.add(w * transmission, kind="dielectric", color=tuple(np.sqrt(np.clip(base, 0.0, 1.0))),
-                       tint=tuple(specular_tint), textured=textured, ior=ior, roughness=roughness)
+                       tint=tuple(specular_tint), tint_f0=True, textured=textured, ior=ior, roughness=roughness)
         w = w * (1.0 - transmission)
     level = max(v("Specular IOR Level", 0.5), 0.0)
     eta = ior if level == 0.5 else ior_from_f0(f0_from_ior(ior) * 2.0 * level)
     if abs(eta - 1.0) > 1e-6:
         reader.out.add(w, kind="dielectric", parts="reflection", layer=True, tint=tuple(specular_tint),
-                       ior=eta if eta > 1.0 else 1.0 / eta, roughness=roughness)
+                       tint_f0=True, multiscatter=_multiscatter(node), ior=eta if eta > 1.0 else 1.0 / eta,
+                       roughness=roughness)
     if v("Subsurface Weight") > CUTOFF:
         reader.warn(node, "subsurface scattering is rendered as diffuse in the base colour")
     reader.out.add(w, kind="diffuse", color=tuple(base), textured=textured)
@@ -335,9 +342,10 @@ def principled_v2(reader, node, ctx, w):
 
 def principled_v1(reader, node, ctx, w):
     """Cycles' Principled BSDF of Blender 3.x: diffuse (1 - transmission)(1 - metallic) of the base
-    colour; a specular lobe added on top (not layered, as in 3.x) of Fresnel F0 between 0.08 *
-    Specular (tinted towards the base colour by Specular Tint) and the base colour by Metallic;
-    glass for transmission; a clearcoat lobe of weight 0.25 * Clearcoat; emission."""
+    colour; a specular lobe of weight 1 - transmission (1 - metallic), added on top (not layered, as
+    in 3.x), of Fresnel F0 between 0.08 * Specular (tinted towards the base colour by Specular Tint)
+    and the base colour by Metallic; glass for transmission (1 - metallic); a clearcoat lobe of
+    weight 0.25 * Clearcoat; emission."""
     v = lambda name, default=0.0: reader.value(node, name, ctx, default)  # noqa: E731
     base, textured = reader.color(node, "Base Color", ctx)
     roughness = _roughness(reader, node, ctx)
@@ -348,8 +356,8 @@ def principled_v1(reader, node, ctx, w):
     if v("Sheen") > CUTOFF:
         reader.warn(node, "sheen is not supported yet; left out")
     metallic = min(max(v("Metallic"), 0.0), 1.0)
+    diffuse = (1.0 - metallic) * (1.0 - min(max(v("Transmission"), 0.0), 1.0))
     transmission = min(max(v("Transmission"), 0.0), 1.0) * (1.0 - metallic)
-    diffuse = (1.0 - metallic) * (1.0 - transmission)
     reader.out.emission += w * reader.value(node, "Emission", ctx, 0.0, color=True) * v("Emission Strength", 1.0)
     if v("Subsurface") > CUTOFF:
         reader.warn(node, "subsurface scattering is rendered as diffuse in the base colour")
@@ -360,7 +368,7 @@ def principled_v1(reader, node, ctx, w):
     dielectric_f0 = 0.08 * max(v("Specular", 0.5), 0.0) * (1.0 - tint + tint * hue)
     f0 = (1.0 - metallic) * dielectric_f0 + metallic * np.clip(base, 0.0, 1.0)
     reader.out.add(w * (1.0 - transmission), kind="conductor", color=tuple(np.clip(f0, 0.0, 1.0)),
-                   roughness=roughness)
+                   multiscatter=_multiscatter(node), roughness=roughness)
     if transmission > CUTOFF:
         reader.out.add(w * transmission, kind="dielectric", color=tuple(base), tint=(1.0, 1.0, 1.0),
                        ior=max(v("IOR", 1.45), 1e-5), roughness=roughness)

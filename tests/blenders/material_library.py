@@ -1,0 +1,173 @@
+"""A library of node materials covering every closure the exporter reads: each BSDF node, Mix and Add
+shaders nested, node groups, muted nodes and reroutes, and the Principled BSDF's layers. Built by
+script in the running Blender (3.4 and 4.x/5.x socket names); used by materials_compare.py and by
+blend_scenes/build_blend_scenes.py (material_library.blend).
+
+`MATERIALS` maps a name to a builder(tree, out) that fills a material's node tree. `APPROXIMATED`
+names those the add-on documents as approximations (reported by the comparison, not asserted).
+"""
+
+import bpy
+
+V4 = bpy.app.version >= (4, 0, 0)
+GLOSSY = "ShaderNodeBsdfGlossy" if not V4 else "ShaderNodeBsdfAnisotropic"
+
+
+def node(tree, kind, **inputs):
+    n = tree.nodes.new(kind)
+    for key, value in inputs.items():
+        n.inputs[key].default_value = value
+    return n
+
+
+def rgba(r, g, b):
+    return (r, g, b, 1.0)
+
+
+def link(tree, a, b, out=0):
+    tree.links.new(a.outputs[out] if isinstance(out, int) else a.outputs[out], b)
+
+
+def shader(kind, **inputs):
+    def build(tree, out):
+        link(tree, node(tree, kind, **inputs), out.inputs["Surface"])
+    return build
+
+
+def mix(fac, first, second):
+    """A Mix Shader of two builders' shaders (a builder here takes (tree, socket))."""
+    def build(tree, socket):
+        m = node(tree, "ShaderNodeMixShader", Fac=fac)
+        first(tree, m.inputs[1])
+        second(tree, m.inputs[2])
+        link(tree, m, socket)
+    return build
+
+
+def add(first, second):
+    def build(tree, socket):
+        a = node(tree, "ShaderNodeAddShader")
+        first(tree, a.inputs[0])
+        second(tree, a.inputs[1])
+        link(tree, a, socket)
+    return build
+
+
+def leaf(kind, **inputs):
+    def build(tree, socket):
+        link(tree, node(tree, kind, **inputs), socket)
+    return build
+
+
+def to_surface(builder):
+    return lambda tree, out: builder(tree, out.inputs["Surface"])
+
+
+def principled(**inputs):
+    """A Principled BSDF; Blender 4+ names, mapped to 3.x names where they differ."""
+    names_3x = {"Transmission Weight": "Transmission", "Coat Weight": "Clearcoat", "Coat Roughness":
+                "Clearcoat Roughness", "Emission Color": "Emission", "Subsurface Weight": "Subsurface",
+                "Sheen Weight": "Sheen"}
+
+    def build(tree, out):
+        values = inputs if V4 else {names_3x.get(k, k): v for k, v in inputs.items() if k != "Specular IOR Level"}
+        if not V4 and "Specular IOR Level" in inputs:
+            values["Specular"] = inputs["Specular IOR Level"]
+        link(tree, node(tree, "ShaderNodeBsdfPrincipled", **values), out.inputs["Surface"])
+    return build
+
+
+def grouped(tree, out):
+    """A node group holding Mix(Diffuse of the group's Color, Glossy), fed a colour from outside
+    through a reroute."""
+    group = bpy.data.node_groups.new("diffuse_glossy", "ShaderNodeTree")
+    if hasattr(group, "interface"):
+        group.interface.new_socket("Color", in_out="INPUT", socket_type="NodeSocketColor")
+        group.interface.new_socket("Shader", in_out="OUTPUT", socket_type="NodeSocketShader")
+    else:
+        group.inputs.new("NodeSocketColor", "Color")
+        group.outputs.new("NodeSocketShader", "Shader")
+    gin, gout = group.nodes.new("NodeGroupInput"), group.nodes.new("NodeGroupOutput")
+    diffuse = node(group, "ShaderNodeBsdfDiffuse")
+    glossy = node(group, GLOSSY, Roughness=0.3)
+    m = node(group, "ShaderNodeMixShader", Fac=0.3)
+    group.links.new(gin.outputs[0], diffuse.inputs["Color"])
+    group.links.new(diffuse.outputs[0], m.inputs[1])
+    group.links.new(glossy.outputs[0], m.inputs[2])
+    group.links.new(m.outputs[0], gout.inputs[0])
+    g = tree.nodes.new("ShaderNodeGroup")
+    g.node_tree = group
+    rgb = tree.nodes.new("ShaderNodeRGB")
+    rgb.outputs[0].default_value = rgba(0.2, 0.5, 0.8)
+    reroute = tree.nodes.new("NodeReroute")
+    tree.links.new(rgb.outputs[0], reroute.inputs[0])
+    tree.links.new(reroute.outputs[0], g.inputs[0])
+    tree.links.new(g.outputs[0], out.inputs["Surface"])
+
+
+def muted(tree, out):
+    """A muted Mix Shader passes its first shader (red diffuse)."""
+    m = node(tree, "ShaderNodeMixShader", Fac=0.9)
+    link(tree, node(tree, "ShaderNodeBsdfDiffuse", Color=rgba(0.8, 0.1, 0.1)), m.inputs[1])
+    link(tree, node(tree, GLOSSY, Roughness=0.0), m.inputs[2])
+    m.mute = True
+    link(tree, m, out.inputs["Surface"])
+
+
+DIFFUSE_BLUE = leaf("ShaderNodeBsdfDiffuse", Color=rgba(0.1, 0.3, 0.8))
+GLOSSY_ROUGH = leaf(GLOSSY, Color=rgba(0.9, 0.9, 0.9), Roughness=0.3)
+
+MATERIALS = {
+    "diffuse_red": shader("ShaderNodeBsdfDiffuse", Color=rgba(0.8, 0.2, 0.1)),
+    "glossy_rough": shader(GLOSSY, Color=rgba(0.8, 0.7, 0.5), Roughness=0.4),
+    "glossy_mirror": shader(GLOSSY, Color=rgba(0.9, 0.9, 0.9), Roughness=0.0),
+    "glass_clear": shader("ShaderNodeBsdfGlass", IOR=1.45, Roughness=0.0),
+    "glass_rough": shader("ShaderNodeBsdfGlass", IOR=1.45, Roughness=0.3),
+    "glass_tinted": shader("ShaderNodeBsdfGlass", Color=rgba(0.6, 0.9, 0.7), IOR=1.5, Roughness=0.0),
+    "refraction": shader("ShaderNodeBsdfRefraction", IOR=1.5, Roughness=0.1),
+    "translucent": shader("ShaderNodeBsdfTranslucent", Color=rgba(0.7, 0.7, 0.3)),
+    "transparent_mix": to_surface(mix(0.5, DIFFUSE_BLUE, leaf("ShaderNodeBsdfTransparent"))),
+    "diffuse_plus_emission": to_surface(add(leaf("ShaderNodeBsdfDiffuse", Color=rgba(0.5, 0.5, 0.5)),
+                                            leaf("ShaderNodeEmission", Color=rgba(1.0, 0.5, 0.1), Strength=0.5))),
+    "mix_diffuse_glossy": to_surface(mix(0.3, DIFFUSE_BLUE, GLOSSY_ROUGH)),
+    "add_diffuse_glossy": to_surface(add(leaf("ShaderNodeBsdfDiffuse", Color=rgba(0.4, 0.4, 0.4)),
+                                         leaf(GLOSSY, Color=rgba(0.4, 0.4, 0.4), Roughness=0.3))),
+    "nested_mix_glass": to_surface(mix(0.4, mix(0.5, DIFFUSE_BLUE, GLOSSY_ROUGH),
+                                       leaf("ShaderNodeBsdfGlass", IOR=1.45, Roughness=0.0))),
+    "node_group": grouped,
+    "muted_mix": muted,
+    "principled_default": principled(),
+    "principled_plastic_red": principled(**{"Base Color": rgba(0.8, 0.05, 0.05), "Roughness": 0.3}),
+    "principled_gold": principled(**{"Base Color": rgba(1.0, 0.76, 0.33), "Metallic": 1.0, "Roughness": 0.25}),
+    "principled_metal_rough": principled(**{"Base Color": rgba(0.9, 0.9, 0.9), "Metallic": 1.0, "Roughness": 0.7}),
+    "principled_half_metal": principled(**{"Base Color": rgba(0.5, 0.6, 0.8), "Metallic": 0.5}),
+    "principled_glass": principled(**{"Transmission Weight": 1.0, "Roughness": 0.0, "IOR": 1.45}),
+    "principled_glass_rough": principled(**{"Transmission Weight": 1.0, "Roughness": 0.2, "IOR": 1.45}),
+    "principled_coat": principled(**{"Base Color": rgba(0.6, 0.1, 0.1), "Coat Weight": 1.0, "Roughness": 0.6}),
+    "principled_coat_metal": principled(**{"Base Color": rgba(0.8, 0.8, 0.8), "Metallic": 1.0,
+                                           "Roughness": 0.5, "Coat Weight": 1.0}),
+    "principled_emission": principled(**{"Base Color": rgba(0.2, 0.2, 0.2), "Emission Color": rgba(0.2, 0.6, 1.0),
+                                         "Emission Strength": 1.0}),
+    "principled_alpha": principled(**{"Base Color": rgba(0.8, 0.8, 0.2), "Alpha": 0.5}),
+    "principled_specular_high": principled(**{"Base Color": rgba(0.1, 0.1, 0.1), "Specular IOR Level": 1.0,
+                                              "Roughness": 0.2}),
+    "principled_middle": principled(**{"Metallic": 0.5, "Roughness": 0.5, "Transmission Weight": 0.5,
+                                       "Coat Weight": 0.5, "Specular IOR Level": 0.5}),
+    "principled_subsurface": principled(**{"Base Color": rgba(0.8, 0.5, 0.4), "Subsurface Weight": 1.0}),
+    "principled_sheen": principled(**{"Base Color": rgba(0.2, 0.2, 0.5), "Sheen Weight": 1.0}),
+    "toon": shader("ShaderNodeBsdfToon", Color=rgba(0.8, 0.4, 0.2)),
+}
+
+# Documented approximations: measured and reported, not held to the tolerance.
+APPROXIMATED = {"principled_subsurface", "principled_sheen", "toon"}
+
+
+def make_material(name):
+    mat = bpy.data.materials.new(name)
+    if mat.node_tree is None or bpy.app.version < (5, 0, 0):
+        mat.use_nodes = True
+    tree = mat.node_tree
+    tree.nodes.clear()
+    out = tree.nodes.new("ShaderNodeOutputMaterial")
+    MATERIALS[name](tree, out)
+    return mat

@@ -1,0 +1,115 @@
+"""PPM against Cycles for every material of material_library.py, in the running Blender: each on a
+ball under a small sun and a grey world, seen through an orthographic camera. The same saved file
+is rendered by both engines (Cycles 1024 samples, 16 bounces of each kind; PPM 64 passes of 50,000
+photons; in_blender.py, in every Blender version: 256 and 32). The mean colour over the ball
+(pixels well inside its outline) must agree within 5% in each channel (absolute 0.005 for a
+channel darker than 0.1) for every material but the documented approximations, which are reported
+only. Prints one line per material and, with --table, a markdown table for the README.
+
+    .venv/bin/python tests/blenders/materials_compare.py [--table] [NAME ...]   # Blender 5.0 (bpy)
+    blender -b --factory-startup --python-exit-code 1 -P tests/blenders/materials_compare.py [-- NAME ...]
+"""
+
+import math
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+
+import bpy
+import numpy as np
+
+import cycles_compare
+import material_library
+
+SIZE = 64
+ORTHO_SCALE = 2.5  # the ball (radius 1) fills 80% of the frame
+TOLERANCE = 0.05
+DARK = 0.1
+
+
+def build(name):
+    cycles_compare.reset()
+    scene = bpy.context.scene
+    cycles_compare.ball("ball", (0.0, 0.0, 0.0), 1.0, material_library.make_material(name))
+    cycles_compare.set_world(0.5)
+    cycles_compare.add_light("SUN", 3.0, (0.0, 0.0, 5.0), rotation=(math.radians(40), 0.0, math.radians(-30)),
+                             angle=math.radians(5))
+    cam = bpy.data.objects.new("camera", bpy.data.cameras.new("camera"))
+    cam.location, cam.rotation_euler = (0.0, -5.0, 0.0), (math.radians(90), 0.0, 0.0)
+    cam.data.type, cam.data.ortho_scale = "ORTHO", ORTHO_SCALE
+    scene.collection.objects.link(cam)
+    scene.camera = cam
+    render = scene.render
+    render.resolution_x = render.resolution_y = SIZE
+    render.resolution_percentage = 100
+    render.image_settings.file_format, render.image_settings.color_depth = "OPEN_EXR", "32"
+    render.use_file_extension = False
+    render.film_transparent = False
+
+
+def ball_mask():
+    """Pixels whose centre lies inside 90% of the ball's outline."""
+    centres = (np.arange(SIZE) + 0.5) / SIZE * ORTHO_SCALE - ORTHO_SCALE / 2
+    x, y = np.meshgrid(centres, centres)
+    return x * x + y * y < 0.9 ** 2
+
+
+def configure(scene, engine):
+    if engine == "PPM":
+        scene.ppm.photons_per_pass = 50_000
+        scene.ppm.max_bounces = 16
+
+
+def compare(name, workdir, samples=1024, passes=64):
+    build(name)
+    images = cycles_compare.render_with_both_engines(name, workdir, samples, passes, bounces=16, configure=configure)
+    mask = ball_mask()
+    cycles, ppm = (images[e][mask].mean(axis=0) for e in ("CYCLES", "PPM"))
+    error = np.where(cycles > DARK, np.abs(ppm - cycles) / np.maximum(cycles, 1e-9), np.abs(ppm - cycles) / DARK)
+    return {"blender": bpy.app.version_string, "cycles": cycles.round(4).tolist(), "ppm": ppm.round(4).tolist(),
+            "error": float(error.max()), "approximated": name in material_library.APPROXIMATED}
+
+
+def describe(row):
+    return (f"cycles {row['cycles']} ppm {row['ppm']} worst channel {100 * row['error']:.1f}%"
+            + (" (documented approximation)" if row["approximated"] else ""))
+
+
+def failed(row):
+    return not row["approximated"] and row["error"] > TOLERANCE
+
+
+def table(rows):
+    print("\n| material | Cycles mean RGB | PPM mean RGB | worst channel |")
+    print("|---|---|---|---|")
+    for row in rows:
+        note = " (approximation)" if row["approximated"] else ""
+        print(f"| {row['case']}{note} | {row['cycles']} | {row['ppm']} | {100 * row['error']:.1f}% |")
+
+
+def compare_cases(names=None, samples=1024, passes=64):
+    """compare() for each material (all by default), printing a line each; the rows."""
+    names = names or list(material_library.MATERIALS)
+    return cycles_compare.run_cases("materials_compare", names,
+                                    lambda name, workdir: compare(name, workdir, samples, passes), describe)
+
+
+def main():
+    if "--" in sys.argv:
+        args = sys.argv[sys.argv.index("--") + 1:]
+    else:  # the blender binary's own arguments are not ours
+        args = [] if os.path.basename(sys.argv[0]).startswith("blender") else sys.argv[1:]
+    names = [a for a in args if not a.startswith("-")] or list(material_library.MATERIALS)
+
+    def run():
+        rows = compare_cases(names)
+        if "--table" in args:
+            table(rows)
+        return rows
+
+    cycles_compare.run_as_script("materials_compare", run, failed)
+
+
+if __name__ == "__main__":
+    main()
