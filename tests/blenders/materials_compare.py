@@ -4,9 +4,10 @@ is rendered by both engines (Cycles 1024 samples, 16 bounces of each kind; PPM 6
 photons; in_blender.py, in every Blender version: 256 and 32). The mean colour over the ball
 (pixels well inside its outline) must agree within 5% in each channel (absolute 0.005 for a
 channel darker than 0.1) for every material but the documented approximations, which are reported
-only. Prints one line per material and, with --table, a markdown table for the README.
+only. Prints one line per material and, with --table, a markdown table for the README; --sheet
+PATH draws Cycles | PPM | difference for each (docs/materials_compare.png).
 
-    .venv/bin/python tests/blenders/materials_compare.py [--table] [NAME ...]   # Blender 5.0 (bpy)
+    .venv/bin/python tests/blenders/materials_compare.py [--table] [--sheet PATH] [NAME ...]  # 5.0 (bpy)
     blender -b --factory-startup --python-exit-code 1 -P tests/blenders/materials_compare.py [-- NAME ...]
 """
 
@@ -26,6 +27,7 @@ SIZE = 64
 ORTHO_SCALE = 2.5  # the ball (radius 1) fills 80% of the frame
 TOLERANCE = 0.05
 DARK = 0.1
+SHEET = {}  # name -> {"CYCLES": rgb, "PPM": rgb}, for the contact sheet
 
 
 def build(name):
@@ -65,10 +67,24 @@ def compare(name, workdir, samples=1024, passes=64):
     build(name)
     images = cycles_compare.render_with_both_engines(name, workdir, samples, passes, bounces=16, configure=configure)
     mask = ball_mask()
+    SHEET[name] = images
     cycles, ppm = (images[e][mask].mean(axis=0) for e in ("CYCLES", "PPM"))
     error = np.where(cycles > DARK, np.abs(ppm - cycles) / np.maximum(cycles, 1e-9), np.abs(ppm - cycles) / DARK)
     return {"blender": bpy.app.version_string, "cycles": cycles.round(4).tolist(), "ppm": ppm.round(4).tolist(),
-            "error": float(error.max()), "approximated": name in material_library.APPROXIMATED}
+            "error": float(error.max()), "approximated": name in material_library.APPROXIMATED,
+            **per_pixel(images, mask)}
+
+
+def per_pixel(images, mask):
+    """Relative RMSE of PPM against Cycles over the ball: of single pixels, and of 4x4 block means
+    (blocks wholly on the ball), which leaves the noise of the two renders mostly out."""
+    cycles, ppm = (images[e].mean(axis=2) for e in ("CYCLES", "PPM"))
+    pixel = np.sqrt(np.mean((ppm[mask] - cycles[mask]) ** 2)) / cycles[mask].mean()
+    k = 4
+    blocks = lambda a: a.reshape(SIZE // k, k, SIZE // k, k).mean(axis=(1, 3))  # noqa: E731
+    inside = blocks(mask.astype(float)) == 1.0
+    a, b = blocks(ppm)[inside], blocks(cycles)[inside]
+    return {"pixel_rel_rmse": float(pixel), "block_rel_rmse": float(np.sqrt(np.mean((a - b) ** 2)) / b.mean())}
 
 
 def describe(row):
@@ -81,11 +97,14 @@ def failed(row):
 
 
 def table(rows):
-    print("\n| material | Cycles mean RGB | PPM mean RGB | worst channel |")
-    print("|---|---|---|---|")
+    print("\n| material | Cycles mean RGB | PPM mean RGB | mean, worst channel | pixels, rel. RMSE | "
+          "4x4 blocks, rel. RMSE |")
+    print("|---|---|---|---|---|---|")
     for row in rows:
         note = " (approximation)" if row["approximated"] else ""
-        print(f"| {row['case']}{note} | {row['cycles']} | {row['ppm']} | {100 * row['error']:.1f}% |")
+        rgb = lambda c: "(" + ", ".join(f"{x:.3f}" for x in c) + ")"  # noqa: E731
+        print(f"| {row['case']}{note} | {rgb(row['cycles'])} | {rgb(row['ppm'])} | {100 * row['error']:.1f}% | "
+              f"{100 * row['pixel_rel_rmse']:.1f}% | {100 * row['block_rel_rmse']:.1f}% |")
 
 
 def compare_cases(names=None, samples=1024, passes=64):
@@ -95,17 +114,47 @@ def compare_cases(names=None, samples=1024, passes=64):
                                     lambda name, workdir: compare(name, workdir, samples, passes), describe)
 
 
+def contact_sheet(rows, path):
+    """Cycles | PPM | 4 x |difference| for each material, four materials to a row (matplotlib)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    def tone(x):
+        return np.clip(x / (1.0 + x), 0.0, 1.0) ** (1 / 2.2)
+
+    per_row = 4
+    lines = (len(rows) + per_row - 1) // per_row
+    fig, axes = plt.subplots(lines, 3 * per_row, figsize=(3 * per_row * 1.1, lines * 1.25), squeeze=False)
+    for ax in axes.flat:
+        ax.axis("off")
+    for i, row in enumerate(rows):
+        images = SHEET[row["case"]]
+        cycles, ppm = images["CYCLES"][::-1], images["PPM"][::-1]  # Blender's rows are bottom-up
+        panels = (tone(cycles), tone(ppm), np.clip(4.0 * np.abs(ppm - cycles), 0.0, 1.0))
+        for j, (panel, label) in enumerate(zip(panels, ("Cycles", "PPM", "4x diff"))):
+            ax = axes[i // per_row][3 * (i % per_row) + j]
+            ax.imshow(panel, interpolation="nearest")
+            ax.set_title(f"{row['case']}\n{label}" if j == 0 else label, fontsize=6)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+
+
 def main():
     if "--" in sys.argv:
         args = sys.argv[sys.argv.index("--") + 1:]
     else:  # the blender binary's own arguments are not ours
         args = [] if os.path.basename(sys.argv[0]).startswith("blender") else sys.argv[1:]
-    names = [a for a in args if not a.startswith("-")] or list(material_library.MATERIALS)
+    sheet = args[args.index("--sheet") + 1] if "--sheet" in args else None
+    names = [a for a in args if not a.startswith("-") and a != sheet] or list(material_library.MATERIALS)
 
     def run():
         rows = compare_cases(names)
         if "--table" in args:
             table(rows)
+        if "--sheet" in args:
+            contact_sheet(rows, args[args.index("--sheet") + 1])
         return rows
 
     cycles_compare.run_as_script("materials_compare", run, failed)
