@@ -289,6 +289,15 @@ def ior_from_f0(f0):
     return (1.0 + root) / (1.0 - root)
 
 
+def _alpha(reader, node, ctx, w):
+    """The Principled BSDF's Alpha, applied first as Cycles does: a transparent lobe of 1 - alpha;
+    the weight left for the rest."""
+    alpha = min(max(reader.value(node, "Alpha", ctx, 1.0), 0.0), 1.0)
+    if alpha < 1.0:
+        reader.out.add(w * (1.0 - alpha), kind="transparent", color=(1.0, 1.0, 1.0))
+    return w * alpha
+
+
 def principled_v2(reader, node, ctx, w):
     """Cycles' Principled BSDF of Blender 4.0 and later, top to bottom: alpha (transparency), sheen
     (not yet: warned), coat (a dielectric layer, its tint at normal incidence), emission, metal (F82
@@ -298,10 +307,7 @@ def principled_v2(reader, node, ctx, w):
     v = lambda name, default=0.0: reader.value(node, name, ctx, default)  # noqa: E731
     base, textured = reader.color(node, "Base Color", ctx)
     roughness = _roughness(reader, node, ctx)
-    alpha = min(max(v("Alpha", 1.0), 0.0), 1.0)
-    if alpha < 1.0:
-        reader.out.add(w * (1.0 - alpha), kind="transparent", color=(1.0, 1.0, 1.0))
-        w = w * alpha
+    w = _alpha(reader, node, ctx, w)
     if v("Sheen Weight") > CUTOFF:
         reader.warn(node, "sheen is not supported yet; left out")
     if v("Anisotropic") > 0.0:
@@ -349,10 +355,7 @@ def principled_v1(reader, node, ctx, w):
     v = lambda name, default=0.0: reader.value(node, name, ctx, default)  # noqa: E731
     base, textured = reader.color(node, "Base Color", ctx)
     roughness = _roughness(reader, node, ctx)
-    alpha = min(max(v("Alpha", 1.0), 0.0), 1.0)
-    if alpha < 1.0:
-        reader.out.add(w * (1.0 - alpha), kind="transparent", color=(1.0, 1.0, 1.0))
-        w = w * alpha
+    w = _alpha(reader, node, ctx, w)
     if v("Sheen") > CUTOFF:
         reader.warn(node, "sheen is not supported yet; left out")
     metallic = min(max(v("Metallic"), 0.0), 1.0)
