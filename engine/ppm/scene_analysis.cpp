@@ -9,11 +9,15 @@ SceneAnalysis analyse_scene(const Scene& scene, const LightSampler& lights, cons
   a.trace_photons = !lights.empty();  // not a skip: there is nothing to emit from
   if (!settings.scene_analysis) return a;  // everything else on, for measuring what the skips save
   bool any_specular = false, any_receiver = false, any_scatter = false;
+  size_t mixtures = 0;
   for (const Material& m : scene.materials()) {
+    mixtures += m.kind == MaterialKind::Mixture ? 1 : 0;
     any_specular |= has_followed(m);
     if (!is_specular(m) && !is_black(m)) any_receiver = true;
     if (!is_black(m) && max_component(m.base_color) > 0.0) any_scatter = true;
   }
+  if (mixtures == 0 && !scene.materials().empty())
+    a.skipped.push_back("mixture lobes: every material is a single kind (the direct BSDF paths)");
   if (!any_specular) {
     a.follow_specular = false;
     a.skipped.push_back("eye specular chains: no mirror or glass material");

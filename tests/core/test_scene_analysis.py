@@ -61,3 +61,12 @@ def test_a_light_of_zero_power_is_left_out_of_sampling():
     scene.add_light("point", name="off", power=0.0, position=(0.0, 0.5, 1.0))
     _, stats = render(scene, passes=1)
     assert skipped(stats, "zero-power lights: 1 left out")
+
+
+def test_stats_say_whether_any_material_is_a_mixture():
+    _, single = render(core_scenes.cornell_diffuse(32, 24))
+    assert skipped(single, "mixture lobes")
+    scene = core_scenes.cornell_diffuse(32, 24)
+    scene.add_material("layered", "mixture", lobes=[{"kind": "diffuse"}])
+    _, mixed = render(scene)
+    assert not skipped(mixed, "mixture lobes")
