@@ -112,7 +112,8 @@ class MaterialExporter:
         return self.textures[key]
 
 
-COLOUR_RANGES = {"base_color": (0.0, 1.0), "color": (0.0, 1.0), "tint": (0.0, 1.0), "weight": (0.0, 1e6),
+# A lobe's weight comes from Mix factors (in [0, 1]) and tints: above 1 only from values out of range.
+COLOUR_RANGES = {"base_color": (0.0, 1.0), "color": (0.0, 1.0), "tint": (0.0, 1.0), "weight": (0.0, 1.0),
                  "emission": (0.0, MAX_EMISSION)}
 
 
