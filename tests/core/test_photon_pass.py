@@ -73,8 +73,8 @@ def test_light_inside_a_glass_ball_inside_a_closed_room():
     """Direct light is blocked by the glass, so photons carry it all, through the refractions, and
     by Cycles' rule (radiance passes an interface unscaled, shading/lobes.h) a light inside glass
     sends out eta^2 = 2.25 times what it would in air, as Cycles renders a lamp inside a glass bulb
-    (a sphere light in a glass ball, Cycles 5.0: the walls 2.0-2.2 times as bright as without the
-    rule, measured at 128 samples)."""
+    (a sphere light in a glass ball, Blender 5.0: Cycles' walls 1.8-2.2 times as bright as PPM's
+    without the rule, at 128 samples)."""
     scene = closed_sphere(1.0)
     glass = scene.add_material("glass", "glass", base_color=(1.0, 1.0, 1.0), ior=1.5)
     scene.add_sphere("ball", (0.0, 0.0, 0.0), 0.02, glass)
