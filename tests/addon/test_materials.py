@@ -170,3 +170,34 @@ def test_a_value_driven_by_an_unsupported_node_warns_once_and_uses_its_own():
     params, warnings = describe(mat)
     assert params["base_color"] == pytest.approx((0.3, 0.3, 0.3))
     assert len(warnings) == 1 and "'noisy'" in warnings[0] and noise.name in warnings[0]
+
+
+def test_a_missing_group_and_a_non_shader_on_a_shader_socket_warn_once_each():
+    mat, tree, out = node_material("odd")
+    group = bpy.data.node_groups.new("gone", "ShaderNodeTree")
+    if hasattr(group, "interface"):
+        group.interface.new_socket("Shader", in_out="OUTPUT", socket_type="NodeSocketShader")
+    else:
+        group.outputs.new("NodeSocketShader", "Shader")
+    group_node = tree.nodes.new("ShaderNodeGroup")
+    group_node.node_tree = group
+    value = tree.nodes.new("ShaderNodeValue")
+    mix = add(tree, "ShaderNodeMixShader", Fac=0.5)
+    tree.links.new(group_node.outputs[0], mix.inputs[1])
+    tree.links.new(value.outputs[0], mix.inputs[2])
+    tree.links.new(mix.outputs[0], out.inputs["Surface"])
+    bpy.data.node_groups.remove(group)  # the node and its link stay, its group is gone
+    params, warnings = describe(mat)
+    assert params["kind"] == "diffuse"  # the grey diffuse of the unsupported half; the missing half black
+    assert len(warnings) == 2, warnings
+    assert any(group_node.name in w and "missing" in w for w in warnings), warnings
+    assert any(value.name in w for w in warnings) and all("'odd'" in w for w in warnings), warnings
+
+
+def test_nan_in_a_shader_value_warns_naming_material_and_node():
+    mat, tree, out = node_material("nan")
+    glossy = add(tree, "ShaderNodeBsdfGlossy", Roughness=float("nan"))
+    tree.links.new(glossy.outputs[0], out.inputs["Surface"])
+    params, warnings = describe(mat)
+    assert len(warnings) == 1 and "'nan'" in warnings[0] and glossy.name in warnings[0], warnings
+    assert params["lobes"][0]["roughness"] == 0.0
