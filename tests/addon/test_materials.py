@@ -186,11 +186,12 @@ def test_a_missing_group_and_a_non_shader_on_a_shader_socket_warn_once_each():
     tree.links.new(group_node.outputs[0], mix.inputs[1])
     tree.links.new(value.outputs[0], mix.inputs[2])
     tree.links.new(mix.outputs[0], out.inputs["Surface"])
-    bpy.data.node_groups.remove(group)  # the node and its link stay, its group is gone
+    bpy.data.node_groups.remove(group)  # up to 5.0 the node and its link stay, its group gone
+    dangling = len(group_node.outputs) > 0 and len(group_node.outputs[0].links) > 0
     params, warnings = describe(mat)
     assert params["kind"] == "diffuse"  # the grey diffuse of the unsupported half; the missing half black
-    assert len(warnings) == 2, warnings
-    assert any(group_node.name in w and "missing" in w for w in warnings), warnings
+    assert len(warnings) == 1 + dangling, warnings
+    assert not dangling or any(group_node.name in w and "missing" in w for w in warnings), warnings
     assert any(value.name in w for w in warnings) and all("'odd'" in w for w in warnings), warnings
 
 
