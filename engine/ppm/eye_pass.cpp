@@ -76,6 +76,9 @@ struct EyeTracer {
   // Cycles: a camera ray that meets a holdout cuts a hole, whether or not the film is transparent.
   // Other rays see a Holdout object as its material, the Holdout shader black. True if the path ends.
   bool ends_at_holdout(const EyeVertex& v, const Hit& hit, const Material& m, double& transparency) const {
+    // A mixture's Holdout closures cut their weight out of the alpha and shade with the rest.
+    if (m.kind == MaterialKind::Mixture && m.holdout > 0.0 && transparent_path(v))
+      transparency += mean(v.throughput) * m.holdout;
     const bool holdout_shader = m.kind == MaterialKind::Holdout;
     if (!holdout_shader && !scene.is_holdout(hit)) return false;
     if (v.depth == 0 || (settings.transparent_background && transparent_path(v))) {
@@ -183,6 +186,11 @@ struct EyeTracer {
             v.glass_only && through && (m.kind == MaterialKind::Glass || m.kind == MaterialKind::Mixture);
         const Bounces chain = plus(v.chain, kind);
         const bool emission_only = limits.by_kind && !within(chain, limits.max);
+        if (branches[b].ray_kind == 0) {  // through a transparent lobe: no bounce, as Cycles counts it
+          stack[top++] = EyeVertex{Ray{origin, wi, v.ray.kind}, thr, v.depth, here.length, v.glass_only, v.chain,
+                                   v.emission_only};
+          continue;
+        }
         stack[top++] =
             EyeVertex{Ray{origin, wi, kind}, thr, v.depth + 1, here.length, glass_only, chain, emission_only};
       }

@@ -54,7 +54,7 @@ Lobe lobe_from(const py::handle& item, const std::string& what) {
 
 uint32_t add_material(Scene& s, const std::string& name, const std::string& kind, const py::object& base_color,
                       int texture, double roughness, double ior, const py::object& specular_tint,
-                      const py::object& emission, const py::object& lobes) {
+                      const py::object& emission, const py::object& lobes, double holdout) {
   const std::string what = "material '" + checked_name(name, "material") + "'";
   Material m;
   m.name = name;
@@ -79,6 +79,9 @@ uint32_t add_material(Scene& s, const std::string& name, const std::string& kind
     if (py::isinstance<py::str>(lobes) || !py::isinstance<py::iterable>(lobes)) fail(what, "lobes must be a list");
     for (const py::handle item : lobes) m.lobes.push_back(lobe_from(item, what));
   }
+  if (holdout != 0.0 && m.kind != MaterialKind::Mixture) fail(what, "holdout is for kind 'mixture' only");
+  if (!(holdout >= 0.0 && holdout <= 1.0)) fail(what, "holdout must be in [0, 1]");
+  m.holdout = holdout;
   return s.add_material(std::move(m));
 }
 
@@ -399,14 +402,15 @@ void bind_scene(py::module_& m) {
       .def("add_material", &add_material, py::arg("name"), py::arg("kind") = "diffuse",
            py::arg("base_color") = py::make_tuple(0.8, 0.8, 0.8), py::arg("texture") = -1, py::arg("roughness") = 0.0,
            py::arg("ior") = 1.45, py::arg("specular_tint") = py::make_tuple(1.0, 1.0, 1.0),
-           py::arg("emission") = py::make_tuple(0.0, 0.0, 0.0), py::arg("lobes") = py::none(),
+           py::arg("emission") = py::make_tuple(0.0, 0.0, 0.0), py::arg("lobes") = py::none(), py::arg("holdout") = 0.0,
            "Adds a material; returns its index. kind: diffuse, mirror, metal, glass, emission, holdout "
            "(a hole in the image: alpha 0 where camera rays reach it), mixture (`lobes`: a list of dicts "
            "with kind diffuse, translucent, transparent, conductor, glossy or dielectric, weight, color, tint, "
            "roughness, ior, parts ('both', 'reflection', 'refraction'), layer (a dielectric reflection "
            "that attenuates the lobes after it, as a Principled BSDF's specular layer or coat), textured "
            "(its colour times the material's `texture`), multiscatter (Cycles' Multiscatter GGX energy) "
-           "and tint_f0 (a dielectric's tint scales F0 only, as the Principled BSDF's Specular Tint)). "
+           "and tint_f0 (a dielectric's tint scales F0 only, as the Principled BSDF's Specular Tint)), and "
+           "holdout (a mixture's Holdout weight: camera rays see that much of it as a hole in the alpha). "
            "emission is radiance in W/(m^2 sr) (Blender colour * strength).")
       .def("add_texture", &add_texture, py::arg("name"), py::arg("pixels"), py::arg("storage") = py::none(),
            py::arg("clear_unusable") = false,

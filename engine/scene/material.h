@@ -32,6 +32,7 @@ struct Material {
   Color specular_tint{1.0};    // metal: F82 tint
   Color emission{0.0};
   std::vector<Lobe> lobes;     // Mixture only
+  double holdout = 0.0;        // Mixture only: the weight of its Holdout closures (alpha it cuts for camera rays)
 
   bool emits() const { return max_component(emission) > 0.0; }
 };

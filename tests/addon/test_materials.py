@@ -202,3 +202,21 @@ def test_nan_in_a_shader_value_warns_naming_material_and_node():
     params, warnings = describe(mat)
     assert len(warnings) == 1 and "'nan'" in warnings[0] and glossy.name in warnings[0], warnings
     assert params["lobes"][0]["roughness"] == 0.0
+
+
+def test_a_holdout_mixed_with_a_shader_is_the_mixtures_holdout_weight():
+    mat, tree, out = node_material("half_hole")
+    diffuse = add(tree, "ShaderNodeBsdfDiffuse", Color=(0.5, 0.5, 0.5, 1.0))
+    hole = tree.nodes.new("ShaderNodeHoldout")
+    mix = add(tree, "ShaderNodeMixShader", Fac=0.25)
+    tree.links.new(diffuse.outputs[0], mix.inputs[1])
+    tree.links.new(hole.outputs[0], mix.inputs[2])
+    tree.links.new(mix.outputs[0], out.inputs["Surface"])
+    params, warnings = describe(mat)
+    assert warnings == [] and params["kind"] == "mixture" and params["holdout"] == pytest.approx(0.25)
+    assert params["lobes"][0]["weight"] == pytest.approx((0.75,) * 3)
+    tree.links.remove(mix.inputs[1].links[0])  # holdout and black
+    params, _ = describe(mat)
+    assert params["kind"] == "mixture" and params["holdout"] == pytest.approx(0.25)
+    mix.inputs["Fac"].default_value = 1.0  # all holdout
+    assert describe(mat)[0]["kind"] == "holdout"

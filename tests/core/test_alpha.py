@@ -95,3 +95,38 @@ def test_a_sun_disc_shows_in_a_mirror_unless_hidden_from_glossy_rays():
     sun_radiance = 3.0 / (math.pi * math.sin(math.radians(10)) ** 2)
     np.testing.assert_allclose(mirror_under_sun(None), 0.8 * sun_radiance, rtol=1e-6)
     assert mirror_under_sun(["camera", "diffuse", "transmission", "shadow"]).max() == 0.0
+
+
+def mixture_over_sky(lobes, holdout=0.0):
+    """scene_over_sky with its front square a mixture."""
+    scene = scene_over_sky()
+    material = scene.add_material("front", "mixture", lobes=lobes, holdout=holdout)
+    square(scene, "front", 0.5, 1.0, material)
+    return scene
+
+
+def test_a_mixtures_holdout_cuts_its_share_of_the_alpha():
+    over_sky = (slice(6, 10), slice(10, 12))  # the square's right part, over the sky
+    lobes = [{"kind": "diffuse", "weight": 0.75, "color": 1.0}]
+    image = render(mixture_over_sky(lobes, holdout=0.25))[over_sky]
+    np.testing.assert_allclose(image[..., 3], 0.75, atol=1e-6)  # whatever the film: camera rays cut it
+    opaque = render(mixture_over_sky(lobes))[over_sky]
+    np.testing.assert_allclose(image[..., :3], opaque[..., :3], rtol=1e-6)  # the rest shades the same
+
+
+def test_the_sky_through_a_transparent_lobe_stays_transparent_in_the_film():
+    over_sky = (slice(6, 10), slice(10, 12))
+    half = [{"kind": "transparent", "weight": 0.5, "color": 1.0}, {"kind": "diffuse", "weight": 0.5, "color": 1.0}]
+    # The eye pass picks one lobe per sample: 512 samples leave the mean 0.022 from 0.5 (one sigma).
+    image = render(mixture_over_sky(half), transparent_background=True, samples_per_pixel=64)[over_sky]
+    np.testing.assert_allclose(image[..., 3].mean(), 0.5, atol=0.08)
+    clear = [{"kind": "transparent", "weight": 1.0, "color": 1.0}]
+    image = render(mixture_over_sky(clear), transparent_background=True)[over_sky]
+    assert (image[..., 3] == 0.0).all()
+
+
+def test_holdout_belongs_to_mixtures_in_range():
+    with pytest.raises(ValueError, match="mixture"):
+        ppm_core.Scene().add_material("m", "diffuse", holdout=0.5)
+    with pytest.raises(ValueError, match=r"\[0, 1\]"):
+        ppm_core.Scene().add_material("m", "mixture", lobes=[{"kind": "diffuse"}], holdout=1.5)

@@ -74,21 +74,21 @@ class MaterialExporter:
             return {"kind": "diffuse", "base_color": tuple(material.diffuse_color)[:3]}
         texture = self.closure_texture(material, read)
         emission = tuple(float(c) for c in read.emission)
-        if read.holdout > 0.0:
-            if read.lobes or read.holdout < 0.999:
-                self.warn(f"material '{material.name}': a Holdout mixed with other shaders is not supported yet; "
-                          "the holdout part is left out")
-            else:
-                return {"kind": "holdout"}
+        holdout = min(read.holdout, 1.0)
+        if holdout >= 0.999 and not read.lobes:
+            return {"kind": "holdout"}
         lobes = read.lobes
+        if holdout > 0.0 and not lobes:  # part holdout, part black: a black lobe carries the rest
+            lobes = [{"kind": "diffuse", "weight": (1.0, 1.0, 1.0), "color": (0.0, 0.0, 0.0)}]
         if not lobes:
             kind = "emission" if max(emission) > 0.0 else "diffuse"
             return {"kind": kind, "base_color": (0.0, 0.0, 0.0), "emission": emission}
-        if all(lobe["kind"] == "diffuse" and lobe.get("textured", False) == (texture >= 0) for lobe in lobes):
+        all_diffuse = all(lobe["kind"] == "diffuse" and lobe.get("textured", False) == (texture >= 0) for lobe in lobes)
+        if holdout == 0.0 and all_diffuse:
             color = sum(np.asarray(lobe["weight"]) * np.asarray(lobe["color"]) for lobe in lobes)
             return {"kind": "diffuse", "base_color": tuple(float(c) for c in color), "texture": texture,
                     "emission": emission}
-        return {"kind": "mixture", "lobes": lobes, "texture": texture, "emission": emission}
+        return {"kind": "mixture", "lobes": lobes, "texture": texture, "emission": emission, "holdout": holdout}
 
     def closure_texture(self, material, read):
         """The core texture of the closure's image, or -1; a lobe whose image cannot be used keeps its
