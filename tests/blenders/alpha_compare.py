@@ -1,8 +1,10 @@
 """PPM against Cycles for alpha: Film > Transparent (the background, glass over it with Transparent
-Glass off and on), a Holdout object and the Holdout shader, in the running Blender.
+Glass off and on), a Holdout object, the Holdout shader, and a Holdout or a Transparent BSDF mixed
+with a diffuse, in the running Blender.
 
 A floor and two balls under a grey sky, seen from the side with the sky behind them (the
-left ball matte, or a holdout; the right ball matte, glass or with the Holdout shader). The same
+left ball matte, or a holdout; the right ball matte, glass, with the Holdout shader, or a Mix of
+diffuse with a Holdout or a Transparent BSDF). The same
 saved file is rendered by both engines: the mean colour (premultiplied, as Blender stores it) of
 4x3 image blocks must agree within 3% (absolute below 1e-4) and their mean alpha within 0.01.
 
@@ -22,7 +24,7 @@ import cycles_compare
 
 ALPHA_TOLERANCE = 0.01
 CASES = ("opaque_film", "transparent_film", "glass_over_background", "transparent_glass", "holdout_object",
-         "holdout_shader")
+         "holdout_shader", "holdout_mixed", "transparent_mixed")
 
 
 def holdout_material():
@@ -33,6 +35,20 @@ def glass_material():
     return cycles_compare.glass_material("glass", 1.45)
 
 
+def mixed_material(other):
+    """Mix Shader, factor 0.4, of a matte blue diffuse and `other` (a Holdout or Transparent BSDF)."""
+    mat = cycles_compare.diffuse_material("mixed", (0.3, 0.5, 0.7))
+    tree = mat.node_tree
+    out = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial")
+    diffuse = out.inputs["Surface"].links[0].from_node
+    mix, second = tree.nodes.new("ShaderNodeMixShader"), tree.nodes.new(other)
+    mix.inputs["Fac"].default_value = 0.4
+    tree.links.new(diffuse.outputs[0], mix.inputs[1])
+    tree.links.new(second.outputs[0], mix.inputs[2])
+    tree.links.new(mix.outputs[0], out.inputs["Surface"])
+    return mat
+
+
 def build(case):
     cycles_compare.reset()
     scene = bpy.context.scene
@@ -41,7 +57,8 @@ def build(case):
     left.is_holdout = case == "holdout_object"
     matte = lambda: cycles_compare.diffuse_material("m", (0.3, 0.5, 0.7))  # noqa: E731
     right = {"glass_over_background": glass_material, "transparent_glass": glass_material,
-             "holdout_shader": holdout_material}.get(case, matte)
+             "holdout_shader": holdout_material, "holdout_mixed": lambda: mixed_material("ShaderNodeHoldout"),
+             "transparent_mixed": lambda: mixed_material("ShaderNodeBsdfTransparent")}.get(case, matte)
     # Raised so that the camera sees the sky through the glass.
     cycles_compare.ball("right", (0.6, 0.0, 1.1), 0.5, right())
     # Lit by the sky alone. A point light's caustic through the glass ball is one Cycles cannot render
