@@ -1,9 +1,9 @@
 // A mixture of weighted lobes: evaluation, sampling and the split the eye pass needs between the
-// lobes it follows (delta and near-delta ones, Lobe::followed) and the rest, which a hit point stores. Layering follows Cycles'
-// Principled BSDF: a `layer` lobe attenuates every lobe after it by 1 - max(its directional albedo
-// towards the viewer), so that a layer over a white base loses nothing (as Cycles 5 measures), and
-// a `multiscatter` lobe gets back the energy GGX single scattering loses, as Cycles' Multiscatter
-// GGX. Sampling picks one lobe (probabilities from the
+// lobes it follows (delta and near-delta ones, Lobe::followed) and the rest, which a hit point
+// stores. Layering follows Cycles' Principled BSDF: a `layer` lobe attenuates every lobe after it
+// by 1 - max(its directional albedo towards the viewer), so that a layer over a white base loses
+// nothing (as Cycles 5 measures), and a `multiscatter` lobe gets back the energy GGX single
+// scattering loses, as Cycles' Multiscatter GGX. Sampling picks one lobe (probabilities from the
 // lobes' weights and albedos), samples it and divides by the pick's probability: unbiased, and no
 // lobe needs a pdf.
 #pragma once
@@ -14,10 +14,10 @@
 
 namespace ppm {
 
-// f(wo, wi) of the lobes hit points store (all but the followed ones), without the cosine.
 // Tabulates a layer's directional albedo (lobe.h); other lobes are left as they are.
 void prepare_lobe(Lobe& lobe);
 
+// f(wo, wi) of the lobes hit points store (all but the followed ones), without the cosine.
 Color closure_eval(const std::vector<Lobe>& lobes, const SurfacePoint& sp, const Vec3& wo, const Vec3& wi);
 
 // Samples the next direction. `adjoint`: a photon, which arrived along -wo; its layers attenuate
