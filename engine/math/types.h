@@ -11,6 +11,7 @@
 namespace ppm {
 
 using Vec2 = glm::dvec2;
+using Vec2f = glm::vec2;
 using Vec3 = glm::dvec3;
 using Vec3f = glm::vec3;
 using Mat4 = glm::dmat4;

@@ -29,7 +29,7 @@ struct HitPointShading {
   Vec3 shading_normal;
   Vec3 wo;                // towards the viewer
   Color throughput;       // eye-path weight including 1/samples_per_pixel
-  Color albedo;
+  Vec2f uv;               // where the material's textures are looked up (Scene::surface_point)
   uint32_t material;
   uint32_t pixel;
 };

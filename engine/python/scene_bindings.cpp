@@ -15,19 +15,49 @@ using namespace ppm::py_convert;
 
 namespace {
 
-// One lobe of a mixture from a dict: kind, weight, color, tint, roughness, ior, parts, layer, textured,
-// multiscatter, tint_f0.
-Lobe lobe_from(const py::handle& item, const std::string& what) {
+// A lobe's reference to one of its material's inputs: an index, or (index, transform).
+InputRef input_ref(const py::handle& value, InputRef::Transform default_transform, const std::string& what,
+                   const std::string& field) {
+  InputRef ref;
+  ref.transform = default_transform;
+  py::object index = py::reinterpret_borrow<py::object>(value);
+  if (py::isinstance<py::tuple>(value) || py::isinstance<py::list>(value)) {
+    const py::sequence pair = py::reinterpret_borrow<py::sequence>(value);
+    if (pair.size() != 2) fail(what, field + " must be an input index or (index, transform)");
+    index = pair[0];
+    ref.transform = choice<InputRef::Transform>(py::str(pair[1]),
+                                                {{"value", InputRef::Value},
+                                                 {"sqrt", InputRef::Sqrt},
+                                                 {"fraction", InputRef::Fraction},
+                                                 {"complement", InputRef::Complement}},
+                                                what, field + " transform");
+  }
+  const int i = py::cast<int>(index);
+  if (i < 0 || i >= kMaxInputs) fail(what, field + " must name an input (0 to " + std::to_string(kMaxInputs - 1) + ")");
+  ref.input = static_cast<int8_t>(i);
+  return ref;
+}
+
+struct ParsedLobe {
+  Lobe lobe;
+  bool textured = false;  // its colour times the material's `texture` (an input added for it)
+};
+
+// One lobe of a mixture from a dict (the keys are listed in add_material's documentation).
+ParsedLobe lobe_from(const py::handle& item, const std::string& what) {
   if (!py::isinstance<py::dict>(item)) fail(what, "each lobe must be a dict");
   const py::dict d = py::reinterpret_borrow<py::dict>(item);
-  static const char* const kKeys[] = {"kind",  "weight", "color",    "tint",         "roughness", "ior",
-                                      "parts", "layer",  "textured", "multiscatter", "tint_f0"};
+  static const char* const kKeys[] = {"kind",         "weight",  "color",       "tint",
+                                      "roughness",    "ior",     "parts",       "layer",
+                                      "textured",     "multiscatter", "tint_f0", "color_input",
+                                      "roughness_input", "weight_inputs"};
   for (const auto& [key, value] : d) {
     const std::string k = py::str(key);
     if (std::find_if(std::begin(kKeys), std::end(kKeys), [&](const char* n) { return k == n; }) == std::end(kKeys))
       fail(what, "unknown lobe key '" + printable(k) + "'");
   }
-  Lobe l;
+  ParsedLobe parsed;
+  Lobe& l = parsed.lobe;
   l.kind = choice<LobeKind>(d.contains("kind") ? py::str(d["kind"]) : py::str("diffuse"),
                             {{"diffuse", LobeKind::Diffuse},
                              {"translucent", LobeKind::Translucent},
@@ -46,15 +76,44 @@ Lobe lobe_from(const py::handle& item, const std::string& what) {
                               {{"both", kReflectionAndRefraction}, {"reflection", kReflection}, {"refraction", kRefraction}},
                               what, "lobe parts");
   if (d.contains("layer")) l.layer = py::cast<bool>(d["layer"]);
-  if (d.contains("textured")) l.textured = py::cast<bool>(d["textured"]);
+  if (d.contains("textured")) parsed.textured = py::cast<bool>(d["textured"]);
   if (d.contains("multiscatter")) l.multiscatter = py::cast<bool>(d["multiscatter"]);
   if (d.contains("tint_f0")) l.tint_f0 = py::cast<bool>(d["tint_f0"]);
-  return l;
+  if (d.contains("color_input")) l.color_input = input_ref(d["color_input"], InputRef::Value, what, "color_input");
+  if (d.contains("roughness_input"))
+    l.roughness_input = input_ref(d["roughness_input"], InputRef::Value, what, "roughness_input");
+  if (d.contains("weight_inputs")) {
+    const py::sequence refs = py::reinterpret_borrow<py::sequence>(d["weight_inputs"]);
+    if (refs.size() > l.weight_inputs.size()) fail(what, "a lobe takes at most 2 weight_inputs");
+    for (size_t i = 0; i < refs.size(); ++i)
+      l.weight_inputs[i] = input_ref(refs[i], InputRef::Fraction, what, "weight_inputs");
+  }
+  if (parsed.textured && l.color_input.used()) fail(what, "a lobe is either textured or has a color_input");
+  return parsed;
+}
+
+// A mixture's inputs: (texture index, channel 'rgb', 'alpha' or 'grey') each.
+std::vector<MaterialInput> inputs_from(const py::object& inputs, const std::string& what) {
+  std::vector<MaterialInput> out;
+  if (inputs.is_none()) return out;
+  if (py::isinstance<py::str>(inputs) || !py::isinstance<py::iterable>(inputs)) fail(what, "inputs must be a list");
+  for (const py::handle item : inputs) {
+    const py::sequence pair = py::reinterpret_borrow<py::sequence>(item);
+    if (!py::isinstance<py::sequence>(item) || pair.size() != 2)
+      fail(what, "each input must be (texture index, 'rgb' | 'alpha' | 'grey')");
+    MaterialInput in;
+    in.texture = py::cast<int>(pair[0]);
+    in.channel = choice<MaterialInput::Channel>(
+        py::str(pair[1]), {{"rgb", MaterialInput::Rgb}, {"alpha", MaterialInput::Alpha}, {"grey", MaterialInput::Grey}},
+        what, "input channel");
+    out.push_back(in);
+  }
+  return out;
 }
 
 uint32_t add_material(Scene& s, const std::string& name, const std::string& kind, const py::object& base_color,
                       int texture, double roughness, double ior, const py::object& specular_tint,
-                      const py::object& emission, const py::object& lobes, double holdout) {
+                      const py::object& emission, const py::object& lobes, double holdout, const py::object& inputs) {
   const std::string what = "material '" + checked_name(name, "material") + "'";
   Material m;
   m.name = name;
@@ -74,10 +133,23 @@ uint32_t add_material(Scene& s, const std::string& name, const std::string& kind
   m.ior = ior;
   m.specular_tint = color(specular_tint, what, "specular_tint");
   m.emission = color(emission, what, "emission");
+  m.inputs = inputs_from(inputs, what);
+  if (!m.inputs.empty() && m.kind != MaterialKind::Mixture) fail(what, "inputs are for kind 'mixture' only");
   if (!lobes.is_none()) {
     if (m.kind != MaterialKind::Mixture) fail(what, "lobes are for kind 'mixture' only");
     if (py::isinstance<py::str>(lobes) || !py::isinstance<py::iterable>(lobes)) fail(what, "lobes must be a list");
-    for (const py::handle item : lobes) m.lobes.push_back(lobe_from(item, what));
+    int textured_input = -1;  // the input `textured` lobes share: the material's texture, in colour
+    for (const py::handle item : lobes) {
+      ParsedLobe parsed = lobe_from(item, what);
+      if (parsed.textured && texture >= 0) {
+        if (textured_input < 0) {
+          textured_input = static_cast<int>(m.inputs.size());
+          m.inputs.push_back(MaterialInput{texture, MaterialInput::Rgb});
+        }
+        parsed.lobe.color_input.input = static_cast<int8_t>(std::min(textured_input, kMaxInputs));
+      }
+      m.lobes.push_back(parsed.lobe);
+    }
   }
   if (holdout != 0.0 && m.kind != MaterialKind::Mixture) fail(what, "holdout is for kind 'mixture' only");
   if (!(holdout >= 0.0 && holdout <= 1.0)) fail(what, "holdout must be in [0, 1]");
@@ -403,14 +475,19 @@ void bind_scene(py::module_& m) {
            py::arg("base_color") = py::make_tuple(0.8, 0.8, 0.8), py::arg("texture") = -1, py::arg("roughness") = 0.0,
            py::arg("ior") = 1.45, py::arg("specular_tint") = py::make_tuple(1.0, 1.0, 1.0),
            py::arg("emission") = py::make_tuple(0.0, 0.0, 0.0), py::arg("lobes") = py::none(), py::arg("holdout") = 0.0,
+           py::arg("inputs") = py::none(),
            "Adds a material; returns its index. kind: diffuse, mirror, metal, glass, emission, holdout "
            "(a hole in the image: alpha 0 where camera rays reach it), mixture (`lobes`: a list of dicts "
            "with kind diffuse, translucent, transparent, conductor, glossy or dielectric, weight, color, tint, "
            "roughness, ior, parts ('both', 'reflection', 'refraction'), layer (a dielectric reflection "
            "that attenuates the lobes after it, as a Principled BSDF's specular layer or coat), textured "
-           "(its colour times the material's `texture`), multiscatter (Cycles' Multiscatter GGX energy) "
-           "and tint_f0 (a dielectric's tint scales F0 only, as the Principled BSDF's Specular Tint)), and "
-           "holdout (a mixture's Holdout weight: camera rays see that much of it as a hole in the alpha). "
+           "(its colour times the material's `texture`), multiscatter (Cycles' Multiscatter GGX energy), "
+           "tint_f0 (a dielectric's tint scales F0 only, as the Principled BSDF's Specular Tint), and "
+           "color_input, roughness_input (an input index, or (index, 'value' | 'sqrt')) and weight_inputs "
+           "(up to 2 of (index, 'fraction' | 'complement')): parameters times a textured input), "
+           "holdout (a mixture's Holdout weight: camera rays see that much of it as a hole in the alpha), "
+           "and inputs (a mixture's: up to 4 of (texture index, 'rgb' | 'alpha' | 'grey'), looked up at the "
+           "hit's UV; grey is the colour's Rec. 709 luminance). "
            "emission is radiance in W/(m^2 sr) (Blender colour * strength).")
       .def("add_texture", &add_texture, py::arg("name"), py::arg("pixels"), py::arg("storage") = py::none(),
            py::arg("clear_unusable") = false,

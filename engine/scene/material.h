@@ -22,6 +22,15 @@ enum class MaterialKind : uint8_t {
   Mixture,  // weighted lobes (shading/closure.h); base_color is their summed colour (an albedo bound)
 };
 
+// An input of a mixture: an image texture looked up at the shading point's UV, its colour, alpha,
+// or grey (Blender's colour-to-float conversion: luminance with Rec. 709 weights). Lobe parameters
+// refer to inputs (lobe.h's InputRef).
+struct MaterialInput {
+  enum Channel : uint8_t { Rgb, Alpha, Grey };
+  int texture = -1;
+  Channel channel = Rgb;
+};
+
 struct Material {
   std::string name;
   MaterialKind kind = MaterialKind::Diffuse;
@@ -32,6 +41,7 @@ struct Material {
   Color specular_tint{1.0};    // metal: F82 tint
   Color emission{0.0};
   std::vector<Lobe> lobes;     // Mixture only
+  std::vector<MaterialInput> inputs;  // Mixture only: at most kMaxInputs
   double holdout = 0.0;        // Mixture only: the weight of its Holdout closures (alpha it cuts for camera rays)
 
   bool emits() const { return max_component(emission) > 0.0; }

@@ -86,10 +86,21 @@ Scene::Scene(Scene&&) noexcept = default;
 void Scene::check_lobes(Material& m, const std::string& what) const {
   if (m.lobes.empty() || m.lobes.size() > static_cast<size_t>(kMaxLobes))
     fail(what, "a mixture needs 1 to " + std::to_string(kMaxLobes) + " lobes");
+  if (m.inputs.size() > static_cast<size_t>(kMaxInputs))
+    fail(what, "a mixture takes at most " + std::to_string(kMaxInputs) + " inputs");
+  std::vector<double> gain;  // the most each input can scale a colour by
+  for (const MaterialInput& in : m.inputs) {
+    if (in.texture < 0 || in.texture >= static_cast<int>(textures_.size()))
+      fail(what, "input texture index out of range");
+    gain.push_back(in.channel == MaterialInput::Alpha ? 1.0 : std::max(1.0, double(textures_[in.texture].max_rgb())));
+  }
   Color bound(0.0);
   for (size_t i = 0; i < m.lobes.size(); ++i) {
     Lobe& l = m.lobes[i];
     const std::string lobe = "lobe " + std::to_string(i);
+    for (const InputRef* ref : {&l.color_input, &l.roughness_input, &l.weight_inputs[0], &l.weight_inputs[1]})
+      if (ref->used() && ref->input >= static_cast<int>(m.inputs.size()))
+        fail(what, lobe + " refers to input " + std::to_string(ref->input) + ", which the material does not have");
     check_finite(l.weight, 0.0, what, lobe + " weight");
     check_finite(l.color, 0.0, what, lobe + " color");
     check_finite(l.tint, 0.0, what, lobe + " tint");
@@ -101,7 +112,8 @@ void Scene::check_lobes(Material& m, const std::string& what) const {
     if (l.multiscatter && l.kind == LobeKind::Dielectric && l.parts != kReflection)
       fail(what, lobe + ": multiscatter is for reflection lobes (conductor, glossy, dielectric reflection)");
     prepare_lobe(l);
-    bound += l.weight * (l.kind == LobeKind::Dielectric ? glm::max(l.color, l.tint) : l.color);
+    const double color_gain = l.color_input.used() ? gain[l.color_input.input] : 1.0;
+    bound += l.weight * (l.kind == LobeKind::Dielectric ? glm::max(l.color * color_gain, l.tint) : l.color * color_gain);
   }
   m.base_color = bound;
 }
@@ -604,14 +616,27 @@ void Scene::fill_hit(const Ray& ray, Hit& hit, double b1, double b2) const {
 }
 
 SurfacePoint Scene::surface_point(const Hit& hit) const {
-  const Material& m = materials_[hit.material];
+  return surface_point(hit.material, hit.geometric_normal, hit.shading_normal, Vec2f(hit.uv));
+}
+
+SurfacePoint Scene::surface_point(uint32_t material, const Vec3& ng, const Vec3& ns, const Vec2f& uv) const {
+  const Material& m = materials_[material];
   SurfacePoint sp;
-  sp.ng = hit.geometric_normal;
-  sp.ns = hit.shading_normal;
-  if (m.kind == MaterialKind::Mixture)  // the texel its textured lobes multiply their colours by
-    sp.albedo = m.texture >= 0 ? textures_[m.texture].lookup(hit.uv) : Color(1.0);
-  else
-    sp.albedo = m.texture >= 0 ? textures_[m.texture].lookup(hit.uv) * m.base_color : m.base_color;
+  sp.ng = ng;
+  sp.ns = ns;
+  if (m.kind != MaterialKind::Mixture) {
+    sp.albedo = m.texture >= 0 ? textures_[m.texture].lookup(Vec2(uv)) * m.base_color : m.base_color;
+    return sp;
+  }
+  sp.albedo = m.base_color;
+  for (size_t i = 0; i < m.inputs.size(); ++i) {
+    const glm::dvec4 t = textures_[m.inputs[i].texture].lookup_rgba(Vec2(uv));
+    switch (m.inputs[i].channel) {
+      case MaterialInput::Rgb: sp.inputs[i] = Vec3f(t); break;
+      case MaterialInput::Alpha: sp.inputs[i] = Vec3f(static_cast<float>(t.w)); break;
+      case MaterialInput::Grey: sp.inputs[i] = Vec3f(static_cast<float>(luminance(Color(t)))); break;
+    }
+  }
   return sp;
 }
 

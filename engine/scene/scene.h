@@ -124,6 +124,8 @@ class Scene {
   bool occluded(const Ray& ray, double distance) const;
 
   SurfacePoint surface_point(const Hit& hit) const;
+  // The same from what a hit point keeps (its material's textures looked up at uv).
+  SurfacePoint surface_point(uint32_t material, const Vec3& ng, const Vec3& ns, const Vec2f& uv) const;
   // Is the hit primitive part of a Holdout object (its visibility carries kHoldoutFlag)?
   bool is_holdout(const Hit& hit) const;
   double offset_floor() const { return offset_floor_; }  // see ray_offset()

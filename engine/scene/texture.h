@@ -53,6 +53,18 @@ class Texture {
 
   // Repeats in u; in v too, or with clamp_v (environment maps: the poles) clamps.
   Color lookup(const Vec2& uv, bool clamp_v = false) const {
+    return bilinear<Color>(uv, clamp_v, [this](int x, int y) { return texel(x, y); });
+  }
+  // The colour and, in w, the alpha (straight, not premultiplied; 1 for RGB sources), repeating.
+  glm::dvec4 lookup_rgba(const Vec2& uv) const {
+    return bilinear<glm::dvec4>(uv, false, [this](int x, int y) { return glm::dvec4(texel(x, y), alpha(x, y)); });
+  }
+
+ private:
+  Texture(int width, int height, TexelStorage storage);
+  static int wrap(int i, int n) { return ((i % n) + n) % n; }
+  template <class Value, class Texel>
+  Value bilinear(const Vec2& uv, bool clamp_v, Texel&& at) const {
     const double x = (uv.x - std::floor(uv.x)) * width_ - 0.5;
     const double y = (clamp_v ? std::clamp(uv.y, 0.0, 1.0) : uv.y - std::floor(uv.y)) * height_ - 0.5;
     const double fx = std::floor(x), fy = std::floor(y);
@@ -63,15 +75,15 @@ class Texture {
       y0 = std::clamp(static_cast<int>(fy), 0, height_ - 1);
       y1 = std::clamp(static_cast<int>(fy) + 1, 0, height_ - 1);
     }
-    return (1 - ax) * (1 - ay) * texel(x0, y0) + ax * (1 - ay) * texel(x1, y0) + (1 - ax) * ay * texel(x0, y1) +
-           ax * ay * texel(x1, y1);
+    return (1 - ax) * (1 - ay) * at(x0, y0) + ax * (1 - ay) * at(x1, y0) + (1 - ax) * ay * at(x0, y1) +
+           ax * ay * at(x1, y1);
   }
-
- private:
-  Texture(int width, int height, TexelStorage storage);
-  static int wrap(int i, int n) { return ((i % n) + n) % n; }
   size_t index(int x, int y) const { return (static_cast<size_t>(y) * width_ + x) * 4; }
   Color texel(int x, int y) const;
+  double alpha(int x, int y) const {
+    const size_t i = index(x, y) + 3;
+    return storage_ == TexelStorage::Half ? from_half(halves_[i]) : bytes_[i] / 255.0;
+  }
   void clear_unusable(size_t first_texel, std::vector<float>& row);  // see UnusableTexel
   void note_unusable(size_t texel, const float rgba[4]);
   uint8_t max_byte() const;  // of the colour channels

@@ -12,8 +12,8 @@ namespace {
 // Cycles' estimate of a microfacet lobe's average Fresnel over the hemisphere (Fss), for the
 // energy of multiple scattering: analytic for the F82-tint conductor; Kulla and Conty's fit of the
 // real dielectric's, put through the generalized Schlick model for a tinted F0.
-Color average_fresnel(const Lobe& l, const Color& texel) {
-  const Color color = l.color_at(texel);
+Color average_fresnel(const Lobe& l, const SurfacePoint& sp) {
+  const Color color = l.color_at(sp);
   if (l.kind == LobeKind::Glossy) return color;
   if (l.kind == LobeKind::Conductor) {
     constexpr double kSchlickAt82 = 0.46266436;  // (1 - 1/7)^5
@@ -30,19 +30,31 @@ Color average_fresnel(const Lobe& l, const Color& texel) {
 }
 
 // Multiscatter GGX (Cycles, after Kulla and Conty): single scattering times 1 + Fms (1 - E) / E.
-Color multiscatter_factor(const Lobe& l, const Color& texel, double mu) {
-  if (!l.multiscatter || l.roughness < kSmoothRoughness) return Color(1.0);
-  const double e = ggx_albedo(l.roughness, mu), e_avg = ggx_average_albedo(l.roughness);
-  const Color fss = average_fresnel(l, texel);
+Color multiscatter_factor(const Lobe& l, const SurfacePoint& sp, double mu) {
+  const double roughness = l.roughness_at(sp);
+  if (!l.multiscatter || roughness < kSmoothRoughness) return Color(1.0);
+  const double e = ggx_albedo(roughness, mu), e_avg = ggx_average_albedo(roughness);
+  const Color fss = average_fresnel(l, sp);
   const Color fms = fss * e_avg / (Color(1.0) - fss * (1.0 - e_avg));
   return Color(1.0) + fms * ((1.0 - e) / e);
 }
 
-double layer_albedo(const Lobe& lobe, double mu) {
-  const double x = glm::clamp(mu, 0.0, 1.0) * (kLayerAlbedoSteps - 1);
-  const int i = std::min(static_cast<int>(x), kLayerAlbedoSteps - 2);
+// Linear interpolation in a table of `steps` entries over [0, 1].
+double lerp_table(const float* table, int steps, double x) {
+  x = glm::clamp(x, 0.0, 1.0) * (steps - 1);
+  const int i = std::min(static_cast<int>(x), steps - 2);
   const double t = x - i;
-  return (1.0 - t) * lobe.albedo[i] + t * lobe.albedo[i + 1];
+  return (1.0 - t) * table[i] + t * table[i + 1];
+}
+
+double layer_albedo(const Lobe& lobe, const SurfacePoint& sp, double mu) {
+  if (!lobe.roughness_input.used()) return lerp_table(lobe.albedo.data(), kLayerAlbedoSteps, mu);
+  // Rows by roughness in [0, 1]: interpolated between the two around this point's.
+  const double y = lobe.roughness_at(sp) * (kLayerRoughnessSteps - 1);
+  const int j = std::min(static_cast<int>(y), kLayerRoughnessSteps - 2);
+  const double t = y - j;
+  const float* row = lobe.albedo.data() + j * kLayerAlbedoSteps;
+  return (1.0 - t) * lerp_table(row, kLayerAlbedoSteps, mu) + t * lerp_table(row + kLayerAlbedoSteps, kLayerAlbedoSteps, mu);
 }
 
 // Each lobe's weight towards `view`: its own weight, its multiple scattering, and the layers above.
@@ -50,14 +62,14 @@ void effective_weights(const std::vector<Lobe>& lobes, const SurfacePoint& sp, c
   const double mu = glm::clamp(std::fabs(glm::dot(view, sp.ns)), 0.0, 1.0);
   double cover = 1.0;
   for (size_t i = 0; i < lobes.size(); ++i) {
-    eff[i] = lobes[i].weight * cover * multiscatter_factor(lobes[i], sp.albedo, mu);
-    if (lobes[i].layer) cover *= glm::clamp(1.0 - layer_albedo(lobes[i], mu), 0.0, 1.0);
+    eff[i] = lobes[i].weight_at(sp) * cover * multiscatter_factor(lobes[i], sp, mu);
+    if (lobes[i].layer) cover *= glm::clamp(1.0 - layer_albedo(lobes[i], sp, mu), 0.0, 1.0);
   }
 }
 
 // A rough guess of how much of the light a lobe scatters towards the viewer, for picking lobes.
 double albedo_guess(const Lobe& lobe, const SurfacePoint& sp, const Vec3& wo) {
-  const Color color = lobe.color_at(sp.albedo);
+  const Color color = lobe.color_at(sp);
   if (lobe.kind != LobeKind::Dielectric) return luminance(color);
   if (lobe.parts == kReflectionAndRefraction) return 0.5 * (luminance(lobe.tint) + luminance(color));
   const double mu = std::fabs(glm::dot(wo, sp.ns));
@@ -93,37 +105,35 @@ int pick(const std::vector<Lobe>& lobes, const double prob[], double u) {
 }
 
 Color lobe_eval(const Lobe& l, const SurfacePoint& sp, const Vec3& wo, const Vec3& wi) {
-  const Color color = l.color_at(sp.albedo);
+  const Color color = l.color_at(sp);
   switch (l.kind) {
     case LobeKind::Diffuse: return lambert_eval(color, sp, wo, wi, false);
     case LobeKind::Translucent: return lambert_eval(color, sp, wo, wi, true);
     case LobeKind::Transparent: return Color(0.0);
-    case LobeKind::Conductor: return conductor_eval({color, l.tint, l.roughness}, sp, wo, wi);
-    case LobeKind::Glossy: return conductor_eval({color, l.tint, l.roughness, true}, sp, wo, wi);
-    case LobeKind::Dielectric: return dielectric_eval(l.dielectric(sp.albedo), sp, wo, wi);
+    case LobeKind::Conductor: return conductor_eval({color, l.tint, l.roughness_at(sp)}, sp, wo, wi);
+    case LobeKind::Glossy: return conductor_eval({color, l.tint, l.roughness_at(sp), true}, sp, wo, wi);
+    case LobeKind::Dielectric: return dielectric_eval(l.dielectric(sp), sp, wo, wi);
   }
   return Color(0.0);
 }
 
 bool lobe_sample(const Lobe& l, const SurfacePoint& sp, const Vec3& wo, double u1, double u2, double u3, bool photon,
                  BsdfSample& out) {
-  const Color color = l.color_at(sp.albedo);
+  const Color color = l.color_at(sp);
   switch (l.kind) {
     case LobeKind::Diffuse: return lambert_sample(color, sp, wo, u1, u2, false, out);
     case LobeKind::Translucent: return lambert_sample(color, sp, wo, u1, u2, true, out);
     case LobeKind::Transparent: out = BsdfSample{-wo, color, true, 0}; return true;
-    case LobeKind::Conductor: return conductor_sample({color, l.tint, l.roughness}, sp, wo, u1, u2, out);
-    case LobeKind::Glossy: return conductor_sample({color, l.tint, l.roughness, true}, sp, wo, u1, u2, out);
-    case LobeKind::Dielectric:
-      return dielectric_sample(l.dielectric(sp.albedo), sp, wo, u1, u2, u3, photon, out);
+    case LobeKind::Conductor: return conductor_sample({color, l.tint, l.roughness_at(sp)}, sp, wo, u1, u2, out);
+    case LobeKind::Glossy:
+      return conductor_sample({color, l.tint, l.roughness_at(sp), true}, sp, wo, u1, u2, out);
+    case LobeKind::Dielectric: return dielectric_sample(l.dielectric(sp), sp, wo, u1, u2, u3, photon, out);
   }
   return false;
 }
 
-}  // namespace
-
-void prepare_lobe(Lobe& lobe) {
-  if (!lobe.layer) return;
+// One row of a layer's albedo table: by cos(theta), at the lobe's own (constant) roughness.
+void tabulate_layer_albedo(const Lobe& lobe, float* row) {
   constexpr int kSide = 32;  // stratified samples per axis
   const SurfacePoint flat{Vec3(0, 0, 1), Vec3(0, 0, 1), Color(1.0)};
   for (int m = 0; m < kLayerAlbedoSteps; ++m) {
@@ -136,8 +146,28 @@ void prepare_lobe(Lobe& lobe) {
         if (lobe_sample(lobe, flat, wo, (i + 0.5) / kSide, (j + 0.5) / kSide, 0.5, false, s))
           sum += max_component(s.weight);
       }
-    const Color ms = multiscatter_factor(lobe, flat.albedo, mu);
-    lobe.albedo[m] = static_cast<float>(sum / (kSide * kSide) * max_component(ms));
+    const Color ms = multiscatter_factor(lobe, flat, mu);
+    row[m] = static_cast<float>(sum / (kSide * kSide) * max_component(ms));
+  }
+}
+
+}  // namespace
+
+void prepare_lobe(Lobe& lobe) {
+  lobe.albedo.clear();
+  if (!lobe.layer) return;
+  if (!lobe.roughness_input.used()) {
+    lobe.albedo.resize(kLayerAlbedoSteps);
+    tabulate_layer_albedo(lobe, lobe.albedo.data());
+    return;
+  }
+  // A textured roughness: rows at roughness 0, 1/16, ..., 1 (the texture's value times the lobe's).
+  lobe.albedo.resize(kLayerAlbedoSteps * kLayerRoughnessSteps);
+  Lobe fixed = lobe;
+  fixed.roughness_input = InputRef{};
+  for (int j = 0; j < kLayerRoughnessSteps; ++j) {
+    fixed.roughness = static_cast<double>(j) / (kLayerRoughnessSteps - 1);
+    tabulate_layer_albedo(fixed, lobe.albedo.data() + j * kLayerAlbedoSteps);
   }
 }
 
@@ -146,7 +176,7 @@ Color closure_eval(const std::vector<Lobe>& lobes, const SurfacePoint& sp, const
   effective_weights(lobes, sp, wo, eff);
   Color f(0.0);
   for (size_t i = 0; i < lobes.size(); ++i)
-    if (!lobes[i].followed()) f += eff[i] * lobe_eval(lobes[i], sp, wo, wi);
+    if (!lobes[i].followed(sp)) f += eff[i] * lobe_eval(lobes[i], sp, wo, wi);
   return f;
 }
 
@@ -170,7 +200,7 @@ double closure_followed_share(const std::vector<Lobe>& lobes, const SurfacePoint
   if (!(pick_probabilities(lobes, sp, wo, eff, [](const Lobe&) { return true; }, prob) > 0.0)) return 0.0;
   double share = 0.0;
   for (size_t i = 0; i < lobes.size(); ++i)
-    if (lobes[i].followed()) share += prob[i];
+    if (lobes[i].followed(sp)) share += prob[i];
   return glm::clamp(share, 0.0, 1.0);
 }
 
@@ -179,13 +209,14 @@ int closure_followed_branches(const std::vector<Lobe>& lobes, const SurfacePoint
   Color eff[kMaxLobes];
   double prob[kMaxLobes];
   effective_weights(lobes, sp, wo, eff);
-  if (!(pick_probabilities(lobes, sp, wo, eff, [](const Lobe& l) { return l.followed(); }, prob) > 0.0)) return 0;
+  if (!(pick_probabilities(lobes, sp, wo, eff, [&sp](const Lobe& l) { return l.followed(sp); }, prob) > 0.0))
+    return 0;
   const int i = pick(lobes, prob, u);
   if (i < 0) return 0;
   const Lobe& l = lobes[i];
   int count = 0;
-  if (l.kind == LobeKind::Dielectric && l.delta()) {
-    count = dielectric_branches(l.dielectric(sp.albedo), sp, wo, false, out);
+  if (l.kind == LobeKind::Dielectric && l.delta_at(l.roughness_at(sp))) {
+    count = dielectric_branches(l.dielectric(sp), sp, wo, false, out);
   } else {
     count = lobe_sample(l, sp, wo, u1, u2, u3, false, out[0]) ? 1 : 0;
   }
@@ -195,19 +226,19 @@ int closure_followed_branches(const std::vector<Lobe>& lobes, const SurfacePoint
 
 bool closure_has_followed(const std::vector<Lobe>& lobes) {
   for (const Lobe& l : lobes)
-    if (l.followed()) return true;
+    if (l.may_be_followed()) return true;
   return false;
 }
 
 bool closure_is_followed(const std::vector<Lobe>& lobes) {
   for (const Lobe& l : lobes)
-    if (!l.followed()) return false;
+    if (!l.always_followed()) return false;
   return !lobes.empty();
 }
 
 bool closure_transmits(const std::vector<Lobe>& lobes) {
   for (const Lobe& l : lobes)
-    if (!l.followed() && (l.kind == LobeKind::Translucent ||
+    if (!l.always_followed() && (l.kind == LobeKind::Translucent ||
                        (l.kind == LobeKind::Dielectric && (l.parts & kRefraction))))
       return true;
   return false;

@@ -6,6 +6,7 @@
 #include "shading/lobes.h"
 
 #include <array>
+#include <vector>
 
 
 namespace ppm {
@@ -26,13 +27,38 @@ constexpr int kMaxLobes = 8;
 // materials_compare.py: a Principled coat of roughness 0.03 was 16% dark and rough glass of 0.2 3%
 // bright when gathered; 2.2% and 1.0% when followed; glass of roughness 0.3 is within 0.6% gathered).
 constexpr double kFollowedRoughness = 0.25;
-constexpr int kLayerAlbedoSteps = 32;  // a layer's directional albedo, tabulated by cos(theta)
+constexpr int kLayerAlbedoSteps = 32;      // a layer's directional albedo, tabulated by cos(theta)
+constexpr int kLayerRoughnessSteps = 17;   // ... and by roughness, when a texture drives it
+
+// A lobe parameter driven by one of its material's inputs (an image texture's value at the shading
+// point, SurfacePoint::inputs). A colour or roughness is the parameter's constant times the input
+// (Value) or its square root (Sqrt: the Principled BSDF's transmission tints each crossing by
+// sqrt(base colour)); a weight's factor is the input clamped to [0, 1] (Fraction, as Cycles clamps a
+// Mix Shader's factor and the Principled BSDF's weights) or 1 minus that (Complement: the Mix
+// Shader's other input). No input: the constant alone.
+struct InputRef {
+  enum Transform : uint8_t { Value, Sqrt, Fraction, Complement };
+  int8_t input = -1;
+  Transform transform = Value;
+
+  bool used() const { return input >= 0; }
+  Color apply(const SurfacePoint& sp) const {
+    if (input < 0) return Color(1.0);
+    const Color v(sp.inputs[input]);
+    switch (transform) {
+      case Sqrt: return glm::sqrt(glm::max(v, Color(0.0)));
+      case Fraction: return glm::clamp(v, 0.0, 1.0);
+      case Complement: return Color(1.0) - glm::clamp(v, 0.0, 1.0);
+      case Value: break;
+    }
+    return v;
+  }
+};
 
 struct Lobe {
   LobeKind kind = LobeKind::Diffuse;
   uint8_t parts = kReflectionAndRefraction;  // Dielectric only
   bool layer = false;  // attenuates every lobe after it by 1 - (its directional albedo towards the viewer)
-  bool textured = false;  // `color` times the material's texture (SurfacePoint::albedo)
   bool multiscatter = false;  // GGX energy lost to single scattering restored, as Cycles' Multiscatter GGX
   bool tint_f0 = false;       // Dielectric: `tint` scales F0 only (see DielectricParams)
   Color weight{1.0};
@@ -40,21 +66,33 @@ struct Lobe {
   Color tint{1.0};
   double roughness = 0.0;
   double ior = 1.5;
-  std::array<float, kLayerAlbedoSteps> albedo{};  // a layer's, multiple scattering included (prepare_lobe)
+  InputRef color_input, roughness_input;   // roughness: the input's first channel
+  std::array<InputRef, 2> weight_inputs;   // the weight's factors from inputs (textured Mix factors)
+  // A layer's directional albedo, multiple scattering included (prepare_lobe): by cos(theta), and
+  // with a textured roughness by roughness too (kLayerRoughnessSteps rows).
+  std::vector<float> albedo;
 
-  bool delta() const {
-    return kind == LobeKind::Transparent ||
-           ((kind == LobeKind::Conductor || kind == LobeKind::Glossy || kind == LobeKind::Dielectric) &&
-            roughness < kSmoothRoughness);
+  double roughness_at(const SurfacePoint& sp) const {
+    return roughness_input.used() ? glm::clamp(roughness * roughness_input.apply(sp).x, 0.0, 1.0) : roughness;
   }
-  // Followed by eye paths rather than stored in a hit point: delta lobes, and glossy ones too narrow
-  // for a photon density estimate to resolve (see kFollowedRoughness).
-  bool followed() const { return delta() || (!diffuse() && kind != LobeKind::Transparent && roughness < kFollowedRoughness); }
+  Color color_at(const SurfacePoint& sp) const { return color * color_input.apply(sp); }
+  Color weight_at(const SurfacePoint& sp) const {
+    return weight * weight_inputs[0].apply(sp) * weight_inputs[1].apply(sp);
+  }
+  DielectricParams dielectric(const SurfacePoint& sp) const {
+    return {ior, roughness_at(sp), tint, color_at(sp), parts, tint_f0};
+  }
+
   bool diffuse() const { return kind == LobeKind::Diffuse || kind == LobeKind::Translucent; }
-  Color color_at(const Color& texel) const { return textured ? color * texel : color; }
-  DielectricParams dielectric(const Color& texel) const {
-    return {ior, roughness, tint, color_at(texel), parts, tint_f0};
-  }
+  bool microfacet() const { return !diffuse() && kind != LobeKind::Transparent; }
+  bool delta_at(double r) const { return kind == LobeKind::Transparent || (microfacet() && r < kSmoothRoughness); }
+  // Followed by eye paths rather than stored in a hit point: delta lobes, and glossy ones too narrow
+  // for a photon density estimate to resolve (see kFollowedRoughness). With a textured roughness
+  // that is decided per shading point.
+  bool followed_at(double r) const { return delta_at(r) || (microfacet() && r < kFollowedRoughness); }
+  bool followed(const SurfacePoint& sp) const { return followed_at(roughness_at(sp)); }
+  bool may_be_followed() const { return followed_at(roughness) || (microfacet() && roughness_input.used()); }
+  bool always_followed() const { return followed_at(roughness) && !roughness_input.used(); }
 };
 
 }  // namespace ppm

@@ -6,12 +6,17 @@
 #include "geometry/ray.h"
 #include "math/types.h"
 
+#include <array>
+
 namespace ppm {
+
+constexpr int kMaxInputs = 4;  // a mixture's textured inputs, each one image lookup per shading point
 
 struct SurfacePoint {
   Vec3 ng;       // geometric normal, outward as the primitive defines it
   Vec3 ns;       // shading normal, same hemisphere as ng
-  Color albedo;  // base colour, texture applied
+  Color albedo;  // base colour, texture applied (single-kind materials)
+  std::array<Vec3f, kMaxInputs> inputs{};  // a mixture's inputs here (Material::inputs; lobe.h's InputRef)
 };
 
 struct BsdfSample {

@@ -1,0 +1,106 @@
+"""A mixture's inputs (image textures looked up at the hit's UV) driving lobe parameters: a
+colour, a roughness (of a layer too) or a weight's factor. A uniform texture renders exactly as the
+constant it holds; a texture that differs across the surface gives each part what its value gives;
+bad references are refused with a message."""
+
+import math
+
+import numpy as np
+import pytest
+
+import core_scenes
+import ppm_core
+
+SIZE = 24
+
+
+def texture(scene, bottom, top=None):
+    """A float texture of value `bottom` in its lower rows (v < 0.5, the sphere's lower half) and
+    `top` above (alpha 0.25 everywhere)."""
+    texels = np.zeros((8, 8, 4), np.float32)
+    texels[:4, :, :3] = bottom
+    texels[4:, :, :3] = bottom if top is None else top
+    texels[..., 3] = 0.25
+    return scene.add_texture("values", texels, storage="half")
+
+
+def lit_ball(lobes, inputs=None, textures=()):
+    """A ball of `lobes` lit by a point light beside the camera, against black: its highlight shows
+    the roughness. `textures`: (bottom, top) values, added before the material."""
+    scene = ppm_core.Scene()
+    for values in textures:
+        texture(scene, *values)
+    ball = scene.add_material("ball", "mixture", lobes=lobes, inputs=inputs)
+    scene.add_sphere("ball", (0.0, 0.0, 0.0), 1.0, ball)
+    scene.add_light("point", name="lamp", power=500.0, position=(1.5, -4.0, 1.5))
+    scene.set_camera(core_scenes.look_at((0.0, -3.0, 0.0), (0.0, 0.0, 0.0)), SIZE, SIZE, fov=math.radians(45))
+    renderer = ppm_core.Renderer(scene, photons_per_pass=20_000, threads=2, seed=5, hit_points="stochastic")
+    renderer.run(passes=6)
+    image = renderer.image()[..., :3]  # (a smooth ball stores no hit points: finite_rgb would refuse it)
+    assert np.isfinite(image).all() and (image >= 0.0).all()
+    return image
+
+
+def coat_over(base_roughness, coat_roughness, **coat):
+    return [{"kind": "dielectric", "parts": "reflection", "layer": True, "ior": 1.5, "roughness": coat_roughness,
+             **coat},
+            {"kind": "glossy", "weight": 0.5, "color": (0.9, 0.6, 0.3), "roughness": base_roughness},
+            {"kind": "diffuse", "weight": 0.5, "color": (0.2, 0.4, 0.8)}]
+
+
+@pytest.mark.parametrize("textured, constant, inputs", [
+    ([{"kind": "glossy", "color": 0.8, "roughness": 1.0, "roughness_input": 0}],
+     [{"kind": "glossy", "color": 0.8, "roughness": 0.5}], [(0, "grey")]),
+    (coat_over(0.5, 1.0, roughness_input=0), coat_over(0.5, 0.5), [(0, "grey")]),
+    ([{"kind": "diffuse", "color": (1.0, 0.5, 1.0), "color_input": (0, "sqrt")}],
+     [{"kind": "diffuse", "color": (0.5, 0.25, 0.5)}], [(0, "rgb")]),
+    ([{"kind": "diffuse", "color": 0.8, "weight_inputs": [(0, "complement")]},
+      {"kind": "glossy", "color": 0.8, "roughness": 0.5, "weight_inputs": [(0, "fraction")]}],
+     [{"kind": "diffuse", "color": 0.8, "weight": 0.75}, {"kind": "glossy", "color": 0.8, "roughness": 0.5,
+                                                          "weight": 0.25}], [(0, "alpha")]),
+], ids=["roughness", "layer roughness", "sqrt colour", "mix factor from alpha"])
+def test_a_uniform_input_renders_as_the_constant_it_holds(textured, constant, inputs):
+    # The texture holds 0.5 (0.25 where its square root is taken) and alpha 0.25: half floats hold
+    # them exactly, so both renders do the same arithmetic.
+    value = 0.25 if inputs[0][1] == "rgb" else 0.5
+    image = lit_ball(textured, inputs, textures=[(value, None)])
+    expected = lit_ball(constant)
+    assert expected.max() > 0.05
+    np.testing.assert_allclose(image, expected, rtol=1e-5, atol=1e-7)
+
+
+def test_each_part_of_the_surface_gets_its_own_value():
+    # Roughness 0.1 on the upper half (followed by eye paths) and 0.6 below (gathered): each half as
+    # the ball of that constant roughness renders it, away from the seam at the equator.
+    def glossy(roughness, **extra):
+        return [{"kind": "glossy", "color": 0.8, "roughness": roughness, **extra}]
+
+    image = lit_ball(glossy(1.0, roughness_input=0), [(0, "grey")], textures=[(0.6, 0.1)])
+    smooth, rough = lit_ball(glossy(0.1)), lit_ball(glossy(0.6))
+    upper, lower = slice(0, SIZE // 2 - 3), slice(SIZE // 2 + 3, SIZE)
+    assert not np.allclose(smooth[upper], rough[upper], rtol=0.05)  # the halves can tell them apart
+    # Half floats hold 0.1 as 0.0999756 and 0.6 as 0.600098: near, not equal.
+    np.testing.assert_allclose(image[upper], smooth[upper], rtol=0.02, atol=2e-3)
+    np.testing.assert_allclose(image[lower], rough[lower], rtol=0.02, atol=2e-3)
+
+
+@pytest.mark.parametrize("lobes, inputs, message", [
+    ([{"kind": "diffuse", "color_input": 1}], [(0, "rgb")], "input 1"),
+    ([{"kind": "diffuse", "color_input": 0}], [(7, "rgb")], "input texture index"),
+    ([{"kind": "diffuse", "color_input": (0, "cube")}], [(0, "rgb")], "transform"),
+    ([{"kind": "diffuse"}], [(0, "red")], "channel"),
+    ([{"kind": "diffuse"}], [(0, "rgb")] * 5, "at most 4 inputs"),
+    ([{"kind": "diffuse", "weight_inputs": [0, 0, 0]}], [(0, "rgb")], "at most 2 weight_inputs"),
+])
+def test_bad_input_references_are_refused_with_a_message(lobes, inputs, message):
+    scene = ppm_core.Scene()
+    texture(scene, 0.5)
+    with pytest.raises(ValueError, match=message):
+        scene.add_material("ball", "mixture", lobes=lobes, inputs=inputs)
+
+
+def test_inputs_belong_to_mixtures_only():
+    scene = ppm_core.Scene()
+    texture(scene, 0.5)
+    with pytest.raises(ValueError, match="mixture"):
+        scene.add_material("ball", "diffuse", inputs=[(0, "rgb")])
