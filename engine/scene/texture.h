@@ -1,8 +1,10 @@
 // An RGBA image sampled bilinearly with repeat wrapping, kept in the compact
 // form its source has (8-bit sRGB-encoded or linear bytes, or half floats) and
 // decoded to linear colour on lookup: a 16k x 16k 8-bit texture takes 1 GiB,
-// not the 4 GiB of float32. Row 0 is the bottom of the image (Blender's
-// convention), so v = 0 is row 0.
+// not the 4 GiB of float32. sRGB bytes are interpolated as encoded and the
+// result decoded, as Cycles does (its NODE_IMAGE_COMPRESS_AS_SRGB): between
+// texels of different colours that is darker than mixing linear colours. Row 0
+// is the bottom of the image (Blender's convention), so v = 0 is row 0.
 #pragma once
 
 #include "math/half.h"
@@ -53,10 +55,18 @@ class Texture {
 
   // Repeats in u; in v too, or with clamp_v (environment maps: the poles) clamps.
   Color lookup(const Vec2& uv, bool clamp_v = false) const {
+    if (storage_ == TexelStorage::Srgb8)
+      return srgb_to_linear(bilinear<Color>(uv, clamp_v, [this](int x, int y) { return encoded(x, y); }));
     return bilinear<Color>(uv, clamp_v, [this](int x, int y) { return texel(x, y); });
   }
-  // The colour and, in w, the alpha (straight, not premultiplied; 1 for RGB sources), repeating.
+  // The colour and, in w, the alpha (as stored: straight unless premultiplied before; 1 for RGB
+  // sources), repeating.
   glm::dvec4 lookup_rgba(const Vec2& uv) const {
+    if (storage_ == TexelStorage::Srgb8) {
+      const glm::dvec4 e =
+          bilinear<glm::dvec4>(uv, false, [this](int x, int y) { return glm::dvec4(encoded(x, y), alpha(x, y)); });
+      return glm::dvec4(srgb_to_linear(Color(e)), e.w);
+    }
     return bilinear<glm::dvec4>(uv, false, [this](int x, int y) { return glm::dvec4(texel(x, y), alpha(x, y)); });
   }
 
@@ -80,6 +90,14 @@ class Texture {
   }
   size_t index(int x, int y) const { return (static_cast<size_t>(y) * width_ + x) * 4; }
   Color texel(int x, int y) const;
+  Color encoded(int x, int y) const {  // the bytes / 255, for the 8-bit storages
+    const size_t i = index(x, y);
+    return Color(bytes_[i], bytes_[i + 1], bytes_[i + 2]) * (1.0 / 255.0);
+  }
+  static Color srgb_to_linear(const Color& c) {
+    auto decode = [](double v) { return v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4); };
+    return Color(decode(c.x), decode(c.y), decode(c.z));
+  }
   double alpha(int x, int y) const {
     const size_t i = index(x, y) + 3;
     return storage_ == TexelStorage::Half ? from_half(halves_[i]) : bytes_[i] / 255.0;

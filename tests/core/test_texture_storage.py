@@ -139,3 +139,16 @@ def test_unusable_texels_are_an_error_or_black_on_request(bad, channel, message)
 def test_bad_arguments_are_named(call, message):
     with pytest.raises(ValueError, match=message):
         call(ppm_core.Scene())
+
+
+def test_srgb_bytes_are_interpolated_as_encoded_then_decoded():
+    # As Cycles: between a black and a white texel, the middle is decode(0.5) = 0.214, not 0.5.
+    # Two texels across U; the camera's middle column looks at u = 0.5, halfway between their centres.
+    black_white = np.zeros((1, 2, 4), np.uint8)
+    black_white[0, 1, :3] = 255
+    black_white[..., 3] = 255
+    srgb = render(textured_plane(black_white))
+    linear = render(textured_plane(black_white, storage="linear8"))
+    middle = slice(7, 9)  # of 16 columns over x in [-2, 2], the plane's u = (x + 3) / 6
+    ratio = srgb[:, middle].mean() / linear[:, middle].mean()
+    assert ratio == pytest.approx(float(srgb_to_linear(0.5)) / 0.5, rel=0.05)
