@@ -32,6 +32,13 @@ def describe(mat):
     return params, warnings
 
 
+def added(mat):
+    """Adds `mat` to a core scene as a render does; its warnings."""
+    warnings = []
+    material_export.MaterialExporter(ppm_core.Scene(), warnings.append).index(mat)
+    return warnings
+
+
 def lobes_by_kind(params):
     return {lobe["kind"]: lobe for lobe in params["lobes"]}
 
@@ -220,3 +227,83 @@ def test_a_holdout_mixed_with_a_shader_is_the_mixtures_holdout_weight():
     assert params["kind"] == "mixture" and params["holdout"] == pytest.approx(0.25)
     mix.inputs["Fac"].default_value = 1.0  # all holdout
     assert describe(mat)[0]["kind"] == "holdout"
+
+
+def image_node(tree, name, value=0.5):
+    node = tree.nodes.new("ShaderNodeTexImage")
+    node.image = bpy.data.images.new(name, 4, 4, alpha=True)
+    node.image.pixels.foreach_set([value] * (4 * 4 * 4))
+    return node
+
+
+def test_images_on_roughness_metallic_and_a_mix_factor_become_inputs():
+    mat, tree, out = node_material("textured")
+    bsdf = add(tree, "ShaderNodeBsdfPrincipled", **{"Base Color": (0.2, 0.3, 0.4, 1.0)})
+    maps, mask = image_node(tree, "maps"), image_node(tree, "mask")
+    tree.links.new(maps.outputs["Color"], bsdf.inputs["Roughness"])
+    tree.links.new(maps.outputs["Color"], bsdf.inputs["Metallic"])  # the same input as Roughness
+    glossy = add(tree, "ShaderNodeBsdfGlossy", Roughness=0.1)
+    mix = tree.nodes.new("ShaderNodeMixShader")
+    tree.links.new(mask.outputs["Color"], mix.inputs["Fac"])
+    tree.links.new(bsdf.outputs[0], mix.inputs[1])
+    tree.links.new(glossy.outputs[0], mix.inputs[2])
+    tree.links.new(mix.outputs[0], out.inputs["Surface"])
+    params, warnings = describe(mat)
+    assert warnings == []
+    assert params["kind"] == "mixture" and [channel for _, channel in params["inputs"]] == ["grey", "grey"]
+    fac, grey = 0, 1  # the Mix factor is read first
+    conductor, layer, diffuse, glossy_lobe = params["lobes"]
+    assert conductor["kind"] == "conductor" and conductor["roughness_input"] == grey
+    assert conductor["weight_inputs"] == [(fac, "complement"), (grey, "fraction")]
+    assert layer["layer"] and layer["roughness_input"] == grey
+    assert layer["weight_inputs"] == diffuse["weight_inputs"] == [(fac, "complement"), (grey, "complement")]
+    assert diffuse["color"] == pytest.approx((0.2, 0.3, 0.4)) and "color_input" not in diffuse
+    assert glossy_lobe["weight_inputs"] == [(fac, "fraction")] and "roughness_input" not in glossy_lobe
+    assert added(mat) == []  # and the core takes them
+
+
+def test_an_image_alpha_cuts_out_and_a_third_textured_factor_is_warned():
+    mat, tree, out = node_material("leaf")
+    bsdf = add(tree, "ShaderNodeBsdfPrincipled")
+    maps = image_node(tree, "maps")
+    tree.links.new(maps.outputs["Color"], bsdf.inputs["Base Color"])
+    tree.links.new(maps.outputs["Alpha"], bsdf.inputs["Alpha"])
+    tree.links.new(bsdf.outputs[0], out.inputs["Surface"])
+    params, warnings = describe(mat)
+    assert warnings == [] and params["inputs"][0][1] == "rgb" and params["inputs"][1][1] == "alpha"
+    transparent, _, diffuse = params["lobes"]
+    assert transparent["kind"] == "transparent" and transparent["weight_inputs"] == [(1, "complement")]
+    assert diffuse["weight_inputs"] == [(1, "fraction")] and diffuse["color_input"] == 0
+    # Alpha and Metallic from images inside a textured Mix: the metal's weight would take three.
+    tree.links.new(maps.outputs["Color"], bsdf.inputs["Metallic"])
+    mix = tree.nodes.new("ShaderNodeMixShader")
+    tree.links.new(maps.outputs["Color"], mix.inputs["Fac"])
+    tree.links.new(bsdf.outputs[0], mix.inputs[2])
+    tree.links.new(mix.outputs[0], out.inputs["Surface"])
+    params, warnings = describe(mat)
+    assert len(warnings) == 1 and "'leaf'" in warnings[0] and "Metallic" in warnings[0]
+    assert all(len(lobe.get("weight_inputs", ())) <= 2 for lobe in params["lobes"])
+    assert len(added(mat)) == 1
+
+
+def test_an_images_colour_is_premultiplied_by_its_alpha_unless_its_alpha_is_used():
+    # As Cycles: it keeps images premultiplied and divides by alpha again only for a node whose
+    # Alpha output is linked.
+    mat, tree, out = node_material("veil")
+    diffuse = add(tree, "ShaderNodeBsdfDiffuse")
+    texture = tree.nodes.new("ShaderNodeTexImage")
+    texture.image = bpy.data.images.new("veil", 2, 2, alpha=True, float_buffer=True)
+    texture.image.pixels.foreach_set([0.5, 0.5, 0.5, 0.25] * 4)
+    tree.links.new(texture.outputs["Color"], diffuse.inputs["Color"])
+    tree.links.new(diffuse.outputs[0], out.inputs["Surface"])
+
+    scene = ppm_core.Scene()
+    material_export.MaterialExporter(scene, lambda w: None).index(mat)
+    assert scene.texture_info(0)["max_rgb"] == pytest.approx(0.125)
+    mix = tree.nodes.new("ShaderNodeMixShader")
+    tree.links.new(texture.outputs["Alpha"], mix.inputs["Fac"])
+    tree.links.new(diffuse.outputs[0], mix.inputs[2])
+    tree.links.new(mix.outputs[0], out.inputs["Surface"])
+    scene = ppm_core.Scene()
+    material_export.MaterialExporter(scene, lambda w: None).index(mat)
+    assert scene.texture_info(0)["max_rgb"] == pytest.approx(0.5)

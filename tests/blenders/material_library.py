@@ -1,7 +1,7 @@
 """A library of node materials covering every closure the exporter reads: each BSDF node, Mix and Add
-shaders nested, node groups, muted nodes and reroutes, and the Principled BSDF's layers. Built by
-script in the running Blender (3.4 and 4.x/5.x socket names); used by materials_compare.py and by
-blend_scenes/build_blend_scenes.py (material_library.blend).
+shaders nested, node groups, muted nodes and reroutes, the Principled BSDF's layers, and images
+(packed into the saved file) on colour, roughness, metallic, alpha and Mix factor sockets. Built
+by script in the running Blender (3.4 and 4.x/5.x socket names); used by materials_compare.py.
 
 `MATERIALS` maps a name to a builder(tree, out) that fills a material's node tree. `APPROXIMATED`
 names those the add-on documents as approximations (reported by the comparison, not asserted).
@@ -114,6 +114,56 @@ def muted(tree, out):
     link(tree, m, out.inputs["Surface"])
 
 
+def bands(name, values, alphas=None, colorspace="Non-Color"):
+    """A packed image of vertical bands (along U: around the ball), band i of grey `values[i]` (or an
+    RGB triple) and alpha `alphas[i]`; packed so that the saved file carries it."""
+    width, height = 16 * len(values), 8
+    image = bpy.data.images.new(name, width, height, alpha=True)
+    image.colorspace_settings.name = colorspace
+    pixels = []
+    for _ in range(height):
+        for x in range(width):
+            value = values[x // 16]
+            rgb = value if isinstance(value, tuple) else (value,) * 3
+            pixels += [*rgb, 1.0 if alphas is None else alphas[x // 16]]
+    image.pixels.foreach_set(pixels)
+    image.pack()
+    return image
+
+
+def image_on(tree, image, socket, output="Color"):
+    texture = tree.nodes.new("ShaderNodeTexImage")
+    texture.image = image
+    tree.links.new(texture.outputs[output], socket)
+
+
+def textured_principled(image_sockets, **inputs):
+    """A Principled BSDF (Blender 4+ names as `principled`) with images on some sockets:
+    image_sockets maps a socket name to (image builder, output)."""
+    build_principled = principled(**inputs)
+
+    def build(tree, out):
+        build_principled(tree, out)
+        bsdf = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeBsdfPrincipled")
+        for socket, (make_image, output) in image_sockets.items():
+            image_on(tree, make_image(), bsdf.inputs[socket], output)
+    return build
+
+
+def textured_mix(tree, out):
+    """Mix(Diffuse blue, rough Glossy) with an image's bands as the factor."""
+    m = node(tree, "ShaderNodeMixShader")
+    DIFFUSE_BLUE(tree, m.inputs[1])
+    GLOSSY_ROUGH(tree, m.inputs[2])
+    image_on(tree, bands("mix_bands", [0.1, 0.9, 0.4, 0.7, 0.1, 0.9, 0.4, 0.7]), m.inputs["Fac"])
+    link(tree, m, out.inputs["Surface"])
+
+
+ROUGHNESS_BANDS = lambda: bands("roughness_bands", [0.1, 0.6, 0.3, 0.8] * 2)  # noqa: E731
+METAL_BANDS = lambda: bands("metal_bands", [0.0, 1.0] * 4)  # noqa: E731
+CHECKER_COLOURS = lambda: bands("colour_bands", [(0.8, 0.2, 0.1), (0.1, 0.5, 0.8)] * 4,  # noqa: E731
+                                alphas=[1.0, 0.3] * 4, colorspace="sRGB")
+
 DIFFUSE_BLUE = leaf("ShaderNodeBsdfDiffuse", Color=rgba(0.1, 0.3, 0.8))
 GLOSSY_ROUGH = leaf(GLOSSY, Color=rgba(0.9, 0.9, 0.9), Roughness=0.3)
 
@@ -156,6 +206,14 @@ MATERIALS = {
     "principled_subsurface": principled(**{"Base Color": rgba(0.8, 0.5, 0.4), "Subsurface Weight": 1.0}),
     "principled_sheen": principled(**{"Base Color": rgba(0.2, 0.2, 0.5), "Sheen Weight": 1.0}),
     "toon": shader("ShaderNodeBsdfToon", Color=rgba(0.8, 0.4, 0.2)),
+    "textured_base_color": textured_principled({"Base Color": (CHECKER_COLOURS, "Color")}, Roughness=0.4),
+    "textured_roughness": textured_principled({"Roughness": (ROUGHNESS_BANDS, "Color")},
+                                              **{"Base Color": rgba(0.8, 0.5, 0.3)}),
+    "textured_metallic": textured_principled({"Metallic": (METAL_BANDS, "Color")},
+                                             **{"Base Color": rgba(1.0, 0.76, 0.33), "Roughness": 0.3}),
+    "textured_alpha": textured_principled({"Base Color": (CHECKER_COLOURS, "Color"),
+                                           "Alpha": (CHECKER_COLOURS, "Alpha")}),
+    "textured_mix_factor": textured_mix,
 }
 
 # Documented approximations: measured and reported, not held to the tolerance.

@@ -3,10 +3,13 @@
 Walks from the active Material Output's Surface through Mix Shader and Add Shader nodes, node
 groups (nested, their inputs' defaults), reroutes and muted nodes (passed through as Blender does),
 folding every constant factor into the lobes' weights and dropping branches of weight zero. A
-socket's value is its own, or that of the group input or the Value/RGB node feeding it; any other
-node driving it counts as the socket's own value with one warning (texture and utility nodes are
-the Materials II issue), except an Image Texture on a colour, which becomes the material's texture
-(one per material). The Principled BSDF is layered as Cycles layers it (see `principled_v2`).
+socket's value is its own, or that of the group input or the Value/RGB node feeding it. An Image
+Texture's Color or Alpha on a colour, a roughness, a Mix Shader's factor or the Principled BSDF's
+Base Color, Roughness, Metallic, Transmission Weight or Alpha becomes one of the material's inputs
+(up to MAX_INPUTS images looked up per shading point; a lobe parameter is its constant times an
+input, a weight takes up to two textured factors). Any other node driving a socket counts as the
+socket's own value with one warning (texture and utility nodes are the Materials II issue). The
+Principled BSDF is layered as Cycles layers it (see `principled_v2`).
 """
 
 from __future__ import annotations
@@ -20,8 +23,28 @@ from . import nodes
 
 MAX_DEPTH = 256  # links followed from one socket: a deeper chain is a cycle through node groups
 MAX_LOBES = 8  # the core's limit
+MAX_INPUTS = 4  # the core's limit of textured inputs per material
+MAX_WEIGHT_INPUTS = 2  # the core's limit of textured factors per lobe weight
 MAX_NESTING = 64  # Mix and Add shaders inside each other
 CUTOFF = 1e-6  # Cycles drops closures of smaller weight too (CLOSURE_WEIGHT_CUTOFF)
+
+
+@dataclass(frozen=True)
+class Weight:
+    """A closure's weight: an RGB constant times textured factors ((input index, 'fraction' or
+    'complement'), as the core's weight_inputs), the Mix Shader factors and Principled weights that
+    an image drives."""
+    rgb: np.ndarray
+    factors: tuple = ()
+
+    def __mul__(self, other):
+        return Weight(self.rgb * other, self.factors)
+
+    def times_input(self, index, transform):
+        return Weight(self.rgb, self.factors + ((index, transform),))
+
+    def peak(self):
+        return float(np.max(self.rgb))
 
 
 @dataclass
@@ -29,11 +52,15 @@ class Closure:
     lobes: list = field(default_factory=list)  # dicts for Scene.add_material(lobes=...)
     emission: np.ndarray = field(default_factory=lambda: np.zeros(3))
     holdout: float = 0.0
-    image: object = None  # the bpy image its textured lobes multiply their colours by
+    # Per input: (bpy image, channel 'rgb' | 'alpha' | 'grey', colour premultiplied by alpha)
+    inputs: list = field(default_factory=list)
 
     def add(self, weight, **lobe):
-        if float(np.max(weight)) > CUTOFF:
-            self.lobes.append({"weight": tuple(float(c) for c in weight), **lobe})
+        if weight.peak() > CUTOFF:
+            lobe = {key: value for key, value in lobe.items() if value is not None}  # no input: constant
+            if weight.factors:
+                lobe["weight_inputs"] = list(weight.factors)
+            self.lobes.append({"weight": tuple(float(c) for c in weight.rgb), **lobe})
 
 
 def _rgb(value):
@@ -129,26 +156,58 @@ class ClosureReader:
             return _rgb(raw)  # not finite or out of range: clamped with the material's one warning
         return _finite(float(np.mean(_rgb(raw))) if _is_vector(raw) else float(raw), node, name, self)
 
-    def color(self, node, name, ctx, default=(0.8, 0.8, 0.8)):
-        """(rgb, textured): an Image Texture's Color on the socket makes the lobe textured."""
+    def image_input(self, node, name, ctx, color):
+        """The material's input index for an Image Texture driving input `name` (its Color as a colour,
+        or as grey on a float socket; its Alpha), or None."""
         socket = node.inputs.get(name)
-        if socket is not None:
-            out, _, _ = self.source(socket, ctx)
-            if out is not None and out.node.bl_idname == "ShaderNodeTexImage" and out.node.image is not None:
-                image = out.node.image
-                if self.out.image in (None, image):
-                    self.out.image = image
-                    return np.ones(3), True
-                self.warn(node, f"a second image texture ('{image.name}') in one material is not supported yet; "
-                                "using the socket's own colour")
-                return _rgb(socket.default_value), False
-        return self.value(node, name, ctx, default, color=True), False
+        if socket is None:
+            return None
+        out, _, _ = self.source(socket, ctx)
+        if out is None or out.node.bl_idname != "ShaderNodeTexImage" or out.node.image is None:
+            return None
+        channel = "alpha" if out.name == "Alpha" else ("rgb" if color else "grey")
+        key = (out.node.image, channel, channel != "alpha" and _premultiplied(out.node))
+        if key in self.out.inputs:
+            return self.out.inputs.index(key)
+        if len(self.out.inputs) >= MAX_INPUTS:
+            self.warn(node, f"more than {MAX_INPUTS} textured inputs in one material; '{name}' uses the "
+                            "socket's own value")
+            return None
+        self.out.inputs.append(key)
+        return len(self.out.inputs) - 1
+
+    def color(self, node, name, ctx, default=(0.8, 0.8, 0.8)):
+        """(rgb, input): an Image Texture on the socket makes the colour its input (rgb is then 1)."""
+        index = self.image_input(node, name, ctx, color=True)
+        if index is not None:
+            return np.ones(3), index
+        return self.value(node, name, ctx, default, color=True), None
+
+    def scalar(self, node, name, ctx, default=0.0):
+        """(value, input) of a float socket, as `color`."""
+        index = self.image_input(node, name, ctx, color=False)
+        if index is not None:
+            return 1.0, index
+        return self.value(node, name, ctx, default), None
+
+    def split(self, w, node, name, ctx, default):
+        """(w * (1 - f), w * f) for the factor f on input `name`, clamped to [0, 1] as Cycles does;
+        a textured factor becomes a factor of the weights (the constant part if a weight has its
+        MAX_WEIGHT_INPUTS already, warned)."""
+        fac, index = self.scalar(node, name, ctx, default)
+        if index is None:
+            fac = min(max(fac, 0.0), 1.0)
+            return w * (1.0 - fac), w * fac
+        if len(w.factors) >= MAX_WEIGHT_INPUTS:
+            self.warn(node, f"textured weights nested more than {MAX_WEIGHT_INPUTS} deep; '{name}' is taken as 0.5")
+            return w * 0.5, w * 0.5
+        return w.times_input(index, "complement"), w.times_input(index, "fraction")
 
     # ------------------------------------------------------------ closures
 
     def closure(self, socket, ctx, weight):
         """Adds what the closure on input `socket` contributes, times `weight` (RGB)."""
-        if socket is None or float(np.max(weight)) <= CUTOFF:
+        if socket is None or weight.peak() <= CUTOFF:
             return
         out, ctx, _ = self.source(socket, ctx)
         if out is None:
@@ -163,8 +222,18 @@ class ClosureReader:
             self.warn(node, f"shaders nested deeper than {MAX_NESTING}; the rest is left out")
             return
         self.depth += 1
-        handler(self, node, ctx, np.asarray(weight, dtype=float))
+        handler(self, node, ctx, weight)
         self.depth -= 1
+
+
+def _premultiplied(texture_node):
+    """Whether Cycles gives this Image Texture's Color premultiplied by its alpha: an image of straight
+    alpha in a colour space that is not data, whose node's Alpha output is not linked (Cycles keeps
+    images premultiplied and divides by alpha again only for a node whose Alpha is used)."""
+    image = texture_node.image
+    alpha = texture_node.outputs.get("Alpha")
+    return (getattr(image, "alpha_mode", "STRAIGHT") == "STRAIGHT" and not getattr(image, "is_data", False)
+            and image.colorspace_settings.name not in ("Non-Color", "Raw") and alpha is not None and not alpha.links)
 
 
 def _matching(sockets, socket):
@@ -193,9 +262,9 @@ def _finite(value, node, name, reader):
 # ---------------------------------------------------------------- shader nodes
 
 def _mix(reader, node, ctx, w):
-    fac = min(max(reader.value(node, "Fac", ctx, 0.5), 0.0), 1.0)
-    reader.closure(node.inputs[1], ctx, w * (1.0 - fac))
-    reader.closure(node.inputs[2], ctx, w * fac)
+    first, second = reader.split(w, node, "Fac", ctx, 0.5)
+    reader.closure(node.inputs[1], ctx, first)
+    reader.closure(node.inputs[2], ctx, second)
 
 
 def _add(reader, node, ctx, w):
@@ -204,7 +273,9 @@ def _add(reader, node, ctx, w):
 
 
 def _roughness(reader, node, ctx, name="Roughness", default=0.5):
-    return min(max(reader.value(node, name, ctx, default), 0.0), 1.0)
+    """(roughness in [0, 1], input or None): a textured roughness is the image's value (the core clamps it)."""
+    value, index = reader.scalar(node, name, ctx, default)
+    return min(max(value, 0.0), 1.0), index
 
 
 def _multiscatter(node):
@@ -214,13 +285,13 @@ def _multiscatter(node):
 
 
 def _diffuse(reader, node, ctx, w):
-    color, textured = reader.color(node, "Color", ctx)
-    reader.out.add(w, kind="diffuse", color=tuple(color), textured=textured)
+    color, index = reader.color(node, "Color", ctx)
+    reader.out.add(w, kind="diffuse", color=tuple(color), color_input=index)
 
 
 def _translucent(reader, node, ctx, w):
-    color, textured = reader.color(node, "Color", ctx)
-    reader.out.add(w, kind="translucent", color=tuple(color), textured=textured)
+    color, index = reader.color(node, "Color", ctx)
+    reader.out.add(w, kind="translucent", color=tuple(color), color_input=index)
 
 
 def _transparent(reader, node, ctx, w):
@@ -228,49 +299,61 @@ def _transparent(reader, node, ctx, w):
 
 
 def _glossy(reader, node, ctx, w):
-    color, textured = reader.color(node, "Color", ctx, (1.0, 1.0, 1.0))
+    color, index = reader.color(node, "Color", ctx, (1.0, 1.0, 1.0))
     if reader.value(node, "Anisotropy", ctx, 0.0) != 0.0 or reader.value(node, "Anisotropic", ctx, 0.0) != 0.0:
         reader.warn(node, "anisotropy is not supported yet; rendered isotropic")
-    reader.out.add(w, kind="glossy", color=tuple(color), textured=textured, multiscatter=_multiscatter(node),
-                   roughness=_roughness(reader, node, ctx, default=0.5))
+    roughness, roughness_input = _roughness(reader, node, ctx)
+    reader.out.add(w, kind="glossy", color=tuple(color), color_input=index, multiscatter=_multiscatter(node),
+                   roughness=roughness, roughness_input=roughness_input)
 
 
 def _metallic(reader, node, ctx, w):
     if getattr(node, "fresnel_type", "F82") != "F82":
         reader.warn(node, "the physical conductor (IOR and extinction) is not supported yet; using Base Color "
                           "and Edge Tint")
-    color, textured = reader.color(node, "Base Color", ctx)
+    color, index = reader.color(node, "Base Color", ctx)
     tint = reader.value(node, "Edge Tint", ctx, 1.0, color=True)
+    roughness, roughness_input = _roughness(reader, node, ctx)
     reader.out.add(w, kind="conductor", color=tuple(np.clip(color, 0.0, 1.0)), tint=tuple(np.clip(tint, 0.0, 1.0)),
-                   textured=textured, multiscatter=_multiscatter(node), roughness=_roughness(reader, node, ctx))
+                   color_input=index, multiscatter=_multiscatter(node), roughness=roughness,
+                   roughness_input=roughness_input)
 
 
 def _glass(reader, node, ctx, w, parts="both"):
-    color, textured = reader.color(node, "Color", ctx, (1.0, 1.0, 1.0))
+    color, index = reader.color(node, "Color", ctx, (1.0, 1.0, 1.0))
     ior = max(reader.value(node, "IOR", ctx, 1.45), 1e-5)
-    reader.out.add(w, kind="dielectric", parts=parts, color=tuple(color), tint=tuple(color), textured=textured,
-                   ior=ior, roughness=_roughness(reader, node, ctx, default=0.0))
+    roughness, roughness_input = _roughness(reader, node, ctx, default=0.0)
+    if index is not None:
+        reader.warn(node, "a textured glass colour tints refraction only (reflection stays white)")
+    reader.out.add(w, kind="dielectric", parts=parts, color=tuple(color), tint=tuple(color) if index is None else None,
+                   color_input=index, ior=ior, roughness=roughness, roughness_input=roughness_input)
 
 
 def _refraction(reader, node, ctx, w):
     _glass(reader, node, ctx, w, parts="refraction")
 
 
+def _untextured(reader, node, w, what):
+    """w's constant part, for what the core cannot texture (emission, holdout); warned if textured."""
+    if w.factors:
+        reader.warn(node, f"{what} under a textured factor takes the factor as 1")
+    return w.rgb
+
+
 def _emission(reader, node, ctx, w):
     color = reader.value(node, "Color", ctx, 1.0, color=True)
-    reader.out.emission += w * color * reader.value(node, "Strength", ctx, 1.0)
+    reader.out.emission += _untextured(reader, node, w, "emission") * color * reader.value(node, "Strength", ctx, 1.0)
 
 
 def _holdout(reader, node, ctx, w):
-    reader.out.holdout += float(np.mean(w))
+    reader.out.holdout += float(np.mean(_untextured(reader, node, w, "a holdout")))
 
 
 def _as_diffuse(what):
     def handler(reader, node, ctx, w):
         reader.warn(node, f"{what} is rendered as diffuse in its colour")
-        color, textured = reader.color(node, "Color", ctx) if "Color" in node.inputs else reader.color(
-            node, "Base Color", ctx)
-        reader.out.add(w, kind="diffuse", color=tuple(color), textured=textured)
+        color, index = reader.color(node, "Color" if "Color" in node.inputs else "Base Color", ctx)
+        reader.out.add(w, kind="diffuse", color=tuple(color), color_input=index)
     return handler
 
 
@@ -292,10 +375,9 @@ def ior_from_f0(f0):
 def _alpha(reader, node, ctx, w):
     """The Principled BSDF's Alpha, applied first as Cycles does: a transparent lobe of 1 - alpha;
     the weight left for the rest."""
-    alpha = min(max(reader.value(node, "Alpha", ctx, 1.0), 0.0), 1.0)
-    if alpha < 1.0:
-        reader.out.add(w * (1.0 - alpha), kind="transparent", color=(1.0, 1.0, 1.0))
-    return w * alpha
+    transparent, w = reader.split(w, node, "Alpha", ctx, 1.0)
+    reader.out.add(transparent, kind="transparent", color=(1.0, 1.0, 1.0))
+    return w
 
 
 def principled_v2(reader, node, ctx, w):
@@ -303,10 +385,12 @@ def principled_v2(reader, node, ctx, w):
     (not yet: warned), coat (a dielectric layer, its tint at normal incidence), emission, metal (F82
     tint conductor), transmission (glass, tinted by the square root of the base colour at each
     crossing), the dielectric specular layer (IOR scaled by IOR Level, tinted by Specular Tint), and
-    diffuse (subsurface as diffuse). Each layer takes its share of the weight below it as Cycles does."""
+    diffuse (subsurface as diffuse). Each layer takes its share of the weight below it as Cycles does.
+    Base Color, Roughness, Metallic, Transmission Weight and Alpha may come from images."""
     v = lambda name, default=0.0: reader.value(node, name, ctx, default)  # noqa: E731
-    base, textured = reader.color(node, "Base Color", ctx)
-    roughness = _roughness(reader, node, ctx)
+    base, base_input = reader.color(node, "Base Color", ctx)
+    roughness, roughness_input = _roughness(reader, node, ctx)
+    rough = {"roughness": roughness, "roughness_input": roughness_input}
     w = _alpha(reader, node, ctx, w)
     if v("Sheen Weight") > CUTOFF:
         reader.warn(node, "sheen is not supported yet; left out")
@@ -314,36 +398,37 @@ def principled_v2(reader, node, ctx, w):
         reader.warn(node, "anisotropy is not supported yet; rendered isotropic")
     coat = max(v("Coat Weight"), 0.0)
     if coat > CUTOFF:
-        coat_roughness = _roughness(reader, node, ctx, "Coat Roughness", 0.03)
+        coat_roughness, coat_input = _roughness(reader, node, ctx, "Coat Roughness", 0.03)
         reader.out.add(w, kind="dielectric", parts="reflection", layer=True, tint=(coat,) * 3,
-                       ior=max(v("Coat IOR", 1.5), 1.0), roughness=coat_roughness)
+                       ior=max(v("Coat IOR", 1.5), 1.0), roughness=coat_roughness, roughness_input=coat_input)
         tint = np.clip(reader.value(node, "Coat Tint", ctx, 1.0, color=True), 0.0, None)
         w = w * (1.0 + coat * (tint - 1.0))
     emission = reader.value(node, "Emission Color", ctx, 1.0, color=True) * v("Emission Strength", 0.0)
     # The coat's attenuation of emission depends on the view; here its value at normal incidence.
-    reader.out.emission += w * emission * (1.0 - coat * f0_from_ior(max(v("Coat IOR", 1.5), 1.0)))
-    metallic = min(max(v("Metallic"), 0.0), 1.0)
-    if metallic > CUTOFF:
+    emission_weight = _untextured(reader, node, w, "emission") if max(emission) > 0.0 else w.rgb
+    reader.out.emission += emission_weight * emission * (1.0 - coat * f0_from_ior(max(v("Coat IOR", 1.5), 1.0)))
+    w_rest, w_metal = reader.split(w, node, "Metallic", ctx, 0.0)
+    if w_metal.peak() > CUTOFF:
         f82 = np.clip(reader.value(node, "Specular Tint", ctx, 1.0, color=True), 0.0, 1.0)
-        reader.out.add(w * metallic, kind="conductor", color=tuple(np.clip(base, 0.0, 1.0)), tint=tuple(f82),
-                       textured=textured, multiscatter=_multiscatter(node), roughness=roughness)
-        w = w * (1.0 - metallic)
+        reader.out.add(w_metal, kind="conductor", color=tuple(np.clip(base, 0.0, 1.0)), tint=tuple(f82),
+                       color_input=base_input, multiscatter=_multiscatter(node), **rough)
+    w = w_rest
     ior = max(v("IOR", 1.5), 1e-5)
     specular_tint = np.clip(reader.value(node, "Specular Tint", ctx, 1.0, color=True), 0.0, None)
-    transmission = min(max(v("Transmission Weight"), 0.0), 1.0)
-    if transmission > CUTOFF:
-        reader.out.add(w * transmission, kind="dielectric", color=tuple(np.sqrt(np.clip(base, 0.0, 1.0))),
-                       tint=tuple(specular_tint), tint_f0=True, textured=textured, ior=ior, roughness=roughness)
-        w = w * (1.0 - transmission)
+    w_opaque, w_transmission = reader.split(w, node, "Transmission Weight", ctx, 0.0)
+    if w_transmission.peak() > CUTOFF:
+        color_input = None if base_input is None else (base_input, "sqrt")
+        reader.out.add(w_transmission, kind="dielectric", color=tuple(np.sqrt(np.clip(base, 0.0, 1.0))),
+                       tint=tuple(specular_tint), tint_f0=True, color_input=color_input, ior=ior, **rough)
+    w = w_opaque
     level = max(v("Specular IOR Level", 0.5), 0.0)
     eta = ior if level == 0.5 else ior_from_f0(f0_from_ior(ior) * 2.0 * level)
     if abs(eta - 1.0) > 1e-6:
         reader.out.add(w, kind="dielectric", parts="reflection", layer=True, tint=tuple(specular_tint),
-                       tint_f0=True, multiscatter=_multiscatter(node), ior=eta if eta > 1.0 else 1.0 / eta,
-                       roughness=roughness)
+                       tint_f0=True, multiscatter=_multiscatter(node), ior=eta if eta > 1.0 else 1.0 / eta, **rough)
     if v("Subsurface Weight") > CUTOFF:
         reader.warn(node, "subsurface scattering is rendered as diffuse in the base colour")
-    reader.out.add(w, kind="diffuse", color=tuple(base), textured=textured)
+    reader.out.add(w, kind="diffuse", color=tuple(base), color_input=base_input)
 
 
 def principled_v1(reader, node, ctx, w):
@@ -351,34 +436,71 @@ def principled_v1(reader, node, ctx, w):
     colour; a specular lobe of weight 1 - transmission (1 - metallic), added on top (not layered, as
     in 3.x), of Fresnel F0 between 0.08 * Specular (tinted towards the base colour by Specular Tint)
     and the base colour by Metallic; glass for transmission (1 - metallic); a clearcoat lobe of
-    weight 0.25 * Clearcoat; emission."""
+    weight 0.25 * Clearcoat; emission. Base Color (except in the specular F0, which mixes it with
+    constants), Roughness and Alpha may come from images."""
     v = lambda name, default=0.0: reader.value(node, name, ctx, default)  # noqa: E731
-    base, textured = reader.color(node, "Base Color", ctx)
-    roughness = _roughness(reader, node, ctx)
+    base, base_input = reader.color(node, "Base Color", ctx)
+    roughness, roughness_input = _roughness(reader, node, ctx)
+    rough = {"roughness": roughness, "roughness_input": roughness_input}
     w = _alpha(reader, node, ctx, w)
     if v("Sheen") > CUTOFF:
         reader.warn(node, "sheen is not supported yet; left out")
+    if v("Transmission") <= 0.0 and (base_input is not None or _has_image(reader, node, "Metallic", ctx)):
+        _principled_v1_opaque_textured(reader, node, ctx, w, base, base_input, rough)
+        return
     metallic = min(max(v("Metallic"), 0.0), 1.0)
     diffuse = (1.0 - metallic) * (1.0 - min(max(v("Transmission"), 0.0), 1.0))
     transmission = min(max(v("Transmission"), 0.0), 1.0) * (1.0 - metallic)
-    reader.out.emission += w * reader.value(node, "Emission", ctx, 0.0, color=True) * v("Emission Strength", 1.0)
+    emission = reader.value(node, "Emission", ctx, 0.0, color=True) * v("Emission Strength", 1.0)
+    if max(emission) > 0.0:
+        reader.out.emission += _untextured(reader, node, w, "emission") * emission
     if v("Subsurface") > CUTOFF:
         reader.warn(node, "subsurface scattering is rendered as diffuse in the base colour")
-    reader.out.add(w * diffuse, kind="diffuse", color=tuple(base), textured=textured)
+    reader.out.add(w * diffuse, kind="diffuse", color=tuple(base), color_input=base_input)
     lum = float(np.dot(base, (0.3, 0.6, 0.1)))
     hue = base / lum if lum > 0.0 else np.ones(3)
     tint = min(max(v("Specular Tint"), 0.0), 1.0)
     dielectric_f0 = 0.08 * max(v("Specular", 0.5), 0.0) * (1.0 - tint + tint * hue)
     f0 = (1.0 - metallic) * dielectric_f0 + metallic * np.clip(base, 0.0, 1.0)
     reader.out.add(w * (1.0 - transmission), kind="conductor", color=tuple(np.clip(f0, 0.0, 1.0)),
-                   multiscatter=_multiscatter(node), roughness=roughness)
+                   multiscatter=_multiscatter(node), **rough)
     if transmission > CUTOFF:
         reader.out.add(w * transmission, kind="dielectric", color=tuple(base), tint=(1.0, 1.0, 1.0),
-                       ior=max(v("IOR", 1.45), 1e-5), roughness=roughness)
+                       color_input=base_input, ior=max(v("IOR", 1.45), 1e-5), **rough)
     clearcoat = max(v("Clearcoat"), 0.0)
     if clearcoat > CUTOFF:
+        coat_roughness, coat_input = _roughness(reader, node, ctx, "Clearcoat Roughness", 0.03)
         reader.out.add(w * 0.25 * clearcoat, kind="dielectric", parts="reflection", ior=1.5,
-                       roughness=_roughness(reader, node, ctx, "Clearcoat Roughness", 0.03))
+                       roughness=coat_roughness, roughness_input=coat_input)
+
+
+def _has_image(reader, node, name, ctx):
+    out, _, _ = reader.source(node.inputs[name], ctx)
+    return out is not None and out.node.bl_idname == "ShaderNodeTexImage" and out.node.image is not None
+
+
+def _principled_v1_opaque_textured(reader, node, ctx, w, base, base_input, rough):
+    """principled_v1 without transmission, Base Color or Metallic from images: the specular F0,
+    (1 - metallic) dielectric F0 + metallic base colour, is split into two lobes of those F0s (Schlick's
+    Fresnel is linear in F0, so the sum is Cycles' one lobe)."""
+    v = lambda name, default=0.0: reader.value(node, name, ctx, default)  # noqa: E731
+    w_dielectric, w_metal = reader.split(w, node, "Metallic", ctx, 0.0)
+    if base_input is not None and v("Specular Tint") > 0.0:
+        reader.warn(node, "Specular Tint with an image on Base Color is not supported; untinted")
+    lum = float(np.dot(base, (0.3, 0.6, 0.1)))
+    hue = base / lum if lum > 0.0 and base_input is None else np.ones(3)
+    tint = min(max(v("Specular Tint"), 0.0), 1.0)
+    dielectric_f0 = 0.08 * max(v("Specular", 0.5), 0.0) * (1.0 - tint + tint * hue)
+    reader.out.add(w_dielectric, kind="diffuse", color=tuple(base), color_input=base_input)
+    reader.out.add(w_dielectric, kind="conductor", color=tuple(np.clip(dielectric_f0, 0.0, 1.0)),
+                   multiscatter=_multiscatter(node), **rough)
+    reader.out.add(w_metal, kind="conductor", color=tuple(np.clip(base, 0.0, 1.0)), color_input=base_input,
+                   multiscatter=_multiscatter(node), **rough)
+    clearcoat = max(v("Clearcoat"), 0.0)
+    if clearcoat > CUTOFF:
+        coat_roughness, coat_input = _roughness(reader, node, ctx, "Clearcoat Roughness", 0.03)
+        reader.out.add(w * 0.25 * clearcoat, kind="dielectric", parts="reflection", ior=1.5,
+                       roughness=coat_roughness, roughness_input=coat_input)
 
 
 def _principled(reader, node, ctx, w):
@@ -423,7 +545,7 @@ def read_surface(material, warn):
     if not active:
         return None
     reader = ClosureReader(material.name, warn)
-    reader.closure(active[0].inputs["Surface"], (), np.ones(3))
+    reader.closure(active[0].inputs["Surface"], (), Weight(np.ones(3)))
     lobes = reader.out.lobes
     if len(lobes) > MAX_LOBES:
         reader.warn(None, f"{len(lobes)} shader lobes; the {MAX_LOBES} of largest weight are kept")

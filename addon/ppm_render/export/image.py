@@ -20,20 +20,23 @@ except ImportError:  # not in every build of Blender
     imbuf = None
 
 SRGB_SPACES = ("sRGB", "sRGB 2.1")
+NO_ALPHA_FORMATS = ("JPEG", "BMP", "HDR", "CINEON", "DPX")
 # Negative values smaller than this share of the image's brightest (or of 1) are noise of HDR tools
 # (the HDRIs Blender ships hold down to -0.004 under a sun of 32,000), clamped to 0 without a warning.
 NEGLIGIBLE_NEGATIVE = 1e-3
 
 
-def add_texture(core_scene, image):
+def add_texture(core_scene, image, premultiplied=False):
     """Adds `image` to the core scene; returns (texture index, what was changed to make it usable, as
-    text for a warning, or None)."""
+    text for a warning, or None). `premultiplied`: its colour times its alpha, in the values it is
+    stored as (sRGB-encoded bytes too), as Cycles keeps images."""
     byte_storage = "srgb8" if image.colorspace_settings.name in SRGB_SPACES else "linear8"
-    if can_read_file_bytes(image):
+    premultiplied = premultiplied and may_have_alpha(image)
+    if can_read_file_bytes(image) and not premultiplied:
         index = add_file_bytes(core_scene, image, byte_storage)
         if index is not None:
             return index, None  # bytes are always usable
-    index = add_pixels(core_scene, image, byte_storage)
+    index = add_pixels(core_scene, image, byte_storage, premultiplied)
     return index, repairs(core_scene.texture_info(index))
 
 
@@ -47,6 +50,11 @@ def repairs(info):
         found.append(f"{texels(info['negative_texels'])} negative colours (down to {info['most_negative']:g}); "
                      "clamped to 0")
     return "; ".join(found) or None
+
+
+def may_have_alpha(image):
+    """False for files whose format has no alpha (known without loading the image)."""
+    return not (image.source == "FILE" and image.file_format in NO_ALPHA_FORMATS)
 
 
 def can_read_file_bytes(image):
@@ -79,7 +87,7 @@ def add_file_bytes(core_scene, image, byte_storage):
         buffer.free()
 
 
-def add_pixels(core_scene, image, byte_storage):
+def add_pixels(core_scene, image, byte_storage, premultiplied=False):
     had_data = image.has_data  # before image.size, which loads the image
     try:
         width, height = image.size
@@ -87,6 +95,8 @@ def add_pixels(core_scene, image, byte_storage):
             raise ValueError(f"image '{image.name}' has no pixels (missing file?)")
         pixels = np.empty((height, width, 4), dtype=np.float32)
         image.pixels.foreach_get(pixels.reshape(-1))
+        if premultiplied:
+            pixels[..., :3] *= pixels[..., 3:]
         # Byte images come back as byte / 255 in their colour space; float images are scene linear.
         storage = "half" if image.is_float else byte_storage
         index = core_scene.add_texture(image.name, pixels, storage=storage, clear_unusable=True)

@@ -72,7 +72,7 @@ class MaterialExporter:
         read = closure.read_surface(material, self.warn)
         if read is None:
             return {"kind": "diffuse", "base_color": tuple(material.diffuse_color)[:3]}
-        texture = self.closure_texture(material, read)
+        inputs = self.closure_inputs(material, read)
         emission = tuple(float(c) for c in read.emission)
         holdout = min(read.holdout, 1.0)
         if holdout >= 0.999 and not read.lobes:
@@ -83,33 +83,66 @@ class MaterialExporter:
         if not lobes:
             kind = "emission" if max(emission) > 0.0 else "diffuse"
             return {"kind": kind, "base_color": (0.0, 0.0, 0.0), "emission": emission}
-        all_diffuse = all(lobe["kind"] == "diffuse" and lobe.get("textured", False) == (texture >= 0) for lobe in lobes)
-        if holdout == 0.0 and all_diffuse:
+        texture = _diffuse_texture(lobes, inputs)
+        if holdout == 0.0 and texture is not None:
             color = sum(np.asarray(lobe["weight"]) * np.asarray(lobe["color"]) for lobe in lobes)
             return {"kind": "diffuse", "base_color": tuple(float(c) for c in color), "texture": texture,
                     "emission": emission}
-        return {"kind": "mixture", "lobes": lobes, "texture": texture, "emission": emission, "holdout": holdout}
+        return {"kind": "mixture", "lobes": lobes, "inputs": inputs, "emission": emission, "holdout": holdout}
 
-    def closure_texture(self, material, read):
-        """The core texture of the closure's image, or -1; a lobe whose image cannot be used keeps its
-        own colour (warned)."""
-        if read.image is None:
-            return -1
-        try:
-            return self.texture(read.image)
-        except ValueError as error:
-            self.warn(f"material '{material.name}': image '{read.image.name}': {error}; using the socket's colour")
-            for lobe in read.lobes:
-                lobe["textured"] = False
-            return -1
+    def closure_inputs(self, material, read):
+        """The core's (texture, channel) for each of the closure's inputs; a lobe parameter whose image
+        cannot be used keeps its constant (warned)."""
+        inputs = []
+        for image, channel, premultiplied in read.inputs:
+            try:
+                inputs.append((self.texture(image, premultiplied), channel))
+            except ValueError as error:
+                self.warn(f"material '{material.name}': image '{image.name}': {error}; using the socket's value")
+                _drop_input(read.lobes, len(inputs))
+                continue
+        return inputs
 
-    def texture(self, image):
-        key = image.name_full if hasattr(image, "name_full") else image.name
+    def texture(self, image, premultiplied=False):
+        key = (image.name_full if hasattr(image, "name_full") else image.name, premultiplied)
         if key not in self.textures:
-            self.textures[key], repaired = image_export.add_texture(self.scene, image)
+            self.textures[key], repaired = image_export.add_texture(self.scene, image, premultiplied)
             if repaired:
                 self.warn(f"image '{image.name}': {repaired}")
         return self.textures[key]
+
+
+def _diffuse_texture(lobes, inputs):
+    """The core texture (-1: none) of a closure that is one plain diffuse material: every lobe
+    diffuse with a constant weight, all untextured or all of one image's colour. None otherwise."""
+    if not all(lobe["kind"] == "diffuse" and "weight_inputs" not in lobe for lobe in lobes):
+        return None
+    used = {lobe.get("color_input") for lobe in lobes}
+    if used == {None}:
+        return -1
+    if len(used) == 1 and inputs[next(iter(used))][1] == "rgb":
+        return inputs[next(iter(used))][0]
+    return None
+
+
+def _drop_input(lobes, index):
+    """Lobes without input `index` (their parameters constant); later inputs renumbered."""
+    def renumber(ref):
+        number, transform = ref if isinstance(ref, tuple) else (ref, None)
+        if number == index:
+            return None
+        number -= number > index
+        return number if transform is None else (number, transform)
+
+    for lobe in lobes:
+        for key in ("color_input", "roughness_input"):
+            if key in lobe and renumber(lobe[key]) is None:
+                del lobe[key]
+            elif key in lobe:
+                lobe[key] = renumber(lobe[key])
+        if "weight_inputs" in lobe:
+            kept = [renumber(ref) for ref in lobe["weight_inputs"]]
+            lobe["weight_inputs"] = [ref for ref in kept if ref is not None]
 
 
 # A lobe's weight comes from Mix factors (in [0, 1]) and tints: above 1 only from values out of range.
