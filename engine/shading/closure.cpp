@@ -31,8 +31,9 @@ Color average_fresnel(const Lobe& l, const SurfacePoint& sp) {
 
 // Multiscatter GGX (Cycles, after Kulla and Conty): single scattering times 1 + Fms (1 - E) / E.
 Color multiscatter_factor(const Lobe& l, const SurfacePoint& sp, double mu) {
+  if (!l.multiscatter || !l.microfacet()) return Color(1.0);  // (a rough diffuse lobe has its own)
   const double roughness = l.roughness_at(sp);
-  if (!l.multiscatter || roughness < kSmoothRoughness) return Color(1.0);
+  if (roughness < kSmoothRoughness) return Color(1.0);
   const double e = ggx_albedo(roughness, mu), e_avg = ggx_average_albedo(roughness);
   const Color fss = average_fresnel(l, sp);
   const Color fms = fss * e_avg / (Color(1.0) - fss * (1.0 - e_avg));
@@ -107,7 +108,11 @@ int pick(const std::vector<Lobe>& lobes, const double prob[], double u) {
 Color lobe_eval(const Lobe& l, const SurfacePoint& sp, const Vec3& wo, const Vec3& wi) {
   const Color color = l.color_at(sp);
   switch (l.kind) {
-    case LobeKind::Diffuse: return lambert_eval(color, sp, wo, wi, false);
+    case LobeKind::Diffuse: {
+      const double sigma = l.roughness_at(sp);
+      if (sigma > 0.0) return oren_nayar_eval({color, sigma, l.multiscatter}, sp, wo, wi);
+      return lambert_eval(color, sp, wo, wi, false);
+    }
     case LobeKind::Translucent: return lambert_eval(color, sp, wo, wi, true);
     case LobeKind::Transparent: return Color(0.0);
     case LobeKind::Conductor: return conductor_eval({color, l.tint, l.roughness_at(sp)}, sp, wo, wi);
@@ -121,7 +126,11 @@ bool lobe_sample(const Lobe& l, const SurfacePoint& sp, const Vec3& wo, double u
                  BsdfSample& out) {
   const Color color = l.color_at(sp);
   switch (l.kind) {
-    case LobeKind::Diffuse: return lambert_sample(color, sp, wo, u1, u2, false, out);
+    case LobeKind::Diffuse: {
+      const double sigma = l.roughness_at(sp);
+      if (sigma > 0.0) return oren_nayar_sample({color, sigma, l.multiscatter}, sp, wo, u1, u2, out);
+      return lambert_sample(color, sp, wo, u1, u2, false, out);
+    }
     case LobeKind::Translucent: return lambert_sample(color, sp, wo, u1, u2, true, out);
     case LobeKind::Transparent: out = BsdfSample{-wo, color, true, 0}; return true;
     case LobeKind::Conductor: return conductor_sample({color, l.tint, l.roughness_at(sp)}, sp, wo, u1, u2, out);

@@ -12,7 +12,7 @@
 namespace ppm {
 
 enum class LobeKind : uint8_t {
-  Diffuse,      // Lambertian reflection of `color`
+  Diffuse,      // Lambertian reflection of `color`; Oren-Nayar when rough (multiscatter: Blender 4.3+'s)
   Translucent,  // Lambertian transmission of `color` to the far side
   Transparent,  // straight through, tinted by `color` (a delta lobe; Cycles' Transparent BSDF)
   Conductor,    // GGX (a mirror when smooth): F0 = `color`, F82 tint = `tint`

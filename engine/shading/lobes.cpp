@@ -46,6 +46,51 @@ bool lambert_sample(const Color& color, const SurfacePoint& sp, const Vec3& wo, 
   return true;
 }
 
+namespace {
+
+// The Oren-Nayar model's directional albedo for white (a pi + b G(cos theta)), G as Fujii derives it.
+double oren_nayar_g(double cos_theta) {
+  if (cos_theta < 1e-6) return (kPi / 2.0 - 2.0 / 3.0) - cos_theta;  // tan(theta) misbehaves: its series
+  const double sin_theta = std::sqrt(std::fmax(0.0, 1.0 - cos_theta * cos_theta));
+  const double theta = std::acos(glm::clamp(cos_theta, -1.0, 1.0));
+  return sin_theta * (theta - 2.0 / 3.0 - sin_theta * cos_theta) +
+         2.0 / 3.0 * (sin_theta / cos_theta) * (1.0 - sin_theta * sin_theta * sin_theta);
+}
+
+// f / color at unit cosines nl, nv (both >= 0) and l.v.
+Color oren_nayar_shape(const OrenNayarParams& p, double nl, double nv, double lv) {
+  const double sigma = glm::clamp(p.sigma, 0.0, 1.0);
+  const double a = 1.0 / (kPi + sigma * (kPi / 2.0 - 2.0 / 3.0)), b = sigma * a;
+  double t = lv - nl * nv;
+  if (t > 0.0) t /= std::fmax(nl, nv) + 1e-300;
+  Color f(a + b * t);
+  if (p.multiscatter) {
+    // Energy compensation: the single-scattering energy E(mu) = a pi + b G(mu) is lost (1 - E) on
+    // each side; E_avg its cosine-weighted mean.
+    const Color albedo = glm::clamp(p.color, 0.0, 1.0);
+    const double e_avg = a * kPi + (2.0 * kPi - 5.6) / 3.0 * b;
+    const Color e_ms = kInvPi * albedo * albedo * (e_avg / (1.0 - e_avg)) / (Color(1.0) - albedo * (1.0 - e_avg));
+    f += e_ms * (1.0 - (a * kPi + b * oren_nayar_g(nv))) * (1.0 - (a * kPi + b * oren_nayar_g(nl)));
+  }
+  return f;
+}
+
+}  // namespace
+
+Color oren_nayar_eval(const OrenNayarParams& p, const SurfacePoint& sp, const Vec3& wo, const Vec3& wi) {
+  if (glm::dot(wo, sp.ng) * glm::dot(wi, sp.ng) <= 0.0) return Color(0.0);
+  const Vec3 n = facing_normal(sp, wo);
+  const double nl = std::fmax(glm::dot(n, wi), 0.0), nv = std::fmax(glm::dot(n, wo), 0.0);
+  return p.color * oren_nayar_shape(p, nl, nv, glm::dot(wi, wo));
+}
+
+bool oren_nayar_sample(const OrenNayarParams& p, const SurfacePoint& sp, const Vec3& wo, double u1, double u2,
+                       BsdfSample& out) {
+  if (!lambert_sample(p.color, sp, wo, u1, u2, false, out)) return false;
+  out.weight = kPi * oren_nayar_eval(p, sp, wo, out.wi);  // f cos / (cos / pi)
+  return true;
+}
+
 Color conductor_eval(const ConductorParams& p, const SurfacePoint& sp, const Vec3& wo, const Vec3& wi) {
   if (p.roughness < kSmoothRoughness) return Color(0.0);
   const LocalFrame f(facing_normal(sp, wo));

@@ -12,6 +12,20 @@ Color lambert_eval(const Color& color, const SurfacePoint& sp, const Vec3& wo, c
 bool lambert_sample(const Color& color, const SurfacePoint& sp, const Vec3& wo, double u1, double u2, bool far_side,
                     BsdfSample& out);
 
+// Rough diffuse reflection as Cycles' Diffuse BSDF with Roughness > 0: Fujii's improved
+// Oren-Nayar model, f = color (a + b t), a = 1 / (pi + sigma (pi/2 - 2/3)), b = sigma a, t the
+// angle term (l.v - (n.l)(n.v)) / max(n.l, n.v) where positive; with `multiscatter`, Blender 4.3
+// and later's energy compensation (OpenPBR's, after Portsmouth et al.), which gives back what single
+// scattering loses. Sampled cosine-weighted, as Cycles.
+struct OrenNayarParams {
+  Color color;
+  double sigma;  // Blender's roughness in [0, 1]
+  bool multiscatter;
+};
+Color oren_nayar_eval(const OrenNayarParams& p, const SurfacePoint& sp, const Vec3& wo, const Vec3& wi);
+bool oren_nayar_sample(const OrenNayarParams& p, const SurfacePoint& sp, const Vec3& wo, double u1, double u2,
+                       BsdfSample& out);
+
 struct ConductorParams {
   Color f0;   // reflectance at normal incidence (Blender's base colour)
   Color f82;  // the F82 tint

@@ -307,3 +307,18 @@ def test_an_images_colour_is_premultiplied_by_its_alpha_unless_its_alpha_is_used
     scene = ppm_core.Scene()
     material_export.MaterialExporter(scene, lambda w: None).index(mat)
     assert scene.texture_info(0)["max_rgb"] == pytest.approx(0.5)
+
+
+def test_a_rough_diffuse_is_oren_nayar_with_its_blender_versions_energy():
+    mat, tree, out = node_material("clay")
+    diffuse = add(tree, "ShaderNodeBsdfDiffuse", Roughness=0.7)
+    tree.links.new(diffuse.outputs[0], out.inputs["Surface"])
+    params, warnings = describe(mat)
+    (lobe,) = params["lobes"]
+    assert warnings == [] and params["kind"] == "mixture"  # not the core's plain Lambert material
+    assert lobe["roughness"] == pytest.approx(0.7) and lobe["multiscatter"] == (bpy.app.version >= (4, 3, 0))
+    diffuse.inputs["Roughness"].default_value = 0.0
+    assert describe(mat)[0]["kind"] == "diffuse"
+    if bpy.app.version >= (4, 3, 0):  # the Principled BSDF's Diffuse Roughness is 4.3's too
+        plaster = lobes_by_kind(principled(**{"Diffuse Roughness": 0.5}))["diffuse"]
+        assert plaster["roughness"] == pytest.approx(0.5) and plaster["multiscatter"]

@@ -169,6 +169,7 @@ GLOSSY_ROUGH = leaf(GLOSSY, Color=rgba(0.9, 0.9, 0.9), Roughness=0.3)
 
 MATERIALS = {
     "diffuse_red": shader("ShaderNodeBsdfDiffuse", Color=rgba(0.8, 0.2, 0.1)),
+    "diffuse_rough": shader("ShaderNodeBsdfDiffuse", Color=rgba(0.9, 0.6, 0.2), Roughness=1.0),
     "glossy_rough": shader(GLOSSY, Color=rgba(0.8, 0.7, 0.5), Roughness=0.4),
     "glossy_mirror": shader(GLOSSY, Color=rgba(0.9, 0.9, 0.9), Roughness=0.0),
     "glass_clear": shader("ShaderNodeBsdfGlass", IOR=1.45, Roughness=0.0),

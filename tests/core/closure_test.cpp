@@ -80,6 +80,37 @@ double mean_albedo(const std::vector<Lobe>& lobes, const Vec3& wo, bool adjoint)
   return sum / n;
 }
 
+Lobe rough_diffuse(double roughness, Color color, bool multiscatter) {
+  Lobe l = lobe(LobeKind::Diffuse, Color(1.0), color, roughness);
+  l.multiscatter = multiscatter;
+  return l;
+}
+
+TEST(Closure, OrenNayarSamplingMatchesEvaluation) {
+  for (bool multiscatter : {false, true})
+    for (double cos_o : {0.9, 0.3}) {
+      const std::vector<Lobe> lobes = {rough_diffuse(0.8, Color(0.7), multiscatter)};
+      expect_sampling_matches_eval(lobes, direction(cos_o, 0.3), false, 0.01);
+      expect_sampling_matches_eval(lobes, direction(cos_o, 0.3), true, 0.01);
+    }
+}
+
+TEST(Closure, WhiteOrenNayarLosesOnlyWithoutItsEnergyCompensation) {
+  // Fujii's model alone loses light as roughness grows (Blender 3.x to 4.2); Blender 4.3's
+  // multiple-scattering term gives it back. A smooth one is Lambert's.
+  for (double cos_o : {0.9, 0.5, 0.15}) {
+    const Vec3 wo = direction(cos_o);
+    EXPECT_NEAR(mean_albedo({rough_diffuse(1e-9, Color(1.0), false)}, wo, false), 1.0, 0.005);
+    const double single = mean_albedo({rough_diffuse(1.0, Color(1.0), false)}, wo, false);
+    EXPECT_LT(single, 0.97) << cos_o;
+    EXPECT_GT(single, 0.75) << cos_o;
+    EXPECT_NEAR(mean_albedo({rough_diffuse(1.0, Color(1.0), true)}, wo, false), 1.0, 0.02) << cos_o;
+    const double grey = mean_albedo({rough_diffuse(1.0, Color(0.5), true)}, wo, false);
+    EXPECT_GT(grey, 0.5 * single);
+    EXPECT_LT(grey, 0.5);
+  }
+}
+
 TEST(Closure, WhiteLosslessMixturesLoseNothing) {
   Lobe glass = lobe(LobeKind::Dielectric, Color(0.3), Color(1.0));
   glass.tint = Color(1.0);
@@ -129,8 +160,9 @@ TEST(Closure, ASmoothLayerAttenuatesWhatLiesBelowByItsFresnel) {
 }
 
 TEST(Closure, WithoutLayersItIsReciprocal) {
-  const std::vector<Lobe> lobes = {lobe(LobeKind::Diffuse, Color(0.5), Color(0.8)),
-                                   lobe(LobeKind::Conductor, Color(0.5), Color(0.9), 0.4)};
+  const std::vector<Lobe> lobes = {lobe(LobeKind::Diffuse, Color(0.3), Color(0.8)),
+                                   lobe(LobeKind::Conductor, Color(0.4), Color(0.9), 0.4),
+                                   rough_diffuse(0.7, Color(0.6), true)};
   Rng rng(2, 2, 2);
   for (int i = 0; i < 100; ++i) {
     const Vec3 a = direction(0.05 + 0.95 * rng.uniform(), 6.28 * rng.uniform());

@@ -17,6 +17,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
+import bpy
 import numpy as np
 
 from . import nodes
@@ -284,9 +285,18 @@ def _multiscatter(node):
     return getattr(node, "distribution", "GGX") == "MULTI_GGX"
 
 
+# Cycles' Oren-Nayar gained its multiple-scattering energy compensation in Blender 4.3.
+OREN_NAYAR_MULTISCATTER = bpy.app.version >= (4, 3, 0)
+
+
 def _diffuse(reader, node, ctx, w):
+    """Lambert, or Oren-Nayar when rough (Cycles switches at roughness 1e-5)."""
     color, index = reader.color(node, "Color", ctx)
-    reader.out.add(w, kind="diffuse", color=tuple(color), color_input=index)
+    roughness, roughness_input = _roughness(reader, node, ctx, default=0.0)
+    rough = roughness >= 1e-5 or roughness_input is not None
+    reader.out.add(w, kind="diffuse", color=tuple(color), color_input=index,
+                   roughness=roughness if rough else None, roughness_input=roughness_input,
+                   multiscatter=OREN_NAYAR_MULTISCATTER if rough else None)
 
 
 def _translucent(reader, node, ctx, w):
@@ -428,7 +438,11 @@ def principled_v2(reader, node, ctx, w):
                        tint_f0=True, multiscatter=_multiscatter(node), ior=eta if eta > 1.0 else 1.0 / eta, **rough)
     if v("Subsurface Weight") > CUTOFF:
         reader.warn(node, "subsurface scattering is rendered as diffuse in the base colour")
-    reader.out.add(w, kind="diffuse", color=tuple(base), color_input=base_input)
+    diffuse_roughness, diffuse_input = _roughness(reader, node, ctx, "Diffuse Roughness", 0.0)
+    rough = diffuse_roughness >= 1e-5 or diffuse_input is not None  # where Cycles switches to Oren-Nayar
+    reader.out.add(w, kind="diffuse", color=tuple(base), color_input=base_input,
+                   roughness=diffuse_roughness if rough else None, roughness_input=diffuse_input,
+                   multiscatter=True if rough else None)
 
 
 def principled_v1(reader, node, ctx, w):

@@ -115,7 +115,8 @@ class MaterialExporter:
 def _diffuse_texture(lobes, inputs):
     """The core texture (-1: none) of a closure that is one plain diffuse material: every lobe
     diffuse with a constant weight, all untextured or all of one image's colour. None otherwise."""
-    if not all(lobe["kind"] == "diffuse" and "weight_inputs" not in lobe for lobe in lobes):
+    if not all(lobe["kind"] == "diffuse" and "weight_inputs" not in lobe and "roughness" not in lobe
+               for lobe in lobes):
         return None
     used = {lobe.get("color_input") for lobe in lobes}
     if used == {None}:
