@@ -32,6 +32,7 @@ struct Hit {
   Vec3 geometric_normal{0.0};  // unit, faces the side the primitive defines as outside
   Vec3 shading_normal{0.0};    // unit, interpolated normal (same side as geometric)
   Vec2 uv{0.0};
+  glm::vec4 tangent{0.0f};     // a mesh's tangent (xyz) and bitangent sign (w); w = 0: none
   uint32_t primitive = 0;      // index within the scene's primitive list
   uint32_t object = 0;         // id given by the caller when the object was added
   uint32_t material = 0;

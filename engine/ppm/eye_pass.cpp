@@ -124,7 +124,8 @@ struct EyeTracer {
     hp.weight = Vec3f(glossy ? v.throughput : v.throughput * sp.albedo * kInvPi);
     hp.glossy = glossy ? 1u : 0u;
     out.points.push_back(hp);
-    out.shading.push_back(HitPointShading{sp.ng, sp.ns, wo, v.throughput, Vec2f(hit.uv), hit.material, pixel});
+    out.shading.push_back(
+        HitPointShading{sp.ng, sp.ns, wo, v.throughput, Vec2f(hit.uv), Vec3f(sp.smooth_normal), hit.material, pixel});
     if (limits.active) out.chain.push_back(v.chain);
   }
 

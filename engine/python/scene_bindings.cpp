@@ -111,9 +111,35 @@ std::vector<MaterialInput> inputs_from(const py::object& inputs, const std::stri
   return out;
 }
 
+// A mixture's normal map from a dict: input (an index), strength, space ('tangent' or 'world').
+NormalMap normal_map_from(const py::object& value, const std::string& what) {
+  NormalMap map;
+  if (value.is_none()) return map;
+  if (!py::isinstance<py::dict>(value)) fail(what, "normal_map must be a dict (input, strength, space)");
+  const py::dict d = py::reinterpret_borrow<py::dict>(value);
+  for (const auto& [key, item] : d) {
+    const std::string k = py::str(key);
+    if (k != "input" && k != "strength" && k != "space" && k != "softening")
+      fail(what, "unknown normal_map key '" + printable(k) + "'");
+  }
+  if (!d.contains("input")) fail(what, "normal_map needs an input");
+  map.input = input_ref(d["input"], InputRef::Value, what, "normal_map input").input;
+  if (d.contains("strength")) map.strength = py::cast<double>(d["strength"]);
+  if (d.contains("space"))
+    map.space = choice<NormalMap::Space>(py::str(d["space"]), {{"tangent", NormalMap::Tangent}, {"world", NormalMap::World}},
+                                         what, "normal_map space");
+  if (d.contains("softening"))
+    map.softening = choice<NormalMap::Softening>(
+        py::str(d["softening"]),
+        {{"none", NormalMap::None}, {"chiang", NormalMap::Chiang}, {"conty_estevez", NormalMap::ContyEstevez}}, what,
+        "normal_map softening");
+  return map;
+}
+
 uint32_t add_material(Scene& s, const std::string& name, const std::string& kind, const py::object& base_color,
                       int texture, double roughness, double ior, const py::object& specular_tint,
-                      const py::object& emission, const py::object& lobes, double holdout, const py::object& inputs) {
+                      const py::object& emission, const py::object& lobes, double holdout, const py::object& inputs,
+                      const py::object& normal_map) {
   const std::string what = "material '" + checked_name(name, "material") + "'";
   Material m;
   m.name = name;
@@ -135,6 +161,8 @@ uint32_t add_material(Scene& s, const std::string& name, const std::string& kind
   m.emission = color(emission, what, "emission");
   m.inputs = inputs_from(inputs, what);
   if (!m.inputs.empty() && m.kind != MaterialKind::Mixture) fail(what, "inputs are for kind 'mixture' only");
+  m.normal_map = normal_map_from(normal_map, what);
+  if (m.normal_map.input >= 0 && m.kind != MaterialKind::Mixture) fail(what, "normal_map is for kind 'mixture' only");
   if (!lobes.is_none()) {
     if (m.kind != MaterialKind::Mixture) fail(what, "lobes are for kind 'mixture' only");
     if (py::isinstance<py::str>(lobes) || !py::isinstance<py::iterable>(lobes)) fail(what, "lobes must be a list");
@@ -267,7 +295,7 @@ std::vector<uint32_t> index_list(const py::handle& obj, const std::string& what,
 
 void add_mesh(Scene& s, const std::string& name, const py::object& positions, const py::object& triangles,
               const py::object& normals, const py::object& uvs, const py::object& materials, uint32_t object_id,
-              const py::object& visible_to, bool holdout) {
+              const py::object& visible_to, bool holdout, const py::object& tangents) {
   const std::string what = "mesh '" + checked_name(name, "mesh") + "'";
   MeshInput m;
   m.name = name;
@@ -293,6 +321,14 @@ void add_mesh(Scene& s, const std::string& name, const py::object& positions, co
     m.uvs = vec2_list(u, what, "uvs");
     if (m.uvs.size() != m.positions.size() && m.uvs.size() != 3 * nt)
       fail(what, "uvs must have one row per vertex (V, 2) or per corner (T, 3, 2)");
+  }
+  if (!tangents.is_none()) {
+    DoubleArray a = DoubleArray::ensure(tangents);
+    if (a && a.ndim() == 3 && a.shape(1) == 3 && a.shape(2) == 4) a = a.reshape({a.shape(0) * 3, py::ssize_t(4)});
+    if (!a || a.ndim() != 2 || a.shape(1) != 4)
+      fail(what, "tangents must have one row per vertex (V, 4) or per corner (T, 3, 4)");
+    auto r = a.unchecked<2>();
+    for (py::ssize_t i = 0; i < r.shape(0); ++i) m.tangents.emplace_back(r(i, 0), r(i, 1), r(i, 2), r(i, 3));
   }
   m.materials = index_list(materials, what, "materials");
   s.add_mesh(std::move(m));
@@ -475,7 +511,7 @@ void bind_scene(py::module_& m) {
            py::arg("base_color") = py::make_tuple(0.8, 0.8, 0.8), py::arg("texture") = -1, py::arg("roughness") = 0.0,
            py::arg("ior") = 1.45, py::arg("specular_tint") = py::make_tuple(1.0, 1.0, 1.0),
            py::arg("emission") = py::make_tuple(0.0, 0.0, 0.0), py::arg("lobes") = py::none(), py::arg("holdout") = 0.0,
-           py::arg("inputs") = py::none(),
+           py::arg("inputs") = py::none(), py::arg("normal_map") = py::none(),
            "Adds a material; returns its index. kind: diffuse, mirror, metal, glass, emission, holdout "
            "(a hole in the image: alpha 0 where camera rays reach it), mixture (`lobes`: a list of dicts "
            "with kind diffuse, translucent, transparent, conductor, glossy or dielectric, weight, color, tint, "
@@ -487,7 +523,11 @@ void bind_scene(py::module_& m) {
            "(up to 2 of (index, 'fraction' | 'complement')): parameters times a textured input), "
            "holdout (a mixture's Holdout weight: camera rays see that much of it as a hole in the alpha), "
            "and inputs (a mixture's: up to 4 of (texture index, 'rgb' | 'alpha' | 'grey'), looked up at the "
-           "hit's UV; grey is the colour's Rec. 709 luminance). "
+           "hit's UV; grey is the colour's Rec. 709 luminance), and normal_map (a mixture's: dict(input=index, "
+           "strength=1.0, space='tangent' | 'world', softening='conty_estevez' | 'chiang' | 'none'), the input's "
+           "colour c as the normal 2c - 1 in the tangent space of the mesh's tangents (add_mesh) or in world "
+           "space, as Blender's Normal Map node; softening: Cycles' bump shadowing at the terminator, of "
+           "Blender 4.2+ or of 3.x-4.1). "
            "emission is radiance in W/(m^2 sr) (Blender colour * strength).")
       .def("add_texture", &add_texture, py::arg("name"), py::arg("pixels"), py::arg("storage") = py::none(),
            py::arg("clear_unusable") = false,
@@ -503,7 +543,10 @@ void bind_scene(py::module_& m) {
       .def("add_mesh", &add_mesh, py::arg("name"), py::arg("positions"), py::arg("triangles"),
            py::arg("normals") = py::none(), py::arg("uvs") = py::none(), py::arg("materials") = 0,
            py::arg("object_id") = 0, py::arg("visibility") = py::none(), py::arg("holdout") = false,
-           "Adds a world-space triangle mesh. normals/uvs per vertex or per corner (T, 3, k); "
+           py::arg("tangents") = py::none(),
+           "Adds a world-space triangle mesh. normals/uvs/tangents per vertex or per corner (T, 3, k); "
+           "tangents (k = 4): the UV map's tangent and, in the 4th column, the bitangent's sign (for "
+           "tangent-space normal maps). "
            "materials: one index or one per triangle. visibility: the ray kinds that see it "
            "('camera', 'diffuse', 'glossy', 'transmission', 'shadow'; None: all), as Cycles' ray visibility. "
            "holdout: a hole in the image (alpha 0) where camera rays reach it; other rays see it as it is.")

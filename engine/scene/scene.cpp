@@ -94,6 +94,9 @@ void Scene::check_lobes(Material& m, const std::string& what) const {
       fail(what, "input texture index out of range");
     gain.push_back(in.channel == MaterialInput::Alpha ? 1.0 : std::max(1.0, double(textures_[in.texture].max_rgb())));
   }
+  if (m.normal_map.input >= static_cast<int>(m.inputs.size()))
+    fail(what, "normal_map refers to input " + std::to_string(m.normal_map.input) + ", which the material does not have");
+  if (!std::isfinite(m.normal_map.strength)) fail(what, "normal_map strength must be a finite number");
   Color bound(0.0);
   for (size_t i = 0; i < m.lobes.size(); ++i) {
     Lobe& l = m.lobes[i];
@@ -180,6 +183,12 @@ void Scene::add_mesh(MeshInput mesh) {
   const bool uvs_per_vertex = mesh.uvs.size() == nv && nv != 3 * nt;
   if (!mesh.uvs.empty() && mesh.uvs.size() != nv && mesh.uvs.size() != 3 * nt)
     fail(what, "uvs must be given per vertex or per triangle corner");
+  const bool tangents_per_vertex = mesh.tangents.size() == nv && nv != 3 * nt;
+  if (!mesh.tangents.empty() && mesh.tangents.size() != nv && mesh.tangents.size() != 3 * nt)
+    fail(what, "tangents must be given per vertex or per triangle corner");
+  for (const glm::dvec4& t : mesh.tangents)
+    if (!std::isfinite(t.x) || !std::isfinite(t.y) || !std::isfinite(t.z) || !std::isfinite(t.w))
+      fail(what, "tangents contain NaN or Inf");
   if (mesh.materials.size() != 1 && mesh.materials.size() != nt)
     fail(what, "materials must be one index or one per triangle");
   for (uint32_t m : mesh.materials) check_material(m, what);
@@ -193,7 +202,7 @@ void Scene::add_mesh(MeshInput mesh) {
     const Vec3 &a = mesh.positions[idx[0]], &b = mesh.positions[idx[1]], &c = mesh.positions[idx[2]];
     triangles_.push_back(TrianglePrim{a, b - a, c - a});
     TriangleInfo info{mesh.materials.size() == 1 ? mesh.materials[0] : mesh.materials[t], mesh.object_id, -1, -1,
-                      mesh.visibility};
+                      -1, mesh.visibility};
     if (!mesh.normals.empty()) {
       info.corners = static_cast<int32_t>(corner_normals_.size());
       for (int k = 0; k < 3; ++k) {
@@ -207,6 +216,13 @@ void Scene::add_mesh(MeshInput mesh) {
       info.uvs = static_cast<int32_t>(corner_uvs_.size());
       for (int k = 0; k < 3; ++k)
         corner_uvs_.push_back(glm::vec2(uvs_per_vertex ? mesh.uvs[idx[k]] : mesh.uvs[3 * t + k]));
+    }
+    if (!mesh.tangents.empty()) {
+      info.tangents = static_cast<int32_t>(corner_tangents_.size());
+      for (int k = 0; k < 3; ++k) {
+        const glm::dvec4 tangent = tangents_per_vertex ? mesh.tangents[idx[k]] : mesh.tangents[3 * t + k];
+        corner_tangents_.push_back(glm::vec4(tangent.x, tangent.y, tangent.z, tangent.w < 0.0 ? -1.0f : 1.0f));
+      }
     }
     triangle_info_.push_back(info);
   }
@@ -592,6 +608,13 @@ void Scene::fill_hit(const Ray& ray, Hit& hit, double b1, double b2) const {
         const glm::vec2* uv = &corner_uvs_[info.uvs];
         hit.uv = b0 * Vec2(uv[0]) + b1 * Vec2(uv[1]) + b2 * Vec2(uv[2]);
       }
+      hit.tangent = glm::vec4(0.0f);
+      if (info.tangents >= 0) {  // interpolated as Cycles does, not re-orthogonalised
+        const glm::vec4* tangent = &corner_tangents_[info.tangents];
+        hit.tangent = static_cast<float>(b0) * tangent[0] + static_cast<float>(b1) * tangent[1] +
+                      static_cast<float>(b2) * tangent[2];
+        hit.tangent.w = tangent[0].w;
+      }
       hit.material = info.material;
       hit.object = info.object;
       break;
@@ -615,15 +638,48 @@ void Scene::fill_hit(const Ray& ray, Hit& hit, double b1, double b2) const {
   }
 }
 
-SurfacePoint Scene::surface_point(const Hit& hit) const {
-  return surface_point(hit.material, hit.geometric_normal, hit.shading_normal, Vec2f(hit.uv));
+namespace {
+
+// The shading normal a normal map gives (see NormalMap), kept in front of the geometric normal.
+Vec3 mapped_normal(const NormalMap& map, const SurfacePoint& sp, const glm::vec4& tangent) {
+  const Vec3 c = 2.0 * Vec3(sp.inputs[map.input]) - 1.0;
+  Vec3 n;
+  if (map.space == NormalMap::World) {
+    n = c;
+  } else {
+    if (tangent.w == 0.0f) return sp.ns;  // no tangents (not a mesh with a UV map): as Cycles, unmapped
+    const Vec3 t(tangent), b = static_cast<double>(tangent.w) * glm::cross(sp.ns, t);
+    n = c.x * t + c.y * b + c.z * sp.ns;
+  }
+  if (!safe_normalize(n, n)) return sp.ns;
+  if (map.strength != 1.0 && !safe_normalize(sp.ns + (n - sp.ns) * std::max(map.strength, 0.0), n)) return sp.ns;
+  // A normal turned away from the geometric one would let light through an opaque surface.
+  constexpr double kMinCos = 0.01;
+  const double cos_g = glm::dot(n, sp.ng);
+  if (cos_g < kMinCos && !safe_normalize(n + (kMinCos - cos_g) * sp.ng, n)) return sp.ns;
+  return n;
 }
 
-SurfacePoint Scene::surface_point(uint32_t material, const Vec3& ng, const Vec3& ns, const Vec2f& uv) const {
+}  // namespace
+
+SurfacePoint Scene::surface_point(const Hit& hit) const {
+  SurfacePoint sp = surface_point(hit.material, hit.geometric_normal, hit.shading_normal, Vec2f(hit.uv), Vec3f(0.0f));
+  const NormalMap& map = materials_[hit.material].normal_map;
+  if (map.input >= 0) {
+    sp.smooth_normal = sp.ns;
+    sp.ns = mapped_normal(map, sp, hit.tangent);
+  }
+  return sp;
+}
+
+SurfacePoint Scene::surface_point(uint32_t material, const Vec3& ng, const Vec3& ns, const Vec2f& uv,
+                                  const Vec3f& smooth_normal) const {
   const Material& m = materials_[material];
   SurfacePoint sp;
   sp.ng = ng;
   sp.ns = ns;
+  sp.smooth_normal = Vec3(smooth_normal);
+  sp.softening = m.normal_map.softening;
   if (m.kind != MaterialKind::Mixture) {
     sp.albedo = m.texture >= 0 ? textures_[m.texture].lookup(Vec2(uv)) * m.base_color : m.base_color;
     return sp;

@@ -55,6 +55,7 @@ struct MeshInput {
   std::vector<uint32_t> triangles;       // 3 vertex indices per triangle
   std::vector<Vec3> normals;             // empty (flat), one per vertex, or 3 per triangle (corners)
   std::vector<Vec2> uvs;                 // empty, one per vertex, or 3 per triangle (corners)
+  std::vector<glm::dvec4> tangents;      // empty or as uvs: the UV map's tangent (xyz), bitangent sign (w)
   std::vector<uint32_t> materials;       // one per triangle, or a single value for all
   uint32_t object_id = 0;
   uint8_t visibility = kAllRayKinds;  // the RayKinds that see it, and kHoldoutFlag for a Holdout object
@@ -125,7 +126,8 @@ class Scene {
 
   SurfacePoint surface_point(const Hit& hit) const;
   // The same from what a hit point keeps (its material's textures looked up at uv).
-  SurfacePoint surface_point(uint32_t material, const Vec3& ng, const Vec3& ns, const Vec2f& uv) const;
+  SurfacePoint surface_point(uint32_t material, const Vec3& ng, const Vec3& ns, const Vec2f& uv,
+                             const Vec3f& smooth_normal) const;
   // Is the hit primitive part of a Holdout object (its visibility carries kHoldoutFlag)?
   bool is_holdout(const Hit& hit) const;
   double offset_floor() const { return offset_floor_; }  // see ray_offset()
@@ -149,6 +151,7 @@ class Scene {
     uint32_t material, object;
     int32_t corners;  // index of the first of 3 corner normals, -1 = flat
     int32_t uvs;      // index of the first of 3 corner UVs, -1 = none
+    int32_t tangents; // index of the first of 3 corner tangents, -1 = none
     uint8_t visibility;
   };
   struct SphereInfo {
@@ -190,6 +193,7 @@ class Scene {
   std::vector<TriangleInfo> triangle_info_;
   std::vector<Vec3f> corner_normals_;
   std::vector<glm::vec2> corner_uvs_;
+  std::vector<glm::vec4> corner_tangents_;
   std::vector<SphereInfo> spheres_;
   std::vector<std::unique_ptr<BezierRevolve>> revolves_;
   std::vector<RevolveSegment> revolve_segments_;

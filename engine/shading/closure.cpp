@@ -160,6 +160,36 @@ void tabulate_layer_albedo(const Lobe& lobe, float* row) {
   }
 }
 
+// Cycles' bump shadowing where a normal map tilted the normal (SurfacePoint::smooth_normal; the
+// kinds in NormalMap::Softening): diffuse lobes lose light towards the smooth normal's terminator,
+// and, in the newer form, light from the far side of the smooth normal is refused (for every lobe
+// when `evaluated`, for diffuse ones when sampled). `view` is on the viewer's side, `light`
+// towards the light.
+double bump_shadowing(const Lobe& l, const SurfacePoint& sp, const Vec3& view, const Vec3& light, bool evaluated) {
+  if (sp.softening == 0 || sp.smooth_normal == Vec3(0.0) || sp.smooth_normal == sp.ns) return 1.0;
+  const double side = glm::dot(view, sp.ng) >= 0.0 ? 1.0 : -1.0;
+  const Vec3 smooth = side * sp.smooth_normal, n = side * sp.ns;
+  const bool diffuse = l.diffuse();
+  constexpr uint8_t kChiang = 1;  // NormalMap::Chiang (scene/material.h)
+  if (sp.softening == kChiang) {
+    if (!diffuse) return 1.0;
+    const Vec3 s = l.kind == LobeKind::Translucent ? -smooth : smooth;
+    const double denominator = glm::dot(n, light) * glm::dot(s, n);
+    const double g = denominator != 0.0 ? glm::dot(s, light) / denominator : 0.0;
+    if (g >= 1.0) return 1.0;
+    if (g < 0.0) return 0.0;
+    return g * (1.0 + g - g * g);  // smooth at g = 1
+  }
+  const double cos_si = glm::dot(smooth, light), cos_sn = glm::dot(smooth, n), cos_ni = glm::dot(n, light);
+  if (cos_si * cos_sn * cos_ni < 0.0 && (evaluated || diffuse)) return 0.0;
+  if (!diffuse) return 1.0;
+  const double cos_i = std::fabs(cos_si), cos_d = std::fabs(cos_sn);
+  if (cos_d >= 1.0 || cos_i >= 1.0) return 1.0;
+  if (cos_i < 1e-6) return 0.0;
+  const double bump_a2 = glm::clamp(0.125 * (1.0 / (cos_d * cos_d) - 1.0), 0.0, 1.0);
+  return ggx_g1(Vec3(std::sqrt(1.0 - cos_i * cos_i), 0.0, cos_i), bump_a2);
+}
+
 }  // namespace
 
 void prepare_lobe(Lobe& lobe) {
@@ -185,7 +215,7 @@ Color closure_eval(const std::vector<Lobe>& lobes, const SurfacePoint& sp, const
   effective_weights(lobes, sp, wo, eff);
   Color f(0.0);
   for (size_t i = 0; i < lobes.size(); ++i)
-    if (!lobes[i].followed(sp)) f += eff[i] * lobe_eval(lobes[i], sp, wo, wi);
+    if (!lobes[i].followed(sp)) f += eff[i] * lobe_eval(lobes[i], sp, wo, wi) * bump_shadowing(lobes[i], sp, wo, wi, true);
   return f;
 }
 
@@ -198,7 +228,9 @@ bool closure_sample(const std::vector<Lobe>& lobes, const SurfacePoint& sp, cons
   const int i = pick(lobes, prob, u_pick);
   if (i < 0 || !lobe_sample(lobes[i], sp, wo, u1, u2, u3, adjoint, out)) return false;
   if (adjoint) effective_weights(lobes, sp, out.wi, eff);
-  out.weight *= eff[i] / prob[i];
+  // A photon's light comes from wo; an eye path's from the sampled direction.
+  out.weight *= eff[i] / prob[i] *
+                (adjoint ? bump_shadowing(lobes[i], sp, out.wi, wo, false) : bump_shadowing(lobes[i], sp, wo, out.wi, false));
   return true;
 }
 

@@ -31,6 +31,9 @@ Color reflectance(const ConductorParams& p, double mu) { return p.constant ? p.f
 Color lambert_eval(const Color& color, const SurfacePoint& sp, const Vec3& wo, const Vec3& wi, bool far_side) {
   const double so = glm::dot(wo, sp.ng), si = glm::dot(wi, sp.ng);
   if (far_side ? so * si >= 0.0 : so * si <= 0.0) return Color(0.0);
+  // Nor below the shading normal's horizon (as Cycles): a normal map tilts it away from the geometry's.
+  const double sn = glm::dot(wi, facing_normal(sp, wo));
+  if (far_side ? sn >= 0.0 : sn <= 0.0) return Color(0.0);
   return color * kInvPi;
 }
 
@@ -80,7 +83,8 @@ Color oren_nayar_shape(const OrenNayarParams& p, double nl, double nv, double lv
 Color oren_nayar_eval(const OrenNayarParams& p, const SurfacePoint& sp, const Vec3& wo, const Vec3& wi) {
   if (glm::dot(wo, sp.ng) * glm::dot(wi, sp.ng) <= 0.0) return Color(0.0);
   const Vec3 n = facing_normal(sp, wo);
-  const double nl = std::fmax(glm::dot(n, wi), 0.0), nv = std::fmax(glm::dot(n, wo), 0.0);
+  const double nl = glm::dot(n, wi), nv = std::fmax(glm::dot(n, wo), 0.0);
+  if (nl <= 0.0) return Color(0.0);  // below the shading normal's horizon, as Cycles
   return p.color * oren_nayar_shape(p, nl, nv, glm::dot(wi, wo));
 }
 

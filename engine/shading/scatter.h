@@ -16,6 +16,10 @@ struct SurfacePoint {
   Vec3 ng;       // geometric normal, outward as the primitive defines it
   Vec3 ns;       // shading normal, same hemisphere as ng
   Color albedo;  // base colour, texture applied (single-kind materials)
+  // With a normal map: the interpolated normal before it (Cycles' smooth normal, from which its
+  // terminator softening measures; NormalMap::Softening); zero without one.
+  Vec3 smooth_normal{0.0};
+  uint8_t softening = 0;  // a NormalMap::Softening
   std::array<Vec3f, kMaxInputs> inputs{};  // a mixture's inputs here (Material::inputs; lobe.h's InputRef)
 };
 

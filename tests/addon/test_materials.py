@@ -2,11 +2,13 @@
 shaders fold into lobe weights, node groups, reroutes and muted nodes pass as in Blender, the
 Principled BSDF becomes its layers, and bad graphs get one warning naming material and node."""
 
+import numpy as np
 import pytest
 
 import ppm_core
 from conftest import bpy
 from ppm_render.export import material as material_export
+from ppm_render.export import mesh
 
 
 def node_material(name="m"):
@@ -322,3 +324,53 @@ def test_a_rough_diffuse_is_oren_nayar_with_its_blender_versions_energy():
     if bpy.app.version >= (4, 3, 0):  # the Principled BSDF's Diffuse Roughness is 4.3's too
         plaster = lobes_by_kind(principled(**{"Diffuse Roughness": 0.5}))["diffuse"]
         assert plaster["roughness"] == pytest.approx(0.5) and plaster["multiscatter"]
+
+
+def test_a_normal_map_image_becomes_the_materials_normal_map_and_its_meshes_get_tangents():
+    mat, tree, out = node_material("bumpy")
+    bsdf = add(tree, "ShaderNodeBsdfPrincipled")
+    normal_map = tree.nodes.new("ShaderNodeNormalMap")
+    normal_map.inputs["Strength"].default_value = 0.7
+    texture = image_node(tree, "normals")
+    texture.image.colorspace_settings.name = "Non-Color"
+    tree.links.new(texture.outputs["Color"], normal_map.inputs["Color"])
+    tree.links.new(normal_map.outputs["Normal"], bsdf.inputs["Normal"])
+    tree.links.new(bsdf.outputs[0], out.inputs["Surface"])
+    params, warnings = describe(mat)
+    assert warnings == [] and params["kind"] == "mixture"
+    assert params["normal_map"]["strength"] == pytest.approx(0.7) and params["normal_map"]["space"] == "tangent"
+    assert params["inputs"][params["normal_map"]["input"]][1] == "rgb"
+    bpy.ops.mesh.primitive_uv_sphere_add(segments=16, ring_count=8)
+    ball = bpy.context.object
+    ball.data.materials.append(mat)
+    data = mesh.MeshData.from_object(ball.evaluated_get(bpy.context.evaluated_depsgraph_get()), tangents=True)
+    assert data.tangents is not None and data.tangents.shape == (len(data.triangles), 3, 4)
+    tangents = data.tangents[..., :3].reshape(-1, 3)
+    assert np.allclose(np.linalg.norm(tangents, axis=1), 1.0, atol=1e-3)
+    assert np.abs(np.sum(tangents * data.normals.reshape(-1, 3), axis=1)).max() < 1e-3  # in the surface
+    assert set(np.unique(data.tangents[..., 3])) <= {-1.0, 1.0}
+    # A Bump node instead: one warning, the surface's own normal.
+    bump = tree.nodes.new("ShaderNodeBump")
+    tree.links.new(bump.outputs["Normal"], bsdf.inputs["Normal"])
+    params, warnings = describe(mat)
+    assert "normal_map" not in params and len(warnings) == 1 and "Bump" in warnings[0]
+
+
+def test_an_ngon_mesh_gets_tangents_close_to_blenders():
+    # Blender computes no tangents for n-gons; the exporter's own, on a mesh Blender does compute
+    # them for (quads), agree with MikkTSpace's within a few degrees (it weights by corner angle).
+    bpy.ops.mesh.primitive_uv_sphere_add(segments=24, ring_count=12)
+    ball = bpy.context.object
+    data = mesh.MeshData.from_object(ball.evaluated_get(bpy.context.evaluated_depsgraph_get()), tangents=True)
+    ours = mesh.triangle_tangents(data.positions, data.triangles, data.normals, data.uvs)
+    agree = np.sum(ours[..., :3] * data.tangents[..., :3], axis=2)
+    assert np.median(agree) > 0.99 and agree.min() > 0.9, (np.median(agree), agree.min())
+    assert np.all(ours[..., 3] == data.tangents[..., 3])
+    bpy.ops.mesh.primitive_circle_add(vertices=8, fill_type="NGON")
+    disc = bpy.context.object
+    bpy.ops.object.mode_set(mode="EDIT")
+    bpy.ops.uv.smart_project()
+    bpy.ops.object.mode_set(mode="OBJECT")
+    data = mesh.MeshData.from_object(disc.evaluated_get(bpy.context.evaluated_depsgraph_get()), tangents=True)
+    assert data.tangents is not None and not data.tangents_missing
+    assert np.isfinite(data.tangents).all()

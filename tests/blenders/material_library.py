@@ -7,6 +7,8 @@ by script in the running Blender (3.4 and 4.x/5.x socket names); used by materia
 names those the add-on documents as approximations (reported by the comparison, not asserted).
 """
 
+import math
+
 import bpy
 
 V4 = bpy.app.version >= (4, 0, 0)
@@ -159,6 +161,20 @@ def textured_mix(tree, out):
     link(tree, m, out.inputs["Surface"])
 
 
+def normal_mapped(tree, out):
+    """A Principled BSDF whose Normal comes from a tangent-space normal map: bands of normals tilted
+    35 degrees to either side along U (the bitangent in between: a mapped axis each way)."""
+    build_principled = principled(**{"Base Color": rgba(0.7, 0.7, 0.7), "Roughness": 0.4})
+    build_principled(tree, out)
+    bsdf = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeBsdfPrincipled")
+    tilt = math.sin(math.radians(35)) / 2
+    up = math.cos(math.radians(35)) / 2 + 0.5
+    normals = [(0.5 + tilt, 0.5, up), (0.5, 0.5 + tilt, up), (0.5 - tilt, 0.5, up), (0.5, 0.5 - tilt, up)] * 2
+    normal_map = tree.nodes.new("ShaderNodeNormalMap")
+    image_on(tree, bands("normal_bands", normals), normal_map.inputs["Color"])
+    tree.links.new(normal_map.outputs["Normal"], bsdf.inputs["Normal"])
+
+
 ROUGHNESS_BANDS = lambda: bands("roughness_bands", [0.1, 0.6, 0.3, 0.8] * 2)  # noqa: E731
 METAL_BANDS = lambda: bands("metal_bands", [0.0, 1.0] * 4)  # noqa: E731
 CHECKER_COLOURS = lambda: bands("colour_bands", [(0.8, 0.2, 0.1), (0.1, 0.5, 0.8)] * 4,  # noqa: E731
@@ -215,6 +231,7 @@ MATERIALS = {
     "textured_alpha": textured_principled({"Base Color": (CHECKER_COLOURS, "Color"),
                                            "Alpha": (CHECKER_COLOURS, "Alpha")}),
     "textured_mix_factor": textured_mix,
+    "normal_mapped": normal_mapped,
 }
 
 # Documented approximations: measured and reported, not held to the tolerance.

@@ -39,19 +39,20 @@ Lobe specular_layer(double roughness, double ior = 1.5) {
 
 // Mean sampled weight (all directions) against the integral of f cos over the sphere, both red.
 // `adjoint`: photons, whose mean weight is the integral of f(wi, wo) cos(wi).
-void expect_sampling_matches_eval(const std::vector<Lobe>& lobes, const Vec3& wo, bool adjoint, double tol) {
+void expect_sampling_matches_eval(const std::vector<Lobe>& lobes, const Vec3& wo, bool adjoint, double tol,
+                                  const SurfacePoint& sp = kFlat) {
   Rng rng(5, 6, 7);
   const int n = 300000;
   double sampled = 0.0, integrated = 0.0;
   for (int i = 0; i < n; ++i) {
     BsdfSample s;
-    if (closure_sample(lobes, kFlat, wo, rng.uniform(), rng.uniform(), rng.uniform(), rng.uniform(), adjoint, s) &&
+    if (closure_sample(lobes, sp, wo, rng.uniform(), rng.uniform(), rng.uniform(), rng.uniform(), adjoint, s) &&
         !s.specular)
       sampled += s.weight.x;
     for (int k = 0; k < 8; ++k) {
       const Vec3 wi = sample_uniform_sphere((k + rng.uniform()) / 8.0, rng.uniform());
-      const Color f = adjoint ? closure_eval(lobes, kFlat, wi, wo) : closure_eval(lobes, kFlat, wo, wi);
-      integrated += f.x * std::fabs(wi.z) * 4.0 * kPi / 8.0;
+      const Color f = adjoint ? closure_eval(lobes, sp, wi, wo) : closure_eval(lobes, sp, wo, wi);
+      integrated += f.x * std::fabs(glm::dot(wi, sp.ns)) * 4.0 * kPi / 8.0;
     }
   }
   EXPECT_NEAR(sampled / n, integrated / n, tol) << (adjoint ? "photons" : "eye");
@@ -109,6 +110,48 @@ TEST(Closure, WhiteOrenNayarLosesOnlyWithoutItsEnergyCompensation) {
     EXPECT_GT(grey, 0.5 * single);
     EXPECT_LT(grey, 0.5);
   }
+}
+
+// A normal map's point: the shading normal tilted by `degrees` towards +x from the smooth +z.
+SurfacePoint mapped_point(double degrees, uint8_t softening) {
+  SurfacePoint sp = kFlat;
+  sp.smooth_normal = Vec3(0, 0, 1);
+  sp.ns = Vec3(std::sin(degrees * kPi / 180.0), 0.0, std::cos(degrees * kPi / 180.0));
+  sp.softening = softening;
+  return sp;
+}
+
+TEST(Closure, BumpShadowingSoftensDiffuseLightTowardsTheSmoothTerminator) {
+  constexpr uint8_t kChiang = 1, kContyEstevez = 2;
+  const std::vector<Lobe> diffuse = {lobe(LobeKind::Diffuse, Color(1.0), Color(0.8))};
+  const Vec3 wo = direction(0.8, 0.5);
+  for (uint8_t softening : {kChiang, kContyEstevez}) {
+    const SurfacePoint sp = mapped_point(30.0, softening), plain = mapped_point(30.0, 0);
+    // Light along the smooth normal: nothing lost. Light near the smooth horizon, on the side the
+    // normal tilts to: less, and less the closer it gets.
+    const Vec3 up(0, 0, 1);
+    EXPECT_NEAR(closure_eval(diffuse, sp, wo, up).x, closure_eval(diffuse, plain, wo, up).x, 1e-12);
+    const double grazing = closure_eval(diffuse, sp, wo, direction(0.1, 0.0)).x;
+    const double lower = closure_eval(diffuse, sp, wo, direction(0.05, 0.0)).x;
+    EXPECT_LT(grazing, closure_eval(diffuse, plain, wo, direction(0.1, 0.0)).x);
+    EXPECT_LT(lower, grazing);
+    EXPECT_GT(lower, 0.0);
+    // Eye paths only: photons scatter within the tilted normal's hemisphere, while f also lets a
+    // viewer below it (above the surface) see light; the gather evaluates f, so only light that
+    // photons carry on from such a surface is short by that sliver.
+    for (double cos_o : {0.9, 0.4}) expect_sampling_matches_eval(diffuse, direction(cos_o, 0.3), false, 0.01, sp);
+  }
+  // The newer form refuses light from below the smooth horizon even where the tilted normal takes
+  // it, for glossy lobes too.
+  const SurfacePoint sp = mapped_point(30.0, kContyEstevez);
+  const Vec3 below(std::sin(100.0 * kPi / 180.0), 0.0, std::cos(100.0 * kPi / 180.0));
+  ASSERT_GT(glm::dot(below, sp.ns), 0.0);
+  EXPECT_EQ(closure_eval(diffuse, sp, wo, below).x, 0.0);
+  const std::vector<Lobe> glossy = {lobe(LobeKind::Glossy, Color(1.0), Color(0.8), 0.6)};
+  const Vec3 mirror = 2.0 * glm::dot(below, sp.ns) * sp.ns - below;  // where the tilted normal reflects it
+  ASSERT_GT(mirror.z, 0.0);
+  EXPECT_GT(closure_eval(glossy, mapped_point(30.0, 0), mirror, below).x, 0.0);
+  EXPECT_EQ(closure_eval(glossy, sp, mirror, below).x, 0.0);
 }
 
 TEST(Closure, WhiteLosslessMixturesLoseNothing) {

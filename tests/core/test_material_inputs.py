@@ -104,3 +104,68 @@ def test_inputs_belong_to_mixtures_only():
     texture(scene, 0.5)
     with pytest.raises(ValueError, match="mixture"):
         scene.add_material("ball", "diffuse", inputs=[(0, "rgb")])
+
+
+def mapped_plane(normal_rgb, light_direction, normal_map=None, sign=1.0):
+    """A diffuse plane (z = 0, tangent +x, bitangent sign `sign`) under a sun, seen from above; its
+    normal map a uniform texture of `normal_rgb` (None: no map). Returns the mean radiance."""
+    scene = ppm_core.Scene()
+    texels = np.zeros((2, 2, 4), np.float32)
+    texels[..., :3] = normal_rgb if normal_rgb is not None else 0.5
+    texels[..., 3] = 1.0
+    texture = scene.add_texture("normals", texels, storage="half")
+    material = scene.add_material("plane", "mixture", lobes=[{"kind": "diffuse", "color": 0.5}],
+                                  inputs=[(texture, "rgb")] if normal_rgb is not None else None,
+                                  normal_map=normal_map if normal_rgb is not None else None)
+    corners = np.array([[-2, -2, 0], [2, -2, 0], [2, 2, 0], [-2, 2, 0]], dtype=float)
+    triangles = np.array([[0, 1, 2], [0, 2, 3]])
+    tangents = np.tile([1.0, 0.0, 0.0, sign], (4, 1))
+    scene.add_mesh("plane", corners, triangles, uvs=corners[:, :2] / 4.0 + 0.5, tangents=tangents, materials=material)
+    scene.add_light("sun", power=3.0, direction=light_direction)
+    camera = np.eye(4)
+    camera[2, 3] = 2.0
+    scene.set_camera(camera, 8, 8, projection="orthographic", ortho_scale=2.0)
+    renderer = ppm_core.Renderer(scene, photons_per_pass=2000, threads=2, seed=3)
+    renderer.run(passes=2)
+    return float(renderer.image()[..., :3].mean())
+
+
+def encoded(normal):
+    n = np.asarray(normal, float) / np.linalg.norm(normal)
+    return tuple((n + 1.0) / 2.0)
+
+
+@pytest.mark.parametrize("space", ["tangent", "world"])
+def test_a_normal_map_turns_the_shading_normal(space):
+    # Sun from straight above: a normal tilted by 40 degrees towards +x receives cos(40) of it.
+    down = (0.0, 0.0, -1.0)
+    tilted = (math.sin(math.radians(40)), 0.0, math.cos(math.radians(40)))
+    flat = mapped_plane(None, down)
+    assert flat > 0.01
+    as_is = mapped_plane(encoded((0, 0, 1)), down, {"input": 0, "space": space})
+    turned = mapped_plane(encoded(tilted), down, {"input": 0, "space": space})
+    halfway = mapped_plane(encoded(tilted), down, {"input": 0, "space": space, "strength": 0.0})
+    assert as_is == pytest.approx(flat, rel=1e-3)
+    assert turned == pytest.approx(flat * math.cos(math.radians(40)), rel=0.01)
+    assert halfway == pytest.approx(flat, rel=1e-3)  # strength 0: the normal as it was
+
+
+def test_the_bitangent_sign_mirrors_the_maps_y():
+    # A normal tilted towards the map's +y faces +y in the world with sign +1 and -y with sign -1: a
+    # sun from +y (45 degrees up) lights the first more.
+    tilted = encoded((0.0, math.sin(math.radians(30)), math.cos(math.radians(30))))
+    from_plus_y = (0.0, -1.0, -1.0)
+    plus = mapped_plane(tilted, from_plus_y, {"input": 0}, sign=1.0)
+    minus = mapped_plane(tilted, from_plus_y, {"input": 0}, sign=-1.0)
+    assert plus / minus == pytest.approx(math.cos(math.radians(15)) / math.cos(math.radians(75)), rel=0.02)
+
+
+@pytest.mark.parametrize("normal_map, message", [
+    ({"input": 1}, "input 1"), ({"strength": 1.0}, "needs an input"), ({"input": 0, "space": "object"}, "space"),
+    ({"input": 0, "strength": float("nan")}, "strength"), ({"input": 0, "bump": 1}, "unknown normal_map key"),
+])
+def test_bad_normal_maps_are_refused_with_a_message(normal_map, message):
+    scene = ppm_core.Scene()
+    texture(scene, 0.5)
+    with pytest.raises(ValueError, match=message):
+        scene.add_material("ball", "mixture", lobes=[{"kind": "diffuse"}], inputs=[(0, "rgb")], normal_map=normal_map)

@@ -57,11 +57,16 @@ class Exporter:
         obj = item.obj
         key = (obj.data.as_pointer() if obj.data is not None else obj.as_pointer(),
                tuple(s.material.name if s.material else "" for s in obj.material_slots))
+        slots = self.slot_materials(obj)
         if key not in self.meshes:
-            self.meshes[key] = mesh.MeshData.from_object(obj)
+            tangents = any(index in self.materials.tangent_mapped for index in slots)
+            self.meshes[key] = mesh.MeshData.from_object(obj, tangents)
+            if self.meshes[key] is not None and self.meshes[key].tangents_missing:
+                self.skip(obj, "its normal map needs a UV map of triangles and quads (Blender computes no "
+                               "tangents for n-gons); rendered without it")
         data = self.meshes[key]
         if data is not None:
-            dropped = data.add_to_scene(self.scene, item, self.slot_materials(obj))
+            dropped = data.add_to_scene(self.scene, item, slots)
             self.triangles += len(data.triangles) - dropped
             if dropped:
                 self.skip(obj, f"{dropped} of its {len(data.triangles)} triangles have a corner that is not "

@@ -55,6 +55,8 @@ class Closure:
     holdout: float = 0.0
     # Per input: (bpy image, channel 'rgb' | 'alpha' | 'grey', colour premultiplied by alpha)
     inputs: list = field(default_factory=list)
+    normal_map: dict = None  # for Scene.add_material(normal_map=...): input, strength, space
+    unmapped: bool = False  # a shader without the normal map (it applies to all of them)
 
     def add(self, weight, **lobe):
         if weight.peak() > CUTOFF:
@@ -223,8 +225,39 @@ class ClosureReader:
             self.warn(node, f"shaders nested deeper than {MAX_NESTING}; the rest is left out")
             return
         self.depth += 1
+        if "Normal" in node.inputs:
+            self.normal(node, "Normal", ctx)
         handler(self, node, ctx, weight)
         self.depth -= 1
+
+    def normal(self, node, name, ctx):
+        """Notes the normal map (a Normal Map node of an image) on input `name` of a shader; one per
+        material, applied to all its shaders (warned where they differ)."""
+        out, inner, _ = self.source(node.inputs[name], ctx)
+        if out is None:
+            self.out.unmapped = True
+            return
+        source = out.node
+        if source.bl_idname != "ShaderNodeNormalMap":
+            self.warn(node, f"'{name}' is driven by '{source.name}' ({source.bl_idname}), which is not supported "
+                            "yet; using the surface's own normal")
+            return
+        if source.space not in ("TANGENT", "WORLD"):
+            self.warn(source, f"a normal map in {source.space.lower()} space is not supported yet; left out")
+            return
+        index = self.image_input(source, "Color", inner, color=True)
+        if index is None:
+            self.warn(source, "its Color is not an image texture; left out")
+            return
+        if source.space == "TANGENT" and source.uv_map:
+            self.warn(source, f"tangents come from the mesh's active UV map, not '{source.uv_map}'")
+        mapping = {"input": index, "strength": self.value(source, "Strength", inner, 1.0),
+                   "space": source.space.lower(), "softening": BUMP_SOFTENING}
+        if self.out.normal_map is None:
+            self.out.normal_map = mapping
+        elif self.out.normal_map != mapping:
+            self.warn(node, "a second normal map in one material is not supported; the first applies to all its "
+                            "shaders")
 
 
 def _premultiplied(texture_node):
@@ -285,6 +318,10 @@ def _multiscatter(node):
     return getattr(node, "distribution", "GGX") == "MULTI_GGX"
 
 
+# How Cycles softens light at a normal-mapped terminator (NormalMap::Softening in the core): measured
+# Chiang's in 3.4 and 4.2, Conty Estevez's in 4.5 and 5.0 (tests/blenders/materials_compare.py,
+# normal_mapped); 4.3 and 4.4 untested, taken as the newer.
+BUMP_SOFTENING = "conty_estevez" if bpy.app.version >= (4, 3, 0) else "chiang"
 # Cycles' Oren-Nayar gained its multiple-scattering energy compensation in Blender 4.3.
 OREN_NAYAR_MULTISCATTER = bpy.app.version >= (4, 3, 0)
 
@@ -560,6 +597,8 @@ def read_surface(material, warn):
         return None
     reader = ClosureReader(material.name, warn)
     reader.closure(active[0].inputs["Surface"], (), Weight(np.ones(3)))
+    if reader.out.normal_map is not None and reader.out.unmapped:
+        reader.warn(None, "its normal map applies to all its shaders, also those without it")
     lobes = reader.out.lobes
     if len(lobes) > MAX_LOBES:
         reader.warn(None, f"{len(lobes)} shader lobes; the {MAX_LOBES} of largest weight are kept")

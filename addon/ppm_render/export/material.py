@@ -30,6 +30,7 @@ class MaterialExporter:
         self.textures = {}
         self.default = None
         self.non_emissive = {}
+        self.tangent_mapped = set()  # core materials with a tangent-space normal map: their meshes need tangents
 
     def index(self, material):
         """Core material index for a Blender material (None = default grey)."""
@@ -41,6 +42,8 @@ class MaterialExporter:
         if key not in self.indices:
             params = self.in_range(self.describe(material), material.name)
             self.indices[key] = self.scene.add_material(material.name, **params)
+            if params.get("normal_map", {}).get("space") == "tangent":
+                self.tangent_mapped.add(self.indices[key])
             if any(c > 0.0 for c in params.get("emission", (0, 0, 0))):
                 self.emissive.add(self.indices[key])
                 self.non_emissive[self.indices[key]] = {**params, "emission": (0.0, 0.0, 0.0)}
@@ -83,12 +86,14 @@ class MaterialExporter:
         if not lobes:
             kind = "emission" if max(emission) > 0.0 else "diffuse"
             return {"kind": kind, "base_color": (0.0, 0.0, 0.0), "emission": emission}
+        normal_map = read.normal_map
         texture = _diffuse_texture(lobes, inputs)
-        if holdout == 0.0 and texture is not None:
+        if holdout == 0.0 and texture is not None and normal_map is None:
             color = sum(np.asarray(lobe["weight"]) * np.asarray(lobe["color"]) for lobe in lobes)
             return {"kind": "diffuse", "base_color": tuple(float(c) for c in color), "texture": texture,
                     "emission": emission}
-        return {"kind": "mixture", "lobes": lobes, "inputs": inputs, "emission": emission, "holdout": holdout}
+        return {"kind": "mixture", "lobes": lobes, "inputs": inputs, "emission": emission, "holdout": holdout,
+                **({"normal_map": normal_map} if normal_map else {})}
 
     def closure_inputs(self, material, read):
         """The core's (texture, channel) for each of the closure's inputs; a lobe parameter whose image
@@ -100,6 +105,10 @@ class MaterialExporter:
             except ValueError as error:
                 self.warn(f"material '{material.name}': image '{image.name}': {error}; using the socket's value")
                 _drop_input(read.lobes, len(inputs))
+                if read.normal_map is not None:
+                    number = read.normal_map["input"]
+                    read.normal_map = (None if number == len(inputs) else
+                                       {**read.normal_map, "input": number - (number > len(inputs))})
                 continue
         return inputs
 

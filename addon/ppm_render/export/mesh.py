@@ -1,10 +1,11 @@
 """Evaluated Blender geometry -> core triangle meshes, with numpy and foreach_get.
 
 `MeshData.from_object` reads an evaluated object's mesh once (loop triangles,
-per-corner normals, the active UV map, per-triangle material slots) in its
-local space; `add_to_scene` transforms it by an instance's matrix. Instances
-of the same data share one MeshData, so a forest of instances reads its mesh
-once. Per-corner normals cover flat, smooth and custom normals alike.
+per-corner normals, the active UV map and, for tangent-space normal maps, its
+MikkTSpace tangents, per-triangle material slots) in its local space;
+`add_to_scene` transforms it by an instance's matrix. Instances of the same
+data share one MeshData, so a forest of instances reads its mesh once.
+Per-corner normals cover flat, smooth and custom normals alike.
 """
 
 import bpy
@@ -38,19 +39,41 @@ def _corner_uvs(mesh):
     return _read(data, "vector" if hasattr(layer, "uv") else "uv", len(mesh.loops), 2, np.float32)
 
 
+def _corner_tangents(mesh):
+    """(loops, 4): the active UV map's tangents (Blender's MikkTSpace, as Cycles' normal maps use)
+    and bitangent signs; None without a UV map, or where Blender cannot compute them (n-gons:
+    the caller then uses triangle_tangents)."""
+    layer = mesh.uv_layers.active
+    if layer is None:
+        return None
+    try:
+        mesh.calc_tangents(uvmap=layer.name)
+    except RuntimeError:
+        return None
+    count = len(mesh.loops)
+    tangents = np.empty((count, 4), dtype=np.float32)
+    tangents[:, :3] = _read(mesh.loops, "tangent", count, 3, np.float32)
+    tangents[:, 3] = _read(mesh.loops, "bitangent_sign", count, 1, np.float32)
+    mesh.free_tangents()
+    return tangents
+
+
 class MeshData:
     """Local-space triangles of one evaluated mesh."""
 
-    def __init__(self, positions, triangles, normals, uvs, slots):
+    def __init__(self, positions, triangles, normals, uvs, slots, tangents=None):
         self.positions = positions      # (V, 3) float64
         self.triangles = triangles      # (T, 3) int32 vertex indices
         self.normals = normals          # (T, 3, 3) per-corner
         self.uvs = uvs                  # (T, 3, 2) per-corner or None
         self.slots = slots              # (T,) material slot index
+        self.tangents = tangents        # (T, 3, 4) per-corner tangent and bitangent sign, or None
+        self.tangents_missing = False   # asked for, but the mesh has no UV map or n-gons Blender cannot do
 
     @classmethod
-    def from_object(cls, obj):
-        """Reads `obj`'s evaluated mesh (modifiers applied); None if it has no triangles."""
+    def from_object(cls, obj, tangents=False):
+        """Reads `obj`'s evaluated mesh (modifiers applied); None if it has no triangles. `tangents`:
+        also the UV map's tangents (for tangent-space normal maps)."""
         mesh = obj.to_mesh()
         try:
             if mesh is None:
@@ -66,7 +89,15 @@ class MeshData:
             positions = _read(mesh.vertices, "co", len(mesh.vertices), 3, np.float32).astype(np.float64)
             normals = _corner_normals(mesh)[loops]
             uvs = _corner_uvs(mesh)
-            return cls(positions, triangles, normals, None if uvs is None else uvs[loops], slots)
+            data = cls(positions, triangles, normals, None if uvs is None else uvs[loops], slots)
+            if tangents:
+                corner_tangents = _corner_tangents(mesh)
+                if corner_tangents is not None:
+                    data.tangents = corner_tangents[loops]
+                elif data.uvs is not None:  # n-gons: Blender refuses them, Cycles triangulates first
+                    data.tangents = triangle_tangents(positions, triangles, data.normals, data.uvs)
+                data.tangents_missing = data.tangents is None
+            return data
         finally:
             obj.to_mesh_clear()
 
@@ -87,10 +118,11 @@ class MeshData:
         kept = int(finite.sum())
         if kept == 0:
             return len(self.triangles)
-        triangles, normals, uvs, slots = self.triangles, self.normals, self.uvs, self.slots
+        triangles, normals, uvs, slots, tangents = self.triangles, self.normals, self.uvs, self.slots, self.tangents
         if kept < len(triangles):
             triangles, normals, slots = triangles[finite], normals[finite], slots[finite]
             uvs = None if uvs is None else uvs[finite]
+            tangents = None if tangents is None else tangents[finite]
             positions = np.where(np.isfinite(positions), positions, 0.0)  # unused vertices only
         normals = normals.reshape(-1, 3) @ normal_matrix(m[:3, :3]).T
         normals = np.nan_to_num(normals, nan=0.0, posinf=0.0, neginf=0.0)
@@ -99,8 +131,49 @@ class MeshData:
         materials = np.asarray(material_indices, dtype=np.int64)[slots]
         core_scene.add_mesh(item.name, positions, triangles, normals=normals.reshape(-1, 3, 3),
                             uvs=uvs, materials=materials, object_id=item.object_id,
+                            tangents=None if tangents is None else world_tangents(tangents, m[:3, :3]),
                             **visibility.object_flags(item.obj))
         return len(self.triangles) - kept
+
+
+def triangle_tangents(positions, triangles, normals, uvs):
+    """(T, 3, 4) tangents from the UV gradient of each triangle, summed over the triangles that share
+    a vertex and its UV, made orthogonal to each corner's normal; the bitangent sign from the summed
+    bitangent. MikkTSpace's construction in outline, for meshes Blender computes none for (n-gons)."""
+    p = positions[triangles]                              # (T, 3, 3)
+    e1, e2 = p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]
+    d1, d2 = uvs[:, 1] - uvs[:, 0], uvs[:, 2] - uvs[:, 0]
+    det = d1[:, 0] * d2[:, 1] - d2[:, 0] * d1[:, 1]
+    r = np.where(np.abs(det) > 1e-20, 1.0 / np.where(det == 0.0, 1.0, det), 0.0)[:, None]
+    t = (e1 * d2[:, 1:2] - e2 * d1[:, 1:2]) * r
+    b = (e2 * d1[:, 0:1] - e1 * d2[:, 0:1]) * r
+    # Corners sharing a vertex and a UV share the sum of their triangles' gradients.
+    keys = np.concatenate([triangles.reshape(-1, 1).astype(np.float64), uvs.reshape(-1, 2)], axis=1)
+    _, group = np.unique(keys, axis=0, return_inverse=True)
+    group = group.reshape(-1)
+    t_sum, b_sum = (np.zeros((group.max() + 1, 3)) for _ in range(2))
+    np.add.at(t_sum, group, np.repeat(t, 3, axis=0))
+    np.add.at(b_sum, group, np.repeat(b, 3, axis=0))
+    n = normals.reshape(-1, 3).astype(np.float64)
+    tangent = t_sum[group]
+    tangent -= n * np.sum(n * tangent, axis=1, keepdims=True)
+    tangent /= np.maximum(np.linalg.norm(tangent, axis=1, keepdims=True), 1e-30)
+    sign = np.where(np.sum(np.cross(n, tangent) * b_sum[group], axis=1) < 0.0, -1.0, 1.0)
+    return np.concatenate([tangent, sign[:, None]], axis=1).reshape(-1, 3, 4).astype(np.float32)
+
+
+def world_tangents(tangents, m):
+    """Corner tangents carried by `m` (directions), unit length; a mirroring `m` flips the bitangent
+    sign, since the bitangent is sign * normal x tangent and the normal is carried by the inverse
+    transpose."""
+    out = np.empty(tangents.shape, dtype=np.float64)
+    with np.errstate(invalid="ignore", over="ignore"):
+        directions = tangents[..., :3].reshape(-1, 3).astype(np.float64) @ m.T
+    directions = np.nan_to_num(directions, nan=0.0, posinf=0.0, neginf=0.0)
+    directions /= np.maximum(np.linalg.norm(directions, axis=1, keepdims=True), 1e-30)
+    out[..., :3] = directions.reshape(tangents.shape[:-1] + (3,))
+    out[..., 3] = tangents[..., 3] * (1.0 if np.linalg.det(m) >= 0.0 else -1.0)
+    return out
 
 
 def normal_matrix(m):
