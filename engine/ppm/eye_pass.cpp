@@ -125,7 +125,8 @@ struct EyeTracer {
     hp.glossy = glossy ? 1u : 0u;
     out.points.push_back(hp);
     out.shading.push_back(
-        HitPointShading{sp.ng, sp.ns, wo, v.throughput, Vec2f(hit.uv), Vec3f(sp.smooth_normal), hit.material, pixel});
+        HitPointShading{sp.ng, sp.ns, wo, v.throughput, Vec2f(hit.uv), Vec3f(sp.smooth_normal), Vec3f(sp.tangent),
+                        hit.material, pixel});
     if (limits.active) out.chain.push_back(v.chain);
   }
 

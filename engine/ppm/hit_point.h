@@ -31,6 +31,7 @@ struct HitPointShading {
   Color throughput;       // eye-path weight including 1/samples_per_pixel
   Vec2f uv;               // where the material's textures are looked up (Scene::surface_point)
   Vec3f smooth_normal;    // before a normal map (SurfacePoint::smooth_normal)
+  Vec3f tangent;          // a mesh's tangent (SurfacePoint::tangent)
   uint32_t material;
   uint32_t pixel;
 };

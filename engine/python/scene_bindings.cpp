@@ -50,7 +50,7 @@ ParsedLobe lobe_from(const py::handle& item, const std::string& what) {
   static const char* const kKeys[] = {"kind",         "weight",  "color",       "tint",
                                       "roughness",    "ior",     "parts",       "layer",
                                       "textured",     "multiscatter", "tint_f0", "color_input",
-                                      "roughness_input", "weight_inputs"};
+                                      "roughness_input", "weight_inputs", "stretch", "rotation"};
   for (const auto& [key, value] : d) {
     const std::string k = py::str(key);
     if (std::find_if(std::begin(kKeys), std::end(kKeys), [&](const char* n) { return k == n; }) == std::end(kKeys))
@@ -88,6 +88,13 @@ ParsedLobe lobe_from(const py::handle& item, const std::string& what) {
     for (size_t i = 0; i < refs.size(); ++i)
       l.weight_inputs[i] = input_ref(refs[i], InputRef::Fraction, what, "weight_inputs");
   }
+  if (d.contains("stretch")) {
+    const py::sequence pair = py::reinterpret_borrow<py::sequence>(d["stretch"]);
+    if (pair.size() != 2) fail(what, "a lobe's stretch is (along the tangent, across it)");
+    l.stretch_x = py::cast<double>(pair[0]);
+    l.stretch_y = py::cast<double>(pair[1]);
+  }
+  if (d.contains("rotation")) l.rotation = py::cast<double>(d["rotation"]);
   if (parsed.textured && l.color_input.used()) fail(what, "a lobe is either textured or has a color_input");
   return parsed;
 }
@@ -520,7 +527,9 @@ void bind_scene(py::module_& m) {
            "(its colour times the material's `texture`), multiscatter (Cycles' Multiscatter GGX energy), "
            "tint_f0 (a dielectric's tint scales F0 only, as the Principled BSDF's Specular Tint), and "
            "color_input, roughness_input (an input index, or (index, 'value' | 'sqrt')) and weight_inputs "
-           "(up to 2 of (index, 'fraction' | 'complement')): parameters times a textured input), "
+           "(up to 2 of (index, 'fraction' | 'complement')): parameters times a textured input), stretch "
+           "((x, y): a conductor or glossy lobe's GGX alpha times x along the mesh's tangent, y across) and "
+           "rotation (of the tangent about the normal, in turns), "
            "holdout (a mixture's Holdout weight: camera rays see that much of it as a hole in the alpha), "
            "and inputs (a mixture's: up to 4 of (texture index, 'rgb' | 'alpha' | 'grey'), looked up at the "
            "hit's UV; grey is the colour's Rec. 709 luminance), and normal_map (a mixture's: dict(input=index, "

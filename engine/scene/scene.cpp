@@ -110,6 +110,12 @@ void Scene::check_lobes(Material& m, const std::string& what) const {
     if (!std::isfinite(l.roughness) || l.roughness < 0.0 || l.roughness > 1.0)
       fail(what, lobe + " roughness must be in [0, 1]");
     if (!std::isfinite(l.ior) || l.ior <= 0.0) fail(what, lobe + " ior must be a positive number");
+    if (!(std::isfinite(l.stretch_x) && std::isfinite(l.stretch_y) && l.stretch_x > 0.0 && l.stretch_y > 0.0 &&
+          l.stretch_x <= 1e3 && l.stretch_y <= 1e3))
+      fail(what, lobe + " stretch must be two positive numbers up to 1000");
+    if (!std::isfinite(l.rotation)) fail(what, lobe + " rotation must be a finite number");
+    if (l.anisotropic() && l.kind != LobeKind::Conductor && l.kind != LobeKind::Glossy)
+      fail(what, lobe + ": only conductor and glossy lobes can be anisotropic");
     if (l.layer && !(l.kind == LobeKind::Dielectric && l.parts == kReflection))
       fail(what, lobe + ": only a dielectric reflection can be a layer");
     if (l.multiscatter && l.kind == LobeKind::Dielectric && l.parts != kReflection)
@@ -663,7 +669,8 @@ Vec3 mapped_normal(const NormalMap& map, const SurfacePoint& sp, const glm::vec4
 }  // namespace
 
 SurfacePoint Scene::surface_point(const Hit& hit) const {
-  SurfacePoint sp = surface_point(hit.material, hit.geometric_normal, hit.shading_normal, Vec2f(hit.uv), Vec3f(0.0f));
+  SurfacePoint sp = surface_point(hit.material, hit.geometric_normal, hit.shading_normal, Vec2f(hit.uv), Vec3f(0.0f),
+                                  hit.tangent.w != 0.0f ? Vec3f(hit.tangent) : Vec3f(0.0f));
   const NormalMap& map = materials_[hit.material].normal_map;
   if (map.input >= 0) {
     sp.smooth_normal = sp.ns;
@@ -673,12 +680,13 @@ SurfacePoint Scene::surface_point(const Hit& hit) const {
 }
 
 SurfacePoint Scene::surface_point(uint32_t material, const Vec3& ng, const Vec3& ns, const Vec2f& uv,
-                                  const Vec3f& smooth_normal) const {
+                                  const Vec3f& smooth_normal, const Vec3f& tangent) const {
   const Material& m = materials_[material];
   SurfacePoint sp;
   sp.ng = ng;
   sp.ns = ns;
   sp.smooth_normal = Vec3(smooth_normal);
+  sp.tangent = Vec3(tangent);
   sp.softening = m.normal_map.softening;
   if (m.kind != MaterialKind::Mixture) {
     sp.albedo = m.texture >= 0 ? textures_[m.texture].lookup(Vec2(uv)) * m.base_color : m.base_color;

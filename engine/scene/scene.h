@@ -127,7 +127,7 @@ class Scene {
   SurfacePoint surface_point(const Hit& hit) const;
   // The same from what a hit point keeps (its material's textures looked up at uv).
   SurfacePoint surface_point(uint32_t material, const Vec3& ng, const Vec3& ns, const Vec2f& uv,
-                             const Vec3f& smooth_normal) const;
+                             const Vec3f& smooth_normal, const Vec3f& tangent) const;
   // Is the hit primitive part of a Holdout object (its visibility carries kHoldoutFlag)?
   bool is_holdout(const Hit& hit) const;
   double offset_floor() const { return offset_floor_; }  // see ray_offset()

@@ -105,6 +105,22 @@ int pick(const std::vector<Lobe>& lobes, const double prob[], double u) {
   return last;  // rounding left u past the sum
 }
 
+// A conductor or glossy lobe's parameters at a point: its tangent turned by its rotation about the
+// shading normal (as Cycles turns it, about the unflipped normal).
+ConductorParams conductor_at(const Lobe& l, const SurfacePoint& sp, const Color& color) {
+  ConductorParams p{color, l.tint, l.roughness_at(sp), l.kind == LobeKind::Glossy};
+  if (!l.anisotropic() || sp.tangent == Vec3(0.0)) return p;
+  p.stretch_x = l.stretch_x;
+  p.stretch_y = l.stretch_y;
+  p.tangent = sp.tangent;
+  if (l.rotation != 0.0) {  // Rodrigues' rotation about ns
+    const double angle = 2.0 * kPi * l.rotation, c = std::cos(angle), s = std::sin(angle);
+    const Vec3& k = sp.ns;
+    p.tangent = p.tangent * c + glm::cross(k, p.tangent) * s + k * glm::dot(k, p.tangent) * (1.0 - c);
+  }
+  return p;
+}
+
 Color lobe_eval(const Lobe& l, const SurfacePoint& sp, const Vec3& wo, const Vec3& wi) {
   const Color color = l.color_at(sp);
   switch (l.kind) {
@@ -115,8 +131,8 @@ Color lobe_eval(const Lobe& l, const SurfacePoint& sp, const Vec3& wo, const Vec
     }
     case LobeKind::Translucent: return lambert_eval(color, sp, wo, wi, true);
     case LobeKind::Transparent: return Color(0.0);
-    case LobeKind::Conductor: return conductor_eval({color, l.tint, l.roughness_at(sp)}, sp, wo, wi);
-    case LobeKind::Glossy: return conductor_eval({color, l.tint, l.roughness_at(sp), true}, sp, wo, wi);
+    case LobeKind::Conductor:
+    case LobeKind::Glossy: return conductor_eval(conductor_at(l, sp, color), sp, wo, wi);
     case LobeKind::Dielectric: return dielectric_eval(l.dielectric(sp), sp, wo, wi);
   }
   return Color(0.0);
@@ -133,9 +149,8 @@ bool lobe_sample(const Lobe& l, const SurfacePoint& sp, const Vec3& wo, double u
     }
     case LobeKind::Translucent: return lambert_sample(color, sp, wo, u1, u2, true, out);
     case LobeKind::Transparent: out = BsdfSample{-wo, color, true, 0}; return true;
-    case LobeKind::Conductor: return conductor_sample({color, l.tint, l.roughness_at(sp)}, sp, wo, u1, u2, out);
-    case LobeKind::Glossy:
-      return conductor_sample({color, l.tint, l.roughness_at(sp), true}, sp, wo, u1, u2, out);
+    case LobeKind::Conductor:
+    case LobeKind::Glossy: return conductor_sample(conductor_at(l, sp, color), sp, wo, u1, u2, out);
     case LobeKind::Dielectric: return dielectric_sample(l.dielectric(sp), sp, wo, u1, u2, u3, photon, out);
   }
   return false;

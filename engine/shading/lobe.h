@@ -66,6 +66,10 @@ struct Lobe {
   Color tint{1.0};
   double roughness = 0.0;
   double ior = 1.5;
+  // Anisotropy (conductor and glossy lobes): alpha times stretch_x along the surface's tangent
+  // (SurfacePoint::tangent) turned by `rotation` (a fraction of a turn about the normal), and
+  // stretch_y across it, as the exporter maps Blender's Anisotropy for each node.
+  double stretch_x = 1.0, stretch_y = 1.0, rotation = 0.0;
   InputRef color_input, roughness_input;   // roughness: the input's first channel
   std::array<InputRef, 2> weight_inputs;   // the weight's factors from inputs (textured Mix factors)
   // A layer's directional albedo, multiple scattering included (prepare_lobe): by cos(theta), and
@@ -76,6 +80,7 @@ struct Lobe {
     return roughness_input.used() ? glm::clamp(roughness * roughness_input.apply(sp).x, 0.0, 1.0) : roughness;
   }
   Color color_at(const SurfacePoint& sp) const { return color * color_input.apply(sp); }
+  bool anisotropic() const { return stretch_x != 1.0 || stretch_y != 1.0; }
   Color weight_at(const SurfacePoint& sp) const {
     return weight * weight_inputs[0].apply(sp) * weight_inputs[1].apply(sp);
   }

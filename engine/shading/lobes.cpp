@@ -95,14 +95,23 @@ bool oren_nayar_sample(const OrenNayarParams& p, const SurfacePoint& sp, const V
   return true;
 }
 
+// A conductor's alphas along and across its tangent.
+void conductor_alphas(const ConductorParams& p, double& ax, double& ay) {
+  const double a = alpha_of(p.roughness);
+  const bool anisotropic = p.tangent != Vec3(0.0);
+  ax = std::fmax(a * (anisotropic ? p.stretch_x : 1.0), 1e-4);
+  ay = std::fmax(a * (anisotropic ? p.stretch_y : 1.0), 1e-4);
+}
+
 Color conductor_eval(const ConductorParams& p, const SurfacePoint& sp, const Vec3& wo, const Vec3& wi) {
   if (p.roughness < kSmoothRoughness) return Color(0.0);
-  const LocalFrame f(facing_normal(sp, wo));
+  const LocalFrame f(facing_normal(sp, wo), p.tangent);
   const Vec3 lo = f.to_local(wo), li = f.to_local(wi);
   if (lo.z <= 0.0 || li.z <= 0.0) return Color(0.0);
-  const double a2 = alpha_of(p.roughness) * alpha_of(p.roughness);
+  double ax, ay;
+  conductor_alphas(p, ax, ay);
   const Vec3 h = glm::normalize(lo + li);
-  return reflectance(p, glm::dot(lo, h)) * ggx_d(h, a2) * ggx_g2(lo, li, a2) / (4.0 * lo.z * li.z);
+  return reflectance(p, glm::dot(lo, h)) * ggx_d(h, ax, ay) * ggx_g2(lo, li, ax, ay) / (4.0 * lo.z * li.z);
 }
 
 bool conductor_sample(const ConductorParams& p, const SurfacePoint& sp, const Vec3& wo, double u1, double u2,
@@ -117,17 +126,18 @@ bool conductor_sample(const ConductorParams& p, const SurfacePoint& sp, const Ve
     out.specular = true;
     return true;
   }
-  const LocalFrame f(n);
+  const LocalFrame f(n, p.tangent);
   const Vec3 lo = f.to_local(wo);
   if (lo.z <= 0.0) return false;
-  const double a = std::fmax(alpha_of(p.roughness), 1e-4), a2 = a * a;
-  const Vec3 h = ggx_sample_vndf(lo, a, u1, u2);
+  double ax, ay;
+  conductor_alphas(p, ax, ay);
+  const Vec3 h = ggx_sample_vndf(lo, ax, ay, u1, u2);
   const double oh = glm::dot(lo, h);
   if (oh <= 0.0) return false;
   const Vec3 li = reflect(lo, h);
   if (li.z <= 0.0) return false;
   out.wi = f.to_world(li);
-  out.weight = reflectance(p, oh) * (ggx_g2(lo, li, a2) / ggx_g1(lo, a2));
+  out.weight = reflectance(p, oh) * (ggx_g2(lo, li, ax, ay) / ggx_g1(lo, ax, ay));
   out.specular = false;
   return true;
 }

@@ -31,6 +31,10 @@ struct ConductorParams {
   Color f82;  // the F82 tint
   double roughness;
   bool constant = false;  // reflectance f0 at every angle (Cycles' Glossy BSDF), no Fresnel
+  // Anisotropy: GGX alpha = roughness^2 times stretch_x along `tangent` (projected on the surface)
+  // and stretch_y across it; a zero tangent leaves the lobe isotropic.
+  Vec3 tangent{0.0};
+  double stretch_x = 1.0, stretch_y = 1.0;
 };
 Color conductor_eval(const ConductorParams& p, const SurfacePoint& sp, const Vec3& wo, const Vec3& wi);
 bool conductor_sample(const ConductorParams& p, const SurfacePoint& sp, const Vec3& wo, double u1, double u2,

@@ -66,9 +66,25 @@ inline double ggx_g2(const Vec3& wo, const Vec3& wi, double a2) {
   return 1.0 / (1.0 + ggx_lambda(wo, a2) + ggx_lambda(wi, a2));
 }
 
-// Visible normal sampling (Heitz 2018); wo.z > 0.
-inline Vec3 ggx_sample_vndf(const Vec3& wo, double alpha, double u1, double u2) {
-  const Vec3 vh = glm::normalize(Vec3(alpha * wo.x, alpha * wo.y, wo.z));
+// Anisotropic GGX, alpha_x along the local x axis (the tangent), alpha_y along y.
+inline double ggx_d(const Vec3& h, double ax, double ay) {
+  if (h.z <= 0.0) return 0.0;
+  const double x = h.x / ax, y = h.y / ay, d = x * x + y * y + h.z * h.z;
+  return 1.0 / (kPi * ax * ay * d * d);
+}
+inline double ggx_lambda(const Vec3& w, double ax, double ay) {
+  const double c2 = w.z * w.z;
+  if (c2 <= 0.0) return kInf;
+  return 0.5 * (-1.0 + std::sqrt(1.0 + (ax * ax * w.x * w.x + ay * ay * w.y * w.y) / c2));
+}
+inline double ggx_g1(const Vec3& w, double ax, double ay) { return 1.0 / (1.0 + ggx_lambda(w, ax, ay)); }
+inline double ggx_g2(const Vec3& wo, const Vec3& wi, double ax, double ay) {
+  return 1.0 / (1.0 + ggx_lambda(wo, ax, ay) + ggx_lambda(wi, ax, ay));
+}
+
+// Visible normal sampling (Heitz 2018), anisotropic; wo.z > 0.
+inline Vec3 ggx_sample_vndf(const Vec3& wo, double ax, double ay, double u1, double u2) {
+  const Vec3 vh = glm::normalize(Vec3(ax * wo.x, ay * wo.y, wo.z));
   const double len2 = vh.x * vh.x + vh.y * vh.y;
   const Vec3 t1 = len2 > 0.0 ? Vec3(-vh.y, vh.x, 0.0) / std::sqrt(len2) : Vec3(1.0, 0.0, 0.0);
   const Vec3 t2 = glm::cross(vh, t1);
@@ -78,12 +94,26 @@ inline Vec3 ggx_sample_vndf(const Vec3& wo, double alpha, double u1, double u2) 
   const double s = 0.5 * (1.0 + vh.z);
   p2 = (1.0 - s) * std::sqrt(std::fmax(0.0, 1.0 - p1 * p1)) + s * p2;
   const Vec3 nh = p1 * t1 + p2 * t2 + std::sqrt(std::fmax(0.0, 1.0 - p1 * p1 - p2 * p2)) * vh;
-  return glm::normalize(Vec3(alpha * nh.x, alpha * nh.y, std::fmax(1e-12, nh.z)));
+  return glm::normalize(Vec3(ax * nh.x, ay * nh.y, std::fmax(1e-12, nh.z)));
+}
+inline Vec3 ggx_sample_vndf(const Vec3& wo, double alpha, double u1, double u2) {
+  return ggx_sample_vndf(wo, alpha, alpha, u1, u2);
 }
 
 struct LocalFrame {
   Vec3 t, b, n;
   explicit LocalFrame(const Vec3& normal) : n(normal) { make_basis(normal, t, b); }
+  // With t along `tangent` made orthogonal to the normal (any basis if it is parallel or zero).
+  LocalFrame(const Vec3& normal, const Vec3& tangent) : n(normal) {
+    const Vec3 along = tangent - normal * glm::dot(normal, tangent);
+    const double len = glm::length(along);
+    if (!(len > 1e-9)) {
+      make_basis(normal, t, b);
+      return;
+    }
+    t = along / len;
+    b = glm::cross(normal, t);
+  }
   Vec3 to_local(const Vec3& v) const { return Vec3(glm::dot(v, t), glm::dot(v, b), glm::dot(v, n)); }
   Vec3 to_world(const Vec3& v) const { return v.x * t + v.y * b + v.z * n; }
 };

@@ -20,6 +20,7 @@ struct SurfacePoint {
   // terminator softening measures; NormalMap::Softening); zero without one.
   Vec3 smooth_normal{0.0};
   uint8_t softening = 0;  // a NormalMap::Softening
+  Vec3 tangent{0.0};      // a mesh's tangent (anisotropic lobes); zero: none
   std::array<Vec3f, kMaxInputs> inputs{};  // a mixture's inputs here (Material::inputs; lobe.h's InputRef)
 };
 

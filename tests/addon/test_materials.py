@@ -343,7 +343,7 @@ def test_a_normal_map_image_becomes_the_materials_normal_map_and_its_meshes_get_
     bpy.ops.mesh.primitive_uv_sphere_add(segments=16, ring_count=8)
     ball = bpy.context.object
     ball.data.materials.append(mat)
-    data = mesh.MeshData.from_object(ball.evaluated_get(bpy.context.evaluated_depsgraph_get()), tangents=True)
+    data = mesh.MeshData.from_object(ball.evaluated_get(bpy.context.evaluated_depsgraph_get()), "uv")
     assert data.tangents is not None and data.tangents.shape == (len(data.triangles), 3, 4)
     tangents = data.tangents[..., :3].reshape(-1, 3)
     assert np.allclose(np.linalg.norm(tangents, axis=1), 1.0, atol=1e-3)
@@ -361,7 +361,7 @@ def test_an_ngon_mesh_gets_tangents_close_to_blenders():
     # them for (quads), agree with MikkTSpace's within a few degrees (it weights by corner angle).
     bpy.ops.mesh.primitive_uv_sphere_add(segments=24, ring_count=12)
     ball = bpy.context.object
-    data = mesh.MeshData.from_object(ball.evaluated_get(bpy.context.evaluated_depsgraph_get()), tangents=True)
+    data = mesh.MeshData.from_object(ball.evaluated_get(bpy.context.evaluated_depsgraph_get()), "uv")
     ours = mesh.triangle_tangents(data.positions, data.triangles, data.normals, data.uvs)
     agree = np.sum(ours[..., :3] * data.tangents[..., :3], axis=2)
     assert np.median(agree) > 0.99 and agree.min() > 0.9, (np.median(agree), agree.min())
@@ -371,6 +371,31 @@ def test_an_ngon_mesh_gets_tangents_close_to_blenders():
     bpy.ops.object.mode_set(mode="EDIT")
     bpy.ops.uv.smart_project()
     bpy.ops.object.mode_set(mode="OBJECT")
-    data = mesh.MeshData.from_object(disc.evaluated_get(bpy.context.evaluated_depsgraph_get()), tangents=True)
+    data = mesh.MeshData.from_object(disc.evaluated_get(bpy.context.evaluated_depsgraph_get()), "uv")
     assert data.tangents is not None and not data.tangents_missing
     assert np.isfinite(data.tangents).all()
+
+
+def test_anisotropy_stretches_the_metal_along_cycles_default_radial_tangent():
+    mat, tree, out = node_material("brushed")
+    bsdf = add(tree, "ShaderNodeBsdfPrincipled", Metallic=1.0, Roughness=0.3, Anisotropic=0.9,
+               **{"Anisotropic Rotation": 0.25})
+    tree.links.new(bsdf.outputs[0], out.inputs["Surface"])
+    exporter = material_export.MaterialExporter(ppm_core.Scene(), [].append)
+    index = exporter.index(mat)
+    (metal,) = exporter.describe(mat)["lobes"]
+    aspect = (1.0 - 0.9 * 0.9) ** 0.5
+    assert metal["stretch"] == pytest.approx((1.0 / aspect, aspect)) and metal["rotation"] == pytest.approx(0.25)
+    assert exporter.tangents[index] == "radial_z"
+    bpy.ops.mesh.primitive_uv_sphere_add(segments=16, ring_count=8, location=(5.0, 0.0, 0.0))
+    ball = bpy.context.object
+    data = mesh.MeshData.from_object(ball.evaluated_get(bpy.context.evaluated_depsgraph_get()), "radial_z")
+    corners = data.positions[data.triangles].reshape(-1, 3)
+    tangents = data.tangents[..., :3].reshape(-1, 3)
+    # About the object's own Z axis: horizontal and perpendicular to the corner's radius.
+    assert np.abs(tangents[:, 2]).max() < 1e-6
+    assert np.abs(np.sum(tangents[:, :2] * corners[:, :2], axis=1)).max() < 1e-5
+    glossy = add(tree, "ShaderNodeBsdfAnisotropic", Anisotropy=-0.5)
+    tree.links.new(glossy.outputs[0], out.inputs["Surface"])
+    (lobe,) = describe(mat)[0]["lobes"]
+    assert lobe["kind"] == "glossy" and lobe["stretch"] == pytest.approx((2.0, 0.5))

@@ -232,6 +232,10 @@ MATERIALS = {
                                            "Alpha": (CHECKER_COLOURS, "Alpha")}),
     "textured_mix_factor": textured_mix,
     "normal_mapped": normal_mapped,
+    "glossy_anisotropic": shader("ShaderNodeBsdfAnisotropic", Color=rgba(0.9, 0.8, 0.6), Roughness=0.4,
+                                 Anisotropy=0.8),
+    "principled_brushed": principled(**{"Base Color": rgba(0.9, 0.9, 0.9), "Metallic": 1.0, "Roughness": 0.35,
+                                        "Anisotropic": 0.9, "Anisotropic Rotation": 0.15}),
 }
 
 # Documented approximations: measured and reported, not held to the tolerance.

@@ -154,6 +154,34 @@ TEST(Closure, BumpShadowingSoftensDiffuseLightTowardsTheSmoothTerminator) {
   EXPECT_EQ(closure_eval(glossy, sp, mirror, below).x, 0.0);
 }
 
+TEST(Closure, AnisotropicGlossyStretchesAlongItsTangentAndSamplesAsItEvaluates) {
+  SurfacePoint sp = kFlat;
+  sp.tangent = Vec3(1, 0, 0.3);  // not in the surface: projected onto it
+  Lobe brushed = lobe(LobeKind::Conductor, Color(1.0), Color(0.9, 0.7, 0.5), 0.4);
+  brushed.stretch_x = 1.0 / std::sqrt(0.1);  // Principled, Anisotropic 1: aspect sqrt(1 - 0.9)
+  brushed.stretch_y = std::sqrt(0.1);
+  const Vec3 wo = direction(0.7, 0.0);
+  const Vec3 mirror(-wo.x, -wo.y, wo.z);
+  // Off the mirror direction by the same angle along the tangent (x) and across it (y).
+  const Vec3 along = glm::normalize(mirror + Vec3(0.2, 0.0, 0.0)), across = glm::normalize(mirror + Vec3(0.0, 0.2, 0.0));
+  EXPECT_GT(closure_eval({brushed}, sp, wo, along).x, 3.0 * closure_eval({brushed}, sp, wo, across).x);
+  brushed.rotation = 0.25;  // a quarter turn: the tangent along y
+  EXPECT_LT(closure_eval({brushed}, sp, wo, along).x, closure_eval({brushed}, sp, wo, across).x / 3.0);
+  for (double cos_o : {0.9, 0.4}) {
+    expect_sampling_matches_eval({brushed}, direction(cos_o, 0.3), false, 0.01, sp);
+    expect_sampling_matches_eval({brushed}, direction(cos_o, 0.3), true, 0.01, sp);
+  }
+  Rng rng(3, 3, 3);
+  for (int i = 0; i < 50; ++i) {
+    const Vec3 a = direction(0.05 + 0.95 * rng.uniform(), 6.28 * rng.uniform());
+    const Vec3 b = direction(0.05 + 0.95 * rng.uniform(), 6.28 * rng.uniform());
+    EXPECT_NEAR(closure_eval({brushed}, sp, a, b).x, closure_eval({brushed}, sp, b, a).x, 1e-9);
+  }
+  // Without a tangent (not a mesh with one) it stays isotropic.
+  Lobe round = lobe(LobeKind::Conductor, Color(1.0), Color(0.9, 0.7, 0.5), 0.4);
+  EXPECT_NEAR(closure_eval({brushed}, kFlat, wo, along).x, closure_eval({round}, kFlat, wo, along).x, 1e-12);
+}
+
 TEST(Closure, WhiteLosslessMixturesLoseNothing) {
   Lobe glass = lobe(LobeKind::Dielectric, Color(0.3), Color(1.0));
   glass.tint = Color(1.0);

@@ -59,11 +59,13 @@ class Exporter:
                tuple(s.material.name if s.material else "" for s in obj.material_slots))
         slots = self.slot_materials(obj)
         if key not in self.meshes:
-            tangents = any(index in self.materials.tangent_mapped for index in slots)
-            self.meshes[key] = mesh.MeshData.from_object(obj, tangents)
+            kinds = sorted({self.materials.tangents[i] for i in slots if i in self.materials.tangents})
+            if len(kinds) > 1:
+                self.skip(obj, f"its materials need different tangents ({', '.join(kinds)}); using {kinds[-1]}")
+            self.meshes[key] = mesh.MeshData.from_object(obj, kinds[-1] if kinds else None)
             if self.meshes[key] is not None and self.meshes[key].tangents_missing:
-                self.skip(obj, "its normal map needs a UV map of triangles and quads (Blender computes no "
-                               "tangents for n-gons); rendered without it")
+                self.skip(obj, "its normal map or anisotropy needs UV tangents, but it has no UV map; "
+                               "rendered without them")
         data = self.meshes[key]
         if data is not None:
             dropped = data.add_to_scene(self.scene, item, slots)

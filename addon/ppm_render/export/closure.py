@@ -57,6 +57,7 @@ class Closure:
     inputs: list = field(default_factory=list)
     normal_map: dict = None  # for Scene.add_material(normal_map=...): input, strength, space
     unmapped: bool = False  # a shader without the normal map (it applies to all of them)
+    tangents: str = None  # what the meshes' tangents must be: "uv", or "radial_x" / "_y" / "_z" (generated)
 
     def add(self, weight, **lobe):
         if weight.peak() > CUTOFF:
@@ -206,6 +207,35 @@ class ClosureReader:
             return w * 0.5, w * 0.5
         return w.times_input(index, "complement"), w.times_input(index, "fraction")
 
+    def use_tangents(self, kind, node):
+        """Notes the tangents the material's meshes need (one kind per material)."""
+        if self.out.tangents is None:
+            self.out.tangents = kind
+        elif self.out.tangents != kind:
+            self.warn(node, f"a second kind of tangent ({kind}) in one material is not supported; using "
+                            f"{self.out.tangents}")
+
+    def anisotropy(self, node, ctx, anisotropy, rotation, stretch):
+        """{stretch, rotation} for a lobe of `node`, its tangent noted (the Tangent socket: a Tangent
+        node, or unlinked, Cycles' default, radial about Z); {} when isotropic. `stretch` maps the
+        node's Anisotropy to (along, across) the tangent."""
+        value = self.value(node, anisotropy, ctx, 0.0)
+        if abs(value) <= 1e-4 or node.inputs.get(anisotropy) is None:
+            return {}
+        kind = "radial_z"
+        socket = node.inputs.get("Tangent")
+        out, _, _ = self.source(socket, ctx) if socket is not None else (None, None, None)
+        if out is not None and out.node.bl_idname == "ShaderNodeTangent":
+            tangent = out.node
+            kind = "uv" if tangent.direction_type == "UV_MAP" else "radial_" + tangent.axis.lower()
+            if kind == "uv" and tangent.uv_map:
+                self.warn(tangent, f"tangents come from the mesh's active UV map, not '{tangent.uv_map}'")
+        elif out is not None:
+            self.warn(node, f"'Tangent' is driven by '{out.node.name}' ({out.node.bl_idname}), which is not "
+                            "supported; using the default radial tangent")
+        self.use_tangents(kind, node)
+        return {"stretch": stretch(value), "rotation": self.value(node, rotation, ctx, 0.0)}
+
     # ------------------------------------------------------------ closures
 
     def closure(self, socket, ctx, weight):
@@ -253,6 +283,8 @@ class ClosureReader:
             self.warn(source, f"tangents come from the mesh's active UV map, not '{source.uv_map}'")
         mapping = {"input": index, "strength": self.value(source, "Strength", inner, 1.0),
                    "space": source.space.lower(), "softening": BUMP_SOFTENING}
+        if source.space == "TANGENT":
+            self.use_tangents("uv", source)
         if self.out.normal_map is None:
             self.out.normal_map = mapping
         elif self.out.normal_map != mapping:
@@ -345,13 +377,24 @@ def _transparent(reader, node, ctx, w):
     reader.out.add(w, kind="transparent", color=tuple(reader.value(node, "Color", ctx, 1.0, color=True)))
 
 
+def glossy_stretch(anisotropy):
+    """Cycles' Glossy (and 3.x Anisotropic) BSDF: alpha along and across the tangent."""
+    a = min(max(anisotropy, -0.99), 0.99)
+    return (1.0 - a, 1.0 / (1.0 - a)) if a >= 0.0 else (1.0 / (1.0 + a), 1.0 + a)
+
+
+def metal_stretch(anisotropy):
+    """Cycles' Metallic and Principled BSDFs: alpha / aspect along the tangent, times aspect across."""
+    aspect = math.sqrt(1.0 - min(max(anisotropy, 0.0), 1.0) * 0.9)
+    return (1.0 / aspect, aspect)
+
+
 def _glossy(reader, node, ctx, w):
     color, index = reader.color(node, "Color", ctx, (1.0, 1.0, 1.0))
-    if reader.value(node, "Anisotropy", ctx, 0.0) != 0.0 or reader.value(node, "Anisotropic", ctx, 0.0) != 0.0:
-        reader.warn(node, "anisotropy is not supported yet; rendered isotropic")
     roughness, roughness_input = _roughness(reader, node, ctx)
     reader.out.add(w, kind="glossy", color=tuple(color), color_input=index, multiscatter=_multiscatter(node),
-                   roughness=roughness, roughness_input=roughness_input)
+                   roughness=roughness, roughness_input=roughness_input,
+                   **reader.anisotropy(node, ctx, "Anisotropy", "Rotation", glossy_stretch))
 
 
 def _metallic(reader, node, ctx, w):
@@ -363,7 +406,8 @@ def _metallic(reader, node, ctx, w):
     roughness, roughness_input = _roughness(reader, node, ctx)
     reader.out.add(w, kind="conductor", color=tuple(np.clip(color, 0.0, 1.0)), tint=tuple(np.clip(tint, 0.0, 1.0)),
                    color_input=index, multiscatter=_multiscatter(node), roughness=roughness,
-                   roughness_input=roughness_input)
+                   roughness_input=roughness_input,
+                   **reader.anisotropy(node, ctx, "Anisotropy", "Rotation", metal_stretch))
 
 
 def _glass(reader, node, ctx, w, parts="both"):
@@ -441,8 +485,7 @@ def principled_v2(reader, node, ctx, w):
     w = _alpha(reader, node, ctx, w)
     if v("Sheen Weight") > CUTOFF:
         reader.warn(node, "sheen is not supported yet; left out")
-    if v("Anisotropic") > 0.0:
-        reader.warn(node, "anisotropy is not supported yet; rendered isotropic")
+    anisotropic = reader.anisotropy(node, ctx, "Anisotropic", "Anisotropic Rotation", metal_stretch)
     coat = max(v("Coat Weight"), 0.0)
     if coat > CUTOFF:
         coat_roughness, coat_input = _roughness(reader, node, ctx, "Coat Roughness", 0.03)
@@ -458,8 +501,10 @@ def principled_v2(reader, node, ctx, w):
     if w_metal.peak() > CUTOFF:
         f82 = np.clip(reader.value(node, "Specular Tint", ctx, 1.0, color=True), 0.0, 1.0)
         reader.out.add(w_metal, kind="conductor", color=tuple(np.clip(base, 0.0, 1.0)), tint=tuple(f82),
-                       color_input=base_input, multiscatter=_multiscatter(node), **rough)
+                       color_input=base_input, multiscatter=_multiscatter(node), **rough, **anisotropic)
     w = w_rest
+    if anisotropic and w.peak() > CUTOFF:
+        reader.warn(node, "anisotropy applies to the metal only; the dielectric specular stays isotropic")
     ior = max(v("IOR", 1.5), 1e-5)
     specular_tint = np.clip(reader.value(node, "Specular Tint", ctx, 1.0, color=True), 0.0, None)
     w_opaque, w_transmission = reader.split(w, node, "Transmission Weight", ctx, 0.0)
@@ -476,10 +521,10 @@ def principled_v2(reader, node, ctx, w):
     if v("Subsurface Weight") > CUTOFF:
         reader.warn(node, "subsurface scattering is rendered as diffuse in the base colour")
     diffuse_roughness, diffuse_input = _roughness(reader, node, ctx, "Diffuse Roughness", 0.0)
-    rough = diffuse_roughness >= 1e-5 or diffuse_input is not None  # where Cycles switches to Oren-Nayar
+    oren_nayar = diffuse_roughness >= 1e-5 or diffuse_input is not None  # where Cycles switches to it
     reader.out.add(w, kind="diffuse", color=tuple(base), color_input=base_input,
-                   roughness=diffuse_roughness if rough else None, roughness_input=diffuse_input,
-                   multiscatter=True if rough else None)
+                   roughness=diffuse_roughness if oren_nayar else None, roughness_input=diffuse_input,
+                   multiscatter=True if oren_nayar else None)
 
 
 def principled_v1(reader, node, ctx, w):
@@ -496,8 +541,9 @@ def principled_v1(reader, node, ctx, w):
     w = _alpha(reader, node, ctx, w)
     if v("Sheen") > CUTOFF:
         reader.warn(node, "sheen is not supported yet; left out")
+    specular = {**rough, **reader.anisotropy(node, ctx, "Anisotropic", "Anisotropic Rotation", metal_stretch)}
     if v("Transmission") <= 0.0 and (base_input is not None or _has_image(reader, node, "Metallic", ctx)):
-        _principled_v1_opaque_textured(reader, node, ctx, w, base, base_input, rough)
+        _principled_v1_opaque_textured(reader, node, ctx, w, base, base_input, specular)
         return
     metallic = min(max(v("Metallic"), 0.0), 1.0)
     diffuse = (1.0 - metallic) * (1.0 - min(max(v("Transmission"), 0.0), 1.0))
@@ -514,7 +560,7 @@ def principled_v1(reader, node, ctx, w):
     dielectric_f0 = 0.08 * max(v("Specular", 0.5), 0.0) * (1.0 - tint + tint * hue)
     f0 = (1.0 - metallic) * dielectric_f0 + metallic * np.clip(base, 0.0, 1.0)
     reader.out.add(w * (1.0 - transmission), kind="conductor", color=tuple(np.clip(f0, 0.0, 1.0)),
-                   multiscatter=_multiscatter(node), **rough)
+                   multiscatter=_multiscatter(node), **specular)
     if transmission > CUTOFF:
         reader.out.add(w * transmission, kind="dielectric", color=tuple(base), tint=(1.0, 1.0, 1.0),
                        color_input=base_input, ior=max(v("IOR", 1.45), 1e-5), **rough)
@@ -530,7 +576,7 @@ def _has_image(reader, node, name, ctx):
     return out is not None and out.node.bl_idname == "ShaderNodeTexImage" and out.node.image is not None
 
 
-def _principled_v1_opaque_textured(reader, node, ctx, w, base, base_input, rough):
+def _principled_v1_opaque_textured(reader, node, ctx, w, base, base_input, specular):
     """principled_v1 without transmission, Base Color or Metallic from images: the specular F0,
     (1 - metallic) dielectric F0 + metallic base colour, is split into two lobes of those F0s (Schlick's
     Fresnel is linear in F0, so the sum is Cycles' one lobe)."""
@@ -544,9 +590,9 @@ def _principled_v1_opaque_textured(reader, node, ctx, w, base, base_input, rough
     dielectric_f0 = 0.08 * max(v("Specular", 0.5), 0.0) * (1.0 - tint + tint * hue)
     reader.out.add(w_dielectric, kind="diffuse", color=tuple(base), color_input=base_input)
     reader.out.add(w_dielectric, kind="conductor", color=tuple(np.clip(dielectric_f0, 0.0, 1.0)),
-                   multiscatter=_multiscatter(node), **rough)
+                   multiscatter=_multiscatter(node), **specular)
     reader.out.add(w_metal, kind="conductor", color=tuple(np.clip(base, 0.0, 1.0)), color_input=base_input,
-                   multiscatter=_multiscatter(node), **rough)
+                   multiscatter=_multiscatter(node), **specular)
     clearcoat = max(v("Clearcoat"), 0.0)
     if clearcoat > CUTOFF:
         coat_roughness, coat_input = _roughness(reader, node, ctx, "Clearcoat Roughness", 0.03)

@@ -30,7 +30,8 @@ class MaterialExporter:
         self.textures = {}
         self.default = None
         self.non_emissive = {}
-        self.tangent_mapped = set()  # core materials with a tangent-space normal map: their meshes need tangents
+        self.tangents = {}  # core material -> the tangents its meshes need ("uv", "radial_z", ...)
+        self.needed_tangents = None  # those of the material describe() read last
 
     def index(self, material):
         """Core material index for a Blender material (None = default grey)."""
@@ -42,8 +43,8 @@ class MaterialExporter:
         if key not in self.indices:
             params = self.in_range(self.describe(material), material.name)
             self.indices[key] = self.scene.add_material(material.name, **params)
-            if params.get("normal_map", {}).get("space") == "tangent":
-                self.tangent_mapped.add(self.indices[key])
+            if self.needed_tangents:
+                self.tangents[self.indices[key]] = self.needed_tangents
             if any(c > 0.0 for c in params.get("emission", (0, 0, 0))):
                 self.emissive.add(self.indices[key])
                 self.non_emissive[self.indices[key]] = {**params, "emission": (0.0, 0.0, 0.0)}
@@ -73,6 +74,7 @@ class MaterialExporter:
     def describe(self, material):
         """Keyword arguments for Scene.add_material."""
         read = closure.read_surface(material, self.warn)
+        self.needed_tangents = read.tangents if read is not None else None
         if read is None:
             return {"kind": "diffuse", "base_color": tuple(material.diffuse_color)[:3]}
         inputs = self.closure_inputs(material, read)

@@ -68,12 +68,14 @@ class MeshData:
         self.uvs = uvs                  # (T, 3, 2) per-corner or None
         self.slots = slots              # (T,) material slot index
         self.tangents = tangents        # (T, 3, 4) per-corner tangent and bitangent sign, or None
-        self.tangents_missing = False   # asked for, but the mesh has no UV map or n-gons Blender cannot do
+        self.tangents_missing = False   # asked for, but the mesh has no UV map
+        self.tangents_radial = False    # generated-coordinate tangents: carried as normals are
 
     @classmethod
-    def from_object(cls, obj, tangents=False):
+    def from_object(cls, obj, tangents=None):
         """Reads `obj`'s evaluated mesh (modifiers applied); None if it has no triangles. `tangents`:
-        also the UV map's tangents (for tangent-space normal maps)."""
+        also its tangents, "uv" (the UV map's, for normal maps and UV tangents) or "radial_x", "_y",
+        "_z" (about that axis of its generated coordinates, Cycles' default for anisotropy)."""
         mesh = obj.to_mesh()
         try:
             if mesh is None:
@@ -90,7 +92,10 @@ class MeshData:
             normals = _corner_normals(mesh)[loops]
             uvs = _corner_uvs(mesh)
             data = cls(positions, triangles, normals, None if uvs is None else uvs[loops], slots)
-            if tangents:
+            if tangents and tangents.startswith("radial_"):
+                data.tangents = radial_tangents(mesh, positions, triangles, tangents[-1])
+                data.tangents_radial = True
+            elif tangents:
                 corner_tangents = _corner_tangents(mesh)
                 if corner_tangents is not None:
                     data.tangents = corner_tangents[loops]
@@ -131,9 +136,22 @@ class MeshData:
         materials = np.asarray(material_indices, dtype=np.int64)[slots]
         core_scene.add_mesh(item.name, positions, triangles, normals=normals.reshape(-1, 3, 3),
                             uvs=uvs, materials=materials, object_id=item.object_id,
-                            tangents=None if tangents is None else world_tangents(tangents, m[:3, :3]),
+                            tangents=None if tangents is None else world_tangents(
+                                tangents, normal_matrix(m[:3, :3]) if self.tangents_radial else m[:3, :3]),
                             **visibility.object_flags(item.obj))
         return len(self.triangles) - kept
+
+
+def radial_tangents(mesh, positions, triangles, axis):
+    """(T, 3, 4) tangents about `axis` of the generated coordinates (the mesh's texture space mapped
+    to [0, 1]), as Cycles' Tangent node in Radial mode: around Z, (-(y - 1/2), x - 1/2, 0)."""
+    location = np.asarray(getattr(mesh, "texspace_location", (0.0, 0.0, 0.0)), dtype=np.float64)
+    size = np.asarray(getattr(mesh, "texspace_size", (1.0, 1.0, 1.0)), dtype=np.float64)
+    g = (positions - location) / np.where(np.abs(size) > 1e-30, 2.0 * size, 1.0)  # generated - 1/2
+    zero = np.zeros(len(g))
+    columns = {"x": (zero, -g[:, 2], g[:, 1]), "y": (-g[:, 2], zero, g[:, 0]), "z": (-g[:, 1], g[:, 0], zero)}
+    per_vertex = np.stack(columns[axis] + (np.ones(len(g)),), axis=1)
+    return per_vertex[triangles].astype(np.float32)
 
 
 def triangle_tangents(positions, triangles, normals, uvs):
