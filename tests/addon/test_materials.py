@@ -399,3 +399,20 @@ def test_anisotropy_stretches_the_metal_along_cycles_default_radial_tangent():
     tree.links.new(glossy.outputs[0], out.inputs["Surface"])
     (lobe,) = describe(mat)[0]["lobes"]
     assert lobe["kind"] == "glossy" and lobe["stretch"] == pytest.approx((2.0, 0.5))
+
+
+def test_a_physical_conductor_becomes_the_f82_model_through_its_fresnel():
+    from ppm_render.export import closure
+    gold_n, gold_k = np.array([0.18, 0.42, 1.37]), np.array([3.42, 2.35, 1.77])
+    f0, tint = closure.f82_from_physical(gold_n, gold_k)
+
+    def f82_model(mu):  # Hoffman's F82-tint model, as the core evaluates it
+        schlick = f0 + (1.0 - f0) * (1.0 - mu) ** 5
+        b = (f0 + (1.0 - f0) * (6.0 / 7.0) ** 5) * (1.0 - tint) / ((1.0 / 7.0) * (6.0 / 7.0) ** 6)
+        return schlick - b * mu * (1.0 - mu) ** 6
+
+    for mu in (1.0, 1.0 / 7.0):
+        assert f82_model(mu) == pytest.approx(closure.conductor_fresnel(mu, gold_n, gold_k), rel=1e-9)
+    for mu in np.linspace(0.05, 1.0, 20):
+        assert f82_model(mu) == pytest.approx(closure.conductor_fresnel(mu, gold_n, gold_k), abs=0.025)
+    assert f0 == pytest.approx((0.944, 0.776, 0.373), abs=0.01)  # gold's familiar colour

@@ -175,6 +175,22 @@ def normal_mapped(tree, out):
     tree.links.new(normal_map.outputs["Normal"], bsdf.inputs["Normal"])
 
 
+def physical_gold(tree, out):
+    """The Metallic BSDF (Blender 4+) as a physical conductor of gold's complex index; 3.x has no
+    Metallic BSDF: there, the same Fresnel as a Glossy BSDF would not test the mode, so a Principled
+    metal of gold's colour stands in."""
+    if not V4:
+        principled(**{"Base Color": rgba(1.0, 0.78, 0.34), "Metallic": 1.0, "Roughness": 0.3})(tree, out)
+        return
+    metal = tree.nodes.new("ShaderNodeBsdfMetallic")
+    metal.fresnel_type = "PHYSICAL_CONDUCTOR"
+    metal.inputs["Roughness"].default_value = 0.3
+    for name, value in (("IOR", (0.18, 0.42, 1.37)), ("Extinction", (3.42, 2.35, 1.77))):
+        socket = next(s for s in metal.inputs if s.name == name)
+        socket.default_value = value
+    link(tree, metal, out.inputs["Surface"])
+
+
 ROUGHNESS_BANDS = lambda: bands("roughness_bands", [0.1, 0.6, 0.3, 0.8] * 2)  # noqa: E731
 METAL_BANDS = lambda: bands("metal_bands", [0.0, 1.0] * 4)  # noqa: E731
 CHECKER_COLOURS = lambda: bands("colour_bands", [(0.8, 0.2, 0.1), (0.1, 0.5, 0.8)] * 4,  # noqa: E731
@@ -234,6 +250,7 @@ MATERIALS = {
     "normal_mapped": normal_mapped,
     "glossy_anisotropic": shader("ShaderNodeBsdfAnisotropic", Color=rgba(0.9, 0.8, 0.6), Roughness=0.4,
                                  Anisotropy=0.8),
+    "metallic_physical_gold": lambda tree, out: physical_gold(tree, out),
     "principled_brushed": principled(**{"Base Color": rgba(0.9, 0.9, 0.9), "Metallic": 1.0, "Roughness": 0.35,
                                         "Anisotropic": 0.9, "Anisotropic Rotation": 0.15}),
 }

@@ -397,12 +397,37 @@ def _glossy(reader, node, ctx, w):
                    **reader.anisotropy(node, ctx, "Anisotropy", "Rotation", glossy_stretch))
 
 
+def conductor_fresnel(cos_theta, n, k):
+    """The exact Fresnel reflectance of a conductor of complex index n + ik (unpolarised), per channel."""
+    c2 = cos_theta * cos_theta
+    s2 = 1.0 - c2
+    t0 = n * n - k * k - s2
+    a2b2 = np.sqrt(t0 * t0 + 4.0 * n * n * k * k)
+    a = np.sqrt(np.maximum(0.5 * (a2b2 + t0), 0.0))
+    t1, t2 = a2b2 + c2, 2.0 * cos_theta * a
+    rs = (t1 - t2) / (t1 + t2)
+    t3, t4 = c2 * a2b2 + s2 * s2, t2 * s2
+    return 0.5 * (rs + rs * (t3 - t4) / (t3 + t4))
+
+
+def f82_from_physical(n, k):
+    """(F0, F82 tint) of the F82-tint model through a conductor's exact Fresnel at 0 and 82 degrees (cos
+    1/7), the fit Cycles itself uses for the conductor's multiple-scattering energy. Cycles renders
+    the exact Fresnel; the model stays within 0.025 of it at every angle for gold (test_materials)."""
+    n, k = np.maximum(n, 1e-5), np.maximum(k, 0.0)
+    f0 = np.clip(conductor_fresnel(1.0, n, k), 0.0, 1.0)
+    schlick_82 = f0 + (1.0 - f0) * (1.0 - 1.0 / 7.0) ** 5
+    return f0, np.clip(conductor_fresnel(1.0 / 7.0, n, k) / schlick_82, 0.0, 1.0)
+
+
 def _metallic(reader, node, ctx, w):
-    if getattr(node, "fresnel_type", "F82") != "F82":
-        reader.warn(node, "the physical conductor (IOR and extinction) is not supported yet; using Base Color "
-                          "and Edge Tint")
-    color, index = reader.color(node, "Base Color", ctx)
-    tint = reader.value(node, "Edge Tint", ctx, 1.0, color=True)
+    if getattr(node, "fresnel_type", "F82") == "PHYSICAL_CONDUCTOR":
+        color, tint = f82_from_physical(reader.value(node, "IOR", ctx, 1.0, color=True),
+                                        reader.value(node, "Extinction", ctx, 0.0, color=True))
+        index = None
+    else:
+        color, index = reader.color(node, "Base Color", ctx)
+        tint = reader.value(node, "Edge Tint", ctx, 1.0, color=True)
     roughness, roughness_input = _roughness(reader, node, ctx)
     reader.out.add(w, kind="conductor", color=tuple(np.clip(color, 0.0, 1.0)), tint=tuple(np.clip(tint, 0.0, 1.0)),
                    color_input=index, multiscatter=_multiscatter(node), roughness=roughness,
