@@ -12,6 +12,13 @@ inline Vec3 sample_cosine_hemisphere(double u1, double u2) {
   return Vec3(r * std::cos(phi), r * std::sin(phi), std::sqrt(max_ignoring_nan(0.0, 1.0 - u1)));
 }
 
+// Uniform on the hemisphere around +Z; pdf = 1/(2 pi).
+inline Vec3 sample_uniform_hemisphere(double u1, double u2) {
+  const double z = u1;
+  const double r = std::sqrt(max_ignoring_nan(0.0, 1.0 - z * z)), phi = 2.0 * kPi * u2;
+  return Vec3(r * std::cos(phi), r * std::sin(phi), z);
+}
+
 // Uniform on the unit sphere; pdf = 1/(4 pi).
 inline Vec3 sample_uniform_sphere(double u1, double u2) {
   const double z = 1.0 - 2.0 * u1;

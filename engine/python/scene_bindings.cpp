@@ -64,7 +64,9 @@ ParsedLobe lobe_from(const py::handle& item, const std::string& what) {
                              {"transparent", LobeKind::Transparent},
                              {"conductor", LobeKind::Conductor},
                              {"glossy", LobeKind::Glossy},
-                             {"dielectric", LobeKind::Dielectric}},
+                             {"dielectric", LobeKind::Dielectric},
+                             {"velvet", LobeKind::Velvet},
+                             {"schlick_sheen", LobeKind::SchlickSheen}},
                             what, "lobe kind");
   if (d.contains("weight")) l.weight = color(d["weight"], what, "lobe weight");
   if (d.contains("color")) l.color = color(d["color"], what, "lobe color");

@@ -30,7 +30,7 @@ inline uint8_t scattering_ray_kind(const Material& m) {
   if (m.kind == MaterialKind::Diffuse) return kDiffuseRay;
   if (m.kind == MaterialKind::Mixture)
     for (const Lobe& l : m.lobes)
-      if (l.diffuse()) return kDiffuseRay;
+      if (l.diffuse() || l.sheen()) return kDiffuseRay;
   return kGlossyRay;
 }
 

@@ -134,6 +134,8 @@ Color lobe_eval(const Lobe& l, const SurfacePoint& sp, const Vec3& wo, const Vec
     case LobeKind::Conductor:
     case LobeKind::Glossy: return conductor_eval(conductor_at(l, sp, color), sp, wo, wi);
     case LobeKind::Dielectric: return dielectric_eval(l.dielectric(sp), sp, wo, wi);
+    case LobeKind::Velvet: return velvet_eval(color, l.roughness_at(sp), sp, wo, wi);
+    case LobeKind::SchlickSheen: return schlick_sheen_eval(color, sp, wo, wi);
   }
   return Color(0.0);
 }
@@ -152,6 +154,8 @@ bool lobe_sample(const Lobe& l, const SurfacePoint& sp, const Vec3& wo, double u
     case LobeKind::Conductor:
     case LobeKind::Glossy: return conductor_sample(conductor_at(l, sp, color), sp, wo, u1, u2, out);
     case LobeKind::Dielectric: return dielectric_sample(l.dielectric(sp), sp, wo, u1, u2, u3, photon, out);
+    case LobeKind::Velvet: return velvet_sample(color, l.roughness_at(sp), sp, wo, u1, u2, out);
+    case LobeKind::SchlickSheen: return schlick_sheen_sample(color, sp, wo, u1, u2, out);
   }
   return false;
 }

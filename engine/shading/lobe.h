@@ -19,6 +19,8 @@ enum class LobeKind : uint8_t {
   Glossy,       // GGX (a mirror when smooth) reflecting `color` at every angle (Cycles' Glossy BSDF)
   Dielectric,   // GGX (smooth: delta) with the Fresnel of `ior`: `parts` of it, reflection tinted by
                 // `tint`, refraction by `color`; refraction alone has no Fresnel (Cycles' Refraction BSDF)
+  Velvet,       // Ashikhmin's velvet sheen of `color`, sigma = `roughness` (lobes.h)
+  SchlickSheen, // the 3.x Principled BSDF's sheen, `color` (1 - l.h)^5
 };
 
 constexpr int kMaxLobes = 8;
@@ -89,7 +91,10 @@ struct Lobe {
   }
 
   bool diffuse() const { return kind == LobeKind::Diffuse || kind == LobeKind::Translucent; }
-  bool microfacet() const { return !diffuse() && kind != LobeKind::Transparent; }
+  bool sheen() const { return kind == LobeKind::Velvet || kind == LobeKind::SchlickSheen; }
+  bool microfacet() const {
+    return kind == LobeKind::Conductor || kind == LobeKind::Glossy || kind == LobeKind::Dielectric;
+  }
   bool delta_at(double r) const { return kind == LobeKind::Transparent || (microfacet() && r < kSmoothRoughness); }
   // Followed by eye paths rather than stored in a hit point: delta lobes, and glossy ones too narrow
   // for a photon density estimate to resolve (see kFollowedRoughness). With a textured roughness

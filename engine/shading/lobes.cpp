@@ -95,6 +95,46 @@ bool oren_nayar_sample(const OrenNayarParams& p, const SurfacePoint& sp, const V
   return true;
 }
 
+Color velvet_eval(const Color& color, double sigma, const SurfacePoint& sp, const Vec3& wo, const Vec3& wi) {
+  if (glm::dot(wo, sp.ng) * glm::dot(wi, sp.ng) <= 0.0) return Color(0.0);
+  const Vec3 n = facing_normal(sp, wo);
+  const double cos_o = glm::dot(n, wo), cos_i = glm::dot(n, wi);
+  if (!(cos_o > 0.0 && cos_i > 0.0)) return Color(0.0);
+  const Vec3 h = glm::normalize(wo + wi);
+  const double cos_h = glm::dot(n, h), cos_ho = std::fabs(glm::dot(wo, h));
+  if (!(std::fabs(cos_h) < 1.0 - 1e-5 && cos_ho > 1e-5)) return Color(0.0);
+  const double inv_sigma2 = 1.0 / (std::fmax(sigma, 0.01) * std::fmax(sigma, 0.01));
+  const double ratio = std::fmax(cos_h / cos_ho, 1e-5);
+  const double sin2 = 1.0 - cos_h * cos_h, cot2 = cos_h * cos_h / sin2;
+  const double d = std::exp(-cot2 * inv_sigma2) * inv_sigma2 * kInvPi / (sin2 * sin2);
+  const double g = std::fmin(1.0, std::fmin(2.0 * std::fabs(ratio * cos_o), 2.0 * std::fabs(ratio * cos_i)));
+  return color * (0.25 * d * g / (cos_o * cos_i));
+}
+
+bool velvet_sample(const Color& color, double sigma, const SurfacePoint& sp, const Vec3& wo, double u1, double u2,
+                   BsdfSample& out) {
+  out.wi = to_world(sample_uniform_hemisphere(u1, u2), facing_normal(sp, wo));
+  out.weight = velvet_eval(color, sigma, sp, wo, out.wi) * (glm::dot(out.wi, facing_normal(sp, wo)) * 2.0 * kPi);
+  out.specular = false;
+  out.ray_kind = kDiffuseRay;
+  return max_component(out.weight) > 0.0;
+}
+
+Color schlick_sheen_eval(const Color& color, const SurfacePoint& sp, const Vec3& wo, const Vec3& wi) {
+  if (glm::dot(wo, sp.ng) * glm::dot(wi, sp.ng) <= 0.0) return Color(0.0);
+  const Vec3 n = facing_normal(sp, wo);
+  if (glm::dot(n, wi) < 0.0 || glm::dot(n, wo) < 0.0) return Color(0.0);
+  const double m = glm::clamp(1.0 - glm::dot(wi, glm::normalize(wo + wi)), 0.0, 1.0);
+  return color * (m * m * m * m * m);
+}
+
+bool schlick_sheen_sample(const Color& color, const SurfacePoint& sp, const Vec3& wo, double u1, double u2,
+                          BsdfSample& out) {
+  if (!lambert_sample(color, sp, wo, u1, u2, false, out)) return false;
+  out.weight = kPi * schlick_sheen_eval(color, sp, wo, out.wi);  // f cos / (cos / pi)
+  return max_component(out.weight) > 0.0;
+}
+
 // A conductor's alphas along and across its tangent.
 void conductor_alphas(const ConductorParams& p, double& ax, double& ay) {
   const double a = alpha_of(p.roughness);

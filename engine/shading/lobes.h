@@ -26,6 +26,17 @@ Color oren_nayar_eval(const OrenNayarParams& p, const SurfacePoint& sp, const Ve
 bool oren_nayar_sample(const OrenNayarParams& p, const SurfacePoint& sp, const Vec3& wo, double u1, double u2,
                        BsdfSample& out);
 
+// Sheen. Velvet: Ashikhmin's microfacet velvet as Cycles has it (the Velvet BSDF of 3.x, the Sheen
+// BSDF's Ashikhmin mode), D = exp(-cot^2(theta_h) / sigma^2) / (pi sigma^2 sin^4(theta_h)),
+// G = min(1, 2 cos_h cos_o / |o.h|, 2 cos_h cos_i / |o.h|), sampled uniformly over the hemisphere.
+// Schlick sheen: the Principled BSDF's of 3.x, color (1 - l.h)^5, sampled cosine-weighted.
+Color velvet_eval(const Color& color, double sigma, const SurfacePoint& sp, const Vec3& wo, const Vec3& wi);
+bool velvet_sample(const Color& color, double sigma, const SurfacePoint& sp, const Vec3& wo, double u1, double u2,
+                   BsdfSample& out);
+Color schlick_sheen_eval(const Color& color, const SurfacePoint& sp, const Vec3& wo, const Vec3& wi);
+bool schlick_sheen_sample(const Color& color, const SurfacePoint& sp, const Vec3& wo, double u1, double u2,
+                          BsdfSample& out);
+
 struct ConductorParams {
   Color f0;   // reflectance at normal incidence (Blender's base colour)
   Color f82;  // the F82 tint

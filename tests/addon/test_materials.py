@@ -416,3 +416,18 @@ def test_a_physical_conductor_becomes_the_f82_model_through_its_fresnel():
     for mu in np.linspace(0.05, 1.0, 20):
         assert f82_model(mu) == pytest.approx(closure.conductor_fresnel(mu, gold_n, gold_k), abs=0.025)
     assert f0 == pytest.approx((0.944, 0.776, 0.373), abs=0.01)  # gold's familiar colour
+
+
+def test_the_sheen_bsdf_in_ashikhmin_mode_is_velvet_and_microfiber_is_left_out_with_a_warning():
+    mat, tree, out = node_material("cloth")
+    sheen = add(tree, "ShaderNodeBsdfSheen", Color=(0.8, 0.3, 0.5, 1.0), Roughness=0.4)
+    sheen.distribution = "ASHIKHMIN"
+    tree.links.new(sheen.outputs[0], out.inputs["Surface"])
+    params, warnings = describe(mat)
+    (velvet,) = params["lobes"]
+    assert warnings == [] and velvet["kind"] == "velvet" and velvet["roughness"] == pytest.approx(0.4)
+    assert velvet["color"] == pytest.approx((0.8, 0.3, 0.5))
+    assert added(mat) == []
+    sheen.distribution = "MICROFIBER"
+    params, warnings = describe(mat)
+    assert len(warnings) == 1 and "microfiber" in warnings[0] and not params.get("lobes")

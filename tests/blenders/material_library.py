@@ -175,6 +175,17 @@ def normal_mapped(tree, out):
     tree.links.new(normal_map.outputs["Normal"], bsdf.inputs["Normal"])
 
 
+def sheen_bsdf(tree, out, distribution):
+    """The Sheen BSDF (Blender 4+) in `distribution`; 3.x's Velvet BSDF (Ashikhmin's) for both."""
+    color = rgba(0.8, 0.3, 0.5)
+    if not V4:
+        link(tree, node(tree, "ShaderNodeBsdfVelvet", Color=color, Sigma=0.5), out.inputs["Surface"])
+        return
+    sheen = node(tree, "ShaderNodeBsdfSheen", Color=color, Roughness=0.5)
+    sheen.distribution = distribution
+    link(tree, sheen, out.inputs["Surface"])
+
+
 def physical_gold(tree, out):
     """The Metallic BSDF (Blender 4+) as a physical conductor of gold's complex index; 3.x has no
     Metallic BSDF: there, the same Fresnel as a Glossy BSDF would not test the mode, so a Principled
@@ -251,12 +262,14 @@ MATERIALS = {
     "glossy_anisotropic": shader("ShaderNodeBsdfAnisotropic", Color=rgba(0.9, 0.8, 0.6), Roughness=0.4,
                                  Anisotropy=0.8),
     "metallic_physical_gold": lambda tree, out: physical_gold(tree, out),
+    "velvet": lambda tree, out: sheen_bsdf(tree, out, "ASHIKHMIN"),
+    "sheen_microfiber": lambda tree, out: sheen_bsdf(tree, out, "MICROFIBER"),
     "principled_brushed": principled(**{"Base Color": rgba(0.9, 0.9, 0.9), "Metallic": 1.0, "Roughness": 0.35,
                                         "Anisotropic": 0.9, "Anisotropic Rotation": 0.15}),
 }
 
 # Documented approximations: measured and reported, not held to the tolerance.
-APPROXIMATED = {"principled_subsurface", "principled_sheen", "toon"}
+APPROXIMATED = {"principled_subsurface", "toon"} | ({"principled_sheen", "sheen_microfiber"} if V4 else set())
 
 
 def make_material(name):

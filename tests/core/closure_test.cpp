@@ -182,6 +182,28 @@ TEST(Closure, AnisotropicGlossyStretchesAlongItsTangentAndSamplesAsItEvaluates) 
   EXPECT_NEAR(closure_eval({brushed}, kFlat, wo, along).x, closure_eval({round}, kFlat, wo, along).x, 1e-12);
 }
 
+TEST(Closure, SheenLobesSampleAsTheyEvaluateAreReciprocalAndCreateNoEnergy) {
+  for (LobeKind kind : {LobeKind::Velvet, LobeKind::SchlickSheen})
+    for (double sigma : {0.2, 1.0}) {
+      const std::vector<Lobe> sheen = {lobe(kind, Color(1.0), Color(1.0), sigma)};
+      for (double cos_o : {0.95, 0.5, 0.1}) {
+        expect_sampling_matches_eval(sheen, direction(cos_o, 0.3), false, 0.01);
+        expect_sampling_matches_eval(sheen, direction(cos_o, 0.3), true, 0.01);
+        EXPECT_LT(mean_albedo(sheen, direction(cos_o), false), 1.0);
+      }
+      Rng rng(4, 4, 4);
+      for (int i = 0; i < 50; ++i) {
+        const Vec3 a = direction(0.05 + 0.95 * rng.uniform(), 6.28 * rng.uniform());
+        const Vec3 b = direction(0.05 + 0.95 * rng.uniform(), 6.28 * rng.uniform());
+        EXPECT_NEAR(closure_eval(sheen, kFlat, a, b).x, closure_eval(sheen, kFlat, b, a).x, 1e-9);
+      }
+    }
+  // Velvet sends light back towards grazing light (its D peaks at theta_h = 90 degrees).
+  const std::vector<Lobe> velvet = {lobe(LobeKind::Velvet, Color(1.0), Color(1.0), 0.5)};
+  const Vec3 grazing = direction(0.2, 0.0), steep = direction(0.9, 0.0);
+  EXPECT_GT(closure_eval(velvet, kFlat, grazing, grazing).x, 10.0 * closure_eval(velvet, kFlat, steep, steep).x);
+}
+
 TEST(Closure, WhiteLosslessMixturesLoseNothing) {
   Lobe glass = lobe(LobeKind::Dielectric, Color(0.3), Color(1.0));
   glass.tint = Color(1.0);

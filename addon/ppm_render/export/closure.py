@@ -445,6 +445,17 @@ def _glass(reader, node, ctx, w, parts="both"):
                    color_input=index, ior=ior, roughness=roughness, roughness_input=roughness_input)
 
 
+def _velvet(reader, node, ctx, w):
+    """The Velvet BSDF (3.x) and the Sheen BSDF in its Ashikhmin mode: Ashikhmin's velvet. The Sheen
+    BSDF's default Microfiber mode (Zeltner et al. 2022, a fitted table) is not supported yet."""
+    if getattr(node, "distribution", "ASHIKHMIN") != "ASHIKHMIN":
+        reader.warn(node, "the Sheen BSDF's microfiber model is not supported yet; left out")
+        return
+    color, index = reader.color(node, "Color", ctx)
+    sigma = reader.value(node, "Sigma" if "Sigma" in node.inputs else "Roughness", ctx, 0.5)
+    reader.out.add(w, kind="velvet", color=tuple(color), color_input=index, roughness=min(max(sigma, 0.0), 1.0))
+
+
 def _refraction(reader, node, ctx, w):
     _glass(reader, node, ctx, w, parts="refraction")
 
@@ -509,7 +520,7 @@ def principled_v2(reader, node, ctx, w):
     rough = {"roughness": roughness, "roughness_input": roughness_input}
     w = _alpha(reader, node, ctx, w)
     if v("Sheen Weight") > CUTOFF:
-        reader.warn(node, "sheen is not supported yet; left out")
+        reader.warn(node, "sheen (Cycles' microfiber model) is not supported yet; left out")
     anisotropic = reader.anisotropy(node, ctx, "Anisotropic", "Anisotropic Rotation", metal_stretch)
     coat = max(v("Coat Weight"), 0.0)
     if coat > CUTOFF:
@@ -564,8 +575,6 @@ def principled_v1(reader, node, ctx, w):
     roughness, roughness_input = _roughness(reader, node, ctx)
     rough = {"roughness": roughness, "roughness_input": roughness_input}
     w = _alpha(reader, node, ctx, w)
-    if v("Sheen") > CUTOFF:
-        reader.warn(node, "sheen is not supported yet; left out")
     specular = {**rough, **reader.anisotropy(node, ctx, "Anisotropic", "Anisotropic Rotation", metal_stretch)}
     if v("Transmission") <= 0.0 and (base_input is not None or _has_image(reader, node, "Metallic", ctx)):
         _principled_v1_opaque_textured(reader, node, ctx, w, base, base_input, specular)
@@ -581,6 +590,7 @@ def principled_v1(reader, node, ctx, w):
     reader.out.add(w * diffuse, kind="diffuse", color=tuple(base), color_input=base_input)
     lum = float(np.dot(base, (0.3, 0.6, 0.1)))
     hue = base / lum if lum > 0.0 else np.ones(3)
+    _principled_v1_sheen(reader, node, ctx, w * diffuse, hue if base_input is None else np.ones(3))
     tint = min(max(v("Specular Tint"), 0.0), 1.0)
     dielectric_f0 = 0.08 * max(v("Specular", 0.5), 0.0) * (1.0 - tint + tint * hue)
     f0 = (1.0 - metallic) * dielectric_f0 + metallic * np.clip(base, 0.0, 1.0)
@@ -601,6 +611,15 @@ def _has_image(reader, node, name, ctx):
     return out is not None and out.node.bl_idname == "ShaderNodeTexImage" and out.node.image is not None
 
 
+def _principled_v1_sheen(reader, node, ctx, w, hue):
+    """3.x's Principled sheen: Sheen times white tinted towards the base colour's hue by Sheen Tint,
+    on the diffuse part's weight, added (not layered)."""
+    sheen = max(reader.value(node, "Sheen", ctx, 0.0), 0.0)
+    if sheen > CUTOFF:
+        tint = min(max(reader.value(node, "Sheen Tint", ctx, 0.5), 0.0), 1.0)
+        reader.out.add(w * sheen, kind="schlick_sheen", color=tuple(1.0 - tint + tint * hue))
+
+
 def _principled_v1_opaque_textured(reader, node, ctx, w, base, base_input, specular):
     """principled_v1 without transmission, Base Color or Metallic from images: the specular F0,
     (1 - metallic) dielectric F0 + metallic base colour, is split into two lobes of those F0s (Schlick's
@@ -614,6 +633,7 @@ def _principled_v1_opaque_textured(reader, node, ctx, w, base, base_input, specu
     tint = min(max(v("Specular Tint"), 0.0), 1.0)
     dielectric_f0 = 0.08 * max(v("Specular", 0.5), 0.0) * (1.0 - tint + tint * hue)
     reader.out.add(w_dielectric, kind="diffuse", color=tuple(base), color_input=base_input)
+    _principled_v1_sheen(reader, node, ctx, w_dielectric, hue)
     reader.out.add(w_dielectric, kind="conductor", color=tuple(np.clip(dielectric_f0, 0.0, 1.0)),
                    multiscatter=_multiscatter(node), **specular)
     reader.out.add(w_metal, kind="conductor", color=tuple(np.clip(base, 0.0, 1.0)), color_input=base_input,
@@ -644,8 +664,8 @@ SHADERS = {
     "ShaderNodeEmission": _emission,
     "ShaderNodeHoldout": _holdout,
     "ShaderNodeSubsurfaceScattering": _as_diffuse("subsurface scattering"),
-    "ShaderNodeBsdfSheen": _left_out("the Sheen BSDF (not yet)"),
-    "ShaderNodeBsdfVelvet": _left_out("the Velvet BSDF (not yet)"),
+    "ShaderNodeBsdfSheen": _velvet,
+    "ShaderNodeBsdfVelvet": _velvet,
     "ShaderNodeBsdfToon": _as_diffuse("the Toon BSDF"),
     "ShaderNodeBsdfHair": _left_out("a hair BSDF"),
     "ShaderNodeBsdfHairPrincipled": _left_out("a hair BSDF"),
