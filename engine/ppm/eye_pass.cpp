@@ -148,7 +148,7 @@ struct EyeTracer {
       }
       const Material& m = scene.material(hit.material);
       if (ends_at_holdout(v, hit, m, transparency)) continue;
-      if (m.emits()) emitted += v.throughput * m.emission;
+      if (m.emits()) emitted += v.throughput * scene.emission(hit);
       if (is_black(m) || v.emission_only) continue;
       const EyeVertex here{v.ray, v.throughput, v.depth, v.length + hit.t, v.glass_only, v.chain, false};
       const SurfacePoint sp = scene.surface_point(hit);

@@ -112,9 +112,10 @@ std::vector<MaterialInput> inputs_from(const py::object& inputs, const std::stri
       fail(what, "each input must be (texture index, 'rgb' | 'alpha' | 'grey')");
     MaterialInput in;
     in.texture = py::cast<int>(pair[0]);
-    in.channel = choice<MaterialInput::Channel>(
-        py::str(pair[1]), {{"rgb", MaterialInput::Rgb}, {"alpha", MaterialInput::Alpha}, {"grey", MaterialInput::Grey}},
-        what, "input channel");
+    in.channel = choice<TextureChannel>(
+        py::str(pair[1]),
+        {{"rgb", TextureChannel::Rgb}, {"alpha", TextureChannel::Alpha}, {"grey", TextureChannel::Grey}}, what,
+        "input channel");
     out.push_back(in);
   }
   return out;
@@ -148,7 +149,7 @@ NormalMap normal_map_from(const py::object& value, const std::string& what) {
 uint32_t add_material(Scene& s, const std::string& name, const std::string& kind, const py::object& base_color,
                       int texture, double roughness, double ior, const py::object& specular_tint,
                       const py::object& emission, const py::object& lobes, double holdout, const py::object& inputs,
-                      const py::object& normal_map) {
+                      const py::object& normal_map, int emission_input) {
   const std::string what = "material '" + checked_name(name, "material") + "'";
   Material m;
   m.name = name;
@@ -169,7 +170,10 @@ uint32_t add_material(Scene& s, const std::string& name, const std::string& kind
   m.specular_tint = color(specular_tint, what, "specular_tint");
   m.emission = color(emission, what, "emission");
   m.inputs = inputs_from(inputs, what);
-  if (!m.inputs.empty() && m.kind != MaterialKind::Mixture) fail(what, "inputs are for kind 'mixture' only");
+  if (!m.inputs.empty() && m.kind != MaterialKind::Mixture && m.kind != MaterialKind::Emission)
+    fail(what, "inputs are for kinds 'mixture' and 'emission' only");
+  if (emission_input < -1 || emission_input >= kMaxInputs) fail(what, "emission_input must be -1 (none) or an input index");
+  m.emission_input = static_cast<int8_t>(emission_input);
   m.normal_map = normal_map_from(normal_map, what);
   if (m.normal_map.input >= 0 && m.kind != MaterialKind::Mixture) fail(what, "normal_map is for kind 'mixture' only");
   if (!lobes.is_none()) {
@@ -181,7 +185,7 @@ uint32_t add_material(Scene& s, const std::string& name, const std::string& kind
       if (parsed.textured && texture >= 0) {
         if (textured_input < 0) {
           textured_input = static_cast<int>(m.inputs.size());
-          m.inputs.push_back(MaterialInput{texture, MaterialInput::Rgb});
+          m.inputs.push_back(MaterialInput{texture, TextureChannel::Rgb});
         }
         parsed.lobe.color_input.input = static_cast<int8_t>(std::min(textured_input, kMaxInputs));
       }
@@ -520,7 +524,7 @@ void bind_scene(py::module_& m) {
            py::arg("base_color") = py::make_tuple(0.8, 0.8, 0.8), py::arg("texture") = -1, py::arg("roughness") = 0.0,
            py::arg("ior") = 1.45, py::arg("specular_tint") = py::make_tuple(1.0, 1.0, 1.0),
            py::arg("emission") = py::make_tuple(0.0, 0.0, 0.0), py::arg("lobes") = py::none(), py::arg("holdout") = 0.0,
-           py::arg("inputs") = py::none(), py::arg("normal_map") = py::none(),
+           py::arg("inputs") = py::none(), py::arg("normal_map") = py::none(), py::arg("emission_input") = -1,
            "Adds a material; returns its index. kind: diffuse, mirror, metal, glass, emission, holdout "
            "(a hole in the image: alpha 0 where camera rays reach it), mixture (`lobes`: a list of dicts "
            "with kind diffuse, translucent, transparent, conductor, glossy or dielectric, weight, color, tint, "
@@ -538,7 +542,8 @@ void bind_scene(py::module_& m) {
            "strength=1.0, space='tangent' | 'world', softening='conty_estevez' | 'chiang' | 'none'), the input's "
            "colour c as the normal 2c - 1 in the tangent space of the mesh's tangents (add_mesh) or in world "
            "space, as Blender's Normal Map node; softening: Cycles' bump shadowing at the terminator, of "
-           "Blender 4.2+ or of 3.x-4.1). "
+           "Blender 4.2+ or of 3.x-4.1), and emission_input (an input whose value multiplies `emission`: a "
+           "textured emission; a mixture's or an emission material's). "
            "emission is radiance in W/(m^2 sr) (Blender colour * strength).")
       .def("add_texture", &add_texture, py::arg("name"), py::arg("pixels"), py::arg("storage") = py::none(),
            py::arg("clear_unusable") = false,

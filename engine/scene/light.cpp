@@ -244,6 +244,12 @@ void prepare_light(Light& l, const Aabb& bounds) {
   }
 }
 
+Color radiance_at(const Light& l, const Vec2& b) {
+  if (l.texture == nullptr) return l.radiance;
+  const Vec2 uv = (1.0 - b.x - b.y) * l.uvs[0] + b.x * l.uvs[1] + b.y * l.uvs[2];
+  return l.emission * l.texture->lookup_channel(uv, l.channel);
+}
+
 PhotonEmission emit_photon(const Light& l, double u1, double u2, double u3, double u4, double u5) {
   PhotonEmission e;
   e.flux = l.flux;
@@ -304,6 +310,10 @@ PhotonEmission emit_photon(const Light& l, double u1, double u2, double u3, doub
       const Vec3 p = l.triangle.v0 + b.x * l.triangle.e1 + b.y * l.triangle.e2;
       const Vec3 n = triangle_normal(l.triangle) * (u5 < 0.5 ? 1.0 : -1.0);
       e.ray = {p, to_world(sample_cosine_hemisphere(u3, u4), n)};
+      if (l.texture != nullptr) {  // positions drawn by area: each photon weighted by its point's share
+        const Color here = radiance_at(l, b);
+        for (int c = 0; c < 3; ++c) e.flux[c] = l.radiance[c] > 0.0 ? e.flux[c] * here[c] / l.radiance[c] : 0.0;
+      }
       break;
     }
   }
@@ -364,7 +374,7 @@ bool sample_direct(const Light& l, const Vec3& p, const Vec3& n, double u1, doub
       out.distance = std::sqrt(dist2);
       out.wi = d / out.distance;
       const double cos_l = std::fabs(glm::dot(out.wi, triangle_normal(l.triangle)));
-      out.value = l.radiance * (cos_l * triangle_area(l.triangle) / dist2);
+      out.value = radiance_at(l, b) * (cos_l * triangle_area(l.triangle) / dist2);
       return cos_l > 0.0;
     }
   }

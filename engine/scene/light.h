@@ -15,7 +15,9 @@
 #include "geometry/triangle.h"
 #include "math/aabb.h"
 #include "scene/environment.h"
+#include "scene/texture.h"
 
+#include <array>
 #include <string>
 
 namespace ppm {
@@ -50,9 +52,14 @@ struct Light {
   int max_bounces = 1024;
   // Background: an image around the scene, or (nullptr) `power` from every direction.
   const Environment* environment = nullptr;
-  // Emissive triangle.
+  // Emissive triangle; with a textured emission, `emission` times the texture's channel at the UV
+  // (radiance_at), `radiance` then its mean over the triangle.
   TrianglePrim triangle{};
   uint32_t primitive = 0;
+  const Texture* texture = nullptr;
+  TextureChannel channel = TextureChannel::Rgb;
+  std::array<Vec2, 3> uvs{};
+  Color emission{0.0};
 
   // Derived by `prepare_light` once the scene bounds are known.
   Color radiance{0.0};  // sphere, area, triangle, sun (per sr), background
@@ -105,6 +112,9 @@ struct DirectSample {
 void prepare_light(Light& light, const Aabb& scene_bounds);
 
 PhotonEmission emit_photon(const Light& light, double u1, double u2, double u3, double u4, double u5);
+
+// An emissive triangle's radiance at barycentric coordinates (b1, b2) (its texture looked up there).
+Color radiance_at(const Light& light, const Vec2& b);
 
 // Direct light needs direct_samples(light) samples, strategy 0, 1, ...; their
 // values add up to the estimate (an environment: one cosine-weighted sample and

@@ -5,6 +5,7 @@
 #pragma once
 
 #include "math/types.h"
+#include "scene/texture.h"
 #include "shading/closure.h"
 
 #include <string>
@@ -22,13 +23,11 @@ enum class MaterialKind : uint8_t {
   Mixture,  // weighted lobes (shading/closure.h); base_color is their summed colour (an albedo bound)
 };
 
-// An input of a mixture: an image texture looked up at the shading point's UV, its colour, alpha,
-// or grey (Blender's colour-to-float conversion: luminance with Rec. 709 weights). Lobe parameters
-// refer to inputs (lobe.h's InputRef).
+// An input of a mixture: an image texture looked up at the shading point's UV (a channel of it).
+// Lobe parameters, the normal map and the emission refer to inputs (lobe.h's InputRef).
 struct MaterialInput {
-  enum Channel : uint8_t { Rgb, Alpha, Grey };
   int texture = -1;
-  Channel channel = Rgb;
+  TextureChannel channel = TextureChannel::Rgb;
 };
 
 // A normal map (Blender's Normal Map node on the shaders' Normal): a mixture input's colour c as the
@@ -57,7 +56,8 @@ struct Material {
   Color specular_tint{1.0};    // metal: F82 tint
   Color emission{0.0};
   std::vector<Lobe> lobes;     // Mixture only
-  std::vector<MaterialInput> inputs;  // Mixture only: at most kMaxInputs
+  std::vector<MaterialInput> inputs;  // Mixture and emission only: at most kMaxInputs
+  int8_t emission_input = -1;         // `emission` times this input (a textured emission colour)
   NormalMap normal_map;               // Mixture only
   double holdout = 0.0;        // Mixture only: the weight of its Holdout closures (alpha it cuts for camera rays)
 

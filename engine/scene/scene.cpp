@@ -2,6 +2,7 @@
 #include "scene/scene.h"
 
 #include "geometry/bezier_revolve.h"
+#include "math/sampling.h"
 
 #include <cmath>
 #include <sstream>
@@ -81,22 +82,33 @@ Scene::Scene() = default;
 Scene::~Scene() = default;
 Scene::Scene(Scene&&) noexcept = default;
 
+// A material's inputs exist and what refers to them is in range; returns the most each input can
+// scale a colour by.
+std::vector<double> Scene::check_inputs(const Material& m, const std::string& what) const {
+  if (m.inputs.size() > static_cast<size_t>(kMaxInputs))
+    fail(what, "a material takes at most " + std::to_string(kMaxInputs) + " inputs");
+  std::vector<double> gain;
+  for (const MaterialInput& in : m.inputs) {
+    if (in.texture < 0 || in.texture >= static_cast<int>(textures_.size()))
+      fail(what, "input texture index out of range");
+    gain.push_back(in.channel == TextureChannel::Alpha ? 1.0
+                                                        : std::max(1.0, double(textures_[in.texture].max_rgb())));
+  }
+  const int count = static_cast<int>(m.inputs.size());
+  if (m.normal_map.input >= count)
+    fail(what, "normal_map refers to input " + std::to_string(m.normal_map.input) + ", which the material does not have");
+  if (!std::isfinite(m.normal_map.strength)) fail(what, "normal_map strength must be a finite number");
+  if (m.emission_input >= count)
+    fail(what, "emission_input refers to input " + std::to_string(m.emission_input) + ", which the material does not have");
+  return gain;
+}
+
 // A mixture's lobes: in range, at most kMaxLobes, layers prepared; base_color becomes their summed
 // colour (a bound of the albedo, for the energy check and the scene analysis).
 void Scene::check_lobes(Material& m, const std::string& what) const {
   if (m.lobes.empty() || m.lobes.size() > static_cast<size_t>(kMaxLobes))
     fail(what, "a mixture needs 1 to " + std::to_string(kMaxLobes) + " lobes");
-  if (m.inputs.size() > static_cast<size_t>(kMaxInputs))
-    fail(what, "a mixture takes at most " + std::to_string(kMaxInputs) + " inputs");
-  std::vector<double> gain;  // the most each input can scale a colour by
-  for (const MaterialInput& in : m.inputs) {
-    if (in.texture < 0 || in.texture >= static_cast<int>(textures_.size()))
-      fail(what, "input texture index out of range");
-    gain.push_back(in.channel == MaterialInput::Alpha ? 1.0 : std::max(1.0, double(textures_[in.texture].max_rgb())));
-  }
-  if (m.normal_map.input >= static_cast<int>(m.inputs.size()))
-    fail(what, "normal_map refers to input " + std::to_string(m.normal_map.input) + ", which the material does not have");
-  if (!std::isfinite(m.normal_map.strength)) fail(what, "normal_map strength must be a finite number");
+  const std::vector<double> gain = check_inputs(m, what);
   Color bound(0.0);
   for (size_t i = 0; i < m.lobes.size(); ++i) {
     Lobe& l = m.lobes[i];
@@ -130,7 +142,10 @@ void Scene::check_lobes(Material& m, const std::string& what) const {
 uint32_t Scene::add_material(Material m) {
   ensure_mutable();
   const std::string what = quoted("material", m.name);
-  if (m.kind == MaterialKind::Mixture) check_lobes(m, what);
+  if (m.kind == MaterialKind::Mixture)
+    check_lobes(m, what);
+  else
+    check_inputs(m, what);
   check_finite(m.base_color, 0.0, what, "base_color");
   check_power(m.emission, what, "emission");
   check_finite(m.specular_tint, 0.0, what, "specular_tint");
@@ -466,10 +481,33 @@ void Scene::build() {
     l.triangle = triangles_[i];
     l.primitive = i;
     l.radiance = m.emission;
+    if (m.emission_input >= 0) textured_emission(m, triangle_info_[i], l);
     prepare_light(l, light_bounds);
     lights_.push_back(l);
   }
   built_ = true;
+}
+
+// A triangle's textured emission: its texture and UVs, and as its radiance (which its power and
+// the light sampler go by) the mean over the triangle of kSide^2 stratified lookups.
+void Scene::textured_emission(const Material& m, const TriangleInfo& info, Light& l) const {
+  const MaterialInput& in = m.inputs[m.emission_input];
+  l.texture = &textures_[in.texture];
+  l.channel = in.channel;
+  l.emission = m.emission;
+  for (int k = 0; k < 3; ++k) l.uvs[k] = info.uvs >= 0 ? Vec2(corner_uvs_[info.uvs + k]) : Vec2(0.0);
+  constexpr int kSide = 4;
+  Color sum(0.0);
+  for (int i = 0; i < kSide; ++i)
+    for (int j = 0; j < kSide; ++j) sum += radiance_at(l, sample_uniform_triangle((i + 0.5) / kSide, (j + 0.5) / kSide));
+  l.radiance = sum / double(kSide * kSide);
+}
+
+Color Scene::emission(const Hit& hit) const {
+  const Material& m = materials_[hit.material];
+  if (m.emission_input < 0) return m.emission;
+  const MaterialInput& in = m.inputs[m.emission_input];
+  return m.emission * textures_[in.texture].lookup_channel(hit.uv, in.channel);
 }
 
 void Scene::check_energy_range(int max_bounces) const {
@@ -693,14 +731,8 @@ SurfacePoint Scene::surface_point(uint32_t material, const Vec3& ng, const Vec3&
     return sp;
   }
   sp.albedo = m.base_color;
-  for (size_t i = 0; i < m.inputs.size(); ++i) {
-    const glm::dvec4 t = textures_[m.inputs[i].texture].lookup_rgba(Vec2(uv));
-    switch (m.inputs[i].channel) {
-      case MaterialInput::Rgb: sp.inputs[i] = Vec3f(t); break;
-      case MaterialInput::Alpha: sp.inputs[i] = Vec3f(static_cast<float>(t.w)); break;
-      case MaterialInput::Grey: sp.inputs[i] = Vec3f(static_cast<float>(luminance(Color(t)))); break;
-    }
-  }
+  for (size_t i = 0; i < m.inputs.size(); ++i)
+    sp.inputs[i] = Vec3f(textures_[m.inputs[i].texture].lookup_channel(Vec2(uv), m.inputs[i].channel));
   return sp;
 }
 

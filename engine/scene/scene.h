@@ -125,6 +125,8 @@ class Scene {
   bool occluded(const Ray& ray, double distance) const;
 
   SurfacePoint surface_point(const Hit& hit) const;
+  // The emitted radiance where `hit` is (its material's textured emission looked up there).
+  Color emission(const Hit& hit) const;
   // The same from what a hit point keeps (its material's textures looked up at uv).
   SurfacePoint surface_point(uint32_t material, const Vec3& ng, const Vec3& ns, const Vec2f& uv,
                              const Vec3f& smooth_normal, const Vec3f& tangent) const;
@@ -167,6 +169,8 @@ class Scene {
   void check_material(uint32_t material, const std::string& what) const;
   void check_not_emissive(uint32_t material, const std::string& what) const;
   void check_lobes(Material& m, const std::string& what) const;
+  std::vector<double> check_inputs(const Material& m, const std::string& what) const;
+  void textured_emission(const Material& m, const TriangleInfo& info, Light& l) const;
   void invalidate();
   void ensure_mutable() const;
   // One record per BVH leaf slot (see Bvh::prim_order), in leaf order: a

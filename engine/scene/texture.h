@@ -33,6 +33,10 @@ struct UnusableTexel {
   float value = 0.0f;  // the offending channel
 };
 
+// What of a texture a material reads (Blender's Image Texture outputs): its colour, its alpha,
+// or grey (Blender's colour-to-float conversion: luminance with Rec. 709 weights).
+enum class TextureChannel : uint8_t { Rgb, Alpha, Grey };
+
 class Texture {
  public:
   // `channels` (3 or 4) values per texel, rows bottom first. Bytes are stored
@@ -61,6 +65,12 @@ class Texture {
   }
   // The colour and, in w, the alpha (as stored: straight unless premultiplied before; 1 for RGB
   // sources), repeating.
+  Color lookup_channel(const Vec2& uv, TextureChannel channel) const {
+    const glm::dvec4 t = lookup_rgba(uv);
+    if (channel == TextureChannel::Alpha) return Color(t.w);
+    if (channel == TextureChannel::Grey) return Color(luminance(Color(t)));
+    return Color(t);
+  }
   glm::dvec4 lookup_rgba(const Vec2& uv) const {
     if (storage_ == TexelStorage::Srgb8) {
       const glm::dvec4 e =

@@ -431,3 +431,23 @@ def test_the_sheen_bsdf_in_ashikhmin_mode_is_velvet_and_microfiber_is_left_out_w
     sheen.distribution = "MICROFIBER"
     params, warnings = describe(mat)
     assert len(warnings) == 1 and "microfiber" in warnings[0] and not params.get("lobes")
+
+
+def test_an_image_on_an_emission_colour_textures_the_emission():
+    mat, tree, out = node_material("screen")
+    emission = add(tree, "ShaderNodeEmission", Strength=3.0)
+    picture = image_node(tree, "picture")
+    tree.links.new(picture.outputs["Color"], emission.inputs["Color"])
+    tree.links.new(emission.outputs[0], out.inputs["Surface"])
+    params, warnings = describe(mat)
+    assert warnings == [] and params["kind"] == "emission" and params["emission"] == pytest.approx((3.0,) * 3)
+    assert params["inputs"][params["emission_input"]][1] == "rgb"
+    assert added(mat) == []
+    # The Principled BSDF's Emission Color too, in a mixture.
+    mat, tree, out = node_material("sign")
+    bsdf = add(tree, "ShaderNodeBsdfPrincipled", **{"Emission Strength": 2.0})
+    tree.links.new(image_node(tree, "sign").outputs["Color"], bsdf.inputs["Emission Color"])
+    tree.links.new(bsdf.outputs[0], out.inputs["Surface"])
+    params, warnings = describe(mat)
+    assert warnings == [] and params["kind"] == "mixture" and params["emission_input"] == 0
+    assert added(mat) == []

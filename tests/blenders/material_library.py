@@ -65,14 +65,14 @@ def to_surface(builder):
     return lambda tree, out: builder(tree, out.inputs["Surface"])
 
 
+NAMES_3X = {"Transmission Weight": "Transmission", "Coat Weight": "Clearcoat", "Coat Roughness": "Clearcoat Roughness",
+            "Emission Color": "Emission", "Subsurface Weight": "Subsurface", "Sheen Weight": "Sheen"}
+
+
 def principled(**inputs):
     """A Principled BSDF; Blender 4+ names, mapped to 3.x names where they differ."""
-    names_3x = {"Transmission Weight": "Transmission", "Coat Weight": "Clearcoat", "Coat Roughness":
-                "Clearcoat Roughness", "Emission Color": "Emission", "Subsurface Weight": "Subsurface",
-                "Sheen Weight": "Sheen"}
-
     def build(tree, out):
-        values = inputs if V4 else {names_3x.get(k, k): v for k, v in inputs.items() if k != "Specular IOR Level"}
+        values = inputs if V4 else {NAMES_3X.get(k, k): v for k, v in inputs.items() if k != "Specular IOR Level"}
         if not V4 and "Specular IOR Level" in inputs:
             values["Specular"] = inputs["Specular IOR Level"]
         link(tree, node(tree, "ShaderNodeBsdfPrincipled", **values), out.inputs["Surface"])
@@ -148,7 +148,7 @@ def textured_principled(image_sockets, **inputs):
         build_principled(tree, out)
         bsdf = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeBsdfPrincipled")
         for socket, (make_image, output) in image_sockets.items():
-            image_on(tree, make_image(), bsdf.inputs[socket], output)
+            image_on(tree, make_image(), bsdf.inputs[socket if V4 else NAMES_3X.get(socket, socket)], output)
     return build
 
 
@@ -259,6 +259,10 @@ MATERIALS = {
                                            "Alpha": (CHECKER_COLOURS, "Alpha")}),
     "textured_mix_factor": textured_mix,
     "normal_mapped": normal_mapped,
+    "textured_emission": textured_principled(
+        {"Emission Color": (lambda: bands("emission_bands", [(1.0, 0.5, 0.1), (0.1, 0.3, 1.0)] * 4,
+                                          colorspace="sRGB"), "Color")},
+        **{"Base Color": rgba(0.1, 0.1, 0.1), "Emission Strength": 1.5}),
     "glossy_anisotropic": shader("ShaderNodeBsdfAnisotropic", Color=rgba(0.9, 0.8, 0.6), Roughness=0.4,
                                  Anisotropy=0.8),
     "metallic_physical_gold": lambda tree, out: physical_gold(tree, out),

@@ -97,7 +97,7 @@ def test_zip_installs_renders_and_agrees_with_cycles(version, addon_zip, tmp_pat
     light_paths = {row["case"]: row["max_block_error"] for row in report["light_paths"]}
     assert len(light_paths) == 5 and all(error <= TOLERANCE for error in light_paths.values()), light_paths
     materials = {row["case"]: row["error"] for row in report["materials"] if not row["approximated"]}
-    assert len(materials) >= 39 and all(e <= MATERIAL_TOLERANCE for e in materials.values()), materials
+    assert len(materials) >= 40 and all(e <= MATERIAL_TOLERANCE for e in materials.values()), materials
     assert report["addon_warnings"] == []
 
 

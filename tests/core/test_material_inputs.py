@@ -169,3 +169,47 @@ def test_bad_normal_maps_are_refused_with_a_message(normal_map, message):
     texture(scene, 0.5)
     with pytest.raises(ValueError, match=message):
         scene.add_material("ball", "mixture", lobes=[{"kind": "diffuse"}], inputs=[(0, "rgb")], normal_map=normal_map)
+
+
+def lamp_over_floor(emission, textured, direct_light="sampled"):
+    """An emissive quad (facing down, 1 m above a diffuse floor) seen with the floor from beside:
+    with `textured`, its emission times a texture white on the quad's x < 0 half and black beyond."""
+    scene = ppm_core.Scene()
+    inputs, emission_input = None, -1
+    if textured:
+        texels = np.zeros((1, 4, 4), np.float32)
+        texels[0, :2] = 1.0
+        texels[..., 3] = 1.0
+        inputs, emission_input = [(scene.add_texture("half", texels, storage="half"), "rgb")], 0
+    lamp = scene.add_material("lamp", "emission", base_color=(0.0, 0.0, 0.0), emission=(emission,) * 3,
+                              inputs=inputs, emission_input=emission_input)
+    floor = scene.add_material("floor", base_color=(0.5, 0.5, 0.5))
+    quad = np.array([[-0.5, -0.5, 1.0], [0.5, -0.5, 1.0], [0.5, 0.5, 1.0], [-0.5, 0.5, 1.0]])
+    # U runs with x across the lamp: texels 1, 1, 0, 0 (bilinear blending only across the middle and
+    # the repeating edges).
+    uvs = np.array([[0.0, 0.5], [1.0, 0.5], [1.0, 0.5], [0.0, 0.5]])
+    scene.add_mesh("lamp", quad, np.array([[0, 2, 1], [0, 3, 2]]), uvs=uvs, materials=lamp)
+    ground = np.array([[-4, -4, 0], [4, -4, 0], [4, 4, 0], [-4, 4, 0]], dtype=float)
+    scene.add_mesh("floor", ground, np.array([[0, 1, 2], [0, 2, 3]]), materials=floor)
+    camera = np.eye(4)
+    camera[2, 3] = 3.0
+    scene.set_camera(camera, 32, 32, projection="orthographic", ortho_scale=4.0)
+    renderer = ppm_core.Renderer(scene, photons_per_pass=50_000, threads=2, seed=9, direct_light=direct_light)
+    renderer.run(passes=8)
+    return renderer.image()[..., :3].mean(axis=2)
+
+
+@pytest.mark.parametrize("direct_light", ["sampled", "photons"])
+def test_a_textured_emission_emits_and_shows_what_its_texture_says(direct_light):
+    # Seen from above the lamp hides the floor under it: look at the floor around it. Twice the
+    # emission on half the lamp gives the floor the same light in all, more on the lit half's side.
+    textured = lamp_over_floor(2.0, True, direct_light)
+    uniform = lamp_over_floor(1.0, False, direct_light)
+    around = np.ones((32, 32), bool)
+    around[8:24, 8:24] = False  # the lamp's footprint and a margin
+    assert textured[around].mean() == pytest.approx(uniform[around].mean(), rel=0.03)
+    left, right = textured[:, :6].mean(), textured[:, 26:].mean()  # columns run along +x
+    assert left > 1.5 * right
+    # The lamp itself (columns and rows 12 to 19): 2 inside its white half, 0 inside its black one.
+    assert textured[12:20, 13:15].mean() == pytest.approx(2.0, rel=0.01)
+    assert textured[12:20, 17:19].max() < 0.01

@@ -58,6 +58,8 @@ class Closure:
     normal_map: dict = None  # for Scene.add_material(normal_map=...): input, strength, space
     unmapped: bool = False  # a shader without the normal map (it applies to all of them)
     tangents: str = None  # what the meshes' tangents must be: "uv", or "radial_x" / "_y" / "_z" (generated)
+    emission_input: int = None  # the input the emission is textured by
+    emission_parts: int = 0  # emissions added (a textured one applies its texture to all, warned)
 
     def add(self, weight, **lobe):
         if weight.peak() > CUTOFF:
@@ -467,9 +469,25 @@ def _untextured(reader, node, w, what):
     return w.rgb
 
 
+def _add_emission(reader, node, w, color, index, strength):
+    """Adds w * color * strength to the closure's emission; `index`: the input texturing it (one per
+    material: it applies to all of the material's emission, warned where that is not so)."""
+    if not (float(np.max(color)) * strength > 0.0 and w.peak() > 0.0):
+        return
+    radiance = _untextured(reader, node, w, "emission") * color * strength
+    reader.out.emission_parts += 1
+    if index is not None and reader.out.emission_input not in (None, index):
+        reader.warn(node, "a second textured emission in one material is not supported; using the first texture")
+    elif index is not None:
+        reader.out.emission_input = index
+    if reader.out.emission_input is not None and reader.out.emission_parts > 1:
+        reader.warn(node, "its textured emission applies its texture to all of the material's emission")
+    reader.out.emission += radiance
+
+
 def _emission(reader, node, ctx, w):
-    color = reader.value(node, "Color", ctx, 1.0, color=True)
-    reader.out.emission += _untextured(reader, node, w, "emission") * color * reader.value(node, "Strength", ctx, 1.0)
+    color, index = reader.color(node, "Color", ctx, (1.0, 1.0, 1.0))
+    _add_emission(reader, node, w, color, index, reader.value(node, "Strength", ctx, 1.0))
 
 
 def _holdout(reader, node, ctx, w):
@@ -529,10 +547,10 @@ def principled_v2(reader, node, ctx, w):
                        ior=max(v("Coat IOR", 1.5), 1.0), roughness=coat_roughness, roughness_input=coat_input)
         tint = np.clip(reader.value(node, "Coat Tint", ctx, 1.0, color=True), 0.0, None)
         w = w * (1.0 + coat * (tint - 1.0))
-    emission = reader.value(node, "Emission Color", ctx, 1.0, color=True) * v("Emission Strength", 0.0)
+    emission, index = reader.color(node, "Emission Color", ctx, (1.0, 1.0, 1.0))
     # The coat's attenuation of emission depends on the view; here its value at normal incidence.
-    emission_weight = _untextured(reader, node, w, "emission") if max(emission) > 0.0 else w.rgb
-    reader.out.emission += emission_weight * emission * (1.0 - coat * f0_from_ior(max(v("Coat IOR", 1.5), 1.0)))
+    _add_emission(reader, node, w, emission, index,
+                  v("Emission Strength", 0.0) * (1.0 - coat * f0_from_ior(max(v("Coat IOR", 1.5), 1.0))))
     w_rest, w_metal = reader.split(w, node, "Metallic", ctx, 0.0)
     if w_metal.peak() > CUTOFF:
         f82 = np.clip(reader.value(node, "Specular Tint", ctx, 1.0, color=True), 0.0, 1.0)
@@ -582,9 +600,8 @@ def principled_v1(reader, node, ctx, w):
     metallic = min(max(v("Metallic"), 0.0), 1.0)
     diffuse = (1.0 - metallic) * (1.0 - min(max(v("Transmission"), 0.0), 1.0))
     transmission = min(max(v("Transmission"), 0.0), 1.0) * (1.0 - metallic)
-    emission = reader.value(node, "Emission", ctx, 0.0, color=True) * v("Emission Strength", 1.0)
-    if max(emission) > 0.0:
-        reader.out.emission += _untextured(reader, node, w, "emission") * emission
+    emission, index = reader.color(node, "Emission", ctx, (0.0, 0.0, 0.0))
+    _add_emission(reader, node, w, emission, index, v("Emission Strength", 1.0))
     if v("Subsurface") > CUTOFF:
         reader.warn(node, "subsurface scattering is rendered as diffuse in the base colour")
     reader.out.add(w * diffuse, kind="diffuse", color=tuple(base), color_input=base_input)

@@ -85,17 +85,20 @@ class MaterialExporter:
         lobes = read.lobes
         if holdout > 0.0 and not lobes:  # part holdout, part black: a black lobe carries the rest
             lobes = [{"kind": "diffuse", "weight": (1.0, 1.0, 1.0), "color": (0.0, 0.0, 0.0)}]
+        textured_emission = {}
+        if read.emission_input is not None and read.emission_input < len(inputs) and max(emission) > 0.0:
+            textured_emission = {"inputs": inputs, "emission_input": read.emission_input}
         if not lobes:
             kind = "emission" if max(emission) > 0.0 else "diffuse"
-            return {"kind": kind, "base_color": (0.0, 0.0, 0.0), "emission": emission}
+            return {"kind": kind, "base_color": (0.0, 0.0, 0.0), "emission": emission, **textured_emission}
         normal_map = read.normal_map
         texture = _diffuse_texture(lobes, inputs)
-        if holdout == 0.0 and texture is not None and normal_map is None:
+        if holdout == 0.0 and texture is not None and normal_map is None and not textured_emission:
             color = sum(np.asarray(lobe["weight"]) * np.asarray(lobe["color"]) for lobe in lobes)
             return {"kind": "diffuse", "base_color": tuple(float(c) for c in color), "texture": texture,
                     "emission": emission}
         return {"kind": "mixture", "lobes": lobes, "inputs": inputs, "emission": emission, "holdout": holdout,
-                **({"normal_map": normal_map} if normal_map else {})}
+                **({"normal_map": normal_map} if normal_map else {}), **textured_emission}
 
     def closure_inputs(self, material, read):
         """The core's (texture, channel) for each of the closure's inputs; a lobe parameter whose image
@@ -111,6 +114,9 @@ class MaterialExporter:
                     number = read.normal_map["input"]
                     read.normal_map = (None if number == len(inputs) else
                                        {**read.normal_map, "input": number - (number > len(inputs))})
+                if read.emission_input is not None:
+                    number = read.emission_input
+                    read.emission_input = None if number == len(inputs) else number - (number > len(inputs))
                 continue
         return inputs
 
