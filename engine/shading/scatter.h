@@ -21,7 +21,9 @@ struct SurfacePoint {
   Vec3 smooth_normal{0.0};
   uint8_t softening = 0;  // a NormalMap::Softening
   Vec3 tangent{0.0};      // a mesh's tangent (anisotropic lobes); zero: none
-  std::array<Vec3f, kMaxInputs> inputs{};  // a mixture's inputs here (Material::inputs; lobe.h's InputRef)
+  // A mixture's inputs here (Material::inputs; lobe.h's InputRef); left unset for other materials,
+  // which read none (filling them would cost every photon bounce).
+  std::array<Vec3f, kMaxInputs> inputs;
 };
 
 struct BsdfSample {
