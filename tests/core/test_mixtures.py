@@ -76,7 +76,7 @@ def test_white_lossless_mixtures_stay_white_in_a_white_furnace(lobes):
 @pytest.mark.parametrize("lobes, message", [
     ([], "1 to 8 lobes"),
     ([{"kind": "diffuse"}] * 9, "1 to 8 lobes"),
-    ([{"kind": "velvet"}], "lobe kind"),
+    ([{"kind": "fur"}], "lobe kind"),
     ([{"kind": "diffuse", "weight": float("nan")}], "weight"),
     ([{"kind": "diffuse", "roughness": 2.0}], "roughness"),
     ([{"kind": "diffuse", "layer": True}], "layer"),
