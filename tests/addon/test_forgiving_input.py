@@ -179,6 +179,7 @@ def test_a_texture_with_bad_texels_is_still_used(tmp_path):
     scene = floor_scene()
     image = bpy.data.images.new("stains", 4, 4, float_buffer=True)
     pixels = np.full(4 * 4 * 4, 0.6, dtype=np.float32)
+    pixels[3::4] = 1.0  # opaque: the colours reach the core as they are (not premultiplied by alpha)
     pixels[0], pixels[5] = np.nan, -1.0  # texel 0 red, texel 1 green
     image.pixels.foreach_set(pixels)
     mat, bsdf = principled_material("stained")

@@ -187,10 +187,9 @@ def sheen_bsdf(tree, out, distribution):
 
 
 def physical_gold(tree, out):
-    """The Metallic BSDF (Blender 4+) as a physical conductor of gold's complex index; 3.x has no
-    Metallic BSDF: there, the same Fresnel as a Glossy BSDF would not test the mode, so a Principled
-    metal of gold's colour stands in."""
-    if not V4:
+    """The Metallic BSDF (Blender 4.3+) as a physical conductor of gold's complex index; before 4.3
+    there is no Metallic BSDF, and a Principled metal of gold's colour stands in."""
+    if bpy.app.version < (4, 3, 0):
         principled(**{"Base Color": rgba(1.0, 0.78, 0.34), "Metallic": 1.0, "Roughness": 0.3})(tree, out)
         return
     metal = tree.nodes.new("ShaderNodeBsdfMetallic")
