@@ -605,27 +605,40 @@ def principled_v1(reader, node, ctx, w):
     if v("Subsurface") > CUTOFF:
         reader.warn(node, "subsurface scattering is rendered as diffuse in the base colour")
     reader.out.add(w * diffuse, kind="diffuse", color=tuple(base), color_input=base_input)
-    lum = float(np.dot(base, (0.3, 0.6, 0.1)))
-    hue = base / lum if lum > 0.0 else np.ones(3)
+    hue, dielectric_f0 = _principled_v1_dielectric(reader, node, ctx, base, None)
     _principled_v1_sheen(reader, node, ctx, w * diffuse, hue if base_input is None else np.ones(3))
-    tint = min(max(v("Specular Tint"), 0.0), 1.0)
-    dielectric_f0 = 0.08 * max(v("Specular", 0.5), 0.0) * (1.0 - tint + tint * hue)
     f0 = (1.0 - metallic) * dielectric_f0 + metallic * np.clip(base, 0.0, 1.0)
     reader.out.add(w * (1.0 - transmission), kind="conductor", color=tuple(np.clip(f0, 0.0, 1.0)),
                    multiscatter=_multiscatter(node), **specular)
     if transmission > CUTOFF:
         reader.out.add(w * transmission, kind="dielectric", color=tuple(base), tint=(1.0, 1.0, 1.0),
                        color_input=base_input, ior=max(v("IOR", 1.45), 1e-5), **rough)
-    clearcoat = max(v("Clearcoat"), 0.0)
-    if clearcoat > CUTOFF:
-        coat_roughness, coat_input = _roughness(reader, node, ctx, "Clearcoat Roughness", 0.03)
-        reader.out.add(w * 0.25 * clearcoat, kind="dielectric", parts="reflection", ior=1.5,
-                       roughness=coat_roughness, roughness_input=coat_input)
+    _principled_v1_clearcoat(reader, node, ctx, w)
 
 
 def _has_image(reader, node, name, ctx):
     out, _, _ = reader.source(node.inputs[name], ctx)
     return out is not None and out.node.bl_idname == "ShaderNodeTexImage" and out.node.image is not None
+
+
+def _principled_v1_dielectric(reader, node, ctx, base, base_input):
+    """(hue, F0) of 3.x's dielectric specular: 0.08 Specular, tinted towards the base colour's hue
+    (its colour over Cycles' rough luminance) by Specular Tint; untinted for an image's base colour."""
+    lum = float(np.dot(base, (0.3, 0.6, 0.1)))
+    hue = base / lum if lum > 0.0 and base_input is None else np.ones(3)
+    tint = min(max(reader.value(node, "Specular Tint", ctx, 0.0), 0.0), 1.0)
+    if base_input is not None and tint > 0.0:
+        reader.warn(node, "Specular Tint with an image on Base Color is not supported; untinted")
+    return hue, 0.08 * max(reader.value(node, "Specular", ctx, 0.5), 0.0) * (1.0 - tint + tint * hue)
+
+
+def _principled_v1_clearcoat(reader, node, ctx, w):
+    """3.x's clearcoat: a dielectric reflection of IOR 1.5, weight 0.25 Clearcoat, added on top."""
+    clearcoat = max(reader.value(node, "Clearcoat", ctx, 0.0), 0.0)
+    if clearcoat > CUTOFF:
+        coat_roughness, coat_input = _roughness(reader, node, ctx, "Clearcoat Roughness", 0.03)
+        reader.out.add(w * 0.25 * clearcoat, kind="dielectric", parts="reflection", ior=1.5,
+                       roughness=coat_roughness, roughness_input=coat_input)
 
 
 def _principled_v1_sheen(reader, node, ctx, w, hue):
@@ -641,25 +654,15 @@ def _principled_v1_opaque_textured(reader, node, ctx, w, base, base_input, specu
     """principled_v1 without transmission, Base Color or Metallic from images: the specular F0,
     (1 - metallic) dielectric F0 + metallic base colour, is split into two lobes of those F0s (Schlick's
     Fresnel is linear in F0, so the sum is Cycles' one lobe)."""
-    v = lambda name, default=0.0: reader.value(node, name, ctx, default)  # noqa: E731
     w_dielectric, w_metal = reader.split(w, node, "Metallic", ctx, 0.0)
-    if base_input is not None and v("Specular Tint") > 0.0:
-        reader.warn(node, "Specular Tint with an image on Base Color is not supported; untinted")
-    lum = float(np.dot(base, (0.3, 0.6, 0.1)))
-    hue = base / lum if lum > 0.0 and base_input is None else np.ones(3)
-    tint = min(max(v("Specular Tint"), 0.0), 1.0)
-    dielectric_f0 = 0.08 * max(v("Specular", 0.5), 0.0) * (1.0 - tint + tint * hue)
+    hue, dielectric_f0 = _principled_v1_dielectric(reader, node, ctx, base, base_input)
     reader.out.add(w_dielectric, kind="diffuse", color=tuple(base), color_input=base_input)
     _principled_v1_sheen(reader, node, ctx, w_dielectric, hue)
     reader.out.add(w_dielectric, kind="conductor", color=tuple(np.clip(dielectric_f0, 0.0, 1.0)),
                    multiscatter=_multiscatter(node), **specular)
     reader.out.add(w_metal, kind="conductor", color=tuple(np.clip(base, 0.0, 1.0)), color_input=base_input,
                    multiscatter=_multiscatter(node), **specular)
-    clearcoat = max(v("Clearcoat"), 0.0)
-    if clearcoat > CUTOFF:
-        coat_roughness, coat_input = _roughness(reader, node, ctx, "Clearcoat Roughness", 0.03)
-        reader.out.add(w * 0.25 * clearcoat, kind="dielectric", parts="reflection", ior=1.5,
-                       roughness=coat_roughness, roughness_input=coat_input)
+    _principled_v1_clearcoat(reader, node, ctx, w)
 
 
 def _principled(reader, node, ctx, w):
