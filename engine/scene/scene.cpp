@@ -489,7 +489,9 @@ void Scene::build() {
 }
 
 // A triangle's textured emission: its texture and UVs, and as its radiance (which its power and
-// the light sampler go by) the mean over the triangle of kSide^2 stratified lookups.
+// the light sampler go by) the mean over the triangle of kSide^2 stratified lookups. Photons and
+// light samples take the texture's value where they start, so any positive estimate keeps them
+// unbiased; a floor keeps bright detail between the lookups from never being chosen.
 void Scene::textured_emission(const Material& m, const TriangleInfo& info, Light& l) const {
   const MaterialInput& in = m.inputs[m.emission_input];
   l.texture = &textures_[in.texture];
@@ -500,7 +502,8 @@ void Scene::textured_emission(const Material& m, const TriangleInfo& info, Light
   Color sum(0.0);
   for (int i = 0; i < kSide; ++i)
     for (int j = 0; j < kSide; ++j) sum += radiance_at(l, sample_uniform_triangle((i + 0.5) / kSide, (j + 0.5) / kSide));
-  l.radiance = sum / double(kSide * kSide);
+  constexpr double kFloor = 1e-2;  // of the brightest the texture can make it
+  l.radiance = glm::max(sum / double(kSide * kSide), m.emission * (kFloor * l.texture->max_rgb()));
 }
 
 Color Scene::emission(const Hit& hit) const {

@@ -171,16 +171,20 @@ def test_bad_normal_maps_are_refused_with_a_message(normal_map, message):
         scene.add_material("ball", "mixture", lobes=[{"kind": "diffuse"}], inputs=[(0, "rgb")], normal_map=normal_map)
 
 
-def lamp_over_floor(emission, textured, direct_light="sampled"):
+def half_white():
+    texels = np.zeros((1, 4, 4), np.float32)
+    texels[0, :2] = 1.0
+    texels[..., 3] = 1.0
+    return texels
+
+
+def lamp_over_floor(emission, texels=None, direct_light="sampled"):
     """An emissive quad (facing down, 1 m above a diffuse floor) seen with the floor from beside:
-    with `textured`, its emission times a texture white on the quad's x < 0 half and black beyond."""
+    its emission times `texels` (a row of them running along x), if given."""
     scene = ppm_core.Scene()
     inputs, emission_input = None, -1
-    if textured:
-        texels = np.zeros((1, 4, 4), np.float32)
-        texels[0, :2] = 1.0
-        texels[..., 3] = 1.0
-        inputs, emission_input = [(scene.add_texture("half", texels, storage="half"), "rgb")], 0
+    if texels is not None:
+        inputs, emission_input = [(scene.add_texture("texels", texels, storage="half"), "rgb")], 0
     lamp = scene.add_material("lamp", "emission", base_color=(0.0, 0.0, 0.0), emission=(emission,) * 3,
                               inputs=inputs, emission_input=emission_input)
     floor = scene.add_material("floor", base_color=(0.5, 0.5, 0.5))
@@ -203,8 +207,8 @@ def lamp_over_floor(emission, textured, direct_light="sampled"):
 def test_a_textured_emission_emits_and_shows_what_its_texture_says(direct_light):
     # Seen from above the lamp hides the floor under it: look at the floor around it. Twice the
     # emission on half the lamp gives the floor the same light in all, more on the lit half's side.
-    textured = lamp_over_floor(2.0, True, direct_light)
-    uniform = lamp_over_floor(1.0, False, direct_light)
+    textured = lamp_over_floor(2.0, half_white(), direct_light)
+    uniform = lamp_over_floor(1.0, None, direct_light)
     around = np.ones((32, 32), bool)
     around[8:24, 8:24] = False  # the lamp's footprint and a margin
     assert textured[around].mean() == pytest.approx(uniform[around].mean(), rel=0.03)
@@ -213,3 +217,17 @@ def test_a_textured_emission_emits_and_shows_what_its_texture_says(direct_light)
     # The lamp itself (columns and rows 12 to 19): 2 inside its white half, 0 inside its black one.
     assert textured[12:20, 13:15].mean() == pytest.approx(2.0, rel=0.01)
     assert textured[12:20, 17:19].max() < 0.01
+
+
+@pytest.mark.parametrize("direct_light", ["sampled", "photons"])
+def test_a_textured_emission_lights_with_detail_its_mean_estimate_misses(direct_light):
+    # One white texel of 64: the 16 lookups that estimate each triangle's power all miss it, yet the
+    # lamp gives the floor the light of its true mean (a uniform lamp of 1/64 the emission).
+    texels = np.zeros((1, 64, 4), np.float32)
+    texels[0, 37, :3] = 1.0
+    texels[..., 3] = 1.0
+    textured = lamp_over_floor(64.0, texels, direct_light)
+    uniform = lamp_over_floor(1.0, None, direct_light)
+    around = np.ones((32, 32), bool)
+    around[8:24, 8:24] = False
+    assert textured[around].mean() == pytest.approx(uniform[around].mean(), rel=0.05)
