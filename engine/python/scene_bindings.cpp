@@ -139,10 +139,11 @@ NormalMap normal_map_from(const py::object& value, const std::string& what) {
     map.space = choice<NormalMap::Space>(py::str(d["space"]), {{"tangent", NormalMap::Tangent}, {"world", NormalMap::World}},
                                          what, "normal_map space");
   if (d.contains("softening"))
-    map.softening = choice<NormalMap::Softening>(
-        py::str(d["softening"]),
-        {{"none", NormalMap::None}, {"chiang", NormalMap::Chiang}, {"conty_estevez", NormalMap::ContyEstevez}}, what,
-        "normal_map softening");
+    map.softening = choice<BumpSoftening>(py::str(d["softening"]),
+                                          {{"none", BumpSoftening::None},
+                                           {"chiang", BumpSoftening::Chiang},
+                                           {"conty_estevez", BumpSoftening::ContyEstevez}},
+                                          what, "normal_map softening");
   return map;
 }
 
@@ -542,7 +543,7 @@ void bind_scene(py::module_& m) {
            "strength=1.0, space='tangent' | 'world', softening='conty_estevez' | 'chiang' | 'none'), the input's "
            "colour c as the normal 2c - 1 in the tangent space of the mesh's tangents (add_mesh) or in world "
            "space, as Blender's Normal Map node; softening: Cycles' bump shadowing at the terminator, of "
-           "Blender 4.2+ or of 3.x-4.1), and emission_input (an input whose value multiplies `emission`: a "
+           "Blender 4.3+ or of 3.x-4.2), and emission_input (an input whose value multiplies `emission`: a "
            "textured emission; a mixture's or an emission material's). "
            "emission is radiance in W/(m^2 sr) (Blender colour * strength).")
       .def("add_texture", &add_texture, py::arg("name"), py::arg("pixels"), py::arg("storage") = py::none(),

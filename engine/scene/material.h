@@ -32,17 +32,13 @@ struct MaterialInput {
 
 // A normal map (Blender's Normal Map node on the shaders' Normal): a mixture input's colour c as the
 // normal 2c - 1 in the tangent space of the mesh's UV map (tangent, bitangent = sign * N x T, the
-// interpolated normal N) or in world space, then N + (that - N) * strength, normalised, as Cycles.
-// Light at a diffuse lobe's terminator is softened as Cycles does where a normal map tilts its
-// normal: Blender 3.x to 4.1 after Chiang et al. 2019 ("Taming the Shadow Terminator"), 4.2 and
-// later after Conty Estevez et al. 2019 (a GGX shadowing term), which also refuses light from the
-// far side of the smooth normal for every lobe (shading/closure.cpp).
+// interpolated normal N) or in world space, then N + (that - N) * strength, normalised, as Cycles;
+// light at the terminator softened as the Blender version's Cycles does (shading/scatter.h).
 struct NormalMap {
   enum Space : uint8_t { Tangent, World };
-  enum Softening : uint8_t { None, Chiang, ContyEstevez };
   int8_t input = -1;  // none
   Space space = Tangent;
-  Softening softening = ContyEstevez;
+  BumpSoftening softening = BumpSoftening::ContyEstevez;
   double strength = 1.0;
 };
 

@@ -180,17 +180,16 @@ void tabulate_layer_albedo(const Lobe& lobe, float* row) {
 }
 
 // Cycles' bump shadowing where a normal map tilted the normal (SurfacePoint::smooth_normal; the
-// kinds in NormalMap::Softening): diffuse lobes lose light towards the smooth normal's terminator,
+// kinds in scatter.h's BumpSoftening): diffuse lobes lose light towards the smooth normal's terminator,
 // and, in the newer form, light from the far side of the smooth normal is refused (for every lobe
 // when `evaluated`, for diffuse ones when sampled). `view` is on the viewer's side, `light`
 // towards the light.
 double bump_shadowing(const Lobe& l, const SurfacePoint& sp, const Vec3& view, const Vec3& light, bool evaluated) {
-  if (sp.softening == 0 || sp.smooth_normal == Vec3(0.0) || sp.smooth_normal == sp.ns) return 1.0;
+  if (sp.softening == BumpSoftening::None || sp.smooth_normal == Vec3(0.0) || sp.smooth_normal == sp.ns) return 1.0;
   const double side = glm::dot(view, sp.ng) >= 0.0 ? 1.0 : -1.0;
   const Vec3 smooth = side * sp.smooth_normal, n = side * sp.ns;
   const bool diffuse = l.diffuse();
-  constexpr uint8_t kChiang = 1;  // NormalMap::Chiang (scene/material.h)
-  if (sp.softening == kChiang) {
+  if (sp.softening == BumpSoftening::Chiang) {
     if (!diffuse) return 1.0;
     const Vec3 s = l.kind == LobeKind::Translucent ? -smooth : smooth;
     const double denominator = glm::dot(n, light) * glm::dot(s, n);

@@ -113,8 +113,9 @@ Color velvet_eval(const Color& color, double sigma, const SurfacePoint& sp, cons
 
 bool velvet_sample(const Color& color, double sigma, const SurfacePoint& sp, const Vec3& wo, double u1, double u2,
                    BsdfSample& out) {
-  out.wi = to_world(sample_uniform_hemisphere(u1, u2), facing_normal(sp, wo));
-  out.weight = velvet_eval(color, sigma, sp, wo, out.wi) * (glm::dot(out.wi, facing_normal(sp, wo)) * 2.0 * kPi);
+  const Vec3 n = facing_normal(sp, wo);
+  out.wi = to_world(sample_uniform_hemisphere(u1, u2), n);
+  out.weight = velvet_eval(color, sigma, sp, wo, out.wi) * (glm::dot(out.wi, n) * 2.0 * kPi);
   out.specular = false;
   out.ray_kind = kDiffuseRay;
   return max_component(out.weight) > 0.0;

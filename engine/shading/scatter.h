@@ -10,16 +10,22 @@
 
 namespace ppm {
 
-constexpr int kMaxInputs = 4;  // a mixture's textured inputs, each one image lookup per shading point
+constexpr int kMaxInputs = 4;
+
+// How light is softened towards the terminator where a normal map tilts the normal, as Cycles does:
+// Blender 3.x to 4.2 after Chiang et al. 2019 ("Taming the Shadow Terminator"), later versions after
+// Conty Estevez et al. 2019 (a GGX shadowing term, which also refuses light from the far side of the
+// smooth normal for every lobe). Evaluated in shading/closure.cpp.
+enum class BumpSoftening : uint8_t { None, Chiang, ContyEstevez };  // a mixture's textured inputs, each one image lookup per shading point
 
 struct SurfacePoint {
   Vec3 ng;       // geometric normal, outward as the primitive defines it
   Vec3 ns;       // shading normal, same hemisphere as ng
   Color albedo;  // base colour, texture applied (single-kind materials)
   // With a normal map: the interpolated normal before it (Cycles' smooth normal, from which its
-  // terminator softening measures; NormalMap::Softening); zero without one.
+  // terminator softening measures); zero without one.
   Vec3 smooth_normal{0.0};
-  uint8_t softening = 0;  // a NormalMap::Softening
+  BumpSoftening softening = BumpSoftening::None;
   Vec3 tangent{0.0};      // a mesh's tangent (anisotropic lobes); zero: none
   // A mixture's inputs here (Material::inputs; lobe.h's InputRef); left unset for other materials,
   // which read none (filling them would cost every photon bounce).

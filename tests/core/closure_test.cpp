@@ -113,7 +113,7 @@ TEST(Closure, WhiteOrenNayarLosesOnlyWithoutItsEnergyCompensation) {
 }
 
 // A normal map's point: the shading normal tilted by `degrees` towards +x from the smooth +z.
-SurfacePoint mapped_point(double degrees, uint8_t softening) {
+SurfacePoint mapped_point(double degrees, BumpSoftening softening) {
   SurfacePoint sp = kFlat;
   sp.smooth_normal = Vec3(0, 0, 1);
   sp.ns = Vec3(std::sin(degrees * kPi / 180.0), 0.0, std::cos(degrees * kPi / 180.0));
@@ -122,11 +122,10 @@ SurfacePoint mapped_point(double degrees, uint8_t softening) {
 }
 
 TEST(Closure, BumpShadowingSoftensDiffuseLightTowardsTheSmoothTerminator) {
-  constexpr uint8_t kChiang = 1, kContyEstevez = 2;
   const std::vector<Lobe> diffuse = {lobe(LobeKind::Diffuse, Color(1.0), Color(0.8))};
   const Vec3 wo = direction(0.8, 0.5);
-  for (uint8_t softening : {kChiang, kContyEstevez}) {
-    const SurfacePoint sp = mapped_point(30.0, softening), plain = mapped_point(30.0, 0);
+  for (BumpSoftening softening : {BumpSoftening::Chiang, BumpSoftening::ContyEstevez}) {
+    const SurfacePoint sp = mapped_point(30.0, softening), plain = mapped_point(30.0, BumpSoftening::None);
     // Light along the smooth normal: nothing lost. Light near the smooth horizon, on the side the
     // normal tilts to: less, and less the closer it gets.
     const Vec3 up(0, 0, 1);
@@ -143,14 +142,14 @@ TEST(Closure, BumpShadowingSoftensDiffuseLightTowardsTheSmoothTerminator) {
   }
   // The newer form refuses light from below the smooth horizon even where the tilted normal takes
   // it, for glossy lobes too.
-  const SurfacePoint sp = mapped_point(30.0, kContyEstevez);
+  const SurfacePoint sp = mapped_point(30.0, BumpSoftening::ContyEstevez);
   const Vec3 below(std::sin(100.0 * kPi / 180.0), 0.0, std::cos(100.0 * kPi / 180.0));
   ASSERT_GT(glm::dot(below, sp.ns), 0.0);
   EXPECT_EQ(closure_eval(diffuse, sp, wo, below).x, 0.0);
   const std::vector<Lobe> glossy = {lobe(LobeKind::Glossy, Color(1.0), Color(0.8), 0.6)};
   const Vec3 mirror = 2.0 * glm::dot(below, sp.ns) * sp.ns - below;  // where the tilted normal reflects it
   ASSERT_GT(mirror.z, 0.0);
-  EXPECT_GT(closure_eval(glossy, mapped_point(30.0, 0), mirror, below).x, 0.0);
+  EXPECT_GT(closure_eval(glossy, mapped_point(30.0, BumpSoftening::None), mirror, below).x, 0.0);
   EXPECT_EQ(closure_eval(glossy, sp, mirror, below).x, 0.0);
 }
 
