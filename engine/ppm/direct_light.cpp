@@ -16,7 +16,7 @@ Color light_contribution(const Scene& scene, const Light& light, const HitPoint&
   DirectSample ds;
   if (!sample_direct(light, hp.position, n, u1, u2, ds, strategy)) return Color(0.0);
   const Material& m = scene.material(sh.material);
-  const SurfacePoint sp = scene.surface_point(sh.material, sh.geometric_normal, sh.shading_normal, sh.uv, sh.smooth_normal, sh.tangent);
+  const SurfacePoint sp = scene.surface_point(surface_record(hp, sh));
   const Color f = bsdf_eval(m, sp, sh.wo, ds.wi);
   const double cos = std::fabs(glm::dot(sh.shading_normal, ds.wi));
   const Color c = sh.throughput * f * (cos * ds.value);

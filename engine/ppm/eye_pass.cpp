@@ -108,8 +108,8 @@ struct EyeTracer {
 
   void record(const Hit& hit, const EyeVertex& v, uint32_t pixel, ChunkOutput& out) const {
     const Material& m = scene.material(hit.material);
-    const SurfacePoint sp = scene.surface_point(hit);
     const Vec3 wo = -v.ray.direction;
+    const SurfacePoint sp = scene.surface_point(hit, wo);
     const bool front = glm::dot(wo, sp.ng) >= 0.0;
     const Vec3 ns = front ? sp.ns : -sp.ns;
     const bool glossy = m.kind != MaterialKind::Diffuse;
@@ -125,8 +125,8 @@ struct EyeTracer {
     hp.glossy = glossy ? 1u : 0u;
     out.points.push_back(hp);
     out.shading.push_back(
-        HitPointShading{sp.ng, sp.ns, wo, v.throughput, Vec2f(hit.uv), Vec3f(sp.smooth_normal), Vec3f(sp.tangent),
-                        hit.material, pixel});
+        HitPointShading{sp.ng, sp.ns, wo, v.throughput, Vec2f(hit.uv), Vec3f(sp.smooth_normal),
+                        sp.tangent != Vec3(0.0) ? hit.tangent : glm::vec4(0.0f), hit.material, hit.object, pixel});
     if (limits.active) out.chain.push_back(v.chain);
   }
 
@@ -148,10 +148,10 @@ struct EyeTracer {
       }
       const Material& m = scene.material(hit.material);
       if (ends_at_holdout(v, hit, m, transparency)) continue;
-      if (m.emits()) emitted += v.throughput * scene.emission(hit);
+      if (m.emits()) emitted += v.throughput * scene.emission(hit, -v.ray.direction);
       if (is_black(m) || v.emission_only) continue;
       const EyeVertex here{v.ray, v.throughput, v.depth, v.length + hit.t, v.glass_only, v.chain, false};
-      const SurfacePoint sp = scene.surface_point(hit);
+      const SurfacePoint sp = scene.surface_point(hit, -v.ray.direction);
       double followed = is_specular(m) ? 1.0 : 0.0;
       if (m.kind == MaterialKind::Mixture && followed == 0.0 && closure_has_followed(m.lobes))
         followed = closure_followed_share(m.lobes, sp, -v.ray.direction);

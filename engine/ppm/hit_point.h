@@ -7,6 +7,7 @@
 #pragma once
 
 #include "math/types.h"
+#include "scene/scene.h"
 #include "ppm/bounce_limits.h"
 #include "ppm/fill_vector.h"
 
@@ -31,10 +32,17 @@ struct HitPointShading {
   Color throughput;       // eye-path weight including 1/samples_per_pixel
   Vec2f uv;               // where the material's textures are looked up (Scene::surface_point)
   Vec3f smooth_normal;    // before a normal map (SurfacePoint::smooth_normal)
-  Vec3f tangent;          // a mesh's tangent (SurfacePoint::tangent)
+  glm::vec4 tangent;      // a mesh's tangent and bitangent sign (SurfacePoint::tangent)
   uint32_t material;
+  uint32_t object;        // for its material's node program
   uint32_t pixel;
 };
+
+// What Scene::surface_point needs to shade a hit point again.
+inline SurfaceRecord surface_record(const HitPoint& h, const HitPointShading& sh) {
+  return {h.position, sh.geometric_normal, sh.shading_normal, sh.wo, sh.uv, sh.smooth_normal, sh.tangent,
+          sh.material, sh.object};
+}
 
 // Create as HitPointStats{} (all zero). No member initialisers: they would
 // make resize() write every element on one thread (see fill_vector.h).

@@ -1,7 +1,9 @@
 // Python bindings of ppm::Scene: the builder calls and batch ray casting.
 #include "python/convert.h"
+#include "python/node_program_bindings.h"
 #include "scene/scene.h"
 
+#include <glm/gtc/matrix_transform.hpp>
 #include <pybind11/stl.h>
 
 #include <algorithm>
@@ -101,24 +103,23 @@ ParsedLobe lobe_from(const py::handle& item, const std::string& what) {
   return parsed;
 }
 
-// A mixture's inputs: (texture index, channel 'rgb', 'alpha' or 'grey') each.
-std::vector<MaterialInput> inputs_from(const py::object& inputs, const std::string& what) {
-  std::vector<MaterialInput> out;
-  if (inputs.is_none()) return out;
+// A mixture's inputs given as images: (texture index, channel 'rgb', 'alpha' or 'grey') each, read
+// at the hit's UV: a node program of image lookups.
+void add_image_inputs(NodeProgram& program, const py::object& inputs, const std::string& what) {
+  if (inputs.is_none()) return;
   if (py::isinstance<py::str>(inputs) || !py::isinstance<py::iterable>(inputs)) fail(what, "inputs must be a list");
   for (const py::handle item : inputs) {
     const py::sequence pair = py::reinterpret_borrow<py::sequence>(item);
     if (!py::isinstance<py::sequence>(item) || pair.size() != 2)
       fail(what, "each input must be (texture index, 'rgb' | 'alpha' | 'grey')");
-    MaterialInput in;
-    in.texture = py::cast<int>(pair[0]);
-    in.channel = choice<TextureChannel>(
+    const int texture = py::cast<int>(pair[0]);
+    if (texture < 0) fail(what, "input texture index out of range");
+    const auto channel = choice<TextureChannel>(
         py::str(pair[1]),
         {{"rgb", TextureChannel::Rgb}, {"alpha", TextureChannel::Alpha}, {"grey", TextureChannel::Grey}}, what,
         "input channel");
-    out.push_back(in);
+    program.add_image_output(texture, channel);
   }
-  return out;
 }
 
 // A mixture's normal map from a dict: input (an index), strength, space ('tangent' or 'world').
@@ -136,8 +137,10 @@ NormalMap normal_map_from(const py::object& value, const std::string& what) {
   map.input = input_ref(d["input"], InputRef::Value, what, "normal_map input").input;
   if (d.contains("strength")) map.strength = py::cast<double>(d["strength"]);
   if (d.contains("space"))
-    map.space = choice<NormalMap::Space>(py::str(d["space"]), {{"tangent", NormalMap::Tangent}, {"world", NormalMap::World}},
-                                         what, "normal_map space");
+    map.space = choice<NormalMap::Space>(
+        py::str(d["space"]),
+        {{"tangent", NormalMap::Tangent}, {"world", NormalMap::World}, {"direct", NormalMap::Direct}}, what,
+        "normal_map space");
   if (d.contains("softening"))
     map.softening = choice<BumpSoftening>(py::str(d["softening"]),
                                           {{"none", BumpSoftening::None},
@@ -150,7 +153,7 @@ NormalMap normal_map_from(const py::object& value, const std::string& what) {
 uint32_t add_material(Scene& s, const std::string& name, const std::string& kind, const py::object& base_color,
                       int texture, double roughness, double ior, const py::object& specular_tint,
                       const py::object& emission, const py::object& lobes, double holdout, const py::object& inputs,
-                      const py::object& normal_map, int emission_input) {
+                      const py::object& normal_map, int emission_input, const py::object& program) {
   const std::string what = "material '" + checked_name(name, "material") + "'";
   Material m;
   m.name = name;
@@ -170,8 +173,10 @@ uint32_t add_material(Scene& s, const std::string& name, const std::string& kind
   m.ior = ior;
   m.specular_tint = color(specular_tint, what, "specular_tint");
   m.emission = color(emission, what, "emission");
-  m.inputs = inputs_from(inputs, what);
-  if (!m.inputs.empty() && m.kind != MaterialKind::Mixture && m.kind != MaterialKind::Emission)
+  if (!inputs.is_none() && !program.is_none()) fail(what, "give inputs or a program, not both");
+  m.program = program_from(program, what);
+  add_image_inputs(m.program, inputs, what);
+  if (!m.program.empty() && m.kind != MaterialKind::Mixture && m.kind != MaterialKind::Emission)
     fail(what, "inputs are for kinds 'mixture' and 'emission' only");
   if (emission_input < -1 || emission_input >= kMaxInputs) fail(what, "emission_input must be -1 (none) or an input index");
   m.emission_input = static_cast<int8_t>(emission_input);
@@ -185,8 +190,8 @@ uint32_t add_material(Scene& s, const std::string& name, const std::string& kind
       ParsedLobe parsed = lobe_from(item, what);
       if (parsed.textured && texture >= 0) {
         if (textured_input < 0) {
-          textured_input = static_cast<int>(m.inputs.size());
-          m.inputs.push_back(MaterialInput{texture, TextureChannel::Rgb});
+          textured_input = static_cast<int>(m.program.outputs.size());
+          m.program.add_image_output(texture, TextureChannel::Rgb);
         }
         parsed.lobe.color_input.input = static_cast<int8_t>(std::min(textured_input, kMaxInputs));
       }
@@ -516,6 +521,65 @@ py::dict intersect(Scene& s, const py::object& origins, const py::object& direct
   return out;
 }
 
+
+void set_object_info(Scene& s, uint32_t object, const py::object& matrix, const py::object& texspace_location,
+                     const py::object& texspace_size, double random, double pass_index) {
+  const std::string what = "object " + std::to_string(object);
+  ObjectInfo info;
+  info.object_to_world = mat4(matrix, what, "matrix");
+  info.location = Vec3(info.object_to_world[3]);
+  // An object scaled to nothing along an axis (it renders, flat) has no inverse: its coordinates are
+  // then measured from its origin along the world's axes.
+  const double det = glm::determinant(info.object_to_world);
+  info.world_to_object = std::fabs(det) > 0.0 && std::isfinite(det) ? glm::inverse(info.object_to_world)
+                                                                    : glm::translate(Mat4(1.0), -info.location);
+  const Vec3 location = vec3(texspace_location, what, "texspace_location");
+  Vec3 size = vec3(texspace_size, what, "texspace_size");
+  for (int k = 0; k < 3; ++k)
+    if (size[k] == 0.0) size[k] = 1.0;  // as Blender makes a flat texture space's
+  info.texspace_min = location - size;
+  info.texspace_size = 2.0 * size;
+  info.random = static_cast<float>(random);
+  info.pass_index = static_cast<float>(pass_index);
+  s.set_object_info(object, info);
+}
+
+// Runs a node program at n points (tests and the add-on's constant folding): (n, outputs, 3).
+py::array_t<float> run_program(const Scene& s, const py::object& program, const py::object& position,
+                               const py::object& normal, const py::object& incoming, const py::object& uv,
+                               uint32_t object) {
+  const std::string what = "run_program";
+  NodeProgram p = program_from(program, what);
+  p.validate(s.textures().size(), what);
+  const std::vector<Vec3> positions = vec3_list(position, what, "position");
+  const size_t n = positions.size();
+  auto optional3 = [&](const py::object& v, const char* field, Vec3 fallback) {
+    std::vector<Vec3> out = v.is_none() ? std::vector<Vec3>(n, fallback) : vec3_list(v, what, field);
+    if (out.size() != n) fail(what, std::string(field) + " must have one row per position");
+    return out;
+  };
+  const std::vector<Vec3> normals = optional3(normal, "normal", Vec3(0.0, 0.0, 1.0));
+  const std::vector<Vec3> incomings = optional3(incoming, "incoming", Vec3(0.0, 0.0, 1.0));
+  std::vector<Vec2> uvs = uv.is_none() ? std::vector<Vec2>(n, Vec2(0.0)) : vec2_list(uv, what, "uv");
+  if (uvs.size() != n) fail(what, "uv must have one row per position");
+  py::array_t<float> out({n, p.outputs.size(), size_t(3)});
+  float* o = out.mutable_data();
+  std::array<Vec3f, kMaxInputs> values;
+  for (size_t i = 0; i < n; ++i) {
+    ShadingContext c;
+    c.position = positions[i];
+    c.normal = c.true_normal = normals[i];
+    c.incoming = incomings[i];
+    c.backfacing = glm::dot(c.incoming, c.normal) < 0.0;
+    c.uv = uvs[i];
+    c.object = &s.object_info(object);
+    p.run(c, s.textures(), values.data());
+    for (size_t k = 0; k < p.outputs.size(); ++k)
+      for (int j = 0; j < 3; ++j) *o++ = values[k][j];
+  }
+  return out;
+}
+
 }  // namespace
 
 void bind_scene(py::module_& m) {
@@ -526,6 +590,7 @@ void bind_scene(py::module_& m) {
            py::arg("ior") = 1.45, py::arg("specular_tint") = py::make_tuple(1.0, 1.0, 1.0),
            py::arg("emission") = py::make_tuple(0.0, 0.0, 0.0), py::arg("lobes") = py::none(), py::arg("holdout") = 0.0,
            py::arg("inputs") = py::none(), py::arg("normal_map") = py::none(), py::arg("emission_input") = -1,
+           py::arg("program") = py::none(),
            "Adds a material; returns its index. kind: diffuse, mirror, metal, glass, emission, holdout "
            "(a hole in the image: alpha 0 where camera rays reach it), mixture (`lobes`: a list of dicts "
            "with kind diffuse, translucent, transparent, conductor, glossy or dielectric, weight, color, tint, "
@@ -538,14 +603,26 @@ void bind_scene(py::module_& m) {
            "((x, y): a conductor or glossy lobe's GGX alpha times x along the mesh's tangent, y across) and "
            "rotation (of the tangent about the normal, in turns), "
            "holdout (a mixture's Holdout weight: camera rays see that much of it as a hole in the alpha), "
-           "and inputs (a mixture's: up to 4 of (texture index, 'rgb' | 'alpha' | 'grey'), looked up at the "
-           "hit's UV; grey is the colour's Rec. 709 luminance), and normal_map (a mixture's: dict(input=index, "
-           "strength=1.0, space='tangent' | 'world', softening='conty_estevez' | 'chiang' | 'none'), the input's "
-           "colour c as the normal 2c - 1 in the tangent space of the mesh's tangents (add_mesh) or in world "
-           "space, as Blender's Normal Map node; softening: Cycles' bump shadowing at the terminator, of "
+           "and inputs (a mixture's: up to 8 of (texture index, 'rgb' | 'alpha' | 'grey'), looked up at the "
+           "hit's UV; grey is the colour's Rec. 709 luminance) or program (a node program whose outputs are the "
+           "inputs: see ppm_core.node_modes and engine/shading/node_program.h), and normal_map (a mixture's: "
+           "dict(input=index, strength=1.0, space='tangent' | 'world' | 'direct', softening='conty_estevez' | "
+           "'chiang' | 'none'), the input's colour c as the normal 2c - 1 in the tangent space of the mesh's "
+           "tangents (add_mesh) or in world space, as Blender's Normal Map node, or (direct) the input itself as "
+           "the normal; softening: Cycles' bump shadowing at the terminator, of "
            "Blender 4.3+ or of 3.x-4.2), and emission_input (an input whose value multiplies `emission`: a "
            "textured emission; a mixture's or an emission material's). "
            "emission is radiance in W/(m^2 sr) (Blender colour * strength).")
+      .def("set_object_info", &set_object_info, py::arg("object"), py::arg("matrix"),
+           py::arg("texspace_location") = py::make_tuple(0.0, 0.0, 0.0),
+           py::arg("texspace_size") = py::make_tuple(1.0, 1.0, 1.0), py::arg("random") = 0.0,
+           py::arg("pass_index") = 0.0,
+           "What node programs know of object id `object` (add_mesh's object_id): its object-to-world matrix "
+           "(Texture Coordinate's Object), its texture space (Blender's texspace_location and _size: Generated) "
+           "and Object Info's Random and Pass Index.")
+      .def("run_program", &run_program, py::arg("program"), py::arg("position"), py::arg("normal") = py::none(),
+           py::arg("incoming") = py::none(), py::arg("uv") = py::none(), py::arg("object") = 0,
+           "Runs a node program (add_material's `program`) at points: float32 (n, outputs, 3).")
       .def("add_texture", &add_texture, py::arg("name"), py::arg("pixels"), py::arg("storage") = py::none(),
            py::arg("clear_unusable") = false,
            "Adds an RGBA or RGB texture of shape (H, W, 4) or (H, W, 3), row 0 at the bottom; returns its "

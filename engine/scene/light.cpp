@@ -3,6 +3,7 @@
 
 #include "geometry/sphere.h"
 #include "math/sampling.h"
+#include "shading/scatter.h"
 
 #include <stdexcept>
 
@@ -245,9 +246,16 @@ void prepare_light(Light& l, const Aabb& bounds) {
 }
 
 Color radiance_at(const Light& l, const Vec2& b) {
-  if (l.texture == nullptr) return l.radiance;
-  const Vec2 uv = (1.0 - b.x - b.y) * l.uvs[0] + b.x * l.uvs[1] + b.y * l.uvs[2];
-  return l.emission * l.texture->lookup_channel(uv, l.channel);
+  if (l.program == nullptr) return l.radiance;
+  ShadingContext at;
+  const TrianglePrim& t = l.triangle;
+  at.position = t.v0 + b.x * t.e1 + b.y * t.e2;
+  at.normal = at.true_normal = at.incoming = triangle_normal(t);
+  at.uv = (1.0 - b.x - b.y) * l.uvs[0] + b.x * l.uvs[1] + b.y * l.uvs[2];
+  at.object = l.object;
+  std::array<Vec3f, kMaxInputs> values;
+  l.program->run(at, *l.textures, values.data());
+  return l.emission * Color(values[l.program_output]);
 }
 
 PhotonEmission emit_photon(const Light& l, double u1, double u2, double u3, double u4, double u5) {
@@ -310,7 +318,7 @@ PhotonEmission emit_photon(const Light& l, double u1, double u2, double u3, doub
       const Vec3 p = l.triangle.v0 + b.x * l.triangle.e1 + b.y * l.triangle.e2;
       const Vec3 n = triangle_normal(l.triangle) * (u5 < 0.5 ? 1.0 : -1.0);
       e.ray = {p, to_world(sample_cosine_hemisphere(u3, u4), n)};
-      if (l.texture != nullptr) {  // positions drawn by area: each photon weighted by its point's share
+      if (l.program != nullptr) {  // positions drawn by area: each photon weighted by its point's share
         const Color here = radiance_at(l, b);
         for (int c = 0; c < 3; ++c) e.flux[c] = l.radiance[c] > 0.0 ? e.flux[c] * here[c] / l.radiance[c] : 0.0;
       }

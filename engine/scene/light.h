@@ -16,6 +16,7 @@
 #include "math/aabb.h"
 #include "scene/environment.h"
 #include "scene/texture.h"
+#include "shading/node_program.h"
 
 #include <array>
 #include <string>
@@ -52,12 +53,15 @@ struct Light {
   int max_bounces = 1024;
   // Background: an image around the scene, or (nullptr) `power` from every direction.
   const Environment* environment = nullptr;
-  // Emissive triangle; with a textured emission, `emission` times the texture's channel at the UV
-  // (radiance_at), `radiance` then its mean over the triangle.
+  // Emissive triangle; with a textured emission, `emission` times output `program_output` of its
+  // material's node program where a point of it is (radiance_at), `radiance` then its mean over the
+  // triangle.
   TrianglePrim triangle{};
   uint32_t primitive = 0;
-  const Texture* texture = nullptr;
-  TextureChannel channel = TextureChannel::Rgb;
+  const NodeProgram* program = nullptr;
+  int program_output = 0;
+  const std::vector<Texture>* textures = nullptr;
+  const ObjectInfo* object = nullptr;
   std::array<Vec2, 3> uvs{};
   Color emission{0.0};
 

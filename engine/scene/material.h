@@ -7,6 +7,7 @@
 #include "math/types.h"
 #include "scene/texture.h"
 #include "shading/closure.h"
+#include "shading/node_program.h"
 
 #include <string>
 #include <vector>
@@ -23,19 +24,15 @@ enum class MaterialKind : uint8_t {
   Mixture,  // weighted lobes (shading/closure.h); base_color is their summed colour (an albedo bound)
 };
 
-// An input of a mixture: an image texture looked up at the shading point's UV (a channel of it).
-// Lobe parameters, the normal map and the emission refer to inputs (lobe.h's InputRef).
-struct MaterialInput {
-  int texture = -1;
-  TextureChannel channel = TextureChannel::Rgb;
-};
-
-// A normal map (Blender's Normal Map node on the shaders' Normal): a mixture input's colour c as the
+// The normal a mixture's shaders see (Blender's Normal Map node on the shaders' Normal, or a node
+// program's normal): from a mixture input. Tangent and World read the input's colour c as the
 // normal 2c - 1 in the tangent space of the mesh's UV map (tangent, bitangent = sign * N x T, the
 // interpolated normal N) or in world space, then N + (that - N) * strength, normalised, as Cycles;
-// light at the terminator softened as the Blender version's Cycles does (shading/scatter.h).
+// Direct takes the input as the world-space normal itself (a Bump or Normal Map node evaluated by
+// the program). Light at the terminator is softened as the Blender version's Cycles does
+// (shading/scatter.h).
 struct NormalMap {
-  enum Space : uint8_t { Tangent, World };
+  enum Space : uint8_t { Tangent, World, Direct };
   int8_t input = -1;  // none
   Space space = Tangent;
   BumpSoftening softening = BumpSoftening::ContyEstevez;
@@ -52,7 +49,8 @@ struct Material {
   Color specular_tint{1.0};    // metal: F82 tint
   Color emission{0.0};
   std::vector<Lobe> lobes;     // Mixture only
-  std::vector<MaterialInput> inputs;  // Mixture and emission only: at most kMaxInputs
+  // Mixture and emission only: computes the material's inputs (at most kMaxInputs outputs).
+  NodeProgram program;
   int8_t emission_input = -1;         // `emission` times this input (a textured emission colour)
   NormalMap normal_map;               // Mixture only
   double holdout = 0.0;        // Mixture only: the weight of its Holdout closures (alpha it cuts for camera rays)

@@ -82,19 +82,16 @@ Scene::Scene() = default;
 Scene::~Scene() = default;
 Scene::Scene(Scene&&) noexcept = default;
 
-// A material's inputs exist and what refers to them is in range; returns the most each input can
-// scale a colour by.
+// A material's program is valid and what refers to its outputs is in range; returns the most each
+// output can scale a colour by (+inf: unknown).
 std::vector<double> Scene::check_inputs(const Material& m, const std::string& what) const {
-  if (m.inputs.size() > static_cast<size_t>(kMaxInputs))
+  const NodeProgram& p = m.program;
+  if (p.outputs.size() > static_cast<size_t>(kMaxInputs))
     fail(what, "a material takes at most " + std::to_string(kMaxInputs) + " inputs");
+  p.validate(textures_.size(), what);
   std::vector<double> gain;
-  for (const MaterialInput& in : m.inputs) {
-    if (in.texture < 0 || in.texture >= static_cast<int>(textures_.size()))
-      fail(what, "input texture index out of range");
-    gain.push_back(in.channel == TextureChannel::Alpha ? 1.0
-                                                        : std::max(1.0, double(textures_[in.texture].max_rgb())));
-  }
-  const int count = static_cast<int>(m.inputs.size());
+  for (size_t i = 0; i < p.outputs.size(); ++i) gain.push_back(p.output_bound(i, textures_));
+  const int count = static_cast<int>(p.outputs.size());
   if (m.normal_map.input >= count)
     fail(what, "normal_map refers to input " + std::to_string(m.normal_map.input) + ", which the material does not have");
   if (!std::isfinite(m.normal_map.strength)) fail(what, "normal_map strength must be a finite number");
@@ -108,13 +105,13 @@ std::vector<double> Scene::check_inputs(const Material& m, const std::string& wh
 void Scene::check_lobes(Material& m, const std::string& what) const {
   if (m.lobes.empty() || m.lobes.size() > static_cast<size_t>(kMaxLobes))
     fail(what, "a mixture needs 1 to " + std::to_string(kMaxLobes) + " lobes");
-  const std::vector<double> gain = check_inputs(m, what);
+  std::vector<double> gain = check_inputs(m, what);
   Color bound(0.0);
   for (size_t i = 0; i < m.lobes.size(); ++i) {
     Lobe& l = m.lobes[i];
     const std::string lobe = "lobe " + std::to_string(i);
     for (const InputRef* ref : {&l.color_input, &l.roughness_input, &l.weight_inputs[0], &l.weight_inputs[1]})
-      if (ref->used() && ref->input >= static_cast<int>(m.inputs.size()))
+      if (ref->used() && ref->input >= static_cast<int>(m.program.outputs.size()))
         fail(what, lobe + " refers to input " + std::to_string(ref->input) + ", which the material does not have");
     check_finite(l.weight, 0.0, what, lobe + " weight");
     check_finite(l.color, 0.0, what, lobe + " color");
@@ -133,7 +130,16 @@ void Scene::check_lobes(Material& m, const std::string& what) const {
     if (l.multiscatter && l.kind == LobeKind::Dielectric && l.parts != kReflection)
       fail(what, lobe + ": multiscatter is for reflection lobes (conductor, glossy, dielectric reflection)");
     prepare_lobe(l);
-    const double color_gain = l.color_input.used() ? gain[l.color_input.input] : 1.0;
+    double color_gain = 1.0;
+    if (l.color_input.used()) {  // a colour the program cannot bound is kept within [0, 1]
+      const int i = l.color_input.input;
+      if (!std::isfinite(gain[i])) {
+        m.program.output_max.resize(m.program.outputs.size(), std::numeric_limits<float>::infinity());
+        m.program.output_max[i] = 1.0f;
+        gain[i] = 1.0;
+      }
+      color_gain = gain[i];
+    }
     bound += l.weight * (l.kind == LobeKind::Dielectric ? glm::max(l.color * color_gain, l.tint) : l.color * color_gain);
   }
   m.base_color = bound;
@@ -488,29 +494,37 @@ void Scene::build() {
   built_ = true;
 }
 
-// A triangle's textured emission: its texture and UVs, and as its radiance (which its power and
-// the light sampler go by) the mean over the triangle of kSide^2 stratified lookups. Photons and
-// light samples take the texture's value where they start, so any positive estimate keeps them
-// unbiased; a floor keeps bright detail between the lookups from never being chosen.
+// A triangle's textured emission: its material's program and UVs, and as its radiance (which its
+// power and the light sampler go by) the mean over the triangle of kSide^2 stratified values.
+// Photons and light samples take the emission where they start, so any positive estimate keeps them
+// unbiased; a floor keeps bright detail between the samples from never being chosen.
 void Scene::textured_emission(const Material& m, const TriangleInfo& info, Light& l) const {
-  const MaterialInput& in = m.inputs[m.emission_input];
-  l.texture = &textures_[in.texture];
-  l.channel = in.channel;
+  l.program = &m.program;
+  l.program_output = m.emission_input;
+  l.textures = &textures_;
+  l.object = &object_info(info.object);
   l.emission = m.emission;
   for (int k = 0; k < 3; ++k) l.uvs[k] = info.uvs >= 0 ? Vec2(corner_uvs_[info.uvs + k]) : Vec2(0.0);
   constexpr int kSide = 4;
-  Color sum(0.0);
+  Color sum(0.0), most(0.0);
   for (int i = 0; i < kSide; ++i)
-    for (int j = 0; j < kSide; ++j) sum += radiance_at(l, sample_uniform_triangle((i + 0.5) / kSide, (j + 0.5) / kSide));
-  constexpr double kFloor = 1e-2;  // of the brightest the texture can make it
-  l.radiance = glm::max(sum / double(kSide * kSide), m.emission * (kFloor * l.texture->max_rgb()));
+    for (int j = 0; j < kSide; ++j) {
+      const Color here = radiance_at(l, sample_uniform_triangle((i + 0.5) / kSide, (j + 0.5) / kSide));
+      sum += here;
+      most = glm::max(most, here);
+    }
+  const double bound = m.program.output_bound(m.emission_input, textures_);
+  const Color brightest = std::isfinite(bound) ? m.emission * bound : most;
+  constexpr double kFloor = 1e-2;  // of the brightest the program can make it
+  l.radiance = glm::max(sum / double(kSide * kSide), kFloor * brightest);
 }
 
-Color Scene::emission(const Hit& hit) const {
+Color Scene::emission(const Hit& hit, const Vec3& wo) const {
   const Material& m = materials_[hit.material];
   if (m.emission_input < 0) return m.emission;
-  const MaterialInput& in = m.inputs[m.emission_input];
-  return m.emission * textures_[in.texture].lookup_channel(hit.uv, in.channel);
+  std::array<Vec3f, kMaxInputs> values;
+  m.program.run(shading_context(hit, wo), textures_, values.data());
+  return m.emission * Color(values[m.emission_input]);
 }
 
 void Scene::check_energy_range(int max_bounces) const {
@@ -688,10 +702,14 @@ void Scene::fill_hit(const Ray& ray, Hit& hit, double b1, double b2) const {
 namespace {
 
 // The shading normal a normal map gives (see NormalMap), kept in front of the geometric normal.
-Vec3 mapped_normal(const NormalMap& map, const SurfacePoint& sp, const glm::vec4& tangent) {
-  const Vec3 c = 2.0 * Vec3(sp.inputs[map.input]) - 1.0;
+// A Direct normal faces the viewer (as Blender's nodes see the surface); `backfacing` turns it to
+// the primitive's side, where SurfacePoint keeps its normals.
+Vec3 mapped_normal(const NormalMap& map, const SurfacePoint& sp, const glm::vec4& tangent, bool backfacing) {
+  const Vec3 c = map.space == NormalMap::Direct ? Vec3(sp.inputs[map.input]) : 2.0 * Vec3(sp.inputs[map.input]) - 1.0;
   Vec3 n;
-  if (map.space == NormalMap::World) {
+  if (map.space == NormalMap::Direct) {
+    n = backfacing ? -c : c;
+  } else if (map.space == NormalMap::World) {
     n = c;
   } else {
     if (tangent.w == 0.0f) return sp.ns;  // no tangents (not a mesh with a UV map): as Cycles, unmapped
@@ -707,35 +725,104 @@ Vec3 mapped_normal(const NormalMap& map, const SurfacePoint& sp, const glm::vec4
   return n;
 }
 
+// Where Blender's nodes see a surface point: normals turned to the viewer, as Cycles turns them.
+ShadingContext context_at(const Vec3& position, const Vec3& ng, const Vec3& ns, const Vec3& wo, const Vec2& uv,
+                          const glm::vec4& tangent) {
+  ShadingContext c;
+  c.position = position;
+  c.backfacing = glm::dot(wo, ng) < 0.0;
+  const double side = c.backfacing ? -1.0 : 1.0;
+  c.normal = side * ns;
+  c.true_normal = side * ng;
+  c.incoming = wo;
+  c.uv = uv;
+  if (tangent.w != 0.0f) {
+    c.tangent = Vec3(tangent);
+    c.tangent_sign = tangent.w;
+  }
+  return c;
+}
+
 }  // namespace
 
-SurfacePoint Scene::surface_point(const Hit& hit) const {
-  SurfacePoint sp = surface_point(hit.material, hit.geometric_normal, hit.shading_normal, Vec2f(hit.uv), Vec3f(0.0f),
-                                  hit.tangent.w != 0.0f ? Vec3f(hit.tangent) : Vec3f(0.0f));
-  const NormalMap& map = materials_[hit.material].normal_map;
-  if (map.input >= 0) {
+const ObjectInfo& Scene::object_info(uint32_t object) const {
+  static const ObjectInfo kNone;
+  return object < objects_.size() ? objects_[object] : kNone;
+}
+
+void Scene::set_object_info(uint32_t object, const ObjectInfo& info) {
+  ensure_mutable();
+  if (object >= kMaxObjectId) fail("object " + std::to_string(object), "object ids for node programs go up to " +
+                                                                            std::to_string(kMaxObjectId - 1));
+  if (objects_.size() <= object) objects_.resize(size_t(object) + 1);
+  objects_[object] = info;
+  invalidate();
+}
+
+ShadingContext Scene::shading_context(const Hit& hit, const Vec3& wo) const {
+  ShadingContext c = context_at(hit.position, hit.geometric_normal, hit.shading_normal, wo, hit.uv, hit.tangent);
+  c.object = &object_info(hit.object);
+  const PrimRef& ref = prims_[hit.primitive];
+  if (ref.kind == PrimitiveKind::Triangle && materials_[hit.material].program.uses_bump()) {
+    const TriangleInfo& info = triangle_info_[ref.index];
+    if (info.uvs >= 0) uv_gradients(triangles_[ref.index], &corner_uvs_[info.uvs], c.du_dp, c.dv_dp);
+  }
+  return c;
+}
+
+// How u and v change along a triangle: the gradients whose dot products with its edges give the
+// UV differences along them (and zero along the normal).
+void Scene::uv_gradients(const TrianglePrim& t, const glm::vec2* uv, Vec3& du, Vec3& dv) {
+  const Vec3 n = glm::cross(t.e1, t.e2);
+  const double det = glm::dot(n, n);
+  if (!(det > 0.0)) return;
+  const Vec3 b1 = glm::cross(t.e2, n) / det, b2 = glm::cross(n, t.e1) / det;
+  const Vec2 d1 = Vec2(uv[1] - uv[0]), d2 = Vec2(uv[2] - uv[0]);
+  du = d1.x * b1 + d2.x * b2;
+  dv = d1.y * b1 + d2.y * b2;
+}
+
+SurfacePoint Scene::surface_point(const Hit& hit, const Vec3& wo) const {
+  const Material& m = materials_[hit.material];
+  SurfacePoint sp;
+  sp.ng = hit.geometric_normal;
+  sp.ns = hit.shading_normal;
+  sp.tangent = hit.tangent.w != 0.0f ? Vec3(hit.tangent) : Vec3(0.0);
+  sp.softening = m.normal_map.softening;
+  if (m.kind != MaterialKind::Mixture) {
+    sp.albedo = m.texture >= 0 ? textures_[m.texture].lookup(hit.uv) * m.base_color : m.base_color;
+    return sp;
+  }
+  sp.albedo = m.base_color;
+  if (m.program.empty()) return sp;
+  const ShadingContext c = shading_context(hit, wo);
+  m.program.run(c, textures_, sp.inputs.data());
+  if (m.normal_map.input >= 0) {
     sp.smooth_normal = sp.ns;
-    sp.ns = mapped_normal(map, sp, hit.tangent);
+    sp.ns = mapped_normal(m.normal_map, sp, hit.tangent, c.backfacing);
   }
   return sp;
 }
 
-SurfacePoint Scene::surface_point(uint32_t material, const Vec3& ng, const Vec3& ns, const Vec2f& uv,
-                                  const Vec3f& smooth_normal, const Vec3f& tangent) const {
-  const Material& m = materials_[material];
+SurfacePoint Scene::surface_point(const SurfaceRecord& r) const {
+  const Material& m = materials_[r.material];
   SurfacePoint sp;
-  sp.ng = ng;
-  sp.ns = ns;
-  sp.smooth_normal = Vec3(smooth_normal);
-  sp.tangent = Vec3(tangent);
+  sp.ng = r.ng;
+  sp.ns = r.ns;
+  sp.smooth_normal = Vec3(r.smooth_normal);
+  sp.tangent = Vec3(r.tangent);
   sp.softening = m.normal_map.softening;
   if (m.kind != MaterialKind::Mixture) {
-    sp.albedo = m.texture >= 0 ? textures_[m.texture].lookup(Vec2(uv)) * m.base_color : m.base_color;
+    sp.albedo = m.texture >= 0 ? textures_[m.texture].lookup(Vec2(r.uv)) * m.base_color : m.base_color;
     return sp;
   }
   sp.albedo = m.base_color;
-  for (size_t i = 0; i < m.inputs.size(); ++i)
-    sp.inputs[i] = Vec3f(textures_[m.inputs[i].texture].lookup_channel(Vec2(uv), m.inputs[i].channel));
+  if (m.program.empty()) return sp;
+  // The program sees the normal before the normal map, as it did where the hit point was made.
+  const Vec3 unmapped = r.smooth_normal != Vec3f(0.0f) ? Vec3(r.smooth_normal) : r.ns;
+  ShadingContext c = context_at(r.position, r.ng, unmapped, r.wo, Vec2(r.uv), r.tangent);
+  c.object = &object_info(r.object);
+  m.program.run(c, textures_, sp.inputs.data());
   return sp;
 }
 

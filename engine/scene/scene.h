@@ -49,6 +49,17 @@ constexpr double kMaxPhotonGain = 1e25;
 constexpr double kInterleaveBytes = 2.0 * 1024 * 1024;
 
 // Plain arrays describing one mesh in world space, as the exporter produces them.
+constexpr uint32_t kMaxObjectId = 1u << 24;  // objects a node program can tell apart
+
+// What a hit point keeps of its surface, from which Scene::surface_point shades it again.
+struct SurfaceRecord {
+  Vec3 position, ng, ns, wo;  // ns: the shading normal, a normal map applied
+  Vec2f uv;
+  Vec3f smooth_normal;        // before the normal map; zero: none
+  glm::vec4 tangent;          // xyz and the bitangent's sign; w = 0: none
+  uint32_t material, object;
+};
+
 struct MeshInput {
   std::string name;
   std::vector<Vec3> positions;
@@ -124,12 +135,18 @@ class Scene {
   // Is anything in the way over (0, distance)?
   bool occluded(const Ray& ray, double distance) const;
 
-  SurfacePoint surface_point(const Hit& hit) const;
-  // The emitted radiance where `hit` is (its material's textured emission looked up there).
-  Color emission(const Hit& hit) const;
-  // The same from what a hit point keeps (its material's textures looked up at uv).
-  SurfacePoint surface_point(uint32_t material, const Vec3& ng, const Vec3& ns, const Vec2f& uv,
-                             const Vec3f& smooth_normal, const Vec3f& tangent) const;
+  // The surface at a hit seen from direction `wo` (its material's program run there).
+  SurfacePoint surface_point(const Hit& hit, const Vec3& wo) const;
+  // The emitted radiance where `hit` is (its material's textured emission evaluated there).
+  Color emission(const Hit& hit, const Vec3& wo) const;
+  // The same from what a hit point keeps.
+  SurfacePoint surface_point(const SurfaceRecord& record) const;
+  // Where node programs see `hit` (Blender's Geometry and Texture Coordinate nodes).
+  ShadingContext shading_context(const Hit& hit, const Vec3& wo) const;
+  // What node programs know of an object (Texture Coordinate's Object and Generated, Object Info);
+  // objects never described are at the origin, unscaled, with generated = (object + 1) / 2.
+  void set_object_info(uint32_t object, const ObjectInfo& info);
+  const ObjectInfo& object_info(uint32_t object) const;
   // Is the hit primitive part of a Holdout object (its visibility carries kHoldoutFlag)?
   bool is_holdout(const Hit& hit) const;
   double offset_floor() const { return offset_floor_; }  // see ray_offset()
@@ -170,6 +187,7 @@ class Scene {
   void check_not_emissive(uint32_t material, const std::string& what) const;
   void check_lobes(Material& m, const std::string& what) const;
   std::vector<double> check_inputs(const Material& m, const std::string& what) const;
+  static void uv_gradients(const TrianglePrim& t, const glm::vec2* uv, Vec3& du, Vec3& dv);
   void textured_emission(const Material& m, const TriangleInfo& info, Light& l) const;
   void invalidate();
   void ensure_mutable() const;
@@ -197,6 +215,7 @@ class Scene {
   std::vector<TriangleInfo> triangle_info_;
   std::vector<Vec3f> corner_normals_;
   std::vector<glm::vec2> corner_uvs_;
+  std::vector<ObjectInfo> objects_;  // by object id (set_object_info)
   std::vector<glm::vec4> corner_tangents_;
   std::vector<SphereInfo> spheres_;
   std::vector<std::unique_ptr<BezierRevolve>> revolves_;

@@ -134,3 +134,76 @@ uint8_t Texture::max_byte() const {
 }
 
 }  // namespace ppm
+
+namespace ppm {
+namespace {
+
+// Texel indices and weights along one axis at coordinate u: up to 4 taps; an index of -1 is
+// outside a clipped image and reads as transparent black, so a clipped image fades out over the
+// half texel beyond its edge, as in Cycles.
+struct Taps {
+  int count = 0;
+  std::array<int, 4> index{};
+  std::array<double, 4> weight{};
+};
+
+int extend_index(int i, int n, TextureExtension extension) {
+  switch (extension) {
+    case TextureExtension::Repeat: return ((i % n) + n) % n;
+    case TextureExtension::Extend: return std::clamp(i, 0, n - 1);
+    case TextureExtension::Clip: return i >= 0 && i < n ? i : -1;
+    case TextureExtension::Mirror: {
+      const int period = 2 * n, m = ((i % period) + period) % period;
+      return m < n ? m : period - 1 - m;
+    }
+  }
+  return 0;
+}
+
+Taps taps(double u, int n, TextureInterpolation interpolation, TextureExtension extension) {
+  Taps t;
+  if (!std::isfinite(u)) u = 0.0;
+  if (extension == TextureExtension::Repeat) u -= std::floor(u);
+  const double x = u * n;
+  if (interpolation == TextureInterpolation::Closest) {
+    t.count = 1;
+    t.index[0] = extend_index(static_cast<int>(std::floor(std::clamp(x, -1e9, 1e9))), n, extension);
+    t.weight[0] = 1.0;
+    return t;
+  }
+  const double c = std::clamp(x - 0.5, -1e9, 1e9), f = std::floor(c), a = c - f;
+  const int i = static_cast<int>(f);
+  if (interpolation == TextureInterpolation::Linear) {
+    t.count = 2;
+    t.index = {extend_index(i, n, extension), extend_index(i + 1, n, extension), 0, 0};
+    t.weight = {1.0 - a, a, 0.0, 0.0};
+    return t;
+  }
+  // Cubic B-spline, as Cycles' cubic interpolation.
+  const double a2 = a * a, a3 = a2 * a;
+  t.count = 4;
+  for (int k = 0; k < 4; ++k) t.index[k] = extend_index(i - 1 + k, n, extension);
+  t.weight = {(1.0 - a) * (1.0 - a) * (1.0 - a) / 6.0, (3.0 * a3 - 6.0 * a2 + 4.0) / 6.0,
+              (-3.0 * a3 + 3.0 * a2 + 3.0 * a + 1.0) / 6.0, a3 / 6.0};
+  return t;
+}
+
+}  // namespace
+
+glm::dvec4 Texture::sample(const Vec2& uv, TextureInterpolation interpolation, TextureExtension extension) const {
+  const Taps tx = taps(uv.x, width_, interpolation, extension), ty = taps(uv.y, height_, interpolation, extension);
+  const bool srgb = storage_ == TexelStorage::Srgb8;
+  glm::dvec4 sum(0.0);
+  for (int j = 0; j < ty.count; ++j) {
+    if (ty.index[j] < 0) continue;
+    for (int i = 0; i < tx.count; ++i) {
+      if (tx.index[i] < 0) continue;
+      const int x = tx.index[i], y = ty.index[j];
+      const Color c = srgb ? encoded(x, y) : texel(x, y);
+      sum += tx.weight[i] * ty.weight[j] * glm::dvec4(c, alpha(x, y));
+    }
+  }
+  return srgb ? glm::dvec4(srgb_to_linear(glm::max(Color(sum), Color(0.0))), sum.w) : sum;
+}
+
+}  // namespace ppm

@@ -37,6 +37,11 @@ struct UnusableTexel {
 // or grey (Blender's colour-to-float conversion: luminance with Rec. 709 weights).
 enum class TextureChannel : uint8_t { Rgb, Alpha, Grey };
 
+// Blender's Image Texture node: how texels are blended (Smart is Cubic, as Cycles renders it) and
+// what lies outside [0, 1] (Clip: transparent black).
+enum class TextureInterpolation : uint8_t { Linear, Closest, Cubic };
+enum class TextureExtension : uint8_t { Repeat, Extend, Clip, Mirror };
+
 class Texture {
  public:
   // `channels` (3 or 4) values per texel, rows bottom first. Bytes are stored
@@ -79,6 +84,8 @@ class Texture {
     }
     return bilinear<glm::dvec4>(uv, false, [this](int x, int y) { return glm::dvec4(texel(x, y), alpha(x, y)); });
   }
+  // The colour and alpha at uv as the Image Texture node reads it with these settings.
+  glm::dvec4 sample(const Vec2& uv, TextureInterpolation interpolation, TextureExtension extension) const;
 
  private:
   Texture(int width, int height, TexelStorage storage);

@@ -10,13 +10,13 @@
 
 namespace ppm {
 
-constexpr int kMaxInputs = 4;
+constexpr int kMaxInputs = 8;  // a mixture's inputs: its node program's outputs
 
 // How light is softened towards the terminator where a normal map tilts the normal, as Cycles does:
 // Blender 3.x to 4.2 after Chiang et al. 2019 ("Taming the Shadow Terminator"), later versions after
 // Conty Estevez et al. 2019 (a GGX shadowing term, which also refuses light from the far side of the
 // smooth normal for every lobe). Evaluated in shading/closure.cpp.
-enum class BumpSoftening : uint8_t { None, Chiang, ContyEstevez };  // a mixture's textured inputs, each one image lookup per shading point
+enum class BumpSoftening : uint8_t { None, Chiang, ContyEstevez };
 
 struct SurfacePoint {
   Vec3 ng;       // geometric normal, outward as the primitive defines it

@@ -86,10 +86,10 @@ def test_each_part_of_the_surface_gets_its_own_value():
 
 @pytest.mark.parametrize("lobes, inputs, message", [
     ([{"kind": "diffuse", "color_input": 1}], [(0, "rgb")], "input 1"),
-    ([{"kind": "diffuse", "color_input": 0}], [(7, "rgb")], "input texture index"),
+    ([{"kind": "diffuse", "color_input": 0}], [(7, "rgb")], "texture that does not exist"),
     ([{"kind": "diffuse", "color_input": (0, "cube")}], [(0, "rgb")], "transform"),
     ([{"kind": "diffuse"}], [(0, "red")], "channel"),
-    ([{"kind": "diffuse"}], [(0, "rgb")] * 5, "at most 4 inputs"),
+    ([{"kind": "diffuse"}], [(0, "rgb")] * 9, "at most 8 inputs"),
     ([{"kind": "diffuse", "weight_inputs": [0, 0, 0]}], [(0, "rgb")], "at most 2 weight_inputs"),
 ])
 def test_bad_input_references_are_refused_with_a_message(lobes, inputs, message):

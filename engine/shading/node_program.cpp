@@ -1,0 +1,467 @@
+// Running a node program (see node_program.h).
+#include "shading/node_program.h"
+
+#include "shading/node_color.h"
+#include "shading/node_math.h"
+#include "shading/textures/procedural.h"
+
+#include <algorithm>
+#include <limits>
+#include <stdexcept>
+
+namespace ppm {
+namespace {
+
+constexpr float kInfinity = std::numeric_limits<float>::infinity();
+
+using nodes::MathOp;
+using nodes::MixBlend;
+using nodes::VectorMathOp;
+
+Vec3f point(const Mat4& m, const Vec3& p) { return Vec3f(Vec3(m * glm::dvec4(p, 1.0))); }
+Vec3f direction(const Mat4& m, const Vec3& d) { return Vec3f(Vec3(m * glm::dvec4(d, 0.0))); }
+
+const ObjectInfo& object_of(const ShadingContext& c) {
+  static const ObjectInfo kNone;
+  return c.object != nullptr ? *c.object : kNone;
+}
+
+Vec3f coordinate(CoordKind kind, const ShadingContext& c) {
+  const ObjectInfo& o = object_of(c);
+  switch (kind) {
+    case CoordKind::Generated: {
+      const Vec3 local = Vec3(o.world_to_object * glm::dvec4(c.position, 1.0));
+      return Vec3f((local - o.texspace_min) / o.texspace_size);
+    }
+    case CoordKind::Normal:  // object space, through the inverse transpose as Cycles
+      return nodes::safe_normalize(Vec3f(glm::transpose(glm::dmat3(o.object_to_world)) * c.normal));
+    case CoordKind::Uv: return Vec3f(float(c.uv.x), float(c.uv.y), 0.0f);
+    case CoordKind::Object: return point(o.world_to_object, c.position);
+    case CoordKind::Camera:
+    case CoordKind::Window: return Vec3f(c.position);  // without a camera here: see the exporter's warning
+    case CoordKind::Reflection: return Vec3f(2.0 * glm::dot(c.normal, c.incoming) * c.normal - c.incoming);
+    case CoordKind::Position: return Vec3f(c.position);
+    case CoordKind::ShadingNormal: return Vec3f(c.normal);
+    case CoordKind::TrueNormal: return Vec3f(c.true_normal);
+    case CoordKind::Incoming: return Vec3f(c.incoming);
+    case CoordKind::Backfacing: return Vec3f(c.backfacing ? 1.0f : 0.0f);
+    case CoordKind::Tangent: return Vec3f(c.tangent);
+    case CoordKind::ObjectLocation: return Vec3f(o.location);
+    case CoordKind::ObjectRandom: return Vec3f(o.random);
+    case CoordKind::ObjectIndex: return Vec3f(o.pass_index);
+  }
+  return Vec3f(0.0f);
+}
+
+// Blender's Fresnel of a dielectric for cos(theta) and relative IOR eta (1 under total reflection).
+float fresnel_dielectric_cos(float cosi, float eta) {
+  const float c = std::fabs(cosi);
+  float g = eta * eta - 1.0f + c * c;
+  if (g <= 0.0f) return 1.0f;
+  g = std::sqrt(g);
+  const float a = (g - c) / (g + c), b = (c * (g + c) - 1.0f) / (c * (g - c) + 1.0f);
+  return 0.5f * a * a * (1.0f + b * b);
+}
+
+// Layer Weight's Facing output.
+float facing(float blend, float cosi) {
+  float f = std::fabs(cosi);
+  if (blend != 0.5f) {
+    blend = std::clamp(blend, 0.0f, 1.0f - 1e-5f);
+    blend = blend < 0.5f ? 2.0f * blend : 0.5f / (1.0f - blend);
+    f = std::pow(f, blend);
+  }
+  return 1.0f - f;
+}
+
+// A table of `size` colours over [0, 1] (a baked ColorRamp or curve), linearly interpolated
+// (`interpolate`) or not, clamped at the ends.
+Vec3f table_lookup(const float* table, int size, float t, bool interpolate, float* alpha) {
+  t = std::clamp(std::isfinite(t) ? t : 0.0f, 0.0f, 1.0f) * float(size - 1);
+  const int i = std::clamp(static_cast<int>(t), 0, size - 1);
+  const float f = t - float(i);
+  const float* a = table + 4 * i;
+  glm::vec4 c(a[0], a[1], a[2], a[3]);
+  if (interpolate && f > 0.0f && i + 1 < size) c = glm::mix(c, glm::vec4(a[4], a[5], a[6], a[7]), f);
+  if (alpha != nullptr) *alpha = c.w;
+  return Vec3f(c);
+}
+
+// Blender's Mapping node: types 0 point, 1 texture, 2 vector, 3 normal.
+Vec3f mapping(int type, const Vec3f& v, const Vec3f& location, const Vec3f& rotation, const Vec3f& scale) {
+  const glm::mat3 r = nodes::euler_to_matrix(rotation);
+  auto safe_divide = [](const Vec3f& a, const Vec3f& b) {
+    return Vec3f(nodes::safe_divide(a.x, b.x), nodes::safe_divide(a.y, b.y), nodes::safe_divide(a.z, b.z));
+  };
+  switch (type) {
+    case 0: return r * (v * scale) + location;
+    case 1: return safe_divide(glm::transpose(r) * (v - location), scale);
+    case 2: return r * (v * scale);
+    default: return nodes::safe_normalize(r * safe_divide(v, scale));
+  }
+}
+
+// Where a Bump node reads its height beside the shading point: two short steps across the surface
+// (a thousandth of the object's texture space, far below its detail yet far above float rounding).
+void bump_steps(const ShadingContext& c, Vec3& dx, Vec3& dy) {
+  const ObjectInfo& o = object_of(c);
+  const Vec3 size = Vec3(glm::dmat3(o.object_to_world) * o.texspace_size);
+  const double h = 1e-3 * std::max(glm::length(size), 1e-6);
+  Vec3 t = std::fabs(c.normal.x) > 0.9 ? Vec3(0.0, 1.0, 0.0) : Vec3(1.0, 0.0, 0.0);
+  t = glm::normalize(glm::cross(c.normal, t));
+  dx = h * t;
+  dy = h * glm::cross(c.normal, t);
+}
+
+Vec3f bump(const Vec3f* r, const NodeInstruction& ins, const ShadingContext& c) {
+  Vec3 dx, dy;
+  bump_steps(c, dx, dy);
+  const Vec3 n(r[ins.in[5]]);
+  const Vec3 rx = glm::cross(dy, n), ry = glm::cross(n, dx);
+  const double det = glm::dot(dx, rx);
+  const double hc = r[ins.in[2]].x, hx = r[ins.in[3]].x, hy = r[ins.in[4]].x;
+  const Vec3 surfgrad = (hx - hc) * rx + (hy - hc) * ry;
+  double distance = r[ins.in[1]].x;
+  if (ins.flags & 1) distance = -distance;
+  const double strength = std::max<double>(r[ins.in[0]].x, 0.0);
+  Vec3 out = std::fabs(det) * n - distance * (det < 0.0 ? -1.0 : 1.0) * surfgrad;
+  if (!unit_direction(out, out)) return Vec3f(n);
+  if (!unit_direction(strength * out + (1.0 - strength) * n, out)) return Vec3f(n);
+  return Vec3f(out);
+}
+
+// The mapped normal for interpolated normal n (object space: the inverse transpose of the object's
+// transform), then N + (mapped - N) * strength.
+Vec3 mapped_normal(const Vec3& color, int space, double strength, const ShadingContext& c, const Vec3& n) {
+  Vec3 mapped;
+  if (space == 0) {  // tangent space
+    if (c.tangent == Vec3(0.0)) return n;
+    const Vec3 b = c.tangent_sign * glm::cross(n, c.tangent);
+    mapped = color.x * c.tangent + color.y * b + color.z * n;
+  } else if (space == 1) {
+    mapped = glm::transpose(glm::dmat3(object_of(c).world_to_object)) * color;
+  } else {
+    mapped = color;
+  }
+  if (!unit_direction(mapped, mapped)) return n;
+  strength = std::max(strength, 0.0);
+  if (strength != 1.0 && !unit_direction(n + (mapped - n) * strength, mapped)) return n;
+  return mapped;
+}
+
+// Blender's Normal Map node. Tangent space is built on the primitive's side of the surface (as
+// Cycles reads the interpolated normal); the result faces the viewer, as every normal nodes see.
+Vec3f normal_map(const Vec3f* r, const NodeInstruction& ins, const ShadingContext& c) {
+  const Vec3 color = 2.0 * Vec3(r[ins.in[1]]) - 1.0;
+  const double side = c.backfacing ? -1.0 : 1.0;
+  return Vec3f(side * mapped_normal(color, ins.mode, r[ins.in[0]].x, c, side * c.normal));
+}
+
+Vec3f image(const NodeInstruction& ins, const Vec3f* r, const std::vector<Texture>& textures, float& alpha) {
+  const Texture& t = textures[ins.data];
+  const Vec3f uvw = r[ins.in[0]];
+  const auto interpolation = static_cast<TextureInterpolation>(ins.mode & 3);
+  const auto extension = static_cast<TextureExtension>((ins.mode >> 2) & 3);
+  const glm::dvec4 c = t.sample(Vec2(uvw.x, uvw.y), interpolation, extension);
+  alpha = float(c.w);
+  return Vec3f(c);
+}
+
+}  // namespace
+
+void NodeProgram::step(const NodeInstruction& ins, ShadingContext& at, const ShadingContext& base,
+                       const std::vector<Texture>& textures, Vec3f* r) const {
+  const auto& in = ins.in;
+  const auto& out = ins.out;
+  auto f = [&](int k) { return r[in[k]].x; };
+  switch (ins.op) {
+    case NodeOp::Coord: r[out[0]] = coordinate(static_cast<CoordKind>(ins.mode), at); break;
+    case NodeOp::Convert: {
+      const Vec3f v = r[in[0]];
+      r[out[0]] = Vec3f(ins.mode == 0 ? nodes::rgb_to_grey(v) : (v.x + v.y + v.z) * (1.0f / 3.0f));
+      break;
+    }
+    case NodeOp::Math: {
+      float v = nodes::math(static_cast<MathOp>(ins.mode), f(0), f(1), f(2));
+      if (ins.flags & 1) v = std::clamp(v, 0.0f, 1.0f);
+      r[out[0]] = Vec3f(v);
+      break;
+    }
+    case NodeOp::VectorMath: {
+      const nodes::VectorResult v =
+          nodes::vector_math(static_cast<VectorMathOp>(ins.mode), r[in[0]], r[in[1]], r[in[2]], f(3));
+      r[out[0]] = v.vector;
+      r[out[1]] = Vec3f(v.value);
+      break;
+    }
+    case NodeOp::Mix: {
+      float t = f(0);
+      if (ins.flags & 1) t = std::clamp(t, 0.0f, 1.0f);
+      Vec3f v = nodes::mix_blend(static_cast<MixBlend>(ins.mode), t, r[in[1]], r[in[2]]);
+      if (ins.flags & 2) v = glm::clamp(v, 0.0f, 1.0f);
+      r[out[0]] = v;
+      break;
+    }
+    case NodeOp::MixVector: {
+      Vec3f t = r[in[0]];
+      if (ins.flags & 1) t = glm::clamp(t, 0.0f, 1.0f);
+      r[out[0]] = glm::mix(r[in[1]], r[in[2]], t);
+      break;
+    }
+    case NodeOp::Table: {  // a baked ColorRamp: fac -> colour, alpha
+      float alpha = 1.0f;
+      r[out[0]] = table_lookup(data.data() + ins.data, ins.extra + 2, f(0), ins.flags & 1, &alpha);
+      r[out[1]] = Vec3f(alpha);
+      break;
+    }
+    case NodeOp::MapRange: {
+      if (ins.flags & 2) {  // vector: per component, each operand a vector
+        Vec3f v;
+        for (int k = 0; k < 3; ++k)
+          v[k] = nodes::map_range(ins.mode, r[in[0]][k], r[in[1]][k], r[in[2]][k], r[in[3]][k], r[in[4]][k],
+                                  r[in[5]][k], ins.flags & 1);
+        r[out[0]] = v;
+      } else {
+        r[out[0]] = Vec3f(nodes::map_range(ins.mode, f(0), f(1), f(2), f(3), f(4), f(5), ins.flags & 1));
+      }
+      break;
+    }
+    case NodeOp::Clamp: {  // mode 0: min-max; 1: range (the bounds in either order)
+      float lo = f(1), hi = f(2);
+      if (ins.mode == 1 && lo > hi) std::swap(lo, hi);
+      r[out[0]] = Vec3f(std::min(std::max(f(0), lo), hi));
+      break;
+    }
+    case NodeOp::Separate: {
+      const Vec3f v = ins.mode < 3 ? r[in[0]] : nodes::rgb_to_hsv(r[in[0]]);
+      r[out[0]] = Vec3f(v[ins.mode % 3]);
+      break;
+    }
+    case NodeOp::Combine: {
+      const Vec3f v(f(0), f(1), f(2));
+      r[out[0]] = ins.mode == 1 ? nodes::hsv_to_rgb(v) : v;
+      break;
+    }
+    case NodeOp::Invert: r[out[0]] = nodes::invert(f(0), r[in[1]]); break;
+    case NodeOp::Gamma: r[out[0]] = nodes::gamma(r[in[0]], f(1)); break;
+    case NodeOp::BrightContrast: r[out[0]] = nodes::bright_contrast(r[in[0]], f(1), f(2)); break;
+    case NodeOp::HueSaturation: r[out[0]] = nodes::hue_saturation_value(f(0), f(1), f(2), f(3), r[in[4]]); break;
+    case NodeOp::Mapping: r[out[0]] = mapping(ins.mode, r[in[0]], r[in[1]], r[in[2]], r[in[3]]); break;
+    case NodeOp::VectorRotate:
+      r[out[0]] = nodes::vector_rotate(ins.mode, ins.flags & 1, r[in[0]], r[in[1]], r[in[2]], f(3), r[in[4]]);
+      break;
+    case NodeOp::Image: {
+      float alpha = 1.0f;
+      r[out[0]] = image(ins, r, textures, alpha);
+      r[out[1]] = Vec3f(alpha);
+      break;
+    }
+    case NodeOp::Noise:
+    case NodeOp::Voronoi:
+    case NodeOp::WhiteNoise:
+    case NodeOp::Checker:
+    case NodeOp::Gradient:
+    case NodeOp::Wave:
+    case NodeOp::Brick:
+    case NodeOp::Magic: textures::run(ins, data, r); break;
+    case NodeOp::Fresnel: {
+      const float eta = std::max(f(0), 1e-5f);
+      const float cosi = float(glm::dot(at.incoming, Vec3(r[in[1]])));
+      r[out[0]] = Vec3f(fresnel_dielectric_cos(cosi, at.backfacing ? 1.0f / eta : eta));
+      break;
+    }
+    case NodeOp::LayerWeight: {
+      const float blend = f(0);
+      const float cosi = float(glm::dot(at.incoming, Vec3(r[in[1]])));
+      const float eta = std::max(1.0f - blend, 1e-5f);
+      r[out[0]] = Vec3f(fresnel_dielectric_cos(cosi, at.backfacing ? eta : 1.0f / eta));
+      r[out[1]] = Vec3f(facing(blend, cosi));
+      break;
+    }
+    case NodeOp::BumpOffset: {
+      at = base;
+      if (ins.mode == 0) break;
+      Vec3 dx, dy;
+      bump_steps(base, dx, dy);
+      const Vec3 d = ins.mode == 1 ? dx : dy;
+      at.position = base.position + d;
+      at.uv = base.uv + Vec2(glm::dot(base.du_dp, d), glm::dot(base.dv_dp, d));
+      break;
+    }
+    case NodeOp::Bump: r[out[0]] = bump(r, ins, base); break;
+    case NodeOp::NormalMap: r[out[0]] = normal_map(r, ins, at); break;
+  }
+}
+
+void NodeProgram::run(const ShadingContext& ctx, const std::vector<Texture>& textures, Vec3f* results) const {
+  std::array<Vec3f, kMaxRegisters> r;
+  r[0] = Vec3f(0.0f);
+  std::copy(constants.begin(), constants.end(), r.begin() + 1);
+  ShadingContext at = ctx;
+  for (const NodeInstruction& ins : code) step(ins, at, ctx, textures, r.data());
+  for (size_t i = 0; i < outputs.size(); ++i) {
+    results[i] = r[outputs[i]];
+    if (i < output_max.size() && output_max[i] < kInfinity) results[i] = glm::clamp(results[i], 0.0f, output_max[i]);
+  }
+}
+
+void NodeProgram::add_image_output(int texture, TextureChannel channel) {
+  auto next = [this] { return static_cast<uint16_t>(registers++); };
+  NodeInstruction uv;
+  uv.op = NodeOp::Coord;
+  uv.mode = static_cast<uint8_t>(CoordKind::Uv);
+  uv.out[0] = next();
+  NodeInstruction image;
+  image.op = NodeOp::Image;
+  image.in[0] = uv.out[0];
+  image.out = {next(), next(), 0};
+  image.data = static_cast<uint32_t>(std::max(texture, 0));
+  code.push_back(uv);
+  code.push_back(image);
+  uint16_t result = channel == TextureChannel::Alpha ? image.out[1] : image.out[0];
+  if (channel == TextureChannel::Grey) {
+    NodeInstruction grey;
+    grey.op = NodeOp::Convert;
+    grey.in[0] = image.out[0];
+    grey.out[0] = next();
+    code.push_back(grey);
+    result = grey.out[0];
+  }
+  outputs.push_back(result);
+}
+
+bool NodeProgram::uses_bump() const {
+  return std::any_of(code.begin(), code.end(), [](const NodeInstruction& i) { return i.op == NodeOp::BumpOffset; });
+}
+
+void NodeProgram::validate(size_t texture_count, const std::string& what) const {
+  auto fail = [&](const std::string& why) { throw std::invalid_argument(what + ": node program: " + why); };
+  if (registers > kMaxRegisters || registers < static_cast<int>(constants.size()) + 1)
+    fail("it needs " + std::to_string(registers) + " registers (at most " + std::to_string(kMaxRegisters) + ")");
+  for (const Vec3f& c : constants)
+    if (!std::isfinite(c.x) || !std::isfinite(c.y) || !std::isfinite(c.z)) fail("a constant is not finite");
+  for (size_t i = 0; i < code.size(); ++i) {
+    const NodeInstruction& ins = code[i];
+    const std::string at = "instruction " + std::to_string(i);
+    for (uint16_t reg : ins.in)
+      if (reg >= registers) fail(at + " reads register " + std::to_string(reg) + " beyond the program's");
+    for (uint16_t reg : ins.out)
+      if (reg >= registers || (reg >= 1 && reg <= constants.size()))
+        fail(at + " writes register " + std::to_string(reg) + ", which is a constant or beyond the program's");
+    if (static_cast<int>(ins.op) > static_cast<int>(NodeOp::NormalMap)) fail(at + " has an unknown operation");
+    if (ins.op == NodeOp::Image && ins.data >= texture_count) fail(at + " refers to a texture that does not exist");
+    if (ins.op == NodeOp::Table && size_t(ins.data) + (size_t(ins.extra) + 2) * 4 > data.size())
+      fail(at + "'s table lies outside the data");
+    if (ins.op == NodeOp::Voronoi && ins.data >= 1 && ins.data <= constants.size())
+      fail(at + " writes its W to a constant");
+    if (!textures::valid(ins, data.size(), registers)) fail(at + " has an unknown mode or data");
+  }
+  if (outputs.size() > 8) fail("at most 8 outputs");
+  for (uint16_t reg : outputs)
+    if (reg >= registers) fail("an output names register " + std::to_string(reg) + " beyond the program's");
+}
+
+}  // namespace ppm
+
+namespace ppm {
+namespace {
+
+// The largest magnitude an instruction's first output can take, from its operands' (inf: unknown).
+double bound_of(const NodeInstruction& ins, const std::vector<double>& b, const std::vector<Texture>& textures,
+                const std::vector<float>& data) {
+  const double inf = kInf;
+  auto in = [&](int k) { return b[ins.in[k]]; };
+  switch (ins.op) {
+    case NodeOp::Coord: {
+      const auto kind = static_cast<CoordKind>(ins.mode);
+      const bool unit = kind == CoordKind::Normal || kind == CoordKind::ShadingNormal || kind == CoordKind::TrueNormal ||
+                        kind == CoordKind::Incoming || kind == CoordKind::Backfacing || kind == CoordKind::ObjectRandom ||
+                        kind == CoordKind::Tangent || kind == CoordKind::Reflection;
+      return unit ? 1.0 : inf;
+    }
+    case NodeOp::Convert: return in(0);
+    case NodeOp::Math: {
+      if (ins.flags & 1) return 1.0;
+      switch (static_cast<nodes::MathOp>(ins.mode)) {
+        case nodes::MathOp::Add:
+        case nodes::MathOp::Subtract: return in(0) + in(1);
+        case nodes::MathOp::Multiply: return in(0) * in(1);
+        case nodes::MathOp::MultiplyAdd: return in(0) * in(1) + in(2);
+        case nodes::MathOp::Minimum:
+        case nodes::MathOp::Maximum: return std::max(in(0), in(1));
+        case nodes::MathOp::Absolute: return in(0);
+        case nodes::MathOp::Fraction:
+        case nodes::MathOp::LessThan:
+        case nodes::MathOp::GreaterThan:
+        case nodes::MathOp::Compare:
+        case nodes::MathOp::Sign:
+        case nodes::MathOp::Sine:
+        case nodes::MathOp::Cosine:
+        case nodes::MathOp::Tanh: return 1.0;
+        default: return inf;
+      }
+    }
+    case NodeOp::Mix: {
+      if (ins.flags & 2) return 1.0;
+      const double t = (ins.flags & 1) ? 1.0 : in(0), a = in(1), c = in(2);
+      switch (static_cast<nodes::MixBlend>(ins.mode)) {
+        case nodes::MixBlend::Mix:
+        case nodes::MixBlend::Darken:
+        case nodes::MixBlend::Lighten: return (ins.flags & 1) ? std::max(a, c) : inf;
+        case nodes::MixBlend::Add:
+        case nodes::MixBlend::Subtract: return a + t * c;
+        case nodes::MixBlend::Multiply: return a * std::max(1.0, t * c + 1.0);
+        default: return inf;
+      }
+    }
+    case NodeOp::MixVector: return std::max(in(1), in(2)) * (ins.flags & 1 ? 1.0 : inf);
+    case NodeOp::Table: {
+      double m = 0.0;
+      for (int i = 0; i < (ins.extra + 2) * 4; ++i) m = std::max(m, double(std::fabs(data[ins.data + i])));
+      return m;
+    }
+    case NodeOp::MapRange: return (ins.flags & 1) && ins.mode < 2 ? std::max(in(3), in(4)) : inf;
+    case NodeOp::Clamp: return std::max(in(1), in(2));
+    case NodeOp::Separate: return ins.mode < 3 ? in(0) : std::max(1.0, in(0));
+    case NodeOp::Combine: return ins.mode == 0 ? std::max({in(0), in(1), in(2)}) : in(2);
+    case NodeOp::Invert: return 1.0 + in(1);
+    case NodeOp::Image: return std::max(1.0, double(textures[ins.data].max_rgb()));
+    case NodeOp::Noise: return (ins.extra & 16) || ((ins.extra & 32) && ins.mode == 0) ? 1.0 : inf;
+    case NodeOp::Voronoi: return inf;
+    case NodeOp::WhiteNoise:
+    case NodeOp::Gradient:
+    case NodeOp::Wave:
+    case NodeOp::Fresnel:
+    case NodeOp::LayerWeight:
+    case NodeOp::Bump:
+    case NodeOp::NormalMap: return 1.0;
+    case NodeOp::Checker: return std::max(in(1), in(2));
+    case NodeOp::Brick: return std::max({in(1), in(2), in(3)});
+    default: return inf;
+  }
+}
+
+}  // namespace
+
+double NodeProgram::output_bound(size_t i, const std::vector<Texture>& textures) const {
+  std::vector<double> b(static_cast<size_t>(std::max(registers, 1)), kInf);
+  b[0] = 0.0;
+  for (size_t k = 0; k < constants.size(); ++k) b[k + 1] = max_abs(Vec3(constants[k]));
+  for (const NodeInstruction& ins : code) {
+    const double first = bound_of(ins, b, textures, data);
+    b[ins.out[0]] = first;
+    // Second outputs: alphas, facings, fac of colour textures and the like stay within [0, 1] or
+    // follow the first; colour-and-fac textures (Checker, Brick) give a fac in [0, 1].
+    const bool unit_second = ins.op == NodeOp::Image || ins.op == NodeOp::LayerWeight || ins.op == NodeOp::Table ||
+                             ins.op == NodeOp::Checker || ins.op == NodeOp::Brick || ins.op == NodeOp::Gradient ||
+                             ins.op == NodeOp::Wave || ins.op == NodeOp::WhiteNoise;
+    if (ins.out[1] != 0) b[ins.out[1]] = unit_second ? 1.0 : (ins.op == NodeOp::Noise ? first : kInf);
+    if (ins.out[2] != 0) b[ins.out[2]] = kInf;
+    if (ins.op == NodeOp::Voronoi && ins.data != 0) b[ins.data] = kInf;
+    b[0] = kInf;  // scratch: whatever was written there last
+  }
+  const double limit = i < output_max.size() ? double(output_max[i]) : kInf;
+  return std::min(b[outputs[i]], limit);
+}
+
+}  // namespace ppm

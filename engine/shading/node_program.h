@@ -1,0 +1,121 @@
+// A material's node program: Blender's texture and utility nodes compiled by the add-on into a flat
+// list of instructions over float-triple registers, as Cycles' SVM runs them. A shading point runs
+// the program once (a switch per instruction: no virtual calls, no allocation) and its outputs
+// become the material's inputs (SurfacePoint::inputs), which lobes, the normal and the emission
+// refer to through InputRef. Values are floats, as in Cycles, so procedural patterns line up with
+// Cycles' to float rounding; a float sits in all three channels of its register.
+#pragma once
+
+#include "math/types.h"
+#include "scene/texture.h"
+
+#include <array>
+#include <string>
+#include <vector>
+
+namespace ppm {
+
+constexpr int kMaxRegisters = 256;
+
+// What Blender knows of an object that nodes read: Texture Coordinate's Object and Generated
+// (through the texture space, Blender's auto bounds of the undeformed mesh), Object Info.
+struct ObjectInfo {
+  Mat4 world_to_object{1.0}, object_to_world{1.0};
+  Vec3 texspace_min{-1.0}, texspace_size{2.0};  // generated = (object - min) / size
+  Vec3 location{0.0};
+  float random = 0.0f, pass_index = 0.0f;
+};
+
+// Where a program runs: the shading point as Blender's Geometry and Texture Coordinate nodes see
+// it. The bump offsets say how far a Bump node's height is looked at sideways (bump.h).
+struct ShadingContext {
+  Vec3 position{0.0};
+  Vec3 normal{0.0, 0.0, 1.0};       // the shading normal (interpolated)
+  Vec3 true_normal{0.0, 0.0, 1.0};  // geometric, facing as the primitive defines
+  Vec3 incoming{0.0, 0.0, 1.0};     // towards the viewer
+  Vec2 uv{0.0};
+  Vec3 tangent{0.0};                // a mesh's UV tangent; zero: none
+  double tangent_sign = 1.0;
+  Vec3 du_dp{0.0}, dv_dp{0.0};      // how the UV changes along the surface (triangles)
+  const ObjectInfo* object = nullptr;
+  bool backfacing = false;
+};
+
+enum class NodeOp : uint8_t {
+  Coord,          // mode: CoordKind
+  Convert,        // mode: 0 colour -> grey (luminance), 1 vector -> average
+  Math,           // mode: MathOp; flag 1: clamp to [0, 1]
+  VectorMath,     // mode: VectorMathOp; out[0] vector, out[1] value
+  Mix,            // mode: MixBlend; in fac, a, b; flag 1 clamp factor, 2 clamp result
+  MixVector,      // per-component factor: in fac (vector), a, b
+  Table,          // a ColorRamp baked into data: extra + 2 RGBA entries over [0, 1]; flag 1: interpolate
+  MapRange,       // mode: 0 linear, 1 stepped, 2 smoothstep, 3 smootherstep; flag 1: clamp; vector: flag 2
+  Clamp,          // mode: 0 min-max, 1 range
+  Separate,       // mode: channel 0-2 of in[0]; 3-5: H, S, V
+  Combine,        // mode: 0 xyz/rgb, 1 hsv
+  Invert,         // in fac, colour
+  Gamma,
+  BrightContrast,
+  HueSaturation,  // in hue, saturation, value, fac, colour
+  Mapping,        // mode: 0 point, 1 texture, 2 vector, 3 normal; in vector, location, rotation, scale
+  VectorRotate,   // mode: axis kind; flag 1 invert
+  Image,          // data: texture index; mode: ImageFlags; out[0] colour, out[1] alpha
+  Noise,          // mode: NoiseKind; dims in `extra`; see textures/noise.h
+  Voronoi,
+  WhiteNoise,
+  Checker,
+  Gradient,
+  Wave,
+  Brick,
+  Magic,
+  Fresnel,        // in ior, normal
+  LayerWeight,    // in blend, normal; out[0] fresnel, out[1] facing
+  BumpOffset,     // mode: 0 centre, 1 dx, 2 dy: where the next height is read
+  Bump,           // in strength, distance, height centre, height dx, height dy, normal; flag 1 invert
+  NormalMap,      // mode: 0 tangent, 1 object, 2 world; in strength, colour
+};
+
+enum class CoordKind : uint8_t {
+  Generated, Normal, Uv, Object, Camera, Window, Reflection,  // Texture Coordinate
+  Position, ShadingNormal, TrueNormal, Incoming, Backfacing,   // Geometry
+  Tangent,                                                     // Tangent (the UV map's)
+  ObjectLocation, ObjectRandom, ObjectIndex,                   // Object Info
+};
+
+struct NodeInstruction {
+  NodeOp op = NodeOp::Math;
+  uint8_t mode = 0, flags = 0, extra = 0;
+  std::array<uint16_t, 3> out{};
+  std::array<uint16_t, 10> in{};
+  uint32_t data = 0;  // an offset into NodeProgram::data, or a texture index
+};
+
+class NodeProgram {
+ public:
+  // Register 0 is scratch (outputs nobody reads go there); registers 1 .. constants.size() hold these.
+  std::vector<Vec3f> constants;
+  std::vector<NodeInstruction> code;
+  std::vector<float> data;                   // baked tables
+  std::vector<uint16_t> outputs;             // the registers a material reads as its inputs
+  // Per output, the largest value it may give (+inf: as computed); a finite one also keeps it >= 0.
+  // Set for colours whose range the program cannot bound (Scene::check_lobes).
+  std::vector<float> output_max;
+  int registers = 1;                         // registers used (scratch and constants included)
+
+  bool empty() const { return outputs.empty(); }
+  // Throws std::invalid_argument (naming `what`) for a register, texture or table out of range.
+  void validate(size_t texture_count, const std::string& what) const;
+  // Runs the program at `ctx`; writes each output into `results` (outputs.size() of them).
+  void run(const ShadingContext& ctx, const std::vector<Texture>& textures, Vec3f* results) const;
+  // The largest value output `i` can take in any channel (for the energy bound); +inf: unknown.
+  double output_bound(size_t i, const std::vector<Texture>& textures) const;
+  bool uses_bump() const;
+  // Appends an output: the image `texture` read at the UV (bilinear, repeating) in `channel`.
+  void add_image_output(int texture, TextureChannel channel);
+
+ private:
+  void step(const NodeInstruction& ins, ShadingContext& at, const ShadingContext& base,
+            const std::vector<Texture>& textures, Vec3f* r) const;
+};
+
+}  // namespace ppm

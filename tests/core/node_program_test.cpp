@@ -1,0 +1,210 @@
+// Tests for node programs and Blender's textures in the core: the hashes bit for bit (the values
+// below are lookup3's, and nodes_compare.py shows Cycles gives the same), noise that stays finite
+// and bounded for any input, image sampling modes, the Bump node against an analytic slope, and a
+// program that refers to what it does not have being refused.
+#include "shading/node_program.h"
+
+#include "shading/textures/hash.h"
+#include "shading/textures/noise.h"
+#include "shading/textures/patterns.h"
+#include "shading/textures/voronoi.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <vector>
+
+namespace {
+
+using namespace ppm;
+using namespace ppm::textures;
+
+TEST(Hash, Lookup3MatchesItsKnownValues) {
+  EXPECT_EQ(hash_uint(0u), 0x9519dc65u);
+  EXPECT_EQ(hash_uint(1u), 0x4ad7c6a0u);
+  EXPECT_EQ(hash_uint2(0u, 0u), 0xdc3d74f9u);
+  EXPECT_EQ(hash_uint3(0u, 0u, 0u), 0x9c6eedfbu);
+  EXPECT_EQ(hash_uint3(1u, 2u, 3u), 0xb8d17a0au);
+  EXPECT_EQ(hash_uint4(1u, 2u, 3u, 4u), 0x0584dec1u);
+}
+
+TEST(Hash, FloatsToIntsAreDefinedForEveryFloat) {
+  EXPECT_EQ(to_int(std::numeric_limits<float>::quiet_NaN()), 0);
+  EXPECT_EQ(to_int(-2.5f), -2);
+  EXPECT_GT(to_int(1e30f), 2000000000);
+  EXPECT_LT(to_int(-std::numeric_limits<float>::infinity()), -2000000000);
+}
+
+TEST(Noise, StaysFiniteAndBoundedForAnyInput) {
+  const float inf = std::numeric_limits<float>::infinity(), nan = std::numeric_limits<float>::quiet_NaN();
+  for (float x : {0.0f, 0.37f, -12.5f, 1e5f, 1e6f + 0.25f, 3e9f, -1e30f, inf, nan}) {
+    const Vec3f p(x, 0.5f * x + 0.1f, -0.25f);
+    const float n = snoise(p);
+    EXPECT_TRUE(std::isfinite(n) || !std::isfinite(x)) << x;
+    if (std::isfinite(n)) EXPECT_LE(std::fabs(n), 1.05f) << x;
+    NoiseSettings s;
+    s.distortion = 0.5f;
+    s.detail = x;  // any detail: clamped, NaN taken as 0
+    const NoiseResult r = noise_texture(s, glm::vec4(p, 0.0f), true);
+    if (std::isfinite(x)) EXPECT_TRUE(std::isfinite(r.fac) && std::isfinite(r.color.z)) << x;
+  }
+}
+
+TEST(Noise, IsContinuous) {
+  // Perlin noise has a continuous gradient: a step of 1e-4 changes it by well under 1e-2.
+  for (int i = 0; i < 200; ++i) {
+    const Vec3f p(0.173f * i, 0.071f * i - 3.0f, 0.013f * i * i);
+    EXPECT_LT(std::fabs(snoise(p + Vec3f(1e-4f, 0.0f, 0.0f)) - snoise(p)), 1e-2f) << i;
+  }
+}
+
+TEST(Voronoi, F1IsTheDistanceToTheNearestJitteredPointAndF2IsFarther) {
+  VoronoiSettings s;
+  for (int i = 0; i < 100; ++i) {
+    const glm::vec4 p(0.13f * i, 0.29f * i - 4.0f, 0.07f * i, 0.0f);
+    s.feature = VoronoiFeature::F1;
+    const VoronoiResult f1 = voronoi_texture(s, p);
+    s.feature = VoronoiFeature::F2;
+    const VoronoiResult f2 = voronoi_texture(s, p);
+    EXPECT_GE(f2.distance, f1.distance);
+    // The nearest point is where Position says, at Distance (in the scaled space).
+    EXPECT_NEAR(glm::distance(Vec3f(p) * s.scale, Vec3f(f1.position) * s.scale), f1.distance, 1e-4f);
+    s.pcg = !s.pcg;  // both cell hashes
+  }
+}
+
+TEST(Voronoi, HugeAndNanCoordinatesDoNotMisbehave) {
+  VoronoiSettings s;
+  s.pcg = true;
+  for (float x : {1e30f, -1e30f, std::numeric_limits<float>::quiet_NaN()}) {
+    const VoronoiResult r = voronoi_texture(s, glm::vec4(x, x, x, x));
+    EXPECT_FALSE(std::isinf(r.color.x));  // no crash, no undefined conversion
+  }
+}
+
+TEST(Patterns, CheckerAlternatesAndBricksHaveMortar) {
+  EXPECT_EQ(checker(Vec3f(0.5f, 0.5f, 0.5f)), 0.0f);  // Cycles' colour 2 in the cell at the origin
+  EXPECT_EQ(checker(Vec3f(1.5f, 0.5f, 0.5f)), 1.0f);
+  EXPECT_EQ(checker(Vec3f(1.5f, 1.5f, 0.5f)), 0.0f);
+  EXPECT_EQ(checker(Vec3f(-0.5f, 0.5f, 0.5f)), 1.0f);
+  BrickSettings b;
+  EXPECT_EQ(brick(b, Vec3f(0.1f, 0.125f, 0.0f)).mortar, 0.0f);    // inside a brick (row 0 is offset)
+  EXPECT_EQ(brick(b, Vec3f(0.25f, 0.001f, 0.0f)).mortar, 1.0f);   // on a row's edge
+  b.brick_width = 0.0f;                                           // a zero width stays defined
+  EXPECT_TRUE(std::isfinite(brick(b, Vec3f(0.3f, 0.3f, 0.0f)).tint));
+}
+
+Texture gradient_texture() {  // 4 x 1 texels of values 0, 1/3, 2/3, 1, linear
+  std::vector<float> texels;
+  for (int i = 0; i < 4; ++i) texels.insert(texels.end(), {i / 3.0f, i / 3.0f, i / 3.0f, 1.0f});
+  return Texture::from_floats(4, 1, 4, texels.data(), TexelStorage::Half);
+}
+
+TEST(TextureSample, ExtensionsAndInterpolationsReadWhatBlenderReads) {
+  const Texture t = gradient_texture();
+  auto at = [&](double u, TextureInterpolation i, TextureExtension e) { return t.sample(Vec2(u, 0.5), i, e).x; };
+  using I = TextureInterpolation;
+  using E = TextureExtension;
+  EXPECT_NEAR(at(0.375, I::Closest, E::Repeat), 1.0 / 3.0, 1e-3);
+  EXPECT_NEAR(at(0.25, I::Linear, E::Repeat), 1.0 / 6.0, 1e-3);   // between texels 0 and 1
+  EXPECT_NEAR(at(1.25, I::Linear, E::Repeat), 1.0 / 6.0, 1e-3);   // repeats
+  EXPECT_NEAR(at(1.5, I::Linear, E::Extend), 1.0, 1e-3);          // the last texel
+  EXPECT_NEAR(at(-0.25, I::Linear, E::Mirror), 1.0 / 6.0, 1e-3);  // mirrored: as at 0.25
+  EXPECT_EQ(t.sample(Vec2(1.5, 0.5), I::Linear, E::Clip).w, 0.0);  // outside: transparent
+  // Beyond the edge it fades over half a texel: an eighth of a texel out, 3/8 of the last texel.
+  EXPECT_NEAR(t.sample(Vec2(1.0 + 0.125 / 4.0, 0.5), I::Linear, E::Clip).w, 0.375, 1e-3);
+  // A cubic B-spline reproduces a straight line where all four taps lie on it.
+  EXPECT_NEAR(at(0.5, I::Cubic, E::Extend), 0.5, 1e-3);
+}
+
+// A program reading position x through Math Multiply: height = slope * x.
+NodeProgram slope_program(float slope, float distance) {
+  NodeProgram p;
+  p.constants = {Vec3f(slope), Vec3f(0.0f), Vec3f(1.0f), Vec3f(distance)};  // registers 1-4
+  const uint16_t slope_r = 1, zero = 2, one = 3, dist = 4;
+  p.registers = 5;
+  auto next = [&] { return static_cast<uint16_t>(p.registers++); };
+  auto add = [&](NodeOp op, uint8_t mode, std::initializer_list<uint16_t> in, uint16_t out) {
+    NodeInstruction ins;
+    ins.op = op;
+    ins.mode = mode;
+    std::copy(in.begin(), in.end(), ins.in.begin());
+    ins.out[0] = out;
+    p.code.push_back(ins);
+  };
+  const uint16_t normal = next();
+  add(NodeOp::Coord, static_cast<uint8_t>(CoordKind::ShadingNormal), {}, normal);
+  std::vector<uint16_t> heights;
+  for (uint8_t side : {0, 1, 2}) {  // centre, then beside along the two steps
+    if (side != 0) add(NodeOp::BumpOffset, side, {}, 0);
+    const uint16_t position = next(), height = next();
+    add(NodeOp::Coord, static_cast<uint8_t>(CoordKind::Position), {}, position);
+    add(NodeOp::Math, 2, {position, slope_r, zero}, height);  // Multiply (x only: a float reads .x)
+    heights.push_back(height);
+  }
+  add(NodeOp::BumpOffset, 0, {}, 0);
+  const uint16_t bumped = next();
+  add(NodeOp::Bump, 0, {one, dist, heights[0], heights[1], heights[2], normal}, bumped);
+  p.outputs = {bumped};
+  return p;
+}
+
+TEST(Bump, TiltsTheNormalAgainstTheHeightsGradient) {
+  // On the plane z = 0, height h = a x and distance d: Cycles' normal is N - d grad h, normalised.
+  for (float slope : {0.0f, 0.5f, 3.0f}) {
+    const NodeProgram p = slope_program(slope, 0.2f);
+    p.validate(0, "bump");
+    ShadingContext c;
+    c.position = Vec3(0.3, -0.7, 0.0);
+    Vec3f n;
+    p.run(c, {}, &n);
+    const Vec3 expected = glm::normalize(Vec3(-0.2 * slope, 0.0, 1.0));
+    EXPECT_NEAR(n.x, expected.x, 1e-4) << slope;
+    EXPECT_NEAR(n.z, expected.z, 1e-4) << slope;
+  }
+}
+
+TEST(Program, ReferencesItDoesNotHaveAreRefused) {
+  NodeProgram p = slope_program(1.0f, 0.1f);
+  EXPECT_NO_THROW(p.validate(0, "ok"));
+  NodeProgram reads_beyond = p;
+  reads_beyond.code[2].in[0] = 200;
+  EXPECT_THROW(reads_beyond.validate(0, "m"), std::invalid_argument);
+  NodeProgram writes_constant = p;
+  writes_constant.code[0].out[0] = 1;
+  EXPECT_THROW(writes_constant.validate(0, "m"), std::invalid_argument);
+  NodeProgram image = p;
+  image.code[0].op = NodeOp::Image;
+  image.code[0].data = 3;  // no such texture
+  EXPECT_THROW(image.validate(2, "m"), std::invalid_argument);
+  NodeProgram nan = p;
+  nan.constants[0] = Vec3f(std::numeric_limits<float>::quiet_NaN());
+  EXPECT_THROW(nan.validate(0, "m"), std::invalid_argument);
+}
+
+TEST(Program, OutputBoundsFollowTheOperations) {
+  NodeProgram p;
+  p.constants = {Vec3f(0.5f), Vec3f(3.0f)};
+  p.registers = 3;
+  NodeInstruction uv;
+  uv.op = NodeOp::Coord;
+  uv.mode = static_cast<uint8_t>(CoordKind::Uv);
+  uv.out[0] = p.registers++;
+  NodeInstruction times;  // UV * 3: unbounded
+  times.op = NodeOp::Math;
+  times.mode = 2;
+  times.in = {uv.out[0], 2};
+  times.out[0] = p.registers++;
+  NodeInstruction clamped = times;  // the same, clamped: at most 1
+  clamped.flags = 1;
+  clamped.out[0] = p.registers++;
+  p.code = {uv, times, clamped};
+  p.outputs = {times.out[0], clamped.out[0], 1};
+  EXPECT_TRUE(std::isinf(p.output_bound(0, {})));
+  EXPECT_EQ(p.output_bound(1, {}), 1.0);
+  EXPECT_EQ(p.output_bound(2, {}), 0.5);
+}
+
+}  // namespace

@@ -1,0 +1,163 @@
+"""Node programs through ppm_core: a material's inputs computed per shading point (Scene.add_material
+with `program`, Scene.run_program), object info for Generated and Object coordinates, a program's
+normal, its textured emission lighting the scene, and bad programs refused with a message. Value
+for value agreement with Cycles is tests/blenders/nodes_compare.py's."""
+
+import numpy as np
+import pytest
+
+import ppm_core
+
+MODES = ppm_core.node_modes()
+
+
+def op(name, mode=0, ins=(), out=(), **fields):
+    """An instruction; `mode` a name of node_modes()[name] or a number."""
+    if isinstance(mode, str):
+        mode = MODES[name].index(mode)
+    return {"op": name, "mode": mode, "in": list(ins), "out": list(out), **fields}
+
+
+def checker_program(scale=2.0, first=(0.9, 0.1, 0.1), second=(0.1, 0.1, 0.9)):
+    """A Checker texture of the Generated coordinates: registers 1-3 constants."""
+    return {"constants": [first, second, (scale,) * 3],
+            "code": [op("coord", "generated", out=[4]), op("checker", ins=[4, 1, 2, 3], out=[5, 6])],
+            "outputs": [5], "registers": 7}
+
+
+def test_modes_name_every_operation_the_compiler_uses():
+    assert MODES["math"][:4] == ["add", "subtract", "multiply", "divide"] and len(MODES["math"]) == 41
+    assert "soft_light" in MODES["mix"] and "generated" in MODES["coord"] and "f1" in MODES["voronoi"]
+
+
+def test_generated_and_object_coordinates_come_from_the_objects_texture_space_and_transform():
+    scene = ppm_core.Scene()
+    matrix = np.eye(4)
+    matrix[:3, :3] *= 2.0
+    matrix[:3, 3] = (1.0, 0.0, 0.0)  # object space: world shrunk by 2 about (1, 0, 0)
+    scene.set_object_info(3, matrix, texspace_location=(0.0, 0.0, 0.0), texspace_size=(1.0, 1.0, 1.0))
+    program = {"code": [op("coord", "generated", out=[1]), op("coord", "object", out=[2])], "outputs": [1, 2],
+               "registers": 3}
+    points = np.array([[1.0, 0.0, 0.0], [3.0, 2.0, -2.0]])
+    out = scene.run_program(program, points, object=3)
+    np.testing.assert_allclose(out[:, 1], [[0.0, 0.0, 0.0], [1.0, 1.0, -1.0]], atol=1e-6)  # Object
+    np.testing.assert_allclose(out[:, 0], [[0.5, 0.5, 0.5], [1.0, 1.0, 0.0]], atol=1e-6)  # Generated
+    # An object never described: at the origin, unscaled, texture space [-1, 1].
+    np.testing.assert_allclose(scene.run_program(program, points, object=9)[1, 0], [2.0, 1.5, -0.5], atol=1e-6)
+    # Scaled to nothing along an axis, an object still has coordinates (from its origin).
+    matrix[2, 2] = 0.0
+    scene.set_object_info(4, matrix)
+    assert np.all(np.isfinite(scene.run_program(program, points, object=4)))
+
+
+def quad_scene(program, coloured=True, **material):
+    """A 2 x 2 m quad at z = 0 (object 0, texture space its own) seen from above: diffuse, its colour
+    the program's first output if `coloured`, else white."""
+    scene = ppm_core.Scene()
+    lobes = [{"kind": "diffuse", "color": 1.0, **({"color_input": 0} if coloured else {})}]
+    mat = scene.add_material("quad", "mixture", lobes=lobes, program=program, **material)
+    corners = np.array([[-1, -1, 0], [1, -1, 0], [1, 1, 0], [-1, 1, 0]], dtype=float)
+    scene.add_mesh("quad", corners, np.array([[0, 1, 2], [0, 2, 3]]), uvs=(corners[:, :2] + 1) / 2,
+                   materials=mat, object_id=0)
+    scene.set_object_info(0, np.eye(4), texspace_location=(0, 0, 0), texspace_size=(1, 1, 1))
+    camera = np.eye(4)
+    camera[2, 3] = 2.0
+    scene.set_camera(camera, 16, 16, projection="orthographic", ortho_scale=2.0)
+    return scene
+
+
+def test_a_checker_program_colours_a_diffuse_surface_cell_by_cell():
+    scene = quad_scene(checker_program())
+    scene.add_light("sun", power=np.pi, direction=(0.0, 0.0, -1.0))  # radiance = albedo exactly
+    renderer = ppm_core.Renderer(scene, photons_per_pass=20_000, threads=2, seed=1)
+    renderer.run(passes=4)
+    image = renderer.image()[..., :3]
+    # Generated runs 0..1 across the quad, scale 2: four cells of 8 x 8 pixels.
+    top_left, top_right = image[2:6, 2:6].mean(axis=(0, 1)), image[2:6, 10:14].mean(axis=(0, 1))
+    assert top_left == pytest.approx((0.1, 0.1, 0.9), abs=0.02) or top_left == pytest.approx((0.9, 0.1, 0.1), abs=0.02)
+    assert not np.allclose(top_left, top_right, atol=0.2)  # neighbouring cells differ
+    np.testing.assert_allclose(image[2:6, 2:6].mean(axis=(0, 1)), image[10:14, 10:14].mean(axis=(0, 1)), atol=0.02)
+
+
+def test_a_colour_the_program_cannot_bound_is_kept_an_albedo():
+    # UV * 3 on a diffuse colour: up to 3, which would make light; the core keeps it within [0, 1].
+    program = {"constants": [(3.0,) * 3], "code": [op("coord", "uv", out=[2]), op("vector_math", "multiply",
+                                                                                  ins=[2, 1, 1, 1], out=[3, 0])],
+               "outputs": [3], "registers": 4}
+    scene = quad_scene(program)
+    scene.add_light("sun", power=np.pi, direction=(0.0, 0.0, -1.0))
+    renderer = ppm_core.Renderer(scene, photons_per_pass=20_000, threads=2, seed=1)
+    renderer.run(passes=2)
+    assert renderer.image()[..., :3].max() <= 1.02
+
+
+def test_a_programs_emission_lights_as_its_mean():
+    # Emission of a checker of 0 and 2 (cells of the quad): the floor below gets the light of 1.
+    def floor_light(program, emission):
+        scene = ppm_core.Scene()
+        lamp = scene.add_material("lamp", "emission", base_color=(0, 0, 0), emission=(emission,) * 3,
+                                  program=program, emission_input=0 if program else -1)
+        floor = scene.add_material("floor", base_color=(0.5, 0.5, 0.5))
+        quad = np.array([[-0.5, -0.5, 1.0], [0.5, -0.5, 1.0], [0.5, 0.5, 1.0], [-0.5, 0.5, 1.0]])
+        scene.add_mesh("lamp", quad, np.array([[0, 2, 1], [0, 3, 2]]), materials=lamp, object_id=1)
+        scene.set_object_info(1, np.eye(4), texspace_location=(0, 0, 1), texspace_size=(0.5, 0.5, 1))
+        ground = np.array([[-4, -4, 0], [4, -4, 0], [4, 4, 0], [-4, 4, 0]], dtype=float)
+        scene.add_mesh("floor", ground, np.array([[0, 1, 2], [0, 2, 3]]), materials=floor, object_id=2)
+        camera = np.eye(4)
+        camera[2, 3] = 3.0
+        scene.set_camera(camera, 24, 24, projection="orthographic", ortho_scale=4.0)
+        renderer = ppm_core.Renderer(scene, photons_per_pass=50_000, threads=2, seed=4)
+        renderer.run(passes=6)
+        image = renderer.image()[..., :3].mean(axis=2)
+        around = np.ones(image.shape, bool)
+        around[6:18, 6:18] = False
+        return image[around].mean()
+
+    textured = floor_light(checker_program(4.0, (1.0, 1.0, 1.0), (0.0, 0.0, 0.0)), 2.0)
+    assert textured == pytest.approx(floor_light(None, 1.0), rel=0.05)
+
+
+def test_a_bumped_normal_changes_how_a_grazing_sun_lights_the_surface():
+    # Height = 0.3 x: the normal tilts towards -x, away from a sun in the +x sky.
+    def lit(distance):
+        program = {"constants": [(0.3,) * 3, (0.0,) * 3, (1.0,) * 3, (distance,) * 3],
+                   "code": [op("coord", "shading_normal", out=[5])], "registers": 6}
+        heights = []
+        for side in (0, 1, 2):
+            if side:
+                program["code"].append(op("bump_offset", side))
+            program["code"] += [op("coord", "position", out=[program["registers"]]),
+                                op("math", "multiply", ins=[program["registers"], 1, 2],
+                                   out=[program["registers"] + 1])]
+            heights.append(program["registers"] + 1)
+            program["registers"] += 2
+        program["code"] += [op("bump_offset", 0), op("bump", ins=[3, 4, *heights, 5], out=[program["registers"]])]
+        program["outputs"] = [program["registers"]]
+        program["registers"] += 1
+        scene = quad_scene(program, coloured=False, normal_map={"input": 0, "space": "direct", "softening": "none"})
+        scene.add_light("sun", power=1.0, direction=(-0.8, 0.0, -0.6))  # from +x, 37 degrees up
+        renderer = ppm_core.Renderer(scene, photons_per_pass=10_000, threads=2, seed=2)
+        renderer.run(passes=2)
+        return float(renderer.image()[..., :3].mean())
+
+    flat, bumped = lit(0.0), lit(1.0)
+    # Normal (-0.3, 0, 1)/|.|: cos to the sun (0.8, 0, 0.6) drops from 0.6 to 0.335.
+    assert bumped / flat == pytest.approx((0.6 - 0.3 * 0.8) / np.hypot(0.3, 1.0) / 0.6, rel=0.05)
+
+
+@pytest.mark.parametrize("program, message", [
+    ({"code": [{"op": "teleport"}]}, "unknown node program operation"),
+    ({"code": [op("coord", "uv", out=[300])]}, "register"),
+    ({"code": [op("coord", "uv", out=[1])], "constants": [(1, 1, 1)], "outputs": [1], "registers": 2},
+     "constant"),
+    ({"code": [op("image", ins=[0], out=[1, 2], data=5)], "outputs": [1], "registers": 3}, "texture"),
+    ({"code": [], "outputs": [1], "registers": 1}, "output"),
+    ({"outputs": list(range(9)), "constants": [(0, 0, 0)] * 9, "registers": 10}, "at most 8"),
+    ({"code": [op("coord", "uv", out=[1], colour=1)], "registers": 2}, "unknown node program instruction key"),
+    ({"constants": [(float("nan"),) * 3], "registers": 2}, "not finite"),
+    ({"code": [op("noise", extra=6, ins=[0] * 9, out=[1, 2])], "registers": 3}, "mode"),
+])
+def test_bad_programs_are_refused_with_a_message(program, message):
+    scene = ppm_core.Scene()
+    with pytest.raises(ValueError, match=message):
+        scene.add_material("patterned", "mixture", lobes=[{"kind": "diffuse"}], program=program)
