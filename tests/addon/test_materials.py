@@ -41,6 +41,22 @@ def added(mat):
     return warnings
 
 
+def input_channels(params):
+    """What each material input is: 'rgb', 'alpha' or 'grey' of an image, else the name of the
+    program operation that computes it."""
+    writer = {reg: (ins, k) for ins in params["program"]["code"] for k, reg in enumerate(ins["out"]) if reg}
+
+    def kind(reg):
+        ins, k = writer[reg]
+        if ins["op"] == "image":
+            return ("rgb", "alpha")[k]
+        if ins["op"] == "convert" and writer[ins["in"][0]][0]["op"] == "image":
+            return "grey"
+        return ins["op"]
+
+    return [kind(reg) for reg in params["program"]["outputs"]]
+
+
 def lobes_by_kind(params):
     return {lobe["kind"]: lobe for lobe in params["lobes"]}
 
@@ -171,14 +187,56 @@ def test_the_principled_bsdf_becomes_its_layers():
 
 
 def test_a_value_driven_by_an_unsupported_node_warns_once_and_uses_its_own():
-    mat, tree, out = node_material("noisy")
+    mat, tree, out = node_material("painted")
     diffuse = add(tree, "ShaderNodeBsdfDiffuse", Color=(0.3, 0.3, 0.3, 1.0))
-    noise = tree.nodes.new("ShaderNodeTexNoise")
-    tree.links.new(noise.outputs["Color"], diffuse.inputs["Color"])
+    attribute = tree.nodes.new("ShaderNodeAttribute")
+    tree.links.new(attribute.outputs["Color"], diffuse.inputs["Color"])
     tree.links.new(diffuse.outputs[0], out.inputs["Surface"])
     params, warnings = describe(mat)
     assert params["base_color"] == pytest.approx((0.3, 0.3, 0.3))
-    assert len(warnings) == 1 and "'noisy'" in warnings[0] and noise.name in warnings[0]
+    assert len(warnings) == 1 and "'painted'" in warnings[0] and attribute.name in warnings[0]
+
+
+def test_nodes_cycles_renders_simply_give_cycles_simplest_value_with_a_warning():
+    mat, tree, out = node_material("dusty")
+    diffuse = add(tree, "ShaderNodeBsdfDiffuse")
+    ao = add(tree, "ShaderNodeAmbientOcclusion", Color=(0.2, 0.4, 0.6, 1.0))
+    mix = tree.nodes.new("ShaderNodeMixRGB")
+    mix.blend_type = "MULTIPLY"
+    tree.links.new(ao.outputs["Color"], mix.inputs[1])
+    tree.links.new(ao.outputs["AO"], mix.inputs[0])
+    wire = tree.nodes.new("ShaderNodeWireframe")
+    tree.links.new(wire.outputs[0], mix.inputs[2])
+    tree.links.new(mix.outputs[0], diffuse.inputs["Color"])
+    tree.links.new(diffuse.outputs[0], out.inputs["Surface"])
+    params, warnings = describe(mat)
+    # AO: the colour unoccluded (AO 1); wireframe: 0; so the colour times 0.
+    assert params["base_color"] == pytest.approx((0.0, 0.0, 0.0), abs=1e-6)
+    assert len(warnings) == 2 and all("'dusty'" in w for w in warnings)
+
+
+def test_a_noise_through_a_color_ramp_becomes_a_program_and_a_constant_network_folds():
+    mat, tree, out = node_material("grain")
+    diffuse = add(tree, "ShaderNodeBsdfDiffuse")
+    noise, ramp = tree.nodes.new("ShaderNodeTexNoise"), tree.nodes.new("ShaderNodeValToRGB")
+    tree.links.new(noise.outputs["Fac"], ramp.inputs["Fac"])
+    tree.links.new(ramp.outputs["Color"], diffuse.inputs["Color"])
+    # Roughness from Values through a Math node: constant, folded at export.
+    a, b = tree.nodes.new("ShaderNodeValue"), tree.nodes.new("ShaderNodeValue")
+    a.outputs[0].default_value, b.outputs[0].default_value = 0.3, 0.5
+    times = add(tree, "ShaderNodeMath")
+    times.operation = "MULTIPLY"
+    tree.links.new(a.outputs[0], times.inputs[0])
+    tree.links.new(b.outputs[0], times.inputs[1])
+    tree.links.new(times.outputs[0], diffuse.inputs["Roughness"])
+    tree.links.new(diffuse.outputs[0], out.inputs["Surface"])
+    params, warnings = describe(mat)
+    assert warnings == [] and params["kind"] == "mixture" and input_channels(params) == ["table"]
+    lobe = params["lobes"][0]
+    assert lobe["color_input"] == 0 and lobe["roughness"] == pytest.approx(0.15)
+    ops = [ins["op"] for ins in params["program"]["code"]]
+    assert ops == ["coord", "noise", "table"] and "math" not in ops
+    assert added(mat) == []
 
 
 def test_a_missing_group_and_a_non_shader_on_a_shader_socket_warn_once_each():
@@ -252,7 +310,7 @@ def test_images_on_roughness_metallic_and_a_mix_factor_become_inputs():
     tree.links.new(mix.outputs[0], out.inputs["Surface"])
     params, warnings = describe(mat)
     assert warnings == []
-    assert params["kind"] == "mixture" and [channel for _, channel in params["inputs"]] == ["grey", "grey"]
+    assert params["kind"] == "mixture" and input_channels(params) == ["grey", "grey"]
     fac, grey = 0, 1  # the Mix factor is read first
     conductor, layer, diffuse, glossy_lobe = params["lobes"]
     assert conductor["kind"] == "conductor" and conductor["roughness_input"] == grey
@@ -272,7 +330,7 @@ def test_an_image_alpha_cuts_out_and_a_third_textured_factor_is_warned():
     tree.links.new(maps.outputs["Alpha"], bsdf.inputs["Alpha"])
     tree.links.new(bsdf.outputs[0], out.inputs["Surface"])
     params, warnings = describe(mat)
-    assert warnings == [] and params["inputs"][0][1] == "rgb" and params["inputs"][1][1] == "alpha"
+    assert warnings == [] and input_channels(params) == ["rgb", "alpha"]
     transparent, _, diffuse = params["lobes"]
     assert transparent["kind"] == "transparent" and transparent["weight_inputs"] == [(1, "complement")]
     assert diffuse["weight_inputs"] == [(1, "fraction")] and diffuse["color_input"] == 0
@@ -338,8 +396,12 @@ def test_a_normal_map_image_becomes_the_materials_normal_map_and_its_meshes_get_
     tree.links.new(bsdf.outputs[0], out.inputs["Surface"])
     params, warnings = describe(mat)
     assert warnings == [] and params["kind"] == "mixture"
-    assert params["normal_map"]["strength"] == pytest.approx(0.7) and params["normal_map"]["space"] == "tangent"
-    assert params["inputs"][params["normal_map"]["input"]][1] == "rgb"
+    assert params["normal_map"]["space"] == "direct" and input_channels(params) == ["normal_map"]
+    normal = next(i for i in params["program"]["code"] if i["op"] == "normal_map")
+    assert normal["mode"] == 0  # tangent space
+    strength, color = normal["in"][:2]
+    assert params["program"]["constants"][strength - 1] == pytest.approx((0.7,) * 3)
+    assert next(i for i in params["program"]["code"] if color in i["out"])["op"] == "image"
     bpy.ops.mesh.primitive_uv_sphere_add(segments=16, ring_count=8)
     ball = bpy.context.object
     ball.data.materials.append(mat)
@@ -349,11 +411,17 @@ def test_a_normal_map_image_becomes_the_materials_normal_map_and_its_meshes_get_
     assert np.allclose(np.linalg.norm(tangents, axis=1), 1.0, atol=1e-3)
     assert np.abs(np.sum(tangents * data.normals.reshape(-1, 3), axis=1)).max() < 1e-3  # in the surface
     assert set(np.unique(data.tangents[..., 3])) <= {-1.0, 1.0}
-    # A Bump node instead: one warning, the surface's own normal.
+    # A Bump node without a height: the surface's own normal; with a noise height, its normal.
     bump = tree.nodes.new("ShaderNodeBump")
     tree.links.new(bump.outputs["Normal"], bsdf.inputs["Normal"])
     params, warnings = describe(mat)
-    assert "normal_map" not in params and len(warnings) == 1 and "Bump" in warnings[0]
+    assert "normal_map" not in params and warnings == []
+    tree.links.new(tree.nodes.new("ShaderNodeTexNoise").outputs["Fac"], bump.inputs["Height"])
+    params, warnings = describe(mat)
+    assert warnings == [] and params["normal_map"]["space"] == "direct" and input_channels(params) == ["bump"]
+    offsets = [i["mode"] for i in params["program"]["code"] if i["op"] == "bump_offset"]
+    assert offsets == [1, 2, 0]  # the height beside the point, along two directions, then back
+    assert added(mat) == []
 
 
 def test_an_ngon_mesh_gets_tangents_close_to_blenders():
@@ -441,7 +509,7 @@ def test_an_image_on_an_emission_colour_textures_the_emission():
     tree.links.new(emission.outputs[0], out.inputs["Surface"])
     params, warnings = describe(mat)
     assert warnings == [] and params["kind"] == "emission" and params["emission"] == pytest.approx((3.0,) * 3)
-    assert params["inputs"][params["emission_input"]][1] == "rgb"
+    assert input_channels(params)[params["emission_input"]] == "rgb"
     assert added(mat) == []
     # The Principled BSDF's Emission Color too, in a mixture.
     mat, tree, out = node_material("sign")

@@ -20,7 +20,7 @@ import re
 
 import numpy as np
 
-from . import bezier, camera, light, material, mesh, world
+from . import bezier, camera, light, material, mesh, object_info, world
 from .instance import Instance
 
 GEOMETRY_TYPES = {"MESH", "CURVE", "SURFACE", "META", "FONT", "CURVES", "POINTCLOUD", "VOLUME"}
@@ -45,6 +45,11 @@ class Exporter:
         self.plain_curves = []
         self.skipped = {}  # warning -> number of instances it applies to
 
+    def describe_object(self, item, slots):
+        """Object info for the node programs of the object's materials, if any has one."""
+        if any(i in self.materials.with_program for i in slots):
+            object_info.add_object_info(self.scene, item)
+
     def object_id(self):
         self.next_id += 1
         return self.next_id - 1
@@ -67,6 +72,7 @@ class Exporter:
                 self.skip(obj, "its normal map or anisotropy needs UV tangents, but it has no UV map; "
                                "rendered without them")
         data = self.meshes[key]
+        self.describe_object(item, slots)
         if data is not None:
             dropped = data.add_to_scene(self.scene, item, slots)
             self.triangles += len(data.triangles) - dropped
@@ -77,6 +83,7 @@ class Exporter:
     def add_revolve(self, item):
         slots = self.slot_materials(item.obj)
         index = self.materials.without_emission(slots[0], f"'{item.name}'")
+        self.describe_object(item, slots)
         bezier.add_revolve(self.scene, item, index, self.warn)
 
     def skip(self, obj, what):
@@ -105,7 +112,8 @@ class Exporter:
         parent = instance.instance_object if instance.is_instance else None
         object_id = self.object_id()
         name = obj.name if parent is None else f"{parent.name}/{obj.name}.{object_id}"
-        item = Instance(obj, name, np.array(instance.matrix_world, dtype=float), object_id)
+        item = Instance(obj, name, np.array(instance.matrix_world, dtype=float), object_id,
+                        object_info.random_of(instance))
         if obj.type == "LIGHT":
             light.add_light(self.scene, item, self.warn)
         elif parent is not None and parent.type in CURVE_TYPES and parent.original == obj.original:

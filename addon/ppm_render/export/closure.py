@@ -3,13 +3,14 @@
 Walks from the active Material Output's Surface through Mix Shader and Add Shader nodes, node
 groups (nested, their inputs' defaults), reroutes and muted nodes (passed through as Blender does),
 folding every constant factor into the lobes' weights and dropping branches of weight zero. A
-socket's value is its own, or that of the group input or the Value/RGB node feeding it. An Image
-Texture's Color or Alpha on a colour, a roughness, a Mix Shader's factor or the Principled BSDF's
-Base Color, Roughness, Metallic, Transmission Weight or Alpha becomes one of the material's inputs
-(up to MAX_INPUTS images looked up per shading point; a lobe parameter is its constant times an
-input, a weight takes up to two textured factors). Any other node driving a socket counts as the
-socket's own value with one warning (texture and utility nodes are the Materials II issue). The
-Principled BSDF is layered as Cycles layers it (see `principled_v2`).
+socket's value is its own, or what the texture and utility nodes driving it compute: a constant
+network is folded at export, any other is compiled into the material's node program
+(node_program.py), whose outputs are the material's inputs. A colour, a roughness, a Mix Shader's
+factor, the Principled BSDF's Base Color, Roughness, Metallic, Transmission Weight or Alpha, an
+emission colour and the shaders' Normal can be driven that way (up to 8 inputs per material; a
+lobe parameter is its constant times an input, a weight takes up to two textured factors); other
+sockets take a network's value only when it is constant (warned otherwise). The Principled BSDF
+is layered as Cycles layers it (see `principled_v2`).
 """
 
 from __future__ import annotations
@@ -21,10 +22,10 @@ import bpy
 import numpy as np
 
 from . import nodes
+from .node_program import ProgramCompiler, Unsupported
 
 MAX_DEPTH = 256  # links followed from one socket: a deeper chain is a cycle through node groups
 MAX_LOBES = 8  # the core's limit
-MAX_INPUTS = 4  # the core's limit of textured inputs per material
 MAX_WEIGHT_INPUTS = 2  # the core's limit of textured factors per lobe weight
 MAX_NESTING = 64  # Mix and Add shaders inside each other
 CUTOFF = 1e-6  # Cycles drops closures of smaller weight too (CLOSURE_WEIGHT_CUTOFF)
@@ -53,9 +54,10 @@ class Closure:
     lobes: list = field(default_factory=list)  # dicts for Scene.add_material(lobes=...)
     emission: np.ndarray = field(default_factory=lambda: np.zeros(3))
     holdout: float = 0.0
-    # Per input: (bpy image, channel 'rgb' | 'alpha' | 'grey', colour premultiplied by alpha)
-    inputs: list = field(default_factory=list)
-    normal_map: dict = None  # for Scene.add_material(normal_map=...): input, strength, space
+    program: dict = None  # for Scene.add_material(program=...): computes the inputs
+    # Per input: the core texture it is, when it is an image's colour read at the UV, else None
+    simple_images: list = field(default_factory=list)
+    normal_map: dict = None  # for Scene.add_material(normal_map=...): input, space
     unmapped: bool = False  # a shader without the normal map (it applies to all of them)
     tangents: str = None  # what the meshes' tangents must be: "uv", or "radial_x" / "_y" / "_z" (generated)
     emission_input: int = None  # the input the emission is textured by
@@ -79,11 +81,12 @@ def _rgb(value):
 class ClosureReader:
     """Reads one material's surface closure; `warn` gets each problem once, naming material and node."""
 
-    def __init__(self, material_name, warn):
+    def __init__(self, material_name, warn, texture=None, core=None):
         self.material, self.warn_once = material_name, warn
         self.warned = set()
         self.out = Closure()
         self.depth = 0  # Mix and Add shaders entered
+        self.program = ProgramCompiler(self, texture, core) if core is not None else None
 
     def warn(self, node, message):
         key = (node.name if node is not None else "", message)
@@ -145,7 +148,8 @@ class ClosureReader:
     # ------------------------------------------------------------ values
 
     def value(self, node, name, ctx, default=0.0, color=False):
-        """The value of input `name` of `node` (a float, or an RGB array with color)."""
+        """The value of input `name` of `node` (a float, or an RGB array with color): its own, or a
+        constant network's; a varying network counts as the socket's own value, warned."""
         socket = node.inputs.get(name)
         if socket is None:
             return _rgb(default) if color else float(default)
@@ -155,45 +159,53 @@ class ClosureReader:
         elif out.node.bl_idname in ("ShaderNodeValue", "ShaderNodeRGB"):
             raw = out.default_value
         else:
-            self.warn(node, f"'{name}' is driven by '{out.node.name}' ({out.node.bl_idname}), which is not "
-                            "supported yet; using the socket's own value")
-            raw = socket.default_value
+            raw = self.driven(node, name, ctx, "color" if color else "float", varying=False)
+            if raw is None:
+                raw = socket.default_value
         if color:
             return _rgb(raw)  # not finite or out of range: clamped with the material's one warning
         return _finite(float(np.mean(_rgb(raw))) if _is_vector(raw) else float(raw), node, name, self)
 
-    def image_input(self, node, name, ctx, color):
-        """The material's input index for an Image Texture driving input `name` (its Color as a colour,
-        or as grey on a float socket; its Alpha), or None."""
+    def driven(self, node, name, ctx, kind, varying=True):
+        """What a node network computes for input `name` of `node`: a constant (an RGB array, or a
+        float for kind 'float'), or the index of the material input (a program output) computing it
+        per shading point; None when nothing drives the socket or the network cannot be taken (its
+        own value counts, warned), or (varying=False) the network is not constant (warned)."""
         socket = node.inputs.get(name)
-        if socket is None:
+        if socket is None or self.program is None or self.source(socket, ctx)[0] is None:
             return None
-        out, _, _ = self.source(socket, ctx)
-        if out is None or out.node.bl_idname != "ShaderNodeTexImage" or out.node.image is None:
+        mark = self.program.mark()
+        try:
+            value = self.program.socket(socket, ctx, kind)
+            if not value.varying:
+                return self.program.constant_value(value)
+            if not varying:
+                self.program.rewind(mark)
+                self.warn(node, f"'{name}' is driven by a texture, which is not supported for it; using the "
+                                "socket's own value")
+                return None
+            return self.program.add_output(value)
+        except Unsupported as error:
+            self.program.rewind(mark)
+            self.warn(node, f"'{name}': {error}; using the socket's own value")
             return None
-        channel = "alpha" if out.name == "Alpha" else ("rgb" if color else "grey")
-        key = (out.node.image, channel, channel != "alpha" and _premultiplied(out.node))
-        if key in self.out.inputs:
-            return self.out.inputs.index(key)
-        if len(self.out.inputs) >= MAX_INPUTS:
-            self.warn(node, f"more than {MAX_INPUTS} textured inputs in one material; '{name}' uses the "
-                            "socket's own value")
-            return None
-        self.out.inputs.append(key)
-        return len(self.out.inputs) - 1
 
     def color(self, node, name, ctx, default=(0.8, 0.8, 0.8)):
-        """(rgb, input): an Image Texture on the socket makes the colour its input (rgb is then 1)."""
-        index = self.image_input(node, name, ctx, color=True)
-        if index is not None:
-            return np.ones(3), index
+        """(rgb, input): a textured colour is its input (rgb is then 1)."""
+        driven = self.driven(node, name, ctx, "color")
+        if isinstance(driven, int):
+            return np.ones(3), driven
+        if driven is not None:
+            return _rgb(driven), None
         return self.value(node, name, ctx, default, color=True), None
 
     def scalar(self, node, name, ctx, default=0.0):
         """(value, input) of a float socket, as `color`."""
-        index = self.image_input(node, name, ctx, color=False)
-        if index is not None:
-            return 1.0, index
+        driven = self.driven(node, name, ctx, "float")
+        if isinstance(driven, int):
+            return 1.0, driven
+        if driven is not None:
+            return _finite(float(driven), node, name, self), None
         return self.value(node, name, ctx, default), None
 
     def split(self, w, node, name, ctx, default):
@@ -263,34 +275,29 @@ class ClosureReader:
         self.depth -= 1
 
     def normal(self, node, name, ctx):
-        """Notes the normal map (a Normal Map node of an image) on input `name` of a shader; one per
-        material, applied to all its shaders (warned where they differ)."""
-        out, inner, _ = self.source(node.inputs[name], ctx)
-        if out is None:
+        """Notes the normal on input `name` of a shader (a Normal Map, a Bump, any vector network:
+        a program output); one per material, applied to all its shaders (warned where they differ)."""
+        socket = node.inputs[name]
+        if self.source(socket, ctx)[0] is None or self.program is None:
             self.out.unmapped = True
             return
-        source = out.node
-        if source.bl_idname != "ShaderNodeNormalMap":
-            self.warn(node, f"'{name}' is driven by '{source.name}' ({source.bl_idname}), which is not supported "
-                            "yet; using the surface's own normal")
+        mark = self.program.mark()
+        try:
+            value = self.program.socket(socket, ctx, "vector")
+            if not value.varying or self.program.is_coordinate(value, "shading_normal"):
+                self.program.rewind(mark)  # the surface's own normal (a constant one is not supported)
+                self.out.unmapped = True
+                return
+            index = self.program.add_output(value)
+        except Unsupported as error:
+            self.program.rewind(mark)
+            self.warn(node, f"'{name}': {error}; using the surface's own normal")
             return
-        if source.space not in ("TANGENT", "WORLD"):
-            self.warn(source, f"a normal map in {source.space.lower()} space is not supported yet; left out")
-            return
-        index = self.image_input(source, "Color", inner, color=True)
-        if index is None:
-            self.warn(source, "its Color is not an image texture; left out")
-            return
-        if source.space == "TANGENT" and source.uv_map:
-            self.warn(source, f"tangents come from the mesh's active UV map, not '{source.uv_map}'")
-        mapping = {"input": index, "strength": self.value(source, "Strength", inner, 1.0),
-                   "space": source.space.lower(), "softening": BUMP_SOFTENING}
-        if source.space == "TANGENT":
-            self.use_tangents("uv", source)
+        mapping = {"input": index, "space": "direct", "softening": BUMP_SOFTENING}
         if self.out.normal_map is None:
             self.out.normal_map = mapping
         elif self.out.normal_map != mapping:
-            self.warn(node, "a second normal map in one material is not supported; the first applies to all its "
+            self.warn(node, "a second normal in one material is not supported; the first applies to all its "
                             "shaders")
 
 
@@ -697,8 +704,10 @@ SHADERS = {
 }
 
 
-def read_surface(material, warn):
-    """The closure of `material`'s active surface output (None if it has no node tree in use)."""
+def read_surface(material, warn, texture=None, core=None):
+    """The closure of `material`'s active surface output (None if it has no node tree in use).
+    Texture and utility nodes are compiled when `core` (a ppm_core.Scene, which runs constant
+    networks) and `texture(image, premultiplied)` (its texture index) are given."""
     if not nodes.uses_nodes(material):
         return None
     outputs = [n for n in material.node_tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial"]
@@ -706,8 +715,11 @@ def read_surface(material, warn):
               [n for n in outputs if n.is_active_output] or outputs)
     if not active:
         return None
-    reader = ClosureReader(material.name, warn)
+    reader = ClosureReader(material.name, warn, texture, core)
     reader.closure(active[0].inputs["Surface"], (), Weight(np.ones(3)))
+    if reader.program is not None and reader.program.outputs:
+        reader.out.program = reader.program.program()
+        reader.out.simple_images = reader.program.output_images()
     if reader.out.normal_map is not None and reader.out.unmapped:
         reader.warn(None, "its normal map applies to all its shaders, also those without it")
     lobes = reader.out.lobes

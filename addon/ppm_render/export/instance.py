@@ -1,7 +1,7 @@
 """One depsgraph instance as every exporter of an object receives it, so that the light, mesh and
 revolve exporters share one shape (as Cycles' sync_light, sync_mesh and sync_camera do): the
-evaluated object, a name unique in the core scene (warnings name it), its world matrix and the
-object id the core reports for its primitives."""
+evaluated object, a name unique in the core scene (warnings name it), its world matrix, the
+object id the core reports for its primitives and Object Info's Random."""
 
 from dataclasses import dataclass
 
@@ -14,3 +14,4 @@ class Instance:
     name: str
     matrix: np.ndarray  # 4x4 object-to-world, a copy (the depsgraph reuses its records)
     object_id: int
+    random: float = 0.0  # Object Info's Random (object_info.py)

@@ -1,8 +1,9 @@
 """Blender materials -> core materials.
 
 Reads the closure on the active Material Output's Surface (closure.py: Mix and Add shaders, node
-groups, every BSDF node, the Principled BSDF's layers) and adds it as the cheapest core material
-that renders it: a diffuse material (with its image texture) when every lobe is diffuse, a holdout
+groups, every BSDF node, the Principled BSDF's layers; node_program.py: the texture and utility
+nodes driving their sockets) and adds it as the cheapest core material that renders it: a diffuse
+material (with its image texture) when every lobe is diffuse, a holdout
 or an emission-only material, else a mixture of lobes. A material without a node tree in use is
 diffuse in its viewport colour; a Surface with nothing connected is black, as in Cycles.
 """
@@ -32,6 +33,7 @@ class MaterialExporter:
         self.non_emissive = {}
         self.tangents = {}  # core material -> the tangents its meshes need ("uv", "radial_z", ...)
         self.needed_tangents = None  # those of the material describe() read last
+        self.with_program = set()  # core materials with a node program (their objects need object info)
 
     def index(self, material):
         """Core material index for a Blender material (None = default grey)."""
@@ -45,6 +47,8 @@ class MaterialExporter:
             self.indices[key] = self.scene.add_material(material.name, **params)
             if self.needed_tangents:
                 self.tangents[self.indices[key]] = self.needed_tangents
+            if "program" in params:
+                self.with_program.add(self.indices[key])
             if any(c > 0.0 for c in params.get("emission", (0, 0, 0))):
                 self.emissive.add(self.indices[key])
                 self.non_emissive[self.indices[key]] = {**params, "emission": (0.0, 0.0, 0.0)}
@@ -73,11 +77,11 @@ class MaterialExporter:
 
     def describe(self, material):
         """Keyword arguments for Scene.add_material."""
-        read = closure.read_surface(material, self.warn)
+        read = closure.read_surface(material, self.warn, self.texture, self.scene)
         self.needed_tangents = read.tangents if read is not None else None
         if read is None:
             return {"kind": "diffuse", "base_color": tuple(material.diffuse_color)[:3]}
-        inputs = self.closure_inputs(material, read)
+        program = {"program": read.program} if read.program is not None else {}
         emission = tuple(float(c) for c in read.emission)
         holdout = min(read.holdout, 1.0)
         if holdout >= 0.999 and not read.lobes:
@@ -86,39 +90,20 @@ class MaterialExporter:
         if holdout > 0.0 and not lobes:  # part holdout, part black: a black lobe carries the rest
             lobes = [{"kind": "diffuse", "weight": (1.0, 1.0, 1.0), "color": (0.0, 0.0, 0.0)}]
         textured_emission = {}
-        if read.emission_input is not None and read.emission_input < len(inputs) and max(emission) > 0.0:
-            textured_emission = {"inputs": inputs, "emission_input": read.emission_input}
+        if read.emission_input is not None and max(emission) > 0.0:
+            textured_emission = {**program, "emission_input": read.emission_input}
         if not lobes:
             kind = "emission" if max(emission) > 0.0 else "diffuse"
             return {"kind": kind, "base_color": (0.0, 0.0, 0.0), "emission": emission, **textured_emission}
         normal_map = read.normal_map
-        texture = _diffuse_texture(lobes, inputs)
+        texture = _diffuse_texture(lobes, read.simple_images)
         if holdout == 0.0 and texture is not None and normal_map is None and not textured_emission:
             color = sum(np.asarray(lobe["weight"]) * np.asarray(lobe["color"]) for lobe in lobes)
             return {"kind": "diffuse", "base_color": tuple(float(c) for c in color), "texture": texture,
                     "emission": emission}
-        return {"kind": "mixture", "lobes": lobes, "inputs": inputs, "emission": emission, "holdout": holdout,
-                **({"normal_map": normal_map} if normal_map else {}), **textured_emission}
-
-    def closure_inputs(self, material, read):
-        """The core's (texture, channel) for each of the closure's inputs; a lobe parameter whose image
-        cannot be used keeps its constant (warned)."""
-        inputs = []
-        for image, channel, premultiplied in read.inputs:
-            try:
-                inputs.append((self.texture(image, premultiplied), channel))
-            except ValueError as error:
-                self.warn(f"material '{material.name}': image '{image.name}': {error}; using the socket's value")
-                _drop_input(read.lobes, len(inputs))
-                if read.normal_map is not None:
-                    number = read.normal_map["input"]
-                    read.normal_map = (None if number == len(inputs) else
-                                       {**read.normal_map, "input": number - (number > len(inputs))})
-                if read.emission_input is not None:
-                    number = read.emission_input
-                    read.emission_input = None if number == len(inputs) else number - (number > len(inputs))
-                continue
-        return inputs
+        return {"kind": "mixture", "lobes": lobes, **program, "emission": emission, "holdout": holdout,
+                **({"normal_map": normal_map} if normal_map else {}),
+                **({"emission_input": read.emission_input} if textured_emission else {})}
 
     def texture(self, image, premultiplied=False):
         key = (image.name_full if hasattr(image, "name_full") else image.name, premultiplied)
@@ -129,38 +114,19 @@ class MaterialExporter:
         return self.textures[key]
 
 
-def _diffuse_texture(lobes, inputs):
+def _diffuse_texture(lobes, images):
     """The core texture (-1: none) of a closure that is one plain diffuse material: every lobe
-    diffuse with a constant weight, all untextured or all of one image's colour. None otherwise."""
+    diffuse with a constant weight, all untextured or all of one image's colour read at the UV
+    (`images`: the texture each input is, or None). None otherwise."""
     if not all(lobe["kind"] == "diffuse" and "weight_inputs" not in lobe and "roughness" not in lobe
                for lobe in lobes):
         return None
     used = {lobe.get("color_input") for lobe in lobes}
     if used == {None}:
         return -1
-    if len(used) == 1 and inputs[next(iter(used))][1] == "rgb":
-        return inputs[next(iter(used))][0]
+    if len(used) == 1 and images[next(iter(used))] is not None:
+        return images[next(iter(used))]
     return None
-
-
-def _drop_input(lobes, index):
-    """Lobes without input `index` (their parameters constant); later inputs renumbered."""
-    def renumber(ref):
-        number, transform = ref if isinstance(ref, tuple) else (ref, None)
-        if number == index:
-            return None
-        number -= number > index
-        return number if transform is None else (number, transform)
-
-    for lobe in lobes:
-        for key in ("color_input", "roughness_input"):
-            if key in lobe and renumber(lobe[key]) is None:
-                del lobe[key]
-            elif key in lobe:
-                lobe[key] = renumber(lobe[key])
-        if "weight_inputs" in lobe:
-            kept = [renumber(ref) for ref in lobe["weight_inputs"]]
-            lobe["weight_inputs"] = [ref for ref in kept if ref is not None]
 
 
 # A lobe's weight comes from Mix factors (in [0, 1]) and tints: above 1 only from values out of range.

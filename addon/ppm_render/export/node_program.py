@@ -1,0 +1,696 @@
+"""A material's texture and utility nodes -> the core's node program (engine/shading/node_program.h).
+
+Each socket a shader reads that a node network drives is compiled once into instructions over
+float-triple registers (a float sits in all three channels), as Cycles compiles its SVM: the
+network below the socket is walked through reroutes, muted nodes and groups (ClosureReader.source),
+each node emitting its instruction once per group context. A node whose inputs are all constants is
+run at once by the core and becomes a constant, so a socket the network drives with constants costs
+nothing per shading point. The program's outputs are the material's inputs, which lobes, the normal
+and the emission refer to.
+
+A Bump node compiles its Height three times: at the shading point and at two points beside it
+(BumpOffset), as Cycles does. A node the core does not have gives the value Cycles would in the
+simplest case, with one warning naming material and node.
+"""
+
+from __future__ import annotations
+
+import sys
+from dataclasses import dataclass
+
+import bpy
+import numpy as np
+
+MAX_REGISTERS = 256  # the core's limit
+MAX_OUTPUTS = 8  # the core's limit of inputs per material
+RAMP_TABLE = 257 if bpy.app.version >= (4, 0, 0) else 256  # Cycles' baked ColorRamp (i / (size - 1))
+LEGACY_TEXTURES = bpy.app.version < (4, 0, 0)  # Blender 3.x's Noise and Wave distortion
+MAGIC_WRAPPED = bpy.app.version >= (4, 0, 0)
+VORONOI_PCG = bpy.app.version >= (4, 3, 0)  # Voronoi cells hashed by integer coordinates
+
+
+class Unsupported(Exception):
+    """A node the program cannot take; the socket it drives keeps its own value (warned)."""
+
+
+@dataclass(frozen=True)
+class Value:
+    reg: int
+    kind: str  # "float", "color" or "vector"
+    varying: bool  # depends on where it is evaluated
+
+
+def _triple(raw):
+    try:
+        values = [float(v) for v in tuple(raw)[:3]]
+    except TypeError:
+        values = [float(raw)]
+    values = [v if np.isfinite(v) else 0.0 for v in values]
+    return tuple(values * 3)[:3] if len(values) == 1 else tuple(values + [0.0] * (3 - len(values)))
+
+
+def socket_kind(socket):
+    return {"VALUE": "float", "INT": "float", "BOOLEAN": "float", "RGBA": "color"}.get(socket.type, "vector")
+
+
+class ProgramCompiler:
+    """Compiles the sockets of one material into one program; `reader` follows links and warns,
+    `texture(image, premultiplied)` gives a core texture index (ValueError: unusable), `core` runs
+    programs (ppm_core.Scene.run_program)."""
+
+    def __init__(self, reader, texture, core):
+        self.reader, self.texture, self.core = reader, texture, core
+        self.modes = sys.modules[type(core).__module__].node_modes()
+        self.constants, self.constant_regs = [], {}
+        self.code, self.data, self.outputs = [], [], []
+        self.registers = 1
+        self.cache = {}
+        self.variant = 0  # which of a Bump node's three heights is being compiled (0: none)
+        self.simple_images = {}  # output index -> texture index of a plain UV image colour
+
+    # ------------------------------------------------------------ registers and instructions
+
+    def constant(self, value):
+        key = _triple(value)
+        if key not in self.constant_regs:
+            if self.registers >= MAX_REGISTERS:
+                raise Unsupported(f"more than {MAX_REGISTERS} values in one material")
+            # Constants live in registers 1.. in order: the program's registers follow them, so a
+            # constant added late takes a fresh register and is listed at its place.
+            self.constant_regs[key] = self.registers
+            self.constants.append((self.registers, key))
+            self.registers += 1
+        return Value(self.constant_regs[key], "float" if len(set(key)) == 1 else "color", False)
+
+    def register(self):
+        if self.registers >= MAX_REGISTERS:
+            raise Unsupported(f"more than {MAX_REGISTERS} values in one material")
+        self.registers += 1
+        return self.registers - 1
+
+    def emit(self, op, ins, outs=1, kinds=("float",), varying=None, mode=0, flags=0, extra=0, data=0,
+             pure=True):
+        """Appends an instruction reading Values `ins`; returns its output Values. A pure one whose
+        inputs are all constant is run now and its outputs become constants."""
+        regs = [self.register() for _ in range(outs)]
+        ins = list(ins)
+        instruction = {"op": op, "mode": int(mode), "flags": int(flags), "extra": int(extra),
+                       "in": [v.reg for v in ins], "out": regs + [0] * (3 - len(regs)), "data": int(data)}
+        if varying is None:
+            varying = not pure or any(v.varying for v in ins)
+        self.code.append(instruction)
+        values = [Value(r, k, varying) for r, k in zip(regs, kinds)]
+        if not varying:
+            return self.fold(values)
+        return values
+
+    def fold(self, values):
+        """Runs the program so far and turns `values` into constants (dropping what only they used)."""
+        result = self.core.run_program(self.program([v.reg for v in values]), np.zeros((1, 3)))[0]
+        self.code.pop()
+        return [self.constant(tuple(float(c) for c in result[i])) for i in range(len(values))]
+
+    def program(self, outputs=None):
+        """The dict for Scene.add_material(program=...)."""
+        constants = [None] * len(self.constants)
+        # Registers 1..n must be the constants, in order: renumber the program if one came late.
+        order = sorted(self.constants)
+        remap = {reg: i + 1 for i, (reg, _) in enumerate(order)}
+        for i, (_, key) in enumerate(order):
+            constants[i] = key
+        free = len(order) + 1
+        for reg in range(1, self.registers):
+            if reg not in remap:
+                remap[reg] = free
+                free += 1
+        remap[0] = 0
+
+        def renumber(ins):
+            out = dict(ins)
+            out["in"] = [remap[r] for r in ins["in"]]
+            out["out"] = [remap[r] for r in ins["out"]]
+            if ins["op"] == "voronoi":
+                out["data"] = remap[ins["data"]]
+            return out
+
+        return {"constants": constants, "code": [renumber(i) for i in self.code], "data": list(self.data),
+                "outputs": [remap[r] for r in (outputs if outputs is not None else self.outputs)],
+                "registers": self.registers}
+
+    def convert(self, value, kind):
+        """`value` as a socket of `kind` reads it (colour -> float: luminance; vector -> float: mean;
+        a float fills all three channels already)."""
+        if kind == "float" and value.kind != "float":
+            key = ("convert", value.reg, value.kind)
+            if key not in self.cache:
+                self.cache[key] = self.emit("convert", [value], mode=0 if value.kind == "color" else 1)[0]
+            return self.cache[key]
+        return value if value.kind == kind else Value(value.reg, kind, value.varying)
+
+    def constant_value(self, value):
+        """A constant Value's number (float) or triple (array)."""
+        key = next(k for reg, k in self.constants if reg == value.reg)
+        return key[0] if value.kind == "float" else np.array(key)
+
+    def mark(self):
+        return len(self.code), set(self.cache), len(self.outputs)
+
+    def rewind(self, mark):
+        """Forgets what was compiled since `mark` (a network that turned out unusable)."""
+        length, cached, outputs = mark
+        del self.code[length:]
+        del self.outputs[outputs:]
+        for key in set(self.cache) - cached:
+            del self.cache[key]
+
+    def output_images(self):
+        """Per output: the core texture when it is an image's colour read at the UV, else None."""
+        return [self.simple_images.get(reg) for reg in self.outputs]
+
+    def mode(self, op, name):
+        names = self.modes[op]
+        key = name.lower()
+        if key not in names:
+            raise Unsupported(f"{op.replace('_', ' ')} '{name}' is not supported")
+        return names.index(key)
+
+    # ------------------------------------------------------------ sockets
+
+    def input(self, node, name, ctx, kind=None, default=None):
+        """The Value of input `name` of `node` (by name or identifier), as `kind` (its own by default)."""
+        socket = _input(node, name)
+        if socket is None:
+            if default is None:
+                raise Unsupported(f"'{node.name}' has no input '{name}'")
+            return self.constant(default)
+        return self.socket(socket, ctx, kind or socket_kind(socket))
+
+    def socket(self, socket, ctx, kind):
+        out, inner, last = self.reader.source(socket, ctx)
+        if out is None:
+            own = self.constant(getattr(last, "default_value", 0.0))
+            return self.convert(Value(own.reg, socket_kind(last), False), kind)
+        return self.convert(self.node_output(out, inner), kind)
+
+    def node_output(self, out, ctx):
+        node = out.node
+        key = (node.as_pointer(), tuple(g.as_pointer() for g in ctx), self.variant)
+        if key not in self.cache:
+            handler = NODES.get(node.bl_idname)
+            if handler is None:
+                raise Unsupported(f"'{node.name}' ({node.bl_idname}) is not supported yet")
+            self.cache[key] = handler(self, node, ctx)
+        outputs = self.cache[key]
+        value = outputs.get(out.identifier, outputs.get(out.name))
+        if value is None:
+            raise Unsupported(f"output '{out.name}' of '{node.name}' is not supported yet")
+        return value
+
+    def add_output(self, value):
+        """The material input index for `value` (an output of the program)."""
+        if value.reg in self.outputs:
+            return self.outputs.index(value.reg)
+        if len(self.outputs) >= MAX_OUTPUTS:
+            raise Unsupported(f"more than {MAX_OUTPUTS} textured sockets in one material")
+        self.outputs.append(value.reg)
+        return len(self.outputs) - 1
+
+    def coordinate(self, name):
+        return self.emit("coord", [], kinds=("vector",), mode=self.mode("coord", name), pure=False)[0]
+
+    def is_coordinate(self, value, name):
+        """Whether `value` is the coordinate `name` itself (as Cycles' shading normal for a Normal)."""
+        return any(i["op"] == "coord" and i["out"][0] == value.reg and i["mode"] == self.mode("coord", name)
+                   for i in self.code)
+
+    def vector_or(self, node, ctx, default_coordinate):
+        """A texture's Vector input, or the coordinate Cycles uses when it is not linked."""
+        socket = _input(node, "Vector")
+        if socket is not None and any(link for link in socket.links):
+            return self.socket(socket, ctx, "vector")
+        return self.coordinate(default_coordinate)
+
+
+def _input(node, name):
+    """Input `name` of `node`: the enabled socket with that identifier, else with that name."""
+    for socket in node.inputs:
+        if socket.identifier == name and socket.enabled:
+            return socket
+    for socket in node.inputs:
+        if socket.name == name and socket.enabled:
+            return socket
+    return node.inputs.get(name)
+
+
+# ---------------------------------------------------------------- input nodes
+
+def _texture_coordinate(c, node, ctx):
+    if getattr(node, "object", None) is not None:
+        c.reader.warn(node, "coordinates of another object are not supported; using this object's")
+    out = {name: c.coordinate(name) for name in ("Generated", "Normal", "UV", "Object", "Reflection")}
+    for name in ("Camera", "Window"):
+        if node.outputs[name].links:
+            c.reader.warn(node, f"its {name} output is not supported yet; using the position")
+        out[name] = c.coordinate("position")
+    return out
+
+
+def _geometry(c, node, ctx):
+    out = {"Position": c.coordinate("position"), "Normal": c.coordinate("shading_normal"),
+           "True Normal": c.coordinate("true_normal"), "Incoming": c.coordinate("incoming"),
+           "Backfacing": Value(c.coordinate("backfacing").reg, "float", True),
+           "Tangent": c.coordinate("tangent")}
+    for name, value in (("Pointiness", 0.5), ("Random Per Island", 0.0), ("Parametric", (0.0, 0.0, 0.0))):
+        if node.outputs[name].links:
+            c.reader.warn(node, f"its {name} output is not supported; using {value}")
+        out[name] = c.constant(value)
+    return out
+
+
+def _uv_map(c, node, ctx):
+    if node.uv_map:
+        c.reader.warn(node, f"UVs come from the mesh's active UV map, not '{node.uv_map}'")
+    return {"UV": c.coordinate("uv")}
+
+
+def _object_info(c, node, ctx):
+    random = c.coordinate("object_random")
+    index = c.coordinate("object_index")
+    if node.outputs["Color"].links or node.outputs.get("Alpha") is not None and node.outputs["Alpha"].links:
+        c.reader.warn(node, "the object's Color and Alpha are not supported; using white")
+    return {"Location": c.coordinate("object_location"), "Random": Value(random.reg, "float", True),
+            "Object Index": Value(index.reg, "float", True), "Material Index": c.constant(0.0),
+            "Color": c.constant((1.0, 1.0, 1.0)), "Alpha": c.constant(1.0)}
+
+
+def _value(c, node, ctx):
+    return {"Value": c.constant(node.outputs[0].default_value)}
+
+
+def _rgb(c, node, ctx):
+    return {"Color": c.constant(node.outputs[0].default_value)}
+
+
+def _tangent(c, node, ctx):
+    if node.direction_type != "UV_MAP":
+        raise Unsupported(f"'{node.name}': radial tangents in a node network are not supported yet")
+    return {"Tangent": c.coordinate("tangent")}
+
+
+def _fresnel(c, node, ctx):
+    normal = _normal_input(c, node, ctx)
+    return {"Fac": c.emit("fresnel", [c.input(node, "IOR", ctx, "float"), normal], pure=False)[0]}
+
+
+def _layer_weight(c, node, ctx):
+    normal = _normal_input(c, node, ctx)
+    fresnel, facing = c.emit("layer_weight", [c.input(node, "Blend", ctx, "float"), normal], outs=2,
+                             kinds=("float", "float"), pure=False)
+    return {"Fresnel": fresnel, "Facing": facing}
+
+
+def _normal_input(c, node, ctx):
+    socket = _input(node, "Normal")
+    if socket is not None and any(socket.links):
+        return c.socket(socket, ctx, "vector")
+    return c.coordinate("shading_normal")
+
+
+# ---------------------------------------------------------------- textures
+
+def _image(c, node, ctx):
+    from .closure import _premultiplied
+    image = node.image
+    if image is None:
+        return {"Color": c.constant((0.0, 0.0, 0.0)), "Alpha": c.constant(0.0)}
+    if node.projection != "FLAT":
+        c.reader.warn(node, f"{node.projection.lower()} projection is not supported yet; using flat")
+    try:
+        index = c.texture(image, _premultiplied(node))
+    except ValueError as error:
+        raise Unsupported(f"image '{image.name}': {error}") from error
+    interpolation = {"Linear": 0, "Closest": 1, "Cubic": 2, "Smart": 2}.get(node.interpolation, 0)
+    extension = {"REPEAT": 0, "EXTEND": 1, "CLIP": 2, "MIRROR": 3}.get(node.extension, 0)
+    vector = c.vector_or(node, ctx, "uv")
+    color, alpha = c.emit("image", [vector], outs=2, kinds=("color", "float"), mode=interpolation | extension << 2,
+                          data=index, pure=False)
+    plain = (interpolation, extension) == (0, 0) and c.is_coordinate(vector, "uv")
+    c.simple_images[color.reg] = index if plain else None
+    return {"Color": color, "Alpha": alpha}
+
+
+def _dimensions(node, attribute):
+    return int(getattr(node, attribute, "3D")[0])
+
+
+def _noise(c, node, ctx):
+    dims = _dimensions(node, "noise_dimensions")
+    vector = c.vector_or(node, ctx, "generated")
+    kind = getattr(node, "noise_type", "FBM")
+    normalize = getattr(node, "normalize", True)
+    names = ("W", "Scale", "Detail", "Roughness", "Lacunarity", "Offset", "Gain", "Distortion")
+    defaults = (0.0, 5.0, 2.0, 0.5, 2.0, 0.0, 1.0, 0.0)
+    ins = [c.input(node, n, ctx, "float", d) for n, d in zip(names, defaults)]
+    extra = dims | (16 if LEGACY_TEXTURES else 0) | (32 if normalize else 0)
+    fac, color = c.emit("noise", [vector, *ins], outs=2, kinds=("float", "color"),
+                        mode=c.mode("noise", kind), extra=extra)
+    return {"Fac": fac, "Color": color}
+
+
+def _voronoi(c, node, ctx):
+    dims = _dimensions(node, "voronoi_dimensions")
+    vector = c.vector_or(node, ctx, "generated")
+    names = ("W", "Scale", "Detail", "Roughness", "Lacunarity", "Smoothness", "Exponent", "Randomness")
+    defaults = (0.0, 5.0, 0.0, 0.5, 2.0, 1.0, 0.5, 1.0)
+    ins = [c.input(node, n, ctx, "float", d) for n, d in zip(names, defaults)]
+    w = c.register()
+    distance, color, position = c.emit(
+        "voronoi", [vector, *ins], outs=3, kinds=("float", "color", "vector"), mode=c.mode("voronoi", node.feature),
+        flags=c.mode("voronoi_metric", node.distance),
+        extra=dims | (32 if getattr(node, "normalize", False) else 0) | (64 if VORONOI_PCG else 0),
+        data=w)
+    w_value = Value(w, "float", distance.varying)
+    if not distance.varying:  # folded: W was computed with the rest; fold it separately
+        raise Unsupported(f"'{node.name}': a Voronoi texture of constant coordinates is not supported")
+    return {"Distance": distance, "Color": color, "Position": position, "W": w_value, "Radius": distance}
+
+
+def _white_noise(c, node, ctx):
+    dims = _dimensions(node, "noise_dimensions")
+    vector = c.vector_or(node, ctx, "generated")
+    value, color = c.emit("white_noise", [vector, c.input(node, "W", ctx, "float", 0.0)], outs=2,
+                          kinds=("float", "color"), extra=dims)
+    return {"Value": value, "Color": color}
+
+
+def _checker(c, node, ctx):
+    vector = c.vector_or(node, ctx, "generated")
+    ins = [vector, c.input(node, "Color1", ctx, "color"), c.input(node, "Color2", ctx, "color"),
+           c.input(node, "Scale", ctx, "float")]
+    color, fac = c.emit("checker", ins, outs=2, kinds=("color", "float"))
+    return {"Color": color, "Fac": fac}
+
+
+def _gradient(c, node, ctx):
+    vector = c.vector_or(node, ctx, "generated")
+    color, fac = c.emit("gradient", [vector], outs=2, kinds=("color", "float"),
+                        mode=c.mode("gradient", node.gradient_type))
+    return {"Color": color, "Fac": fac}
+
+
+def _wave(c, node, ctx):
+    vector = c.vector_or(node, ctx, "generated")
+    rings = node.wave_type == "RINGS"
+    direction = node.rings_direction if rings else node.bands_direction
+    axis = ("X", "Y", "Z").index(direction) if direction in ("X", "Y", "Z") else 3  # diagonal, spherical
+    mode = int(rings) | axis << 1 | ("SIN", "SAW", "TRI").index(node.wave_profile) << 3
+    names = ("Scale", "Distortion", "Detail", "Detail Scale", "Detail Roughness", "Phase Offset")
+    defaults = (5.0, 0.0, 2.0, 1.0, 0.5, 0.0)
+    ins = [c.input(node, n, ctx, "float", d) for n, d in zip(names, defaults)]
+    color, fac = c.emit("wave", [vector, *ins], outs=2, kinds=("color", "float"), mode=mode,
+                        extra=1 if LEGACY_TEXTURES else 0)
+    return {"Color": color, "Fac": fac}
+
+
+def _magic(c, node, ctx):
+    vector = c.vector_or(node, ctx, "generated")
+    ins = [vector, c.input(node, "Scale", ctx, "float"), c.input(node, "Distortion", ctx, "float")]
+    color, fac = c.emit("magic", ins, outs=2, kinds=("color", "float"), extra=node.turbulence_depth,
+                        flags=int(MAGIC_WRAPPED))
+    return {"Color": color, "Fac": fac}
+
+
+def _brick(c, node, ctx):
+    vector = c.vector_or(node, ctx, "generated")
+    offset = len(c.data)
+    c.data += [float(node.offset), float(node.offset_frequency), float(node.squash), float(node.squash_frequency)]
+    colors = [c.input(node, n, ctx, "color") for n in ("Color1", "Color2", "Mortar")]
+    names = ("Scale", "Mortar Size", "Mortar Smooth", "Bias", "Brick Width", "Row Height")
+    floats = [c.input(node, n, ctx, "float") for n in names]
+    color, fac = c.emit("brick", [vector, *colors, *floats], outs=2, kinds=("color", "float"), data=offset)
+    return {"Color": color, "Fac": fac}
+
+
+# ---------------------------------------------------------------- converters
+
+def _math(c, node, ctx):
+    ins = [c.socket(node.inputs[i], ctx, "float") for i in range(3)]
+    value = c.emit("math", ins, mode=c.mode("math", node.operation), flags=int(node.use_clamp))[0]
+    return {"Value": value}
+
+
+def _vector_math(c, node, ctx):
+    ins = [c.socket(node.inputs[i], ctx, "vector") for i in range(3)]
+    scale = c.socket(node.inputs[3], ctx, "float")  # Scale, or Refract's IOR
+    vector, value = c.emit("vector_math", [*ins, scale], outs=2, kinds=("vector", "float"),
+                           mode=c.mode("vector_math", node.operation))
+    return {"Vector": vector, "Value": value}
+
+
+BLEND_NAMES = {"MIX": "mix", "ADD": "add", "MULTIPLY": "multiply", "SCREEN": "screen", "OVERLAY": "overlay",
+               "SUBTRACT": "subtract", "DIVIDE": "divide", "DIFFERENCE": "difference", "EXCLUSION": "exclusion",
+               "DARKEN": "darken", "LIGHTEN": "lighten", "DODGE": "dodge", "BURN": "burn", "HUE": "hue",
+               "SATURATION": "saturation", "VALUE": "value", "COLOR": "color", "SOFT_LIGHT": "soft_light",
+               "LINEAR_LIGHT": "linear_light"}
+
+
+def _mix_rgb(c, node, ctx):
+    fac = c.socket(node.inputs[0], ctx, "float")
+    a, b = c.socket(node.inputs[1], ctx, "color"), c.socket(node.inputs[2], ctx, "color")
+    color = c.emit("mix", [fac, a, b], kinds=("color",), mode=c.mode("mix", BLEND_NAMES[node.blend_type]),
+                   flags=1 | (2 if node.use_clamp else 0))[0]
+    return {"Color": color}
+
+
+def _mix(c, node, ctx):
+    kind = node.data_type
+    if kind == "RGBA":
+        fac = c.input(node, "Factor_Float", ctx, "float")
+        a, b = c.input(node, "A_Color", ctx, "color"), c.input(node, "B_Color", ctx, "color")
+        flags = int(node.clamp_factor) | (2 if node.clamp_result else 0)
+        result = c.emit("mix", [fac, a, b], kinds=("color",), mode=c.mode("mix", BLEND_NAMES[node.blend_type]),
+                        flags=flags)[0]
+        return {"Result_Color": result}
+    if kind == "FLOAT":
+        fac = c.input(node, "Factor_Float", ctx, "float")
+        a, b = c.input(node, "A_Float", ctx, "float"), c.input(node, "B_Float", ctx, "float")
+        result = c.emit("mix", [fac, a, b], mode=0, flags=int(node.clamp_factor))[0]
+        return {"Result_Float": result}
+    if kind == "VECTOR":
+        uniform = node.factor_mode == "UNIFORM"
+        fac = c.input(node, "Factor_Float" if uniform else "Factor_Vector", ctx, "float" if uniform else "vector")
+        a, b = c.input(node, "A_Vector", ctx, "vector"), c.input(node, "B_Vector", ctx, "vector")
+        result = c.emit("mix_vector", [fac, a, b], kinds=("vector",), flags=int(node.clamp_factor))[0]
+        return {"Result_Vector": result}
+    raise Unsupported(f"'{node.name}': a Mix node of {kind.lower()} is not supported")
+
+
+def _color_ramp(c, node, ctx):
+    ramp = node.color_ramp
+    offset = len(c.data)
+    for i in range(RAMP_TABLE):
+        c.data += [float(v) for v in ramp.evaluate(i / (RAMP_TABLE - 1))]
+    fac = c.input(node, "Fac", ctx, "float")
+    color, alpha = c.emit("table", [fac], outs=2, kinds=("color", "float"), data=offset, extra=RAMP_TABLE - 2,
+                          flags=int(ramp.interpolation != "CONSTANT"))
+    return {"Color": color, "Alpha": alpha}
+
+
+def _map_range(c, node, ctx):
+    mode = ["LINEAR", "STEPPED", "SMOOTHSTEP", "SMOOTHERSTEP"].index(node.interpolation_type)
+    if getattr(node, "data_type", "FLOAT") == "FLOAT_VECTOR":
+        names = ("Vector", "From_Min_FLOAT3", "From_Max_FLOAT3", "To_Min_FLOAT3", "To_Max_FLOAT3", "Steps_FLOAT3")
+        ins = [c.input(node, n, ctx, "vector") for n in names]
+        result = c.emit("map_range", ins, kinds=("vector",), mode=mode, flags=int(node.clamp) | 2)[0]
+        return {"Vector": result}
+    names = ("Value", "From Min", "From Max", "To Min", "To Max", "Steps")
+    ins = [c.input(node, n, ctx, "float", 4.0 if n == "Steps" else None) for n in names]
+    return {"Result": c.emit("map_range", ins, mode=mode, flags=int(node.clamp))[0]}
+
+
+def _clamp(c, node, ctx):
+    ins = [c.input(node, n, ctx, "float") for n in ("Value", "Min", "Max")]
+    return {"Result": c.emit("clamp", ins, mode=int(node.clamp_type == "RANGE"))[0]}
+
+
+def _separate(c, node, ctx, names, hsv=False):
+    source = c.socket(node.inputs[0], ctx, "color" if names[0] in ("R", "Red", "H") else "vector")
+    return {name: c.emit("separate", [source], mode=i + (3 if hsv else 0))[0] for i, name in enumerate(names)}
+
+
+def _combine(c, node, ctx, names, kind, hsv=False):
+    ins = [c.input(node, n, ctx, "float") for n in names]
+    result = c.emit("combine", ins, kinds=(kind,), mode=int(hsv))[0]
+    return {node.outputs[0].identifier: result, node.outputs[0].name: result}
+
+
+def _separate_color(c, node, ctx):
+    mode = getattr(node, "mode", "RGB")
+    if mode == "HSL":
+        raise Unsupported(f"'{node.name}': HSL is not supported yet")
+    return _separate(c, node, ctx, ("Red", "Green", "Blue"), hsv=mode == "HSV")
+
+
+def _combine_color(c, node, ctx):
+    mode = getattr(node, "mode", "RGB")
+    if mode == "HSL":
+        raise Unsupported(f"'{node.name}': HSL is not supported yet")
+    return _combine(c, node, ctx, ("Red", "Green", "Blue"), "color", hsv=mode == "HSV")
+
+
+def _invert(c, node, ctx):
+    return {"Color": c.emit("invert", [c.input(node, "Fac", ctx, "float"), c.input(node, "Color", ctx, "color")],
+                            kinds=("color",))[0]}
+
+
+def _gamma(c, node, ctx):
+    return {"Color": c.emit("gamma", [c.input(node, "Color", ctx, "color"), c.input(node, "Gamma", ctx, "float")],
+                            kinds=("color",))[0]}
+
+
+def _bright_contrast(c, node, ctx):
+    ins = [c.input(node, "Color", ctx, "color"), c.input(node, "Bright", ctx, "float"),
+           c.input(node, "Contrast", ctx, "float")]
+    return {"Color": c.emit("bright_contrast", ins, kinds=("color",))[0]}
+
+
+def _hue_saturation(c, node, ctx):
+    ins = [c.input(node, n, ctx, "float") for n in ("Hue", "Saturation", "Value", "Fac")]
+    return {"Color": c.emit("hue_saturation", [*ins, c.input(node, "Color", ctx, "color")], kinds=("color",))[0]}
+
+
+def _rgb_to_bw(c, node, ctx):
+    return {"Val": c.input(node, "Color", ctx, "float")}
+
+
+def _mapping(c, node, ctx):
+    mode = ["POINT", "TEXTURE", "VECTOR", "NORMAL"].index(node.vector_type)
+    ins = [c.input(node, "Vector", ctx, "vector"),
+           c.input(node, "Location", ctx, "vector", (0.0, 0.0, 0.0)),
+           c.input(node, "Rotation", ctx, "vector"), c.input(node, "Scale", ctx, "vector")]
+    return {"Vector": c.emit("mapping", ins, kinds=("vector",), mode=mode)[0]}
+
+
+def _vector_rotate(c, node, ctx):
+    mode = ["AXIS_ANGLE", "X_AXIS", "Y_AXIS", "Z_AXIS", "EULER_XYZ"].index(node.rotation_type)
+    ins = [c.input(node, "Vector", ctx, "vector"), c.input(node, "Center", ctx, "vector"),
+           c.input(node, "Axis", ctx, "vector", (0.0, 0.0, 1.0)), c.input(node, "Angle", ctx, "float", 0.0),
+           c.input(node, "Rotation", ctx, "vector", (0.0, 0.0, 0.0))]
+    return {"Vector": c.emit("vector_rotate", ins, kinds=("vector",), mode=mode, flags=int(node.invert))[0]}
+
+
+def _bump(c, node, ctx):
+    """The height at the shading point, then beside it along two directions, as Cycles evaluates it."""
+    normal = _normal_input(c, node, ctx)
+    strength, distance = c.input(node, "Strength", ctx, "float"), c.input(node, "Distance", ctx, "float")
+    socket = _input(node, "Height")
+    if c.variant != 0:
+        c.reader.warn(node, "a Bump inside another Bump's height is not supported; left flat")
+        return {"Normal": normal}
+    centre = c.socket(socket, ctx, "float")
+    if not centre.varying:
+        return {"Normal": normal}
+    sides = []
+    for variant in (1, 2):
+        c.emit("bump_offset", [], outs=0, mode=variant, pure=False)
+        c.variant = variant
+        try:
+            sides.append(c.socket(socket, ctx, "float"))
+        finally:
+            c.variant = 0
+    c.emit("bump_offset", [], outs=0, mode=0, pure=False)
+    result = c.emit("bump", [strength, distance, centre, *sides, normal], kinds=("vector",),
+                    flags=int(node.invert), pure=False)[0]
+    return {"Normal": result}
+
+
+def _normal_map(c, node, ctx):
+    if node.space not in ("TANGENT", "OBJECT", "WORLD"):
+        raise Unsupported(f"a normal map in {node.space.lower().replace('_', ' ')} space is not supported yet")
+    space = ("TANGENT", "OBJECT", "WORLD").index(node.space)
+    if node.space == "TANGENT" and node.uv_map:
+        c.reader.warn(node, f"tangents come from the mesh's active UV map, not '{node.uv_map}'")
+    if node.space == "TANGENT":
+        c.reader.use_tangents("uv", node)
+    ins = [c.input(node, "Strength", ctx, "float"), c.input(node, "Color", ctx, "color")]
+    return {"Normal": c.emit("normal_map", ins, kinds=("vector",), mode=space, pure=False)[0]}
+
+
+def _simplest(what, outputs):
+    """A node Cycles computes from the scene around the point (ray tracing, mesh data): the value it
+    gives in the simplest case, with a warning. `outputs(c, node, ctx)` gives them."""
+    def handler(c, node, ctx):
+        c.reader.warn(node, f"{what} is not supported; using {outputs.__doc__}")
+        return outputs(c, node, ctx)
+    return handler
+
+
+def _ambient_occlusion(c, node, ctx):
+    """its colour, unoccluded (AO 1)"""
+    return {"Color": c.input(node, "Color", ctx, "color"), "AO": c.constant(1.0)}
+
+
+def _wireframe(c, node, ctx):
+    """0 (no edge)"""
+    return {"Fac": c.constant(0.0)}
+
+
+def _light_falloff(c, node, ctx):
+    """its Strength"""
+    strength = c.input(node, "Strength", ctx, "float")
+    return {"Quadratic": strength, "Linear": strength, "Constant": strength}
+
+
+def _bevel(c, node, ctx):
+    """the unbevelled normal"""
+    return {"Normal": _normal_input(c, node, ctx)}
+
+
+NODES = {
+    "ShaderNodeAmbientOcclusion": _simplest("ambient occlusion", _ambient_occlusion),
+    "ShaderNodeWireframe": _simplest("the Wireframe node", _wireframe),
+    "ShaderNodeLightFalloff": _simplest("Light Falloff", _light_falloff),
+    "ShaderNodeBevel": _simplest("the Bevel node", _bevel),
+    "ShaderNodeTexCoord": _texture_coordinate,
+    "ShaderNodeNewGeometry": _geometry,
+    "ShaderNodeUVMap": _uv_map,
+    "ShaderNodeObjectInfo": _object_info,
+    "ShaderNodeValue": _value,
+    "ShaderNodeRGB": _rgb,
+    "ShaderNodeTangent": _tangent,
+    "ShaderNodeFresnel": _fresnel,
+    "ShaderNodeLayerWeight": _layer_weight,
+    "ShaderNodeTexImage": _image,
+    "ShaderNodeTexNoise": _noise,
+    "ShaderNodeTexVoronoi": _voronoi,
+    "ShaderNodeTexWhiteNoise": _white_noise,
+    "ShaderNodeTexChecker": _checker,
+    "ShaderNodeTexGradient": _gradient,
+    "ShaderNodeTexWave": _wave,
+    "ShaderNodeTexMagic": _magic,
+    "ShaderNodeTexBrick": _brick,
+    "ShaderNodeMath": _math,
+    "ShaderNodeVectorMath": _vector_math,
+    "ShaderNodeMixRGB": _mix_rgb,
+    "ShaderNodeMix": _mix,
+    "ShaderNodeValToRGB": _color_ramp,
+    "ShaderNodeMapRange": _map_range,
+    "ShaderNodeClamp": _clamp,
+    "ShaderNodeSeparateRGB": lambda c, n, x: _separate(c, n, x, ("R", "G", "B")),
+    "ShaderNodeSeparateXYZ": lambda c, n, x: _separate(c, n, x, ("X", "Y", "Z")),
+    "ShaderNodeSeparateHSV": lambda c, n, x: _separate(c, n, x, ("H", "S", "V"), hsv=True),
+    "ShaderNodeSeparateColor": _separate_color,
+    "ShaderNodeCombineRGB": lambda c, n, x: _combine(c, n, x, ("R", "G", "B"), "color"),
+    "ShaderNodeCombineXYZ": lambda c, n, x: _combine(c, n, x, ("X", "Y", "Z"), "vector"),
+    "ShaderNodeCombineHSV": lambda c, n, x: _combine(c, n, x, ("H", "S", "V"), "color", hsv=True),
+    "ShaderNodeCombineColor": _combine_color,
+    "ShaderNodeInvert": _invert,
+    "ShaderNodeGamma": _gamma,
+    "ShaderNodeBrightContrast": _bright_contrast,
+    "ShaderNodeHueSaturation": _hue_saturation,
+    "ShaderNodeRGBToBW": _rgb_to_bw,
+    "ShaderNodeMapping": _mapping,
+    "ShaderNodeVectorRotate": _vector_rotate,
+    "ShaderNodeBump": _bump,
+    "ShaderNodeNormalMap": _normal_map,
+}
