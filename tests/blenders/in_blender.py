@@ -8,7 +8,8 @@ user folders the caller chose (BLENDER_USER_RESOURCES, or BLENDER_USER_SCRIPTS/C
 renders every bundled .blend through it at low resolution, runs the per-light-kind, per-lens,
 ray-visibility, image-based-light, alpha, stereo, light-path-limit and material Cycles agreement
 (cycles_compare.py, lens_compare.py, visibility_compare.py, world_compare.py, alpha_compare.py,
-stereo_compare.py, light_paths_compare.py, materials_compare.py) and
+stereo_compare.py, light_paths_compare.py, materials_compare.py; nodes_compare.py: texture and
+utility nodes pixel by pixel) and
 records every Python warning raised in the add-on's files (deprecations included). With --no-core
 it only tries one render and records the error. The assertions are in test_blender_versions.py,
 which runs this in each version.
@@ -33,6 +34,7 @@ import cycles_compare
 import lens_compare
 import light_paths_compare
 import materials_compare
+import nodes_compare
 import stereo_compare
 import visibility_compare
 import world_compare
@@ -126,6 +128,7 @@ def main():
         report["stereo"] = stereo_compare.compare()
         report["light_paths"] = light_paths_compare.compare_cases()
         report["materials"] = materials_compare.compare_cases(samples=256, passes=32)
+        report["nodes"] = nodes_compare.compare_cases(package=module)
     report["addon_warnings"] = found_warnings
     with open(args.report, "w") as f:
         json.dump(report, f, indent=1)

@@ -1,0 +1,299 @@
+"""Texture and utility nodes: Cycles against the add-on's node program, pixel by pixel.
+
+Each case shows one node network through an Emission shader on a plane (emission_plane.py: one
+sample at each pixel centre). The same material goes through the add-on's exporter (closure.py,
+node_program.py) and the core runs the program it compiled at each pixel centre's position, normal
+and UV (Scene.run_program). Deterministic nodes agree to float rounding; a Bump differs where
+Cycles' ray differentials and the core's short steps see different detail.
+
+    .venv/bin/python tests/blenders/nodes_compare.py [NAMES]                                   # 5.0
+    .venvs/bpy-4.2/bin/python tests/blenders/nodes_compare.py [NAMES]                          # 4.2
+    blender -b --factory-startup --python-exit-code 1 -P tests/blenders/nodes_compare.py -- [NAMES]  # 3.4
+"""
+
+import importlib
+import os
+import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(os.path.dirname(HERE))
+sys.path.insert(0, HERE)
+
+import bpy
+import numpy as np
+
+import emission_plane
+
+SIZE = 48
+V4 = bpy.app.version >= (4, 0, 0)
+V41 = bpy.app.version >= (4, 1, 0)
+MIRROR = "MIRROR" in bpy.types.ShaderNodeTexImage.bl_rna.properties["extension"].enum_items.keys()
+
+
+def node(nodes, kind, **settings):
+    n = nodes.new(kind)
+    for key, value in settings.items():
+        if key.startswith("in_"):
+            name = key[3:]
+            socket = next((s for s in n.inputs if s.identifier == name), None) or n.inputs[name.replace("_", " ")]
+            socket.default_value = value
+        else:
+            setattr(n, key, value)
+    return n
+
+
+def link(tree, socket, target):
+    tree.links.new(socket, target)
+    return target.node
+
+
+def texture(kind, output, vector=None, **settings):
+    def build(tree, nodes):
+        n = node(nodes, kind, **settings)
+        if vector is not None:
+            tree.links.new(vector(tree, nodes), n.inputs["Vector"])
+        return n.outputs[output]
+    return build
+
+
+def coordinate(name):
+    return lambda tree, nodes: nodes.new("ShaderNodeTexCoord").outputs[name]
+
+
+def through(kind, first_input, source, output=0, **settings):
+    """`source` into input `first_input` of a new `kind` node; its output `output`."""
+    def build(tree, nodes):
+        n = node(nodes, kind, **settings)
+        tree.links.new(source(tree, nodes), n.inputs[first_input])
+        return n.outputs[output]
+    return build
+
+
+def noise_fac(**settings):
+    return texture("ShaderNodeTexNoise", "Fac", **settings)
+
+
+def mix_of(blend, **settings):
+    def build(tree, nodes):
+        kind = "ShaderNodeMixRGB" if not hasattr(bpy.types, "ShaderNodeMix") else "ShaderNodeMix"
+        n = nodes.new(kind)
+        if kind == "ShaderNodeMix":
+            n.data_type = "RGBA"
+            a, b, fac = n.inputs["A_Color" if "A_Color" in n.inputs else 6], n.inputs[7], n.inputs[0]
+            a = next(s for s in n.inputs if s.identifier == "A_Color")
+            b = next(s for s in n.inputs if s.identifier == "B_Color")
+            out = next(s for s in n.outputs if s.identifier == "Result_Color")
+            n.clamp_result = settings.get("clamp", False)
+        else:
+            fac, a, b, out = n.inputs[0], n.inputs[1], n.inputs[2], n.outputs[0]
+            n.use_clamp = settings.get("clamp", False)
+        n.blend_type = blend
+        fac.default_value = 0.7
+        tree.links.new(texture("ShaderNodeTexNoise", "Color", in_Scale=3.0)(tree, nodes), a)
+        tree.links.new(texture("ShaderNodeTexVoronoi", "Color", in_Scale=4.0)(tree, nodes), b)
+        return out
+    return build
+
+
+def math_of(operation, a=None, b=0.35, c=0.5):
+    def build(tree, nodes):
+        n = node(nodes, "ShaderNodeMath", operation=operation)
+        tree.links.new((a or noise_fac(in_Scale=4.0))(tree, nodes), n.inputs[0])
+        n.inputs[1].default_value, n.inputs[2].default_value = b, c
+        return n.outputs[0]
+    return build
+
+
+def vector_math_of(operation):
+    def build(tree, nodes):
+        n = node(nodes, "ShaderNodeVectorMath", operation=operation)
+        tree.links.new(coordinate("Generated")(tree, nodes), n.inputs[0])
+        tree.links.new(texture("ShaderNodeTexNoise", "Color", in_Scale=2.0)(tree, nodes), n.inputs[1])
+        n.inputs[2].default_value = (0.2, -0.4, 0.7)
+        n.inputs[3].default_value = 1.3
+        return n.outputs["Value" if operation in ("DOT_PRODUCT", "DISTANCE", "LENGTH") else "Vector"]
+    return build
+
+
+def ramp(interpolation, source=None):
+    def build(tree, nodes):
+        n = nodes.new("ShaderNodeValToRGB")
+        r = n.color_ramp
+        r.interpolation = interpolation
+        r.elements[0].position, r.elements[0].color = 0.3, (0.9, 0.2, 0.1, 1.0)
+        r.elements[1].position, r.elements[1].color = 0.7, (0.1, 0.3, 0.8, 1.0)
+        middle = r.elements.new(0.5)
+        middle.color = (0.2, 0.9, 0.3, 1.0)
+        tree.links.new((source or noise_fac(in_Scale=3.0))(tree, nodes), n.inputs["Fac"])
+        return n.outputs["Color"]
+    return build
+
+
+def bump_normal(tree, nodes):
+    n = node(nodes, "ShaderNodeBump", in_Strength=0.8, in_Distance=0.05)
+    tree.links.new(noise_fac(in_Scale=3.0)(tree, nodes), n.inputs["Height"])
+    return n.outputs["Normal"]
+
+
+def mapped_noise(tree, nodes):
+    m = node(nodes, "ShaderNodeMapping", vector_type="POINT")
+    m.inputs["Location"].default_value = (0.3, -0.2, 0.5)
+    m.inputs["Rotation"].default_value = (0.3, 0.5, 1.1)
+    m.inputs["Scale"].default_value = (2.0, 1.0, 0.5)
+    tree.links.new(coordinate("Object")(tree, nodes), m.inputs["Vector"])
+    n = node(nodes, "ShaderNodeTexNoise")
+    tree.links.new(m.outputs[0], n.inputs["Vector"])
+    return n.outputs["Color"]
+
+
+def image_texture(interpolation, extension):
+    def build(tree, nodes):
+        image = bpy.data.images.get("checks") or bpy.data.images.new("checks", 8, 8, alpha=True)
+        pixels = np.random.default_rng(3).random((8, 8, 4)).astype(np.float32)
+        pixels[..., 3] = 1.0
+        image.pixels.foreach_set(pixels.ravel())
+        n = node(nodes, "ShaderNodeTexImage", interpolation=interpolation, extension=extension)
+        n.image = image
+        m = node(nodes, "ShaderNodeMapping", vector_type="POINT")
+        m.inputs["Scale"].default_value = (1.7, 1.3, 1.0)
+        m.inputs["Location"].default_value = (-0.35, -0.1, 0.0)
+        tree.links.new(coordinate("UV")(tree, nodes), m.inputs["Vector"])
+        tree.links.new(m.outputs[0], n.inputs["Vector"])
+        return n.outputs["Color"]
+    return build
+
+
+# name -> (build, tolerance, available in this Blender)
+CASES = {
+    "noise_3d": (texture("ShaderNodeTexNoise", "Fac"), 1e-5, True),
+    "noise_color": (texture("ShaderNodeTexNoise", "Color", in_Scale=3.0, in_Detail=4.5, in_Distortion=0.8), 1e-5,
+                    True),
+    "noise_2d": (texture("ShaderNodeTexNoise", "Color", noise_dimensions="2D", in_Roughness=0.7), 1e-5, True),
+    "noise_1d": (texture("ShaderNodeTexNoise", "Color", noise_dimensions="1D", vector=None, in_W=0.3), 1e-5, True),
+    "noise_4d": (texture("ShaderNodeTexNoise", "Color", noise_dimensions="4D", in_W=1.7, in_Detail=3.0), 1e-5, True),
+    "noise_ridged": (texture("ShaderNodeTexNoise", "Fac", noise_type="RIDGED_MULTIFRACTAL", in_Detail=3.0) if V41
+                     else None, 1e-4, V41),
+    "noise_hybrid": (texture("ShaderNodeTexNoise", "Fac", noise_type="HYBRID_MULTIFRACTAL", in_Detail=3.0) if V41
+                     else None, 1e-4, V41),
+    "noise_hetero": (texture("ShaderNodeTexNoise", "Fac", noise_type="HETERO_TERRAIN", in_Detail=2.5) if V41
+                     else None, 1e-4, V41),
+    "noise_multifractal": (texture("ShaderNodeTexNoise", "Fac", noise_type="MULTIFRACTAL", in_Detail=2.5) if V41
+                           else None, 1e-4, V41),
+    "voronoi_f1": (texture("ShaderNodeTexVoronoi", "Distance"), 1e-5, True),
+    "voronoi_color": (texture("ShaderNodeTexVoronoi", "Color"), 1e-5, True),
+    "voronoi_position": (texture("ShaderNodeTexVoronoi", "Position"), 1e-5, True),
+    "voronoi_f2_manhattan": (texture("ShaderNodeTexVoronoi", "Distance", feature="F2", distance="MANHATTAN"), 1e-5,
+                             True),
+    "voronoi_smooth": (texture("ShaderNodeTexVoronoi", "Color", feature="SMOOTH_F1"), 1e-5, True),
+    "voronoi_edge": (texture("ShaderNodeTexVoronoi", "Distance", feature="DISTANCE_TO_EDGE"), 1e-5, True),
+    "voronoi_radius": (texture("ShaderNodeTexVoronoi", "Radius", feature="N_SPHERE_RADIUS"), 1e-5, True),
+    "voronoi_2d_chebychev": (texture("ShaderNodeTexVoronoi", "Distance", voronoi_dimensions="2D",
+                                     distance="CHEBYCHEV"), 1e-5, True),
+    "voronoi_fractal": (texture("ShaderNodeTexVoronoi", "Distance", in_Detail=2.5) if V4 else None, 1e-5, V4),
+    # Whole-number cells (a hash of a coordinate's bits changes with its last bit); z = 0.5 * 6 + 0.1,
+    # clear of a cell border.
+    "white_noise_cells": (texture("ShaderNodeTexWhiteNoise", "Color", vector=through(
+        "ShaderNodeVectorMath", 0, through("ShaderNodeVectorMath", 0, coordinate("Generated"), operation="MULTIPLY_ADD",
+                                           in_Vector_001=(6.0, 6.0, 6.0), in_Vector_002=(0.1, 0.1, 0.1)),
+        operation="FLOOR")), 1e-6, True),
+    "checker": (texture("ShaderNodeTexChecker", "Color"), 1e-6, True),
+    "gradient_radial": (texture("ShaderNodeTexGradient", "Fac", gradient_type="RADIAL",
+                                vector=coordinate("Object")), 1e-5, True),
+    "gradient_sphere": (texture("ShaderNodeTexGradient", "Fac", gradient_type="QUADRATIC_SPHERE",
+                                vector=coordinate("Object")), 1e-5, True),
+    "wave_bands": (texture("ShaderNodeTexWave", "Color", in_Distortion=2.0), 1e-4, True),
+    "wave_rings_saw": (texture("ShaderNodeTexWave", "Fac", wave_type="RINGS", wave_profile="SAW"), 1e-4, True),
+    "magic": (texture("ShaderNodeTexMagic", "Color", turbulence_depth=3), 1e-4, True),
+    "brick": (texture("ShaderNodeTexBrick", "Color"), 1e-5, True),
+    "ramp_linear": (ramp("LINEAR"), 1e-4, True),
+    "ramp_ease": (ramp("EASE"), 1e-4, True),
+    "ramp_constant": (ramp("CONSTANT"), 1e-4, True),
+    "ramp_b_spline": (ramp("B_SPLINE"), 1e-4, True),
+    "math_sine": (math_of("SINE"), 1e-5, True),
+    "math_power": (math_of("POWER", b=2.5), 1e-5, True),
+    "math_smooth_min": (math_of("SMOOTH_MIN", b=0.45, c=0.2), 1e-5, True),
+    "math_pingpong": (math_of("PINGPONG", b=0.2), 1e-5, True),
+    "vector_cross": (vector_math_of("CROSS_PRODUCT"), 1e-5, True),
+    "vector_reflect": (vector_math_of("REFLECT"), 1e-5, True),
+    "vector_distance": (vector_math_of("DISTANCE"), 1e-5, True),
+    "mix_overlay": (mix_of("OVERLAY"), 1e-5, True),
+    "mix_soft_light": (mix_of("SOFT_LIGHT"), 1e-5, True),
+    "mix_hue": (mix_of("HUE"), 1e-5, True),
+    "mix_dodge": (mix_of("DODGE", clamp=True), 1e-5, True),
+    "mix_burn": (mix_of("BURN"), 1e-5, True),
+    "hue_saturation": (through("ShaderNodeHueSaturation", "Color", texture("ShaderNodeTexNoise", "Color"),
+                               in_Hue=0.3, in_Saturation=1.4, in_Value=0.8), 1e-5, True),
+    "map_range_smoother": (through("ShaderNodeMapRange", "Value", noise_fac(), interpolation_type="SMOOTHERSTEP",
+                                   **{"in_From Min": 0.3, "in_From Max": 0.7}), 1e-5, True),
+    "mapping": (mapped_noise, 1e-5, True),
+    "image_linear_repeat": (image_texture("Linear", "REPEAT"), 1e-4, True),
+    "image_closest_mirror": (image_texture("Closest", "MIRROR"), 1e-4, MIRROR),
+    "image_cubic_clip": (image_texture("Cubic", "CLIP"), 1e-3, True),
+    "image_cubic_repeat": (image_texture("Cubic", "REPEAT"), 1e-4, True),
+    "image_linear_clip": (image_texture("Linear", "CLIP"), 1e-4, True),
+    "image_linear_extend": (image_texture("Linear", "EXTEND"), 1e-4, True),
+    "bump": (bump_normal, 2e-2, True),
+}
+
+
+def ppm_values(material, out, package):
+    """What the add-on's program gives at each pixel centre (emission times its input); the add-on's
+    warnings. `package`: the add-on's module (the checkout's ppm_render, or an installed zip's)."""
+    ppm_core = importlib.import_module(package + ".core").load()
+    material_export = importlib.import_module(package + ".export.material")
+    scene = ppm_core.Scene()
+    warnings = []
+    exporter = material_export.MaterialExporter(scene, warnings.append)
+    params = exporter.describe(material)
+    emission = np.array(params.get("emission", (0.0, 0.0, 0.0)), dtype=float)
+    shape = out["P"].shape
+    if "emission_input" not in params:
+        return np.broadcast_to(emission, shape), warnings
+    obj = bpy.data.objects["emission_plane"]
+    scene.set_object_info(0, out["matrix"], tuple(obj.data.texspace_location), tuple(obj.data.texspace_size))
+    normals = out["N"].reshape(-1, 3)
+    values = scene.run_program(params["program"], out["P"].reshape(-1, 3), normal=normals, incoming=normals,
+                               uv=out["uv"].reshape(-1, 2), object=0)
+    return emission * values[:, params["emission_input"]].reshape(shape), warnings
+
+
+def compare(name, package="ppm_render"):
+    """The case's row: its largest and 99th-percentile per-pixel differences, or None if this Blender
+    lacks its nodes."""
+    build, tolerance, available = CASES[name]
+    if not available:
+        return None
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    material = emission_plane.emission_material(name, build)
+    out = emission_plane.render_cycles(material, size=SIZE)
+    ours, warnings = ppm_values(material, out, package)
+    difference = np.abs(ours - out["rgb"])
+    p99 = float(np.quantile(difference, 0.99))
+    return {"case": name, "max": float(difference.max()), "p99": p99, "tolerance": tolerance,
+            "range": (float(out["rgb"].min()), float(out["rgb"].max())), "warnings": warnings,
+            "ok": p99 <= tolerance and not warnings}
+
+
+def compare_cases(names=None, package="ppm_render"):
+    """compare() for each case (all by default), printing a line each; the rows of those this Blender has."""
+    rows = []
+    for name in names or CASES:
+        row = compare(name, package)
+        if row is None:
+            print(f"nodes_compare: {name}: not in Blender {bpy.app.version_string}", flush=True)
+            continue
+        rows.append(row)
+        print(f"nodes_compare: {name}: max {row['max']:.2g} p99 {row['p99']:.2g} (values {row['range'][0]:.3g}.."
+              f"{row['range'][1]:.3g}) {'ok' if row['ok'] else 'FAILED'} {'; '.join(row['warnings'])}".rstrip(),
+              flush=True)
+    return rows
+
+
+if __name__ == "__main__":
+    sys.path.insert(0, os.path.join(ROOT, "addon"))
+    # After "--" in the blender binary; as given with the bpy module (argv[0] is then this script).
+    args = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else sys.argv[1:] * sys.argv[0].endswith(".py")
+    bad = [row["case"] for row in compare_cases(args) if not row["ok"]]
+    if bad:
+        print(f"nodes_compare: Blender {bpy.app.version_string}: beyond tolerance: {', '.join(bad)}", flush=True)
+        sys.exit(1)
