@@ -106,15 +106,18 @@ struct EyeTracer {
     return nearest < t_surface;
   }
 
+  // The world size of a pixel `length` along an eye path (through mirrors and glass as if straight).
+  double pixel_size(double length) const { return footprint * (orthographic ? 1.0 : length); }
+
   void record(const Hit& hit, const EyeVertex& v, uint32_t pixel, ChunkOutput& out) const {
     const Material& m = scene.material(hit.material);
     const Vec3 wo = -v.ray.direction;
-    const SurfacePoint sp = scene.surface_point(hit, wo);
+    const SurfacePoint sp = scene.surface_point(hit, wo, pixel_size(v.length));
     const bool front = glm::dot(wo, sp.ng) >= 0.0;
     const Vec3 ns = front ? sp.ns : -sp.ns;
     const bool glossy = m.kind != MaterialKind::Diffuse;
     double r = settings.initial_radius;
-    if (r <= 0.0) r = settings.initial_radius_pixels * footprint * (orthographic ? 1.0 : v.length);
+    if (r <= 0.0) r = settings.initial_radius_pixels * pixel_size(v.length);
     r = std::fmax(r, 4.0 * ray_offset(hit.position, scene.offset_floor()));
     HitPoint hp;
     hp.position = hit.position;
@@ -151,7 +154,7 @@ struct EyeTracer {
       if (m.emits()) emitted += v.throughput * scene.emission(hit, -v.ray.direction);
       if (is_black(m) || v.emission_only) continue;
       const EyeVertex here{v.ray, v.throughput, v.depth, v.length + hit.t, v.glass_only, v.chain, false};
-      const SurfacePoint sp = scene.surface_point(hit, -v.ray.direction);
+      const SurfacePoint sp = scene.surface_point(hit, -v.ray.direction, pixel_size(here.length));
       double followed = is_specular(m) ? 1.0 : 0.0;
       if (m.kind == MaterialKind::Mixture && followed == 0.0 && closure_has_followed(m.lobes))
         followed = closure_followed_share(m.lobes, sp, -v.ray.direction);

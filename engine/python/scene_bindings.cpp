@@ -547,7 +547,7 @@ void set_object_info(Scene& s, uint32_t object, const py::object& matrix, const 
 // Runs a node program at n points (tests and the add-on's constant folding): (n, outputs, 3).
 py::array_t<float> run_program(const Scene& s, const py::object& program, const py::object& position,
                                const py::object& normal, const py::object& incoming, const py::object& uv,
-                               uint32_t object) {
+                               const py::object& tangent, uint32_t object, double footprint) {
   const std::string what = "run_program";
   NodeProgram p = program_from(program, what);
   p.validate(s.textures().size(), what);
@@ -562,6 +562,12 @@ py::array_t<float> run_program(const Scene& s, const py::object& program, const 
   const std::vector<Vec3> incomings = optional3(incoming, "incoming", Vec3(0.0, 0.0, 1.0));
   std::vector<Vec2> uvs = uv.is_none() ? std::vector<Vec2>(n, Vec2(0.0)) : vec2_list(uv, what, "uv");
   if (uvs.size() != n) fail(what, "uv must have one row per position");
+  std::vector<double> tangents;  // x, y, z, bitangent sign per point
+  if (!tangent.is_none()) {
+    const DoubleArray t = matrix(tangent, 4, what, "tangent");
+    if (static_cast<size_t>(t.shape(0)) != n) fail(what, "tangent must have one row per position");
+    tangents.assign(t.data(), t.data() + 4 * n);
+  }
   py::array_t<float> out({n, p.outputs.size(), size_t(3)});
   float* o = out.mutable_data();
   std::array<Vec3f, kMaxInputs> values;
@@ -572,7 +578,12 @@ py::array_t<float> run_program(const Scene& s, const py::object& program, const 
     c.incoming = incomings[i];
     c.backfacing = glm::dot(c.incoming, c.normal) < 0.0;
     c.uv = uvs[i];
+    if (!tangents.empty()) {
+      c.tangent = Vec3(tangents[4 * i], tangents[4 * i + 1], tangents[4 * i + 2]);
+      c.tangent_sign = tangents[4 * i + 3];
+    }
     c.object = &s.object_info(object);
+    c.footprint = footprint;
     p.run(c, s.textures(), values.data());
     for (size_t k = 0; k < p.outputs.size(); ++k)
       for (int j = 0; j < 3; ++j) *o++ = values[k][j];
@@ -621,8 +632,11 @@ void bind_scene(py::module_& m) {
            "(Texture Coordinate's Object), its texture space (Blender's texspace_location and _size: Generated) "
            "and Object Info's Random and Pass Index.")
       .def("run_program", &run_program, py::arg("program"), py::arg("position"), py::arg("normal") = py::none(),
-           py::arg("incoming") = py::none(), py::arg("uv") = py::none(), py::arg("object") = 0,
-           "Runs a node program (add_material's `program`) at points: float32 (n, outputs, 3).")
+           py::arg("incoming") = py::none(), py::arg("uv") = py::none(), py::arg("tangent") = py::none(),
+           py::arg("object") = 0, py::arg("footprint") = 0.0,
+           "Runs a node program (add_material's `program`) at points (their normals, the direction towards "
+           "the viewer, UVs, and UV tangents with the bitangent sign, (n, 4); footprint: the world size of a "
+           "pixel there, as a camera ray sees it): float32 (n, outputs, 3).")
       .def("add_texture", &add_texture, py::arg("name"), py::arg("pixels"), py::arg("storage") = py::none(),
            py::arg("clear_unusable") = false,
            "Adds an RGBA or RGB texture of shape (H, W, 4) or (H, W, 3), row 0 at the bottom; returns its "

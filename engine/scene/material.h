@@ -27,7 +27,8 @@ enum class MaterialKind : uint8_t {
 // The normal a mixture's shaders see (Blender's Normal Map node on the shaders' Normal, or a node
 // program's normal): from a mixture input. Tangent and World read the input's colour c as the
 // normal 2c - 1 in the tangent space of the mesh's UV map (tangent, bitangent = sign * N x T, the
-// interpolated normal N) or in world space, then N + (that - N) * strength, normalised, as Cycles;
+// interpolated normal N) or in world space, then N + (that - N) * strength, normalised, as Cycles
+// (which blends a tangent-space normal before normalising it);
 // Direct takes the input as the world-space normal itself (a Bump or Normal Map node evaluated by
 // the program). Light at the terminator is softened as the Blender version's Cycles does
 // (shading/scatter.h).

@@ -716,8 +716,10 @@ Vec3 mapped_normal(const NormalMap& map, const SurfacePoint& sp, const glm::vec4
     const Vec3 t(tangent), b = static_cast<double>(tangent.w) * glm::cross(sp.ns, t);
     n = c.x * t + c.y * b + c.z * sp.ns;
   }
+  // Cycles blends a tangent-space normal with the surface's before normalising it, others after.
+  if (map.space != NormalMap::Tangent && !safe_normalize(n, n)) return sp.ns;
+  if (map.strength != 1.0) n = sp.ns + (n - sp.ns) * std::max(map.strength, 0.0);
   if (!safe_normalize(n, n)) return sp.ns;
-  if (map.strength != 1.0 && !safe_normalize(sp.ns + (n - sp.ns) * std::max(map.strength, 0.0), n)) return sp.ns;
   // A normal turned away from the geometric one would let light through an opaque surface.
   constexpr double kMinCos = 0.01;
   const double cos_g = glm::dot(n, sp.ng);
@@ -759,8 +761,9 @@ void Scene::set_object_info(uint32_t object, const ObjectInfo& info) {
   invalidate();
 }
 
-ShadingContext Scene::shading_context(const Hit& hit, const Vec3& wo) const {
+ShadingContext Scene::shading_context(const Hit& hit, const Vec3& wo, double footprint) const {
   ShadingContext c = context_at(hit.position, hit.geometric_normal, hit.shading_normal, wo, hit.uv, hit.tangent);
+  c.footprint = footprint;
   c.object = &object_info(hit.object);
   const PrimRef& ref = prims_[hit.primitive];
   if (ref.kind == PrimitiveKind::Triangle && materials_[hit.material].program.uses_bump()) {
@@ -782,7 +785,7 @@ void Scene::uv_gradients(const TrianglePrim& t, const glm::vec2* uv, Vec3& du, V
   dv = d1.y * b1 + d2.y * b2;
 }
 
-SurfacePoint Scene::surface_point(const Hit& hit, const Vec3& wo) const {
+SurfacePoint Scene::surface_point(const Hit& hit, const Vec3& wo, double footprint) const {
   const Material& m = materials_[hit.material];
   SurfacePoint sp;
   sp.ng = hit.geometric_normal;
@@ -795,7 +798,7 @@ SurfacePoint Scene::surface_point(const Hit& hit, const Vec3& wo) const {
   }
   sp.albedo = m.base_color;
   if (m.program.empty()) return sp;
-  const ShadingContext c = shading_context(hit, wo);
+  const ShadingContext c = shading_context(hit, wo, footprint);
   m.program.run(c, textures_, sp.inputs.data());
   if (m.normal_map.input >= 0) {
     sp.smooth_normal = sp.ns;

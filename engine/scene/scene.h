@@ -135,14 +135,15 @@ class Scene {
   // Is anything in the way over (0, distance)?
   bool occluded(const Ray& ray, double distance) const;
 
-  // The surface at a hit seen from direction `wo` (its material's program run there).
-  SurfacePoint surface_point(const Hit& hit, const Vec3& wo) const;
+  // The surface at a hit seen from direction `wo` (its material's program run there); `footprint`:
+  // the world size of a pixel there, for a camera ray (a Bump node's steps), else 0.
+  SurfacePoint surface_point(const Hit& hit, const Vec3& wo, double footprint = 0.0) const;
   // The emitted radiance where `hit` is (its material's textured emission evaluated there).
   Color emission(const Hit& hit, const Vec3& wo) const;
   // The same from what a hit point keeps.
   SurfacePoint surface_point(const SurfaceRecord& record) const;
   // Where node programs see `hit` (Blender's Geometry and Texture Coordinate nodes).
-  ShadingContext shading_context(const Hit& hit, const Vec3& wo) const;
+  ShadingContext shading_context(const Hit& hit, const Vec3& wo, double footprint = 0.0) const;
   // What node programs know of an object (Texture Coordinate's Object and Generated, Object Info);
   // objects never described are at the origin, unscaled, with generated = (object + 1) / 2.
   void set_object_info(uint32_t object, const ObjectInfo& info);

@@ -152,7 +152,10 @@ inline Vec3f bright_contrast(const Vec3f& color, float bright, float contrast) {
   return glm::max(a * color + Vec3f(b), Vec3f(0.0f));
 }
 
-// Cycles' colour-to-float conversion: the Y row of the scene-linear (Rec. 709) to XYZ matrix.
-inline float rgb_to_grey(const Vec3f& c) { return 0.2126729f * c.x + 0.7151522f * c.y + 0.0721750f * c.z; }
+// Cycles' colour-to-float conversion: the Y row of Blender's scene-linear (Rec. 709, D65) to XYZ
+// matrix (fitted to Cycles 5.0's RGB to BW: 0.212639, 0.715169, 0.072193).
+inline float rgb_to_grey(const Vec3f& c) {
+  return 0.2126390059f * c.x + 0.7151686788f * c.y + 0.0721923154f * c.z;
+}
 
 }  // namespace ppm::nodes

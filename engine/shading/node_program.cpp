@@ -101,22 +101,32 @@ Vec3f mapping(int type, const Vec3f& v, const Vec3f& location, const Vec3f& rota
   }
 }
 
-// Where a Bump node reads its height beside the shading point: two short steps across the surface
-// (a thousandth of the object's texture space, far below its detail yet far above float rounding).
+// The two directions a Bump node reads its height along, as Cycles: its orthonormals of the true
+// normal (make_orthonormals), each as long as the pixel footprint where a camera ray found the
+// point (its ray differential); elsewhere a thousandth of the object's texture space, far below its
+// detail yet far above float rounding. The height is read `filter_width` of a step away.
 void bump_steps(const ShadingContext& c, Vec3& dx, Vec3& dy) {
-  const ObjectInfo& o = object_of(c);
-  const Vec3 size = Vec3(glm::dmat3(o.object_to_world) * o.texspace_size);
-  const double h = 1e-3 * std::max(glm::length(size), 1e-6);
-  Vec3 t = std::fabs(c.normal.x) > 0.9 ? Vec3(0.0, 1.0, 0.0) : Vec3(1.0, 0.0, 0.0);
-  t = glm::normalize(glm::cross(c.normal, t));
-  dx = h * t;
-  dy = h * glm::cross(c.normal, t);
+  const Vec3& n = c.true_normal;
+  Vec3 a = (n.x != n.y || n.x != n.z) ? Vec3(n.z - n.y, n.x - n.z, n.y - n.x) : Vec3(n.z - n.y, n.x + n.z, -n.y - n.x);
+  if (!unit_direction(a, a)) a = Vec3(1.0, 0.0, 0.0);
+  double step = c.footprint;
+  if (!(step > 0.0)) {
+    const ObjectInfo& o = object_of(c);
+    step = 1e-3 * std::max(glm::length(Vec3(glm::dmat3(o.object_to_world) * o.texspace_size)), 1e-6);
+  }
+  dx = step * a;
+  dy = step * glm::cross(n, a);
 }
 
+// Cycles' bump: the surface gradient of the height from the heights beside the point (read
+// filter_width steps away), n = normalize(fw |det| N - distance sign(det) gradient), then blended
+// with N by strength. Operands: strength, distance, height here, height along dx, along dy, N,
+// filter width.
 Vec3f bump(const Vec3f* r, const NodeInstruction& ins, const ShadingContext& c) {
   Vec3 dx, dy;
   bump_steps(c, dx, dy);
   const Vec3 n(r[ins.in[5]]);
+  const double fw = std::max<double>(r[ins.in[6]].x, 1e-6);
   const Vec3 rx = glm::cross(dy, n), ry = glm::cross(n, dx);
   const double det = glm::dot(dx, rx);
   const double hc = r[ins.in[2]].x, hx = r[ins.in[3]].x, hy = r[ins.in[4]].x;
@@ -124,29 +134,31 @@ Vec3f bump(const Vec3f* r, const NodeInstruction& ins, const ShadingContext& c) 
   double distance = r[ins.in[1]].x;
   if (ins.flags & 1) distance = -distance;
   const double strength = std::max<double>(r[ins.in[0]].x, 0.0);
-  Vec3 out = std::fabs(det) * n - distance * (det < 0.0 ? -1.0 : 1.0) * surfgrad;
+  Vec3 out = fw * std::fabs(det) * n - distance * (det < 0.0 ? -1.0 : 1.0) * surfgrad;
   if (!unit_direction(out, out)) return Vec3f(n);
   if (!unit_direction(strength * out + (1.0 - strength) * n, out)) return Vec3f(n);
   return Vec3f(out);
 }
 
 // The mapped normal for interpolated normal n (object space: the inverse transpose of the object's
-// transform), then N + (mapped - N) * strength.
-Vec3 mapped_normal(const Vec3& color, int space, double strength, const ShadingContext& c, const Vec3& n) {
+// transform), then N + (mapped - N) * strength, as Cycles: from Blender 4 (measured: 4.2, not 3.4)
+// a tangent-space normal enters that blend unnormalised (a short colour vector tilts less at
+// partial strength), unless `normalise_first`; the others normalised.
+Vec3 mapped_normal(const Vec3& color, int space, double strength, bool normalise_first, const ShadingContext& c,
+                   const Vec3& n) {
   Vec3 mapped;
   if (space == 0) {  // tangent space
     if (c.tangent == Vec3(0.0)) return n;
     const Vec3 b = c.tangent_sign * glm::cross(n, c.tangent);
     mapped = color.x * c.tangent + color.y * b + color.z * n;
-  } else if (space == 1) {
-    mapped = glm::transpose(glm::dmat3(object_of(c).world_to_object)) * color;
+    if (normalise_first && !unit_direction(mapped, mapped)) return n;
   } else {
-    mapped = color;
+    mapped = space == 1 ? glm::transpose(glm::dmat3(object_of(c).world_to_object)) * color : color;
+    if (!unit_direction(mapped, mapped)) return n;
   }
-  if (!unit_direction(mapped, mapped)) return n;
   strength = std::max(strength, 0.0);
-  if (strength != 1.0 && !unit_direction(n + (mapped - n) * strength, mapped)) return n;
-  return mapped;
+  if (strength != 1.0) mapped = n + (mapped - n) * strength;
+  return unit_direction(mapped, mapped) ? mapped : n;
 }
 
 // Blender's Normal Map node. Tangent space is built on the primitive's side of the surface (as
@@ -154,7 +166,7 @@ Vec3 mapped_normal(const Vec3& color, int space, double strength, const ShadingC
 Vec3f normal_map(const Vec3f* r, const NodeInstruction& ins, const ShadingContext& c) {
   const Vec3 color = 2.0 * Vec3(r[ins.in[1]]) - 1.0;
   const double side = c.backfacing ? -1.0 : 1.0;
-  return Vec3f(side * mapped_normal(color, ins.mode, r[ins.in[0]].x, c, side * c.normal));
+  return Vec3f(side * mapped_normal(color, ins.mode, r[ins.in[0]].x, ins.flags & 1, c, side * c.normal));
 }
 
 Vec3f image(const NodeInstruction& ins, const Vec3f* r, const std::vector<Texture>& textures, float& alpha) {
@@ -283,7 +295,7 @@ void NodeProgram::step(const NodeInstruction& ins, ShadingContext& at, const Sha
       if (ins.mode == 0) break;
       Vec3 dx, dy;
       bump_steps(base, dx, dy);
-      const Vec3 d = ins.mode == 1 ? dx : dy;
+      const Vec3 d = std::max<double>(r[in[0]].x, 1e-6) * (ins.mode == 1 ? dx : dy);  // in[0]: filter width
       at.position = base.position + d;
       at.uv = base.uv + Vec2(glm::dot(base.du_dp, d), glm::dot(base.dv_dp, d));
       break;

@@ -39,6 +39,7 @@ struct ShadingContext {
   Vec3 du_dp{0.0}, dv_dp{0.0};      // how the UV changes along the surface (triangles)
   const ObjectInfo* object = nullptr;
   bool backfacing = false;
+  double footprint = 0.0;           // world size of a pixel here, seen by a camera ray; 0: unknown
 };
 
 enum class NodeOp : uint8_t {
@@ -70,9 +71,9 @@ enum class NodeOp : uint8_t {
   Magic,
   Fresnel,        // in ior, normal
   LayerWeight,    // in blend, normal; out[0] fresnel, out[1] facing
-  BumpOffset,     // mode: 0 centre, 1 dx, 2 dy: where the next height is read
-  Bump,           // in strength, distance, height centre, height dx, height dy, normal; flag 1 invert
-  NormalMap,      // mode: 0 tangent, 1 object, 2 world; in strength, colour
+  BumpOffset,     // mode: 0 centre, 1 dx, 2 dy: where the next height is read; in filter width
+  Bump,           // in strength, distance, height centre, dx, dy, normal, filter width; flag 1 invert
+  NormalMap,      // mode: 0 tangent, 1 object, 2 world; in strength, colour; flag 1: normalise first (3.x)
 };
 
 enum class CoordKind : uint8_t {

@@ -25,6 +25,8 @@ import numpy as np
 import emission_plane
 
 SIZE = 48
+EXTENT = 2.0  # emission_plane.render_cycles's default
+PIXEL = EXTENT * emission_plane.SCALE / SIZE  # a pixel's width on the plane: its ray differential
 V4 = bpy.app.version >= (4, 0, 0)
 V41 = bpy.app.version >= (4, 1, 0)
 MIRROR = "MIRROR" in bpy.types.ShaderNodeTexImage.bl_rna.properties["extension"].enum_items.keys()
@@ -135,6 +137,49 @@ def bump_normal(tree, nodes):
     return n.outputs["Normal"]
 
 
+def normal_map_of_noise(space, strength):
+    def build(tree, nodes):
+        n = node(nodes, "ShaderNodeNormalMap", space=space, in_Strength=strength)
+        tree.links.new(texture("ShaderNodeTexNoise", "Color", in_Scale=3.0)(tree, nodes), n.inputs["Color"])
+        return n.outputs["Normal"]
+    return build
+
+
+def tilted(kind, output, **settings):
+    """A node of `kind` whose Normal is a noise's normal map (so that the angle to the viewer varies)."""
+    def build(tree, nodes):
+        n = node(nodes, kind, **settings)
+        tree.links.new(normal_map_of_noise("TANGENT", 1.0)(tree, nodes), n.inputs["Normal"])
+        return n.outputs[output]
+    return build
+
+
+def combined(kind, output, names, source, **settings):
+    """Separate `source` (a noise colour) with a node, then recombine its parts in another order."""
+    def build(tree, nodes):
+        split = node(nodes, kind.replace("Combine", "Separate"), **settings)
+        tree.links.new(source(tree, nodes), split.inputs[0])
+        join = node(nodes, kind, **settings)
+        for a, b in zip(names, names[1:] + names[:1]):
+            tree.links.new(split.outputs[a], join.inputs[b])
+        return join.outputs[output]
+    return build
+
+
+def mix_data(data_type, uniform=True):
+    def build(tree, nodes):
+        n = node(nodes, "ShaderNodeMix", data_type=data_type, factor_mode="UNIFORM" if uniform else "NON_UNIFORM")
+        ident = {"FLOAT": "Float", "VECTOR": "Vector"}[data_type]
+        sockets = {s.identifier: s for s in n.inputs}
+        tree.links.new(noise_fac(in_Scale=2.0)(tree, nodes) if uniform else
+                       texture("ShaderNodeTexNoise", "Color", in_Scale=2.0)(tree, nodes),
+                       sockets["Factor_Float" if uniform else "Factor_Vector"])
+        tree.links.new(coordinate("Generated")(tree, nodes), sockets[f"A_{ident}"])
+        tree.links.new(texture("ShaderNodeTexVoronoi", "Color")(tree, nodes), sockets[f"B_{ident}"])
+        return next(o for o in n.outputs if o.identifier == f"Result_{ident}")
+    return build
+
+
 def mapped_noise(tree, nodes):
     m = node(nodes, "ShaderNodeMapping", vector_type="POINT")
     m.inputs["Location"].default_value = (0.3, -0.2, 0.5)
@@ -232,7 +277,46 @@ CASES = {
     "image_cubic_repeat": (image_texture("Cubic", "REPEAT"), 1e-4, True),
     "image_linear_clip": (image_texture("Linear", "CLIP"), 1e-4, True),
     "image_linear_extend": (image_texture("Linear", "EXTEND"), 1e-4, True),
-    "bump": (bump_normal, 2e-2, True),
+    "bump": (bump_normal, 1e-3, True),
+    "fresnel": (tilted("ShaderNodeFresnel", "Fac", in_IOR=1.6), 1e-5, True),
+    "layer_weight_facing": (tilted("ShaderNodeLayerWeight", "Facing", in_Blend=0.3), 1e-5, True),
+    "layer_weight_fresnel": (tilted("ShaderNodeLayerWeight", "Fresnel", in_Blend=0.6), 1e-5, True),
+    "vector_rotate": (through("ShaderNodeVectorRotate", "Vector", coordinate("Object"), rotation_type="AXIS_ANGLE",
+                              in_Axis=(0.3, 0.5, 0.8), in_Angle=0.7), 1e-5, True),
+    "vector_rotate_euler": (through("ShaderNodeVectorRotate", "Vector", coordinate("Object"),
+                                    rotation_type="EULER_XYZ", invert=True, in_Rotation=(0.4, -0.3, 1.2)), 1e-5,
+                            True),
+    "clamp_range": (through("ShaderNodeClamp", "Value", noise_fac(), clamp_type="RANGE", in_Min=0.6, in_Max=0.4),
+                    1e-6, True),
+    "gamma": (through("ShaderNodeGamma", "Color", texture("ShaderNodeTexNoise", "Color"), in_Gamma=2.2), 1e-5,
+              True),
+    "bright_contrast": (through("ShaderNodeBrightContrast", "Color", texture("ShaderNodeTexNoise", "Color"),
+                                in_Bright=0.1, in_Contrast=0.6), 1e-5, True),
+    "invert": (through("ShaderNodeInvert", "Color", texture("ShaderNodeTexNoise", "Color"), in_Fac=0.8), 1e-5,
+               True),
+    "rgb_to_bw": (through("ShaderNodeRGBToBW", "Color", texture("ShaderNodeTexNoise", "Color")), 1e-5, True),
+    "separate_combine_xyz": (combined("ShaderNodeCombineXYZ", "Vector", ["X", "Y", "Z"], coordinate("Object")),
+                             1e-6, True),
+    "separate_combine_hsv": (combined("ShaderNodeCombineColor" if V4 else "ShaderNodeCombineHSV", "Color",
+                                      ["Red", "Green", "Blue"] if V4 else ["H", "S", "V"],
+                                      texture("ShaderNodeTexNoise", "Color"), **({"mode": "HSV"} if V4 else {})),
+                             1e-5, True),
+    "map_range_stepped": (through("ShaderNodeMapRange", "Value", noise_fac(), interpolation_type="STEPPED",
+                                  in_Steps=5.0, **{"in_To Min": 0.2}), 1e-5, True),
+    "mix_float": (mix_data("FLOAT"), 1e-5, True),
+    "mix_vector_non_uniform": (mix_data("VECTOR", uniform=False), 1e-5, True),
+    "object_random": (lambda tree, nodes: nodes.new("ShaderNodeObjectInfo").outputs["Random"], 1e-6, True),
+    "geometry_incoming": (lambda tree, nodes: nodes.new("ShaderNodeNewGeometry").outputs["Incoming"], 1e-6, True),
+    "gradient_easing": (texture("ShaderNodeTexGradient", "Fac", gradient_type="EASING"), 1e-5, True),
+    "wave_triangle_z": (texture("ShaderNodeTexWave", "Fac", wave_profile="TRI", bands_direction="Z",
+                                vector=coordinate("Object")) if V4 else None, 1e-4, V4),
+    "voronoi_4d": (texture("ShaderNodeTexVoronoi", "Color", voronoi_dimensions="4D", in_W=0.7), 1e-5, True),
+    "white_noise_1d": (texture("ShaderNodeTexWhiteNoise", "Value", noise_dimensions="1D", in_W=0.25), 1e-6,
+                       True),
+    "normal_map_tangent": (normal_map_of_noise("TANGENT", 0.5), 1e-4, True),
+    "normal_map_tangent_full": (normal_map_of_noise("TANGENT", 1.0), 1e-4, True),
+    "normal_map_object": (normal_map_of_noise("OBJECT", 1.0), 1e-4, True),
+    "normal_map_world": (normal_map_of_noise("WORLD", 0.7), 1e-4, True),
 }
 
 
@@ -250,10 +334,14 @@ def ppm_values(material, out, package):
     if "emission_input" not in params:
         return np.broadcast_to(emission, shape), warnings
     obj = bpy.data.objects["emission_plane"]
-    scene.set_object_info(0, out["matrix"], tuple(obj.data.texspace_location), tuple(obj.data.texspace_size))
+    random = importlib.import_module(package + ".export.object_info").random_of_name(obj.name)
+    scene.set_object_info(0, out["matrix"], tuple(obj.data.texspace_location), tuple(obj.data.texspace_size),
+                          random=random)
     normals = out["N"].reshape(-1, 3)
+    u_axis = out["matrix"][:3, 0] / np.linalg.norm(out["matrix"][:3, 0])  # U runs along object x
+    tangents = np.tile([*u_axis, 1.0], (len(normals), 1))
     values = scene.run_program(params["program"], out["P"].reshape(-1, 3), normal=normals, incoming=normals,
-                               uv=out["uv"].reshape(-1, 2), object=0)
+                               uv=out["uv"].reshape(-1, 2), tangent=tangents, object=0, footprint=PIXEL)
     return emission * values[:, params["emission_input"]].reshape(shape), warnings
 
 

@@ -138,15 +138,15 @@ NodeProgram slope_program(float slope, float distance) {
   add(NodeOp::Coord, static_cast<uint8_t>(CoordKind::ShadingNormal), {}, normal);
   std::vector<uint16_t> heights;
   for (uint8_t side : {0, 1, 2}) {  // centre, then beside along the two steps
-    if (side != 0) add(NodeOp::BumpOffset, side, {}, 0);
+    if (side != 0) add(NodeOp::BumpOffset, side, {one}, 0);  // filter width 1
     const uint16_t position = next(), height = next();
     add(NodeOp::Coord, static_cast<uint8_t>(CoordKind::Position), {}, position);
     add(NodeOp::Math, 2, {position, slope_r, zero}, height);  // Multiply (x only: a float reads .x)
     heights.push_back(height);
   }
-  add(NodeOp::BumpOffset, 0, {}, 0);
+  add(NodeOp::BumpOffset, 0, {one}, 0);
   const uint16_t bumped = next();
-  add(NodeOp::Bump, 0, {one, dist, heights[0], heights[1], heights[2], normal}, bumped);
+  add(NodeOp::Bump, 0, {one, dist, heights[0], heights[1], heights[2], normal, one}, bumped);
   p.outputs = {bumped};
   return p;
 }

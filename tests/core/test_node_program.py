@@ -125,13 +125,14 @@ def test_a_bumped_normal_changes_how_a_grazing_sun_lights_the_surface():
         heights = []
         for side in (0, 1, 2):
             if side:
-                program["code"].append(op("bump_offset", side))
+                program["code"].append(op("bump_offset", side, ins=[3]))  # filter width: register 3, 1.0
             program["code"] += [op("coord", "position", out=[program["registers"]]),
                                 op("math", "multiply", ins=[program["registers"], 1, 2],
                                    out=[program["registers"] + 1])]
             heights.append(program["registers"] + 1)
             program["registers"] += 2
-        program["code"] += [op("bump_offset", 0), op("bump", ins=[3, 4, *heights, 5], out=[program["registers"]])]
+        program["code"] += [op("bump_offset", 0, ins=[3]),
+                            op("bump", ins=[3, 4, *heights, 5, 3], out=[program["registers"]])]
         program["outputs"] = [program["registers"]]
         program["registers"] += 1
         scene = quad_scene(program, coloured=False, normal_map={"input": 0, "space": "direct", "softening": "none"})

@@ -27,6 +27,7 @@ RAMP_TABLE = 257 if bpy.app.version >= (4, 0, 0) else 256  # Cycles' baked Color
 LEGACY_TEXTURES = bpy.app.version < (4, 0, 0)  # Blender 3.x's Noise and Wave distortion
 MAGIC_WRAPPED = bpy.app.version >= (4, 0, 0)
 VORONOI_PCG = bpy.app.version >= (4, 3, 0)  # Voronoi cells hashed by integer coordinates
+NORMAL_MAP_NORMALISES_FIRST = bpy.app.version < (4, 0, 0)  # measured: 3.4 does, 4.2 does not
 
 
 class Unsupported(Exception):
@@ -583,6 +584,7 @@ def _bump(c, node, ctx):
     """The height at the shading point, then beside it along two directions, as Cycles evaluates it."""
     normal = _normal_input(c, node, ctx)
     strength, distance = c.input(node, "Strength", ctx, "float"), c.input(node, "Distance", ctx, "float")
+    width = c.input(node, "Filter Width", ctx, "float", 1.0)  # 4.4+; before, the whole differential
     socket = _input(node, "Height")
     if c.variant != 0:
         c.reader.warn(node, "a Bump inside another Bump's height is not supported; left flat")
@@ -592,14 +594,14 @@ def _bump(c, node, ctx):
         return {"Normal": normal}
     sides = []
     for variant in (1, 2):
-        c.emit("bump_offset", [], outs=0, mode=variant, pure=False)
+        c.emit("bump_offset", [width], outs=0, mode=variant, pure=False)
         c.variant = variant
         try:
             sides.append(c.socket(socket, ctx, "float"))
         finally:
             c.variant = 0
-    c.emit("bump_offset", [], outs=0, mode=0, pure=False)
-    result = c.emit("bump", [strength, distance, centre, *sides, normal], kinds=("vector",),
+    c.emit("bump_offset", [width], outs=0, mode=0, pure=False)
+    result = c.emit("bump", [strength, distance, centre, *sides, normal, width], kinds=("vector",),
                     flags=int(node.invert), pure=False)[0]
     return {"Normal": result}
 
@@ -613,7 +615,8 @@ def _normal_map(c, node, ctx):
     if node.space == "TANGENT":
         c.reader.use_tangents("uv", node)
     ins = [c.input(node, "Strength", ctx, "float"), c.input(node, "Color", ctx, "color")]
-    return {"Normal": c.emit("normal_map", ins, kinds=("vector",), mode=space, pure=False)[0]}
+    return {"Normal": c.emit("normal_map", ins, kinds=("vector",), mode=space, pure=False,
+                             flags=int(NORMAL_MAP_NORMALISES_FIRST))[0]}
 
 
 def _simplest(what, outputs):
