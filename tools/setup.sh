@@ -72,9 +72,9 @@ blender_venv() {
   [ -x "$dir/bin/python" ] || "$python" -m venv "$dir"
   "$dir/bin/python" -m pip install -q "$@"
 }
-# Each runs the add-on's tests (pytest, OpenImageIO; 3.0 for numpy < 2, as in requirements.txt).
-blender_venv .venvs/bpy-4.2 "$PYTHON" "bpy==4.2.23" "numpy<2" "pytest>=8" "openimageio==3.0.*"
-blender_venv .venvs/bpy-4.5 "$PYTHON" "bpy==4.5.15" "numpy<2" "pytest>=8" "openimageio==3.0.*"
+# Each runs the add-on's tests (pytest, OpenImageIO: 3.0 for numpy < 2, as in requirements.txt; hypothesis).
+blender_venv .venvs/bpy-4.2 "$PYTHON" "bpy==4.2.23" "numpy<2" "pytest>=8" "openimageio==3.0.*" "hypothesis>=6.100"
+blender_venv .venvs/bpy-4.5 "$PYTHON" "bpy==4.5.15" "numpy<2" "pytest>=8" "openimageio==3.0.*" "hypothesis>=6.100"
 # Blender 5.2 LTS; this Python 3.13 environment also builds the core for 3.13 and runs its tests.
 blender_venv .venvs/bpy-5.2 "$PYTHON313" "bpy==5.2.3" "numpy>=2" "pytest>=8" "openimageio>=3.0" \
   "scikit-build-core>=0.10" "pybind11>=2.12" "hypothesis>=6.100"

@@ -129,7 +129,8 @@ struct EyeTracer {
     out.points.push_back(hp);
     out.shading.push_back(
         HitPointShading{sp.ng, sp.ns, wo, v.throughput, Vec2f(hit.uv), Vec3f(sp.smooth_normal),
-                        sp.tangent != Vec3(0.0) ? hit.tangent : glm::vec4(0.0f), hit.material, hit.object, pixel});
+                        sp.tangent != Vec3(0.0) ? hit.tangent : glm::vec4(0.0f), hit.material, hit.object,
+                        hit.primitive, pixel});
     if (limits.active) out.chain.push_back(v.chain);
   }
 

@@ -35,13 +35,14 @@ struct HitPointShading {
   glm::vec4 tangent;      // a mesh's tangent and bitangent sign (SurfacePoint::tangent)
   uint32_t material;
   uint32_t object;        // for its material's node program
+  uint32_t primitive;     // ... and the mesh data it reads there
   uint32_t pixel;
 };
 
 // What Scene::surface_point needs to shade a hit point again.
 inline SurfaceRecord surface_record(const HitPoint& h, const HitPointShading& sh) {
   return {h.position, sh.geometric_normal, sh.shading_normal, sh.wo, sh.uv, sh.smooth_normal, sh.tangent,
-          sh.material, sh.object};
+          sh.material, sh.object, sh.primitive};
 }
 
 // Create as HitPointStats{} (all zero). No member initialisers: they would

@@ -133,7 +133,8 @@ py::dict node_modes() {
       "lighten", "dodge", "burn", "hue", "saturation", "value", "color", "soft_light", "linear_light"};
   modes["coord"] = std::vector<std::string>{
       "generated", "normal", "uv", "object", "camera", "window", "reflection", "position", "shading_normal",
-      "true_normal", "incoming", "backfacing", "tangent", "object_location", "object_random", "object_index"};
+      "true_normal", "incoming", "backfacing", "tangent", "object_location", "object_random", "object_index",
+      "attribute", "attribute_alpha", "attribute_mean"};
   modes["noise"] = std::vector<std::string>{"fbm", "multifractal", "hybrid_multifractal", "ridged_multifractal",
                                             "hetero_terrain"};
   modes["voronoi"] = std::vector<std::string>{"f1", "f2", "smooth_f1", "distance_to_edge", "n_sphere_radius"};

@@ -314,7 +314,7 @@ std::vector<uint32_t> index_list(const py::handle& obj, const std::string& what,
 
 void add_mesh(Scene& s, const std::string& name, const py::object& positions, const py::object& triangles,
               const py::object& normals, const py::object& uvs, const py::object& materials, uint32_t object_id,
-              const py::object& visible_to, bool holdout, const py::object& tangents) {
+              const py::object& visible_to, bool holdout, const py::object& tangents, const py::object& colors) {
   const std::string what = "mesh '" + checked_name(name, "mesh") + "'";
   MeshInput m;
   m.name = name;
@@ -348,6 +348,14 @@ void add_mesh(Scene& s, const std::string& name, const py::object& positions, co
       fail(what, "tangents must have one row per vertex (V, 4) or per corner (T, 3, 4)");
     auto r = a.unchecked<2>();
     for (py::ssize_t i = 0; i < r.shape(0); ++i) m.tangents.emplace_back(r(i, 0), r(i, 1), r(i, 2), r(i, 3));
+  }
+  if (!colors.is_none()) {
+    DoubleArray a = DoubleArray::ensure(colors);
+    if (a && a.ndim() == 3 && a.shape(1) == 3 && a.shape(2) == 4) a = a.reshape({a.shape(0) * 3, py::ssize_t(4)});
+    if (!a || a.ndim() != 2 || a.shape(1) != 4)
+      fail(what, "colors must have one row per vertex (V, 4) or per corner (T, 3, 4)");
+    auto r = a.unchecked<2>();
+    for (py::ssize_t i = 0; i < r.shape(0); ++i) m.colors.emplace_back(r(i, 0), r(i, 1), r(i, 2), r(i, 3));
   }
   m.materials = index_list(materials, what, "materials");
   s.add_mesh(std::move(m));
@@ -651,11 +659,11 @@ void bind_scene(py::module_& m) {
       .def("add_mesh", &add_mesh, py::arg("name"), py::arg("positions"), py::arg("triangles"),
            py::arg("normals") = py::none(), py::arg("uvs") = py::none(), py::arg("materials") = 0,
            py::arg("object_id") = 0, py::arg("visibility") = py::none(), py::arg("holdout") = false,
-           py::arg("tangents") = py::none(),
+           py::arg("tangents") = py::none(), py::arg("colors") = py::none(),
            "Adds a world-space triangle mesh. normals/uvs/tangents per vertex or per corner (T, 3, k); "
            "tangents (k = 4): the UV map's tangent and, in the 4th column, the bitangent's sign (for "
-           "tangent-space normal maps). "
-           "materials: one index or one per triangle. visibility: the ray kinds that see it "
+           "tangent-space normal maps); colors (k = 4): the attribute node programs read (Attribute and Color "
+           "Attribute nodes). materials: one index or one per triangle. visibility: the ray kinds that see it "
            "('camera', 'diffuse', 'glossy', 'transmission', 'shadow'; None: all), as Cycles' ray visibility. "
            "holdout: a hole in the image (alpha 0) where camera rays reach it; other rays see it as it is.")
       .def("add_sphere",

@@ -152,6 +152,7 @@ uint32_t Scene::add_material(Material m) {
     check_lobes(m, what);
   else
     check_inputs(m, what);
+  m.program.find_needs();
   check_finite(m.base_color, 0.0, what, "base_color");
   check_power(m.emission, what, "emission");
   check_finite(m.specular_tint, 0.0, what, "specular_tint");
@@ -216,6 +217,12 @@ void Scene::add_mesh(MeshInput mesh) {
   for (const glm::dvec4& t : mesh.tangents)
     if (!std::isfinite(t.x) || !std::isfinite(t.y) || !std::isfinite(t.z) || !std::isfinite(t.w))
       fail(what, "tangents contain NaN or Inf");
+  const bool colors_per_vertex = mesh.colors.size() == nv && nv != 3 * nt;
+  if (!mesh.colors.empty() && mesh.colors.size() != nv && mesh.colors.size() != 3 * nt)
+    fail(what, "colors must be given per vertex or per triangle corner");
+  for (const glm::dvec4& c : mesh.colors)
+    if (!(std::fabs(c.x) < 1e30 && std::fabs(c.y) < 1e30 && std::fabs(c.z) < 1e30 && std::fabs(c.w) < 1e30))
+      fail(what, "colors contain NaN, Inf or values beyond 1e30");
   if (mesh.materials.size() != 1 && mesh.materials.size() != nt)
     fail(what, "materials must be one index or one per triangle");
   for (uint32_t m : mesh.materials) check_material(m, what);
@@ -229,7 +236,7 @@ void Scene::add_mesh(MeshInput mesh) {
     const Vec3 &a = mesh.positions[idx[0]], &b = mesh.positions[idx[1]], &c = mesh.positions[idx[2]];
     triangles_.push_back(TrianglePrim{a, b - a, c - a});
     TriangleInfo info{mesh.materials.size() == 1 ? mesh.materials[0] : mesh.materials[t], mesh.object_id, -1, -1,
-                      -1, mesh.visibility};
+                      -1, -1, mesh.visibility};
     if (!mesh.normals.empty()) {
       info.corners = static_cast<int32_t>(corner_normals_.size());
       for (int k = 0; k < 3; ++k) {
@@ -250,6 +257,11 @@ void Scene::add_mesh(MeshInput mesh) {
         const glm::dvec4 tangent = tangents_per_vertex ? mesh.tangents[idx[k]] : mesh.tangents[3 * t + k];
         corner_tangents_.push_back(glm::vec4(tangent.x, tangent.y, tangent.z, tangent.w < 0.0 ? -1.0f : 1.0f));
       }
+    }
+    if (!mesh.colors.empty()) {
+      info.colors = static_cast<int32_t>(corner_colors_.size());
+      for (int k = 0; k < 3; ++k)
+        corner_colors_.push_back(glm::vec4(colors_per_vertex ? mesh.colors[idx[k]] : mesh.colors[3 * t + k]));
     }
     triangle_info_.push_back(info);
   }
@@ -765,12 +777,28 @@ ShadingContext Scene::shading_context(const Hit& hit, const Vec3& wo, double foo
   ShadingContext c = context_at(hit.position, hit.geometric_normal, hit.shading_normal, wo, hit.uv, hit.tangent);
   c.footprint = footprint;
   c.object = &object_info(hit.object);
-  const PrimRef& ref = prims_[hit.primitive];
-  if (ref.kind == PrimitiveKind::Triangle && materials_[hit.material].program.uses_bump()) {
-    const TriangleInfo& info = triangle_info_[ref.index];
-    if (info.uvs >= 0) uv_gradients(triangles_[ref.index], &corner_uvs_[info.uvs], c.du_dp, c.dv_dp);
-  }
+  add_primitive_data(materials_[hit.material], hit.primitive, hit.position, c);
   return c;
+}
+
+void Scene::add_primitive_data(const Material& m, uint32_t primitive, const Vec3& position, ShadingContext& c) const {
+  if (primitive >= prims_.size() || prims_[primitive].kind != PrimitiveKind::Triangle) return;
+  const NodeProgram::Needs needs = m.program.needs();
+  if (!needs.uv_gradients && !needs.attribute) return;
+  const uint32_t index = prims_[primitive].index;
+  const TriangleInfo& info = triangle_info_[index];
+  const TrianglePrim& t = triangles_[index];
+  if (needs.uv_gradients && info.uvs >= 0) uv_gradients(t, &corner_uvs_[info.uvs], c.du_dp, c.dv_dp);
+  if (needs.attribute && info.colors >= 0) {
+    // Barycentric coordinates of the point: the dual basis of the edges (as uv_gradients).
+    const Vec3 n = glm::cross(t.e1, t.e2);
+    const double det = glm::dot(n, n);
+    if (!(det > 0.0)) return;
+    const Vec3 d = position - t.v0;
+    const double b1 = glm::dot(glm::cross(t.e2, n), d) / det, b2 = glm::dot(glm::cross(n, t.e1), d) / det;
+    const glm::vec4* a = &corner_colors_[info.colors];
+    c.attribute = float(1.0 - b1 - b2) * a[0] + float(b1) * a[1] + float(b2) * a[2];
+  }
 }
 
 // How u and v change along a triangle: the gradients whose dot products with its edges give the
@@ -825,6 +853,7 @@ SurfacePoint Scene::surface_point(const SurfaceRecord& r) const {
   const Vec3 unmapped = r.smooth_normal != Vec3f(0.0f) ? Vec3(r.smooth_normal) : r.ns;
   ShadingContext c = context_at(r.position, r.ng, unmapped, r.wo, Vec2(r.uv), r.tangent);
   c.object = &object_info(r.object);
+  add_primitive_data(m, r.primitive, r.position, c);
   m.program.run(c, textures_, sp.inputs.data());
   return sp;
 }

@@ -57,7 +57,7 @@ struct SurfaceRecord {
   Vec2f uv;
   Vec3f smooth_normal;        // before the normal map; zero: none
   glm::vec4 tangent;          // xyz and the bitangent's sign; w = 0: none
-  uint32_t material, object;
+  uint32_t material, object, primitive;
 };
 
 struct MeshInput {
@@ -67,6 +67,7 @@ struct MeshInput {
   std::vector<Vec3> normals;             // empty (flat), one per vertex, or 3 per triangle (corners)
   std::vector<Vec2> uvs;                 // empty, one per vertex, or 3 per triangle (corners)
   std::vector<glm::dvec4> tangents;      // empty or as uvs: the UV map's tangent (xyz), bitangent sign (w)
+  std::vector<glm::dvec4> colors;        // empty or as uvs: an attribute node programs read (RGBA)
   std::vector<uint32_t> materials;       // one per triangle, or a single value for all
   uint32_t object_id = 0;
   uint8_t visibility = kAllRayKinds;  // the RayKinds that see it, and kHoldoutFlag for a Holdout object
@@ -172,6 +173,7 @@ class Scene {
     int32_t corners;  // index of the first of 3 corner normals, -1 = flat
     int32_t uvs;      // index of the first of 3 corner UVs, -1 = none
     int32_t tangents; // index of the first of 3 corner tangents, -1 = none
+    int32_t colors;   // index of the first of 3 corner attribute values, -1 = none
     uint8_t visibility;
   };
   struct SphereInfo {
@@ -189,6 +191,9 @@ class Scene {
   void check_lobes(Material& m, const std::string& what) const;
   std::vector<double> check_inputs(const Material& m, const std::string& what) const;
   static void uv_gradients(const TrianglePrim& t, const glm::vec2* uv, Vec3& du, Vec3& dv);
+  // What a program reads of primitive `primitive` at `position` on it: the UV gradients (a Bump's
+  // steps) and the mesh attribute there, where the material's program uses them.
+  void add_primitive_data(const Material& m, uint32_t primitive, const Vec3& position, ShadingContext& c) const;
   void textured_emission(const Material& m, const TriangleInfo& info, Light& l) const;
   void invalidate();
   void ensure_mutable() const;
@@ -216,6 +221,7 @@ class Scene {
   std::vector<TriangleInfo> triangle_info_;
   std::vector<Vec3f> corner_normals_;
   std::vector<glm::vec2> corner_uvs_;
+  std::vector<glm::vec4> corner_colors_;  // the attribute node programs read (MeshInput::colors)
   std::vector<ObjectInfo> objects_;  // by object id (set_object_info)
   std::vector<glm::vec4> corner_tangents_;
   std::vector<SphereInfo> spheres_;

@@ -49,6 +49,9 @@ Vec3f coordinate(CoordKind kind, const ShadingContext& c) {
     case CoordKind::ObjectLocation: return Vec3f(o.location);
     case CoordKind::ObjectRandom: return Vec3f(o.random);
     case CoordKind::ObjectIndex: return Vec3f(o.pass_index);
+    case CoordKind::Attribute: return Vec3f(c.attribute);
+    case CoordKind::AttributeAlpha: return Vec3f(c.attribute.w);
+    case CoordKind::AttributeMean: return Vec3f((c.attribute.x + c.attribute.y + c.attribute.z) * (1.0f / 3.0f));
   }
   return Vec3f(0.0f);
 }
@@ -85,6 +88,20 @@ Vec3f table_lookup(const float* table, int size, float t, bool interpolate, floa
   if (interpolate && f > 0.0f && i + 1 < size) c = glm::mix(c, glm::vec4(a[4], a[5], a[6], a[7]), f);
   if (alpha != nullptr) *alpha = c.w;
   return Vec3f(c);
+}
+
+// A baked curve (RGB, Vector or Float Curves) at x: the table spans [lo, hi] (stored before it) and
+// beyond it continues along its end segments, as Cycles extrapolates curves. Channel k.
+float curve_lookup(const float* table, int size, float x, int k) {
+  const float lo = table[-2], hi = table[-1];
+  float t = hi > lo ? (x - lo) / (hi - lo) : 0.0f;
+  if (!std::isfinite(t)) t = 0.0f;
+  if (t < 0.0f) return table[k] + (table[k] - table[4 + k]) * (-t) * float(size - 1);
+  if (t > 1.0f) {
+    const float* last = table + 4 * (size - 1);
+    return last[k] + (last[k] - last[k - 4]) * (t - 1.0f) * float(size - 1);
+  }
+  return table_lookup(table, size, t, true, nullptr)[k];
 }
 
 // Blender's Mapping node: types 0 point, 1 texture, 2 vector, 3 normal.
@@ -220,10 +237,20 @@ void NodeProgram::step(const NodeInstruction& ins, ShadingContext& at, const Sha
       r[out[0]] = glm::mix(r[in[1]], r[in[2]], t);
       break;
     }
-    case NodeOp::Table: {  // a baked ColorRamp: fac -> colour, alpha
-      float alpha = 1.0f;
-      r[out[0]] = table_lookup(data.data() + ins.data, ins.extra + 2, f(0), ins.flags & 1, &alpha);
-      r[out[1]] = Vec3f(alpha);
+    case NodeOp::Table: {
+      const float* table = data.data() + ins.data;
+      const int size = ins.extra + 2;
+      if (ins.mode == 0) {  // a ColorRamp: fac -> colour, alpha
+        float alpha = 1.0f;
+        r[out[0]] = table_lookup(table, size, f(0), ins.flags & 1, &alpha);
+        r[out[1]] = Vec3f(alpha);
+        break;
+      }
+      // Curves: in fac, value; each channel through its curve (mode 1), or all through the first (2).
+      const Vec3f v = r[in[1]];
+      Vec3f curved;
+      for (int k = 0; k < 3; ++k) curved[k] = curve_lookup(table, size, v[k], ins.mode == 1 ? k : 0);
+      r[out[0]] = glm::mix(v, curved, f(0));
       break;
     }
     case NodeOp::MapRange: {
@@ -342,8 +369,12 @@ void NodeProgram::add_image_output(int texture, TextureChannel channel) {
   outputs.push_back(result);
 }
 
-bool NodeProgram::uses_bump() const {
-  return std::any_of(code.begin(), code.end(), [](const NodeInstruction& i) { return i.op == NodeOp::BumpOffset; });
+void NodeProgram::find_needs() {
+  needs_ = {};
+  for (const NodeInstruction& i : code) {
+    needs_.uv_gradients |= i.op == NodeOp::BumpOffset;
+    needs_.attribute |= i.op == NodeOp::Coord && i.mode >= static_cast<uint8_t>(CoordKind::Attribute);
+  }
 }
 
 void NodeProgram::validate(size_t texture_count, const std::string& what) const {
@@ -361,8 +392,11 @@ void NodeProgram::validate(size_t texture_count, const std::string& what) const 
       if (reg >= registers || (reg >= 1 && reg <= constants.size()))
         fail(at + " writes register " + std::to_string(reg) + ", which is a constant or beyond the program's");
     if (static_cast<int>(ins.op) > static_cast<int>(NodeOp::NormalMap)) fail(at + " has an unknown operation");
+    if (ins.op == NodeOp::Coord && ins.mode > static_cast<uint8_t>(CoordKind::AttributeMean))
+      fail(at + " reads an unknown coordinate");
     if (ins.op == NodeOp::Image && ins.data >= texture_count) fail(at + " refers to a texture that does not exist");
-    if (ins.op == NodeOp::Table && size_t(ins.data) + (size_t(ins.extra) + 2) * 4 > data.size())
+    if (ins.op == NodeOp::Table && (ins.mode > 2 || size_t(ins.data) + (size_t(ins.extra) + 2) * 4 > data.size() ||
+                                    (ins.mode > 0 && ins.data < 2)))
       fail(at + "'s table lies outside the data");
     if (ins.op == NodeOp::Voronoi && ins.data >= 1 && ins.data <= constants.size())
       fail(at + " writes its W to a constant");
@@ -428,6 +462,7 @@ double bound_of(const NodeInstruction& ins, const std::vector<double>& b, const 
     }
     case NodeOp::MixVector: return std::max(in(1), in(2)) * (ins.flags & 1 ? 1.0 : inf);
     case NodeOp::Table: {
+      if (ins.mode != 0) return inf;  // curves extrapolate
       double m = 0.0;
       for (int i = 0; i < (ins.extra + 2) * 4; ++i) m = std::max(m, double(std::fabs(data[ins.data + i])));
       return m;

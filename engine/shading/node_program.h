@@ -40,6 +40,7 @@ struct ShadingContext {
   const ObjectInfo* object = nullptr;
   bool backfacing = false;
   double footprint = 0.0;           // world size of a pixel here, seen by a camera ray; 0: unknown
+  glm::vec4 attribute{0.0f};        // the mesh attribute here (Attribute, Color Attribute nodes)
 };
 
 enum class NodeOp : uint8_t {
@@ -49,7 +50,8 @@ enum class NodeOp : uint8_t {
   VectorMath,     // mode: VectorMathOp; out[0] vector, out[1] value
   Mix,            // mode: MixBlend; in fac, a, b; flag 1 clamp factor, 2 clamp result
   MixVector,      // per-component factor: in fac (vector), a, b
-  Table,          // a ColorRamp baked into data: extra + 2 RGBA entries over [0, 1]; flag 1: interpolate
+  Table,          // baked into data: extra + 2 RGBA entries; mode 0: a ColorRamp over [0, 1] (flag 1:
+                  // interpolate), 1: RGB/Vector Curves, 2: Float Curve, over [lo, hi] stored before
   MapRange,       // mode: 0 linear, 1 stepped, 2 smoothstep, 3 smootherstep; flag 1: clamp; vector: flag 2
   Clamp,          // mode: 0 min-max, 1 range
   Separate,       // mode: channel 0-2 of in[0]; 3-5: H, S, V
@@ -81,6 +83,7 @@ enum class CoordKind : uint8_t {
   Position, ShadingNormal, TrueNormal, Incoming, Backfacing,   // Geometry
   Tangent,                                                     // Tangent (the UV map's)
   ObjectLocation, ObjectRandom, ObjectIndex,                   // Object Info
+  Attribute, AttributeAlpha, AttributeMean,                    // Attribute (colour, alpha, fac)
 };
 
 struct NodeInstruction {
@@ -110,13 +113,19 @@ class NodeProgram {
   void run(const ShadingContext& ctx, const std::vector<Texture>& textures, Vec3f* results) const;
   // The largest value output `i` can take in any channel (for the energy bound); +inf: unknown.
   double output_bound(size_t i, const std::vector<Texture>& textures) const;
-  bool uses_bump() const;
+  // What running it reads beyond a hit's record: UV gradients (a Bump's steps), the mesh attribute.
+  struct Needs {
+    bool uv_gradients = false, attribute = false;
+  };
+  Needs needs() const { return needs_; }
+  void find_needs();  // after the code is complete (Scene::add_material)
   // Appends an output: the image `texture` read at the UV (bilinear, repeating) in `channel`.
   void add_image_output(int texture, TextureChannel channel);
 
  private:
   void step(const NodeInstruction& ins, ShadingContext& at, const ShadingContext& base,
             const std::vector<Texture>& textures, Vec3f* r) const;
+  Needs needs_;
 };
 
 }  // namespace ppm

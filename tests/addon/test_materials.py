@@ -187,14 +187,14 @@ def test_the_principled_bsdf_becomes_its_layers():
 
 
 def test_a_value_driven_by_an_unsupported_node_warns_once_and_uses_its_own():
-    mat, tree, out = node_material("painted")
+    mat, tree, out = node_material("skyward")
     diffuse = add(tree, "ShaderNodeBsdfDiffuse", Color=(0.3, 0.3, 0.3, 1.0))
-    attribute = tree.nodes.new("ShaderNodeAttribute")
-    tree.links.new(attribute.outputs["Color"], diffuse.inputs["Color"])
+    sky = tree.nodes.new("ShaderNodeTexSky")  # a world's texture, on a material: not supported
+    tree.links.new(sky.outputs["Color"], diffuse.inputs["Color"])
     tree.links.new(diffuse.outputs[0], out.inputs["Surface"])
     params, warnings = describe(mat)
     assert params["base_color"] == pytest.approx((0.3, 0.3, 0.3))
-    assert len(warnings) == 1 and "'painted'" in warnings[0] and attribute.name in warnings[0]
+    assert len(warnings) == 1 and "'skyward'" in warnings[0] and sky.name in warnings[0]
 
 
 def test_nodes_cycles_renders_simply_give_cycles_simplest_value_with_a_warning():

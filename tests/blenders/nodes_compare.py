@@ -180,6 +180,20 @@ def mix_data(data_type, uniform=True):
     return build
 
 
+def curves(kind, output, source, value_input):
+    """A Curves node of a few bent curves (RGB Curves also the combined one) applied to `source`."""
+    def build(tree, nodes):
+        n = nodes.new(kind)
+        for i, curve in enumerate(n.mapping.curves):
+            curve.points.new(0.3, 0.55 + 0.1 * i)
+            curve.points.new(0.7, 0.45 - 0.05 * i)
+        n.mapping.curves[0].points[0].location = (-0.2, 0.1)  # a curve beyond [0, 1]: the range widens
+        n.mapping.update()
+        tree.links.new(source(tree, nodes), n.inputs[value_input])
+        return n.outputs[output]
+    return build
+
+
 def mapped_noise(tree, nodes):
     m = node(nodes, "ShaderNodeMapping", vector_type="POINT")
     m.inputs["Location"].default_value = (0.3, -0.2, 0.5)
@@ -254,6 +268,12 @@ CASES = {
     "ramp_ease": (ramp("EASE"), 1e-4, True),
     "ramp_constant": (ramp("CONSTANT"), 1e-4, True),
     "ramp_b_spline": (ramp("B_SPLINE"), 1e-4, True),
+    "rgb_curves": (curves("ShaderNodeRGBCurve", "Color", texture("ShaderNodeTexNoise", "Color", in_Scale=2.0,
+                                                                  in_Distortion=3.0), "Color"), 1e-4, True),
+    "vector_curves": (curves("ShaderNodeVectorCurve", "Vector", coordinate("Object"), "Vector"), 1e-4, True),
+    "float_curve": (curves("ShaderNodeFloatCurve", "Value", noise_fac(in_Scale=2.0), "Value")
+                    if hasattr(bpy.types, "ShaderNodeFloatCurve") else None, 1e-4,
+                    hasattr(bpy.types, "ShaderNodeFloatCurve")),
     "math_sine": (math_of("SINE"), 1e-5, True),
     "math_power": (math_of("POWER", b=2.5), 1e-5, True),
     "math_smooth_min": (math_of("SMOOTH_MIN", b=0.45, c=0.2), 1e-5, True),

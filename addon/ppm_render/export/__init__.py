@@ -67,10 +67,18 @@ class Exporter:
             kinds = sorted({self.materials.tangents[i] for i in slots if i in self.materials.tangents})
             if len(kinds) > 1:
                 self.skip(obj, f"its materials need different tangents ({', '.join(kinds)}); using {kinds[-1]}")
-            self.meshes[key] = mesh.MeshData.from_object(obj, kinds[-1] if kinds else None)
-            if self.meshes[key] is not None and self.meshes[key].tangents_missing:
+            names = sorted({self.materials.attributes[i] for i in slots if i in self.materials.attributes})
+            if len(names) > 1:
+                self.skip(obj, f"its materials read different attributes ({', '.join(names)}); all read "
+                               f"'{names[0] or 'the render colour attribute'}'")
+            self.meshes[key] = mesh.MeshData.from_object(obj, kinds[-1] if kinds else None,
+                                                         names[0] if names else None)
+            data = self.meshes[key]
+            if data is not None and data.tangents_missing:
                 self.skip(obj, "its normal map or anisotropy needs UV tangents, but it has no UV map; "
                                "rendered without them")
+            if data is not None and data.attribute_missing:
+                self.skip(obj, f"it has no attribute '{names[0]}' that its materials read; they read black")
         data = self.meshes[key]
         self.describe_object(item, slots)
         if data is not None:

@@ -60,6 +60,7 @@ class Closure:
     normal_map: dict = None  # for Scene.add_material(normal_map=...): input, space
     unmapped: bool = False  # a shader without the normal map (it applies to all of them)
     tangents: str = None  # what the meshes' tangents must be: "uv", or "radial_x" / "_y" / "_z" (generated)
+    attribute: str = None  # the mesh attribute its program reads ("": the render colour attribute)
     emission_input: int = None  # the input the emission is textured by
     emission_parts: int = 0  # emissions added (a textured one applies its texture to all, warned)
 
@@ -228,6 +229,14 @@ class ClosureReader:
         elif self.out.tangents != kind:
             self.warn(node, f"a second kind of tangent ({kind}) in one material is not supported; using "
                             f"{self.out.tangents}")
+
+    def use_attribute(self, name, node):
+        """Notes the mesh attribute the material's program reads (one per material)."""
+        if self.out.attribute is None:
+            self.out.attribute = name
+        elif self.out.attribute != name:
+            self.warn(node, f"a second attribute ('{name}') in one material is not supported; it reads "
+                            f"'{self.out.attribute or 'the render colour attribute'}'")
 
     def anisotropy(self, node, ctx, anisotropy, rotation, stretch):
         """{stretch, rotation} for a lobe of `node`, its tangent noted (the Tangent socket: a Tangent

@@ -34,6 +34,8 @@ class MaterialExporter:
         self.tangents = {}  # core material -> the tangents its meshes need ("uv", "radial_z", ...)
         self.needed_tangents = None  # those of the material describe() read last
         self.with_program = set()  # core materials with a node program (their objects need object info)
+        self.attributes = {}  # core material -> the mesh attribute its program reads
+        self.needed_attribute = None  # that of the material describe() read last
 
     def index(self, material):
         """Core material index for a Blender material (None = default grey)."""
@@ -49,6 +51,8 @@ class MaterialExporter:
                 self.tangents[self.indices[key]] = self.needed_tangents
             if "program" in params:
                 self.with_program.add(self.indices[key])
+                if self.needed_attribute is not None:
+                    self.attributes[self.indices[key]] = self.needed_attribute
             if any(c > 0.0 for c in params.get("emission", (0, 0, 0))):
                 self.emissive.add(self.indices[key])
                 self.non_emissive[self.indices[key]] = {**params, "emission": (0.0, 0.0, 0.0)}
@@ -79,6 +83,7 @@ class MaterialExporter:
         """Keyword arguments for Scene.add_material."""
         read = closure.read_surface(material, self.warn, self.texture, self.scene)
         self.needed_tangents = read.tangents if read is not None else None
+        self.needed_attribute = read.attribute if read is not None else None
         if read is None:
             return {"kind": "diffuse", "base_color": tuple(material.diffuse_color)[:3]}
         program = {"program": read.program} if read.program is not None else {}

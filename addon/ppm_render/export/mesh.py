@@ -31,12 +31,14 @@ def _corner_normals(mesh):
     return _read(mesh.loops, "normal", len(mesh.loops), 3, np.float32)
 
 
+def _corner_uvs_of(layer, count):
+    data = layer.uv if hasattr(layer, "uv") else layer.data
+    return _read(data, "vector" if hasattr(layer, "uv") else "uv", count, 2, np.float32)
+
+
 def _corner_uvs(mesh):
     layer = mesh.uv_layers.active
-    if layer is None:
-        return None
-    data = layer.uv if hasattr(layer, "uv") else layer.data
-    return _read(data, "vector" if hasattr(layer, "uv") else "uv", len(mesh.loops), 2, np.float32)
+    return None if layer is None else _corner_uvs_of(layer, len(mesh.loops))
 
 
 def _corner_tangents(mesh):
@@ -58,6 +60,50 @@ def _corner_tangents(mesh):
     return tangents
 
 
+ATTRIBUTE_READS = {  # data type -> (property, width)
+    "FLOAT_COLOR": ("color", 4), "BYTE_COLOR": ("color", 4), "FLOAT_VECTOR": ("vector", 3), "FLOAT": ("value", 1),
+    "FLOAT2": ("vector", 2), "INT": ("value", 1), "BOOLEAN": ("value", 1),
+}
+
+
+def _render_color_attribute(mesh):
+    """The colour attribute Cycles reads for a Color Attribute node without a name."""
+    attributes = getattr(mesh, "color_attributes", None)
+    if attributes is not None and len(attributes):
+        index = getattr(attributes, "render_color_index", 0)
+        return attributes[index if 0 <= index < len(attributes) else 0]
+    return None
+
+
+def _corner_attribute(mesh, name, loops, triangles):
+    """(T, 3, 4) values of attribute `name` ("": the render colour attribute; a UV map's name: its
+    UVs, as Cycles' Attribute node reads one) at each triangle corner, colours as scene-linear RGBA,
+    vectors (x, y, z, 1), floats (v, v, v, 1); None if the mesh has none of that name."""
+    layer = _render_color_attribute(mesh) if not name else mesh.attributes.get(name)
+    if layer is None and name and name in mesh.uv_layers:
+        uvs = _corner_uvs_of(mesh.uv_layers[name], len(mesh.loops))[loops]
+        return np.concatenate([uvs, np.zeros(uvs.shape[:2] + (1,)), np.ones(uvs.shape[:2] + (1,))], axis=2)
+    if layer is None or layer.data_type not in ATTRIBUTE_READS:
+        return None
+    prop, width = ATTRIBUTE_READS[layer.data_type]
+    values = _read(layer.data, prop, len(layer.data), width, np.float64).reshape(len(layer.data), width)
+    rgba = np.zeros((len(values), 4))
+    rgba[:, 3] = values[:, 3] if width == 4 else 1.0
+    rgba[:, :3] = values if width == 1 else 0.0
+    if width > 1:
+        rgba[:, :min(width, 3)] = values[:, :3]
+    if layer.domain == "CORNER":
+        out = rgba[loops]
+    elif layer.domain == "POINT":
+        out = rgba[triangles]
+    elif layer.domain == "FACE":
+        faces = _read(mesh.loop_triangles, "polygon_index", len(triangles), 1, np.int32)
+        out = np.repeat(rgba[faces][:, None, :], 3, axis=1)
+    else:
+        return None
+    return np.nan_to_num(out, nan=0.0, posinf=0.0, neginf=0.0).clip(-1e29, 1e29)
+
+
 class MeshData:
     """Local-space triangles of one evaluated mesh."""
 
@@ -70,12 +116,15 @@ class MeshData:
         self.tangents = tangents        # (T, 3, 4) per-corner tangent and bitangent sign, or None
         self.tangents_missing = False   # asked for, but the mesh has no UV map
         self.tangents_radial = False    # generated-coordinate tangents: carried as normals are
+        self.colors = None              # (T, 3, 4) the attribute its materials' programs read, or None
+        self.attribute_missing = False  # asked for, but the mesh has no such attribute
 
     @classmethod
-    def from_object(cls, obj, tangents=None):
+    def from_object(cls, obj, tangents=None, attribute=None):
         """Reads `obj`'s evaluated mesh (modifiers applied); None if it has no triangles. `tangents`:
         also its tangents, "uv" (the UV map's, for normal maps and UV tangents) or "radial_x", "_y",
-        "_z" (about that axis of its generated coordinates, Cycles' default for anisotropy)."""
+        "_z" (about that axis of its generated coordinates, Cycles' default for anisotropy).
+        `attribute`: also that attribute's values at the corners (see _corner_attribute)."""
         mesh = obj.to_mesh()
         try:
             if mesh is None:
@@ -102,6 +151,9 @@ class MeshData:
                 elif data.uvs is not None:  # n-gons: Blender refuses them, Cycles triangulates first
                     data.tangents = triangle_tangents(positions, triangles, data.normals, data.uvs)
                 data.tangents_missing = data.tangents is None
+            if attribute is not None:
+                data.colors = _corner_attribute(mesh, attribute, loops, triangles)
+                data.attribute_missing = data.colors is None
             return data
         finally:
             obj.to_mesh_clear()
@@ -124,10 +176,12 @@ class MeshData:
         if kept == 0:
             return len(self.triangles)
         triangles, normals, uvs, slots, tangents = self.triangles, self.normals, self.uvs, self.slots, self.tangents
+        colors = self.colors
         if kept < len(triangles):
             triangles, normals, slots = triangles[finite], normals[finite], slots[finite]
             uvs = None if uvs is None else uvs[finite]
             tangents = None if tangents is None else tangents[finite]
+            colors = None if colors is None else colors[finite]
             positions = np.where(np.isfinite(positions), positions, 0.0)  # unused vertices only
         normals = normals.reshape(-1, 3) @ normal_matrix(m[:3, :3]).T
         normals = np.nan_to_num(normals, nan=0.0, posinf=0.0, neginf=0.0)
@@ -138,7 +192,7 @@ class MeshData:
                             uvs=uvs, materials=materials, object_id=item.object_id,
                             tangents=None if tangents is None else world_tangents(
                                 tangents, normal_matrix(m[:3, :3]) if self.tangents_radial else m[:3, :3]),
-                            **visibility.object_flags(item.obj))
+                            colors=colors, **visibility.object_flags(item.obj))
         return len(self.triangles) - kept
 
 

@@ -284,6 +284,25 @@ def _object_info(c, node, ctx):
             "Color": c.constant((1.0, 1.0, 1.0)), "Alpha": c.constant(1.0)}
 
 
+def _attribute_outputs(c, node, name):
+    """A mesh attribute's outputs (one attribute per material: the mesh carries it)."""
+    c.reader.use_attribute(name, node)
+    color = c.coordinate("attribute")
+    alpha = Value(c.coordinate("attribute_alpha").reg, "float", True)
+    mean = Value(c.coordinate("attribute_mean").reg, "float", True)
+    return {"Color": Value(color.reg, "color", True), "Vector": color, "Fac": mean, "Alpha": alpha}
+
+
+def _attribute(c, node, ctx):
+    if getattr(node, "attribute_type", "GEOMETRY") != "GEOMETRY":
+        raise Unsupported(f"'{node.name}': {node.attribute_type.lower()} attributes are not supported yet")
+    return _attribute_outputs(c, node, node.attribute_name)
+
+
+def _color_attribute(c, node, ctx):
+    return _attribute_outputs(c, node, node.layer_name)  # "": the mesh's render colour attribute
+
+
 def _value(c, node, ctx):
     return {"Value": c.constant(node.outputs[0].default_value)}
 
@@ -497,6 +516,41 @@ def _color_ramp(c, node, ctx):
     return {"Color": color, "Alpha": alpha}
 
 
+def _curve_table(c, mapping, curves, combined=None):
+    """Bakes curves into the program's data as Cycles does (RAMP_TABLE entries over the curves' x
+    range, the combined curve applied first); the table's offset."""
+    mapping.update()
+    lo = min(curve.points[0].location[0] for curve in list(curves) + ([combined] if combined else []))
+    hi = max(curve.points[-1].location[0] for curve in list(curves) + ([combined] if combined else []))
+    c.data += [float(lo), float(hi)]
+    offset = len(c.data)
+    for i in range(RAMP_TABLE):
+        t = lo + i / (RAMP_TABLE - 1) * (hi - lo)
+        x = mapping.evaluate(combined, t) if combined is not None else t
+        values = [mapping.evaluate(curve, x) for curve in curves]
+        c.data += [float(v) for v in (values * 3)[:3]] + [1.0]
+    return offset
+
+
+def _rgb_curves(c, node, ctx):
+    curves = node.mapping.curves
+    offset = _curve_table(c, node.mapping, curves[:3], curves[3])
+    ins = [c.input(node, "Fac", ctx, "float"), c.input(node, "Color", ctx, "color")]
+    return {"Color": c.emit("table", ins, kinds=("color",), mode=1, data=offset, extra=RAMP_TABLE - 2)[0]}
+
+
+def _vector_curves(c, node, ctx):
+    offset = _curve_table(c, node.mapping, node.mapping.curves[:3])
+    ins = [c.input(node, "Fac", ctx, "float"), c.input(node, "Vector", ctx, "vector")]
+    return {"Vector": c.emit("table", ins, kinds=("vector",), mode=1, data=offset, extra=RAMP_TABLE - 2)[0]}
+
+
+def _float_curve(c, node, ctx):
+    offset = _curve_table(c, node.mapping, node.mapping.curves[:1])
+    ins = [c.input(node, "Factor", ctx, "float"), c.input(node, "Value", ctx, "float")]
+    return {"Value": c.emit("table", ins, mode=2, data=offset, extra=RAMP_TABLE - 2)[0]}
+
+
 def _map_range(c, node, ctx):
     mode = ["LINEAR", "STEPPED", "SMOOTHSTEP", "SMOOTHERSTEP"].index(node.interpolation_type)
     if getattr(node, "data_type", "FLOAT") == "FLOAT_VECTOR":
@@ -658,6 +712,8 @@ NODES = {
     "ShaderNodeNewGeometry": _geometry,
     "ShaderNodeUVMap": _uv_map,
     "ShaderNodeObjectInfo": _object_info,
+    "ShaderNodeAttribute": _attribute,
+    "ShaderNodeVertexColor": _color_attribute,
     "ShaderNodeValue": _value,
     "ShaderNodeRGB": _rgb,
     "ShaderNodeTangent": _tangent,
@@ -677,6 +733,9 @@ NODES = {
     "ShaderNodeMixRGB": _mix_rgb,
     "ShaderNodeMix": _mix,
     "ShaderNodeValToRGB": _color_ramp,
+    "ShaderNodeRGBCurve": _rgb_curves,
+    "ShaderNodeVectorCurve": _vector_curves,
+    "ShaderNodeFloatCurve": _float_curve,
     "ShaderNodeMapRange": _map_range,
     "ShaderNodeClamp": _clamp,
     "ShaderNodeSeparateRGB": lambda c, n, x: _separate(c, n, x, ("R", "G", "B")),
