@@ -153,9 +153,14 @@ inline Vec3f bright_contrast(const Vec3f& color, float bright, float contrast) {
 }
 
 // Cycles' colour-to-float conversion: the Y row of Blender's scene-linear (Rec. 709, D65) to XYZ
-// matrix (fitted to Cycles 5.0's RGB to BW: 0.212639, 0.715169, 0.072193).
+// matrix, which Blender 5.0's colour configuration gives more precisely than 3.x-4.x's (fitted to
+// each Cycles' RGB to BW: 0.212639, 0.715169, 0.072193 in 5.0; 0.212673, 0.715152, 0.072175 in 3.4,
+// 4.2 and 4.5).
 inline float rgb_to_grey(const Vec3f& c) {
   return 0.2126390059f * c.x + 0.7151686788f * c.y + 0.0721923154f * c.z;
+}
+inline float rgb_to_grey_before_5(const Vec3f& c) {
+  return 0.2126729f * c.x + 0.7151522f * c.y + 0.0721750f * c.z;
 }
 
 }  // namespace ppm::nodes

@@ -207,7 +207,9 @@ void NodeProgram::step(const NodeInstruction& ins, ShadingContext& at, const Sha
     case NodeOp::Coord: r[out[0]] = coordinate(static_cast<CoordKind>(ins.mode), at); break;
     case NodeOp::Convert: {
       const Vec3f v = r[in[0]];
-      r[out[0]] = Vec3f(ins.mode == 0 ? nodes::rgb_to_grey(v) : (v.x + v.y + v.z) * (1.0f / 3.0f));
+      const float grey = ins.mode == 0 ? nodes::rgb_to_grey(v)
+                         : ins.mode == 2 ? nodes::rgb_to_grey_before_5(v) : (v.x + v.y + v.z) * (1.0f / 3.0f);
+      r[out[0]] = Vec3f(grey);
       break;
     }
     case NodeOp::Math: {
@@ -420,8 +422,9 @@ double bound_of(const NodeInstruction& ins, const std::vector<double>& b, const 
   switch (ins.op) {
     case NodeOp::Coord: {
       const auto kind = static_cast<CoordKind>(ins.mode);
-      const bool unit = kind == CoordKind::Normal || kind == CoordKind::ShadingNormal || kind == CoordKind::TrueNormal ||
-                        kind == CoordKind::Incoming || kind == CoordKind::Backfacing || kind == CoordKind::ObjectRandom ||
+      const bool unit = kind == CoordKind::Normal || kind == CoordKind::ShadingNormal ||
+                        kind == CoordKind::TrueNormal || kind == CoordKind::Incoming ||
+                        kind == CoordKind::Backfacing || kind == CoordKind::ObjectRandom ||
                         kind == CoordKind::Tangent || kind == CoordKind::Reflection;
       return unit ? 1.0 : inf;
     }

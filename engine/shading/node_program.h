@@ -45,7 +45,7 @@ struct ShadingContext {
 
 enum class NodeOp : uint8_t {
   Coord,          // mode: CoordKind
-  Convert,        // mode: 0 colour -> grey (luminance), 1 vector -> average
+  Convert,        // mode: 0 colour -> grey (luminance; 2: Blender 3.x-4.x's weights), 1 vector -> average
   Math,           // mode: MathOp; flag 1: clamp to [0, 1]
   VectorMath,     // mode: VectorMathOp; out[0] vector, out[1] value
   Mix,            // mode: MixBlend; in fac, a, b; flag 1 clamp factor, 2 clamp result

@@ -28,6 +28,7 @@ LEGACY_TEXTURES = bpy.app.version < (4, 0, 0)  # Blender 3.x's Noise and Wave di
 MAGIC_WRAPPED = bpy.app.version >= (4, 0, 0)
 VORONOI_PCG = bpy.app.version >= (4, 3, 0)  # Voronoi cells hashed by integer coordinates
 NORMAL_MAP_NORMALISES_FIRST = bpy.app.version < (4, 0, 0)  # measured: 3.4 does, 4.2 does not
+GREY = 0 if bpy.app.version >= (5, 0, 0) else 2  # colour -> float weights (measured: 4.5 old, 5.0 new)
 
 
 class Unsupported(Exception):
@@ -144,7 +145,7 @@ class ProgramCompiler:
         if kind == "float" and value.kind != "float":
             key = ("convert", value.reg, value.kind)
             if key not in self.cache:
-                self.cache[key] = self.emit("convert", [value], mode=0 if value.kind == "color" else 1)[0]
+                self.cache[key] = self.emit("convert", [value], mode=GREY if value.kind == "color" else 1)[0]
             return self.cache[key]
         return value if value.kind == kind else Value(value.reg, kind, value.varying)
 
