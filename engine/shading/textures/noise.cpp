@@ -96,8 +96,9 @@ float precise(float p) { return std::fmod(p, 100000.0f) + (std::fabs(p) >= 10000
 
 // Cycles' offsets that decorrelate distortion and colour channels.
 glm::vec4 random_offset4(float seed) {
-  return glm::vec4(100.0f + hash_float2_to_float(seed, 0.0f) * 100.0f, 100.0f + hash_float2_to_float(seed, 1.0f) * 100.0f,
-                   100.0f + hash_float2_to_float(seed, 2.0f) * 100.0f, 100.0f + hash_float2_to_float(seed, 3.0f) * 100.0f);
+  glm::vec4 o;
+  for (int k = 0; k < 4; ++k) o[k] = 100.0f + hash_float2_to_float(seed, float(k)) * 100.0f;
+  return o;
 }
 float random_offset1(float seed) { return 100.0f + hash_float_to_float(seed) * 100.0f; }
 
@@ -220,7 +221,8 @@ float noise_select(const NoiseSettings& s, const glm::vec4& p) {
       return hybrid_multifractal(s.dimensions, p, s.detail, s.roughness, s.lacunarity, s.offset, s.gain);
     case NoiseType::RidgedMultifractal:
       return ridged_multifractal(s.dimensions, p, s.detail, s.roughness, s.lacunarity, s.offset, s.gain);
-    case NoiseType::HeteroTerrain: return hetero_terrain(s.dimensions, p, s.detail, s.roughness, s.lacunarity, s.offset);
+    case NoiseType::HeteroTerrain:
+      return hetero_terrain(s.dimensions, p, s.detail, s.roughness, s.lacunarity, s.offset);
   }
   return 0.0f;
 }
@@ -247,7 +249,8 @@ NoiseResult noise_texture(const NoiseSettings& settings, const glm::vec4& point,
   NoiseResult r;
   r.fac = noise_select(s, p);
   if (with_color)
-    r.color = Vec3f(r.fac, noise_select(s, p + offset(dims, float(dims))), noise_select(s, p + offset(dims, float(dims + 1))));
+    r.color = Vec3f(r.fac, noise_select(s, p + offset(dims, float(dims))),
+                    noise_select(s, p + offset(dims, float(dims + 1))));
   return r;
 }
 
@@ -267,7 +270,8 @@ WhiteNoiseResult white_noise(int dims, const glm::vec4& p) {
       break;
     case 2:
       r.value = hash_float2_to_float(p.x, p.y);
-      r.color = Vec3f(r.value, hash_float3_to_float(Vec3f(p.x, p.y, 1.0f)), hash_float3_to_float(Vec3f(p.x, p.y, 2.0f)));
+      r.color = Vec3f(r.value, hash_float3_to_float(Vec3f(p.x, p.y, 1.0f)),
+                      hash_float3_to_float(Vec3f(p.x, p.y, 2.0f)));
       break;
     case 3:
       r.value = hash_float3_to_float(Vec3f(p));

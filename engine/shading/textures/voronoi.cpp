@@ -23,19 +23,22 @@ VecN<2> cell_point(const VecN<2>& k, bool pcg) {
 }
 VecN<3> cell_point(const VecN<3>& k, bool pcg) {
   if (pcg) return hash_int_to_unit<3>(to_ints<3>(k));
-  return VecN<3>(hash_float3_to_float(k), hash_float4_to_float(glm::vec4(k, 1.0f)), hash_float4_to_float(glm::vec4(k, 2.0f)));
+  return VecN<3>(hash_float3_to_float(k), hash_float4_to_float(glm::vec4(k, 1.0f)),
+                 hash_float4_to_float(glm::vec4(k, 2.0f)));
 }
 VecN<4> cell_point(const VecN<4>& k, bool pcg) {
   if (pcg) return hash_int_to_unit<4>(to_ints<4>(k));
   return VecN<4>(hash_float4_to_float(k), hash_float4_to_float(glm::vec4(k.w, k.x, k.y, k.z)),
-                 hash_float4_to_float(glm::vec4(k.z, k.w, k.x, k.y)), hash_float4_to_float(glm::vec4(k.y, k.z, k.w, k.x)));
+                 hash_float4_to_float(glm::vec4(k.z, k.w, k.x, k.y)),
+                 hash_float4_to_float(glm::vec4(k.y, k.z, k.w, k.x)));
 }
 Vec3f cell_color(const VecN<1>& k, bool) {
   return Vec3f(hash_float_to_float(k.x), hash_float2_to_float(k.x, 1.0f), hash_float2_to_float(k.x, 2.0f));
 }
 Vec3f cell_color(const VecN<2>& k, bool pcg) {
   if (pcg) return hash_int_to_unit<3>(glm::ivec3(to_int(k.x), to_int(k.y), 0));
-  return Vec3f(hash_float2_to_float(k.x, k.y), hash_float3_to_float(Vec3f(k, 1.0f)), hash_float3_to_float(Vec3f(k, 2.0f)));
+  return Vec3f(hash_float2_to_float(k.x, k.y), hash_float3_to_float(Vec3f(k, 1.0f)),
+               hash_float3_to_float(Vec3f(k, 2.0f)));
 }
 Vec3f cell_color(const VecN<3>& k, bool pcg) { return Vec3f(cell_point(k, pcg)); }
 Vec3f cell_color(const VecN<4>& k, bool pcg) {
