@@ -54,6 +54,16 @@ def cornell_box(scene, size=2.0, object_id_start=0, with_front=False):
     return {"white": white, "red": red, "blue": blue}
 
 
+def three_spheres(scene):
+    """The report's figure 1's mirror, glass and diffuse spheres (object ids 10-12)."""
+    mirror = scene.add_material("mirror", "mirror", base_color=(0.95, 0.95, 0.95))
+    glass = scene.add_material("glass", "glass", base_color=(1.0, 1.0, 1.0), ior=1.5)
+    matte = scene.add_material("matte", "diffuse", base_color=(0.8, 0.7, 0.3))
+    scene.add_sphere("mirror_ball", (-0.45, 0.2, 0.35), 0.35, mirror, object_id=10)
+    scene.add_sphere("glass_ball", (0.45, -0.25, 0.35), 0.35, glass, object_id=11)
+    scene.add_sphere("matte_ball", (-0.3, 0.55, 1.45), 0.25, matte, object_id=12)
+
+
 def cornell_3spheres(width=640, height=480, light="sphere", aperture_radius=0.0) -> ppm_core.Scene:
     """The report's figure 1: mirror, glass and diffuse spheres, light in the box's centre.
 
@@ -61,12 +71,7 @@ def cornell_3spheres(width=640, height=480, light="sphere", aperture_radius=0.0)
     report's figure 3 puts the focal plane there)."""
     scene = ppm_core.Scene()
     cornell_box(scene)
-    mirror = scene.add_material("mirror", "mirror", base_color=(0.95, 0.95, 0.95))
-    glass = scene.add_material("glass", "glass", base_color=(1.0, 1.0, 1.0), ior=1.5)
-    matte = scene.add_material("matte", "diffuse", base_color=(0.8, 0.7, 0.3))
-    scene.add_sphere("mirror_ball", (-0.45, 0.2, 0.35), 0.35, mirror, object_id=10)
-    scene.add_sphere("glass_ball", (0.45, -0.25, 0.35), 0.35, glass, object_id=11)
-    scene.add_sphere("matte_ball", (-0.3, 0.55, 1.45), 0.25, matte, object_id=12)
+    three_spheres(scene)
     if light == "sphere":
         scene.add_light("sphere", name="lamp", power=25.0, position=(0.0, 0.0, 1.3), radius=0.05)
     else:

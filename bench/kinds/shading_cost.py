@@ -20,7 +20,7 @@ import time
 import numpy as np
 
 import ppm_core
-from core_scenes import look_at
+from core_scenes import look_at, three_spheres
 
 MODES = ppm_core.node_modes()
 
@@ -108,12 +108,7 @@ def walls_scene(program, image, width, height):
         uvs = (c[:, :2] + c[:, 2:3] * 0.5 + 1.0) / 3.0
         scene.add_mesh(f"wall{i}", c, np.array([[0, 1, 2], [0, 2, 3]]), uvs=uvs, materials=wall, object_id=i)
         scene.set_object_info(i, np.eye(4), texspace_location=(0.0, 0.0, 1.0), texspace_size=(1.0, 1.0, 1.0))
-    mirror = scene.add_material("mirror", "mirror", base_color=(0.95, 0.95, 0.95))
-    glass = scene.add_material("glass", "glass", base_color=(1.0, 1.0, 1.0), ior=1.5)
-    matte = scene.add_material("matte", "diffuse", base_color=(0.8, 0.7, 0.3))
-    scene.add_sphere("mirror_ball", (-0.45, 0.2, 0.35), 0.35, mirror, object_id=10)
-    scene.add_sphere("glass_ball", (0.45, -0.25, 0.35), 0.35, glass, object_id=11)
-    scene.add_sphere("matte_ball", (-0.3, 0.55, 1.45), 0.25, matte, object_id=12)
+    three_spheres(scene)
     scene.add_light("sphere", name="lamp", power=25.0, position=(0.0, 0.0, 1.3), radius=0.05)
     fov = 2.0 * math.atan(0.5 * 36.0 / 40.0)
     scene.set_camera(look_at((0.0, -4.4, 1.0), (0.0, 0.0, 1.0)), width, height, fov=fov)

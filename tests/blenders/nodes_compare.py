@@ -238,6 +238,16 @@ CASES = {
                      else None, 1e-4, V41),
     "noise_multifractal": (texture("ShaderNodeTexNoise", "Fac", noise_type="MULTIFRACTAL", in_Detail=2.5) if V41
                            else None, 1e-4, V41),
+    "musgrave_fbm": (texture("ShaderNodeTexMusgrave", "Fac", in_Detail=3.5) if not V4 else None, 1e-5, not V4),
+    "musgrave_ridged": (texture("ShaderNodeTexMusgrave", "Fac", musgrave_type="RIDGED_MULTIFRACTAL", in_Detail=3.0)
+                        if not V4 else None, 1e-5, not V4),
+    "musgrave_hybrid_4d": (texture("ShaderNodeTexMusgrave", "Fac", musgrave_type="HYBRID_MULTIFRACTAL",
+                                   musgrave_dimensions="4D", in_W=0.4, in_Detail=2.5) if not V4 else None, 1e-5,
+                           not V4),
+    "musgrave_hetero": (texture("ShaderNodeTexMusgrave", "Fac", musgrave_type="HETERO_TERRAIN", in_Detail=2.5)
+                        if not V4 else None, 1e-5, not V4),
+    "musgrave_multifractal_2d": (texture("ShaderNodeTexMusgrave", "Fac", musgrave_type="MULTIFRACTAL",
+                                         musgrave_dimensions="2D", in_Detail=2.5) if not V4 else None, 1e-5, not V4),
     "voronoi_f1": (texture("ShaderNodeTexVoronoi", "Distance"), 1e-5, True),
     "voronoi_color": (texture("ShaderNodeTexVoronoi", "Color"), 1e-5, True),
     "voronoi_position": (texture("ShaderNodeTexVoronoi", "Position"), 1e-5, True),

@@ -378,6 +378,18 @@ def _noise(c, node, ctx):
     return {"Fac": fac, "Color": color}
 
 
+def _musgrave(c, node, ctx):
+    """Blender 3.x's Musgrave texture (4.1 made it the Noise texture's types)."""
+    dims = _dimensions(node, "musgrave_dimensions")
+    vector = c.vector_or(node, ctx, "generated")
+    names = ("W", "Scale", "Detail", "Dimension", "Lacunarity", "Offset", "Gain")
+    defaults = (0.0, 5.0, 2.0, 2.0, 2.0, 0.0, 1.0)
+    ins = [c.input(node, n, ctx, "float", d) for n, d in zip(names, defaults)]
+    fac = c.emit("noise", [vector, *ins, c.constant(0.0)], mode=c.mode("noise", node.musgrave_type),
+                 extra=dims | 64)[0]
+    return {"Fac": fac}
+
+
 def _voronoi(c, node, ctx):
     dims = _dimensions(node, "voronoi_dimensions")
     vector = c.vector_or(node, ctx, "generated")
@@ -723,6 +735,7 @@ NODES = {
     "ShaderNodeTexImage": _image,
     "ShaderNodeTexNoise": _noise,
     "ShaderNodeTexVoronoi": _voronoi,
+    "ShaderNodeTexMusgrave": _musgrave,
     "ShaderNodeTexWhiteNoise": _white_noise,
     "ShaderNodeTexChecker": _checker,
     "ShaderNodeTexGradient": _gradient,

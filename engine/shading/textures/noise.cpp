@@ -254,6 +254,65 @@ NoiseResult noise_texture(const NoiseSettings& settings, const glm::vec4& point,
   return r;
 }
 
+float musgrave_texture(const NoiseSettings& settings, glm::vec4 p) {
+  const int dims = settings.dimensions;
+  const float h = std::max(settings.roughness, 1e-5f);  // Musgrave's Dimension
+  const float lacunarity = std::max(settings.lacunarity, 1e-5f);
+  const float octaves = std::isfinite(settings.detail) ? std::clamp(settings.detail, 0.0f, 15.0f) : 0.0f;
+  const float offset = settings.offset, gain = settings.gain;
+  const float pw_hl = std::pow(lacunarity, -h);
+  const int n = to_int(octaves);
+  const float rmd = octaves - std::floor(octaves);
+  float value = 0.0f, pwr = 1.0f;
+  switch (settings.type) {
+    case NoiseType::Fbm:
+      for (int i = 0; i < n; ++i, pwr *= pw_hl, p *= lacunarity) value += snoise_n(dims, p) * pwr;
+      if (rmd != 0.0f) value += rmd * snoise_n(dims, p) * pwr;
+      return value;
+    case NoiseType::Multifractal:
+      value = 1.0f;
+      for (int i = 0; i < n; ++i, pwr *= pw_hl, p *= lacunarity) value *= pwr * snoise_n(dims, p) + 1.0f;
+      if (rmd != 0.0f) value *= rmd * pwr * snoise_n(dims, p) + 1.0f;
+      return value;
+    case NoiseType::HeteroTerrain:
+      pwr = pw_hl;
+      value = offset + snoise_n(dims, p);
+      p *= lacunarity;
+      for (int i = 1; i < n; ++i, pwr *= pw_hl, p *= lacunarity) value += (snoise_n(dims, p) + offset) * pwr * value;
+      if (rmd != 0.0f) value += rmd * (snoise_n(dims, p) + offset) * pwr * value;
+      return value;
+    case NoiseType::HybridMultifractal: {
+      float weight = 1.0f;
+      for (int i = 0; weight > 0.001f && i < n; ++i) {
+        weight = std::min(weight, 1.0f);
+        const float signal = (snoise_n(dims, p) + offset) * pwr;
+        pwr *= pw_hl;
+        value += weight * signal;
+        weight *= gain * signal;
+        p *= lacunarity;
+      }
+      if (rmd != 0.0f && weight > 0.001f) value += rmd * std::min(weight, 1.0f) * (snoise_n(dims, p) + offset) * pwr;
+      return value;
+    }
+    case NoiseType::RidgedMultifractal: {
+      pwr = pw_hl;
+      float signal = offset - std::fabs(snoise_n(dims, p));
+      signal *= signal;
+      value = signal;
+      for (int i = 1; i < n; ++i) {
+        p *= lacunarity;
+        const float weight = std::clamp(signal * gain, 0.0f, 1.0f);
+        signal = offset - std::fabs(snoise_n(dims, p));
+        signal *= signal * weight;
+        value += signal * pwr;
+        pwr *= pw_hl;
+      }
+      return value;
+    }
+  }
+  return 0.0f;
+}
+
 float fractal_noise_legacy(const Vec3f& p, float detail, float roughness) {
   return fbm_legacy(3, glm::vec4(p, 0.0f), detail, roughness);
 }

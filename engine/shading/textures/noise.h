@@ -33,6 +33,11 @@ struct NoiseResult {
 // 4-D: (vector, w)), its Color only when `with_color`.
 NoiseResult noise_texture(const NoiseSettings& s, const glm::vec4& p, bool with_color);
 
+// Blender 3.x's Musgrave texture at p (times Scale; its layout as noise_texture's): its types'
+// older sums (octaves in `detail`, exclusive of the last; its Dimension H in `roughness`, each octave
+// weighted lacunarity^-H), which 4.1's Noise types replaced.
+float musgrave_texture(const NoiseSettings& s, glm::vec4 p);
+
 // Blender 3.x and 4.x's fractal sum of unsigned noise used by the Wave texture's distortion.
 float fractal_noise_legacy(const Vec3f& p, float detail, float roughness);
 // 4.x's fBM (signed noise, lacunarity, normalised to about [0, 1] when `normalize`).

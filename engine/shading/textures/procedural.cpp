@@ -1,6 +1,7 @@
 // Operand layouts of the procedural texture instructions (in[] registers; out[] registers):
 //   Noise      in: vector, w, scale, detail, roughness, lacunarity, offset, gain, distortion
-//              mode: NoiseType; extra: dimensions | 16 legacy (3.x) | 32 normalize; out: fac, color
+//              mode: NoiseType; extra: dimensions | 16 legacy (3.x) | 32 normalize | 64 Musgrave (3.x:
+//              roughness is its Dimension); out: fac, color
 //   Voronoi    in: vector, w, scale, detail, roughness, lacunarity, smoothness, exponent, randomness
 //              mode: feature; flags: metric; extra: dimensions | 32 normalize | 64 PCG cell hash;
 //              out: distance (or radius), color, position; `data`: the W output's register
@@ -38,7 +39,12 @@ void noise(const NodeInstruction& ins, Vec3f* r) {
   s.legacy = (ins.extra & 16) != 0;
   s.normalize = (ins.extra & 32) != 0;
   s.detail = f(3), s.roughness = f(4), s.lacunarity = f(5), s.offset = f(6), s.gain = f(7), s.distortion = f(8);
-  const NoiseResult n = noise_texture(s, texture_point(s.dimensions, r[ins.in[0]], f(1), f(2)), ins.out[1] != 0);
+  const glm::vec4 p = texture_point(s.dimensions, r[ins.in[0]], f(1), f(2));
+  if (ins.extra & 64) {  // Blender 3.x's Musgrave texture: Fac only
+    r[ins.out[0]] = Vec3f(musgrave_texture(s, p));
+    return;
+  }
+  const NoiseResult n = noise_texture(s, p, ins.out[1] != 0);
   r[ins.out[0]] = Vec3f(n.fac);
   r[ins.out[1]] = n.color;
 }
