@@ -341,8 +341,13 @@ void NodeProgram::run(const ShadingContext& ctx, const std::vector<Texture>& tex
   ShadingContext at = ctx;
   for (const NodeInstruction& ins : code) step(ins, at, ctx, textures, r.data());
   for (size_t i = 0; i < outputs.size(); ++i) {
-    results[i] = r[outputs[i]];
-    if (i < output_max.size() && output_max[i] < kInfinity) results[i] = glm::clamp(results[i], 0.0f, output_max[i]);
+    Vec3f v = r[outputs[i]];
+    // Nodes can overflow (Exponent of 1000) or make NaN (infinity times 0); a surface takes 0 there
+    // rather than carry it into every photon that meets it.
+    for (int k = 0; k < 3; ++k)
+      if (!std::isfinite(v[k])) v[k] = 0.0f;
+    if (i < output_max.size() && output_max[i] < kInfinity) v = glm::clamp(v, 0.0f, output_max[i]);
+    results[i] = v;
   }
 }
 

@@ -4,6 +4,7 @@
 // program that refers to what it does not have being refused.
 #include "shading/node_program.h"
 
+#include "shading/node_math.h"
 #include "shading/textures/hash.h"
 #include "shading/textures/noise.h"
 #include "shading/textures/patterns.h"
@@ -182,6 +183,27 @@ TEST(Program, ReferencesItDoesNotHaveAreRefused) {
   NodeProgram nan = p;
   nan.constants[0] = Vec3f(std::numeric_limits<float>::quiet_NaN());
   EXPECT_THROW(nan.validate(0, "m"), std::invalid_argument);
+}
+
+TEST(Program, OutputsThatOverflowOrAreNotANumberAreZero) {
+  NodeProgram p;
+  p.constants = {Vec3f(1000.0f), Vec3f(0.0f)};
+  p.registers = 3;
+  NodeInstruction exp;  // e^1000 = inf
+  exp.op = NodeOp::Math;
+  exp.mode = static_cast<uint8_t>(nodes::MathOp::Exponent);
+  exp.in = {1, 1, 1};
+  exp.out[0] = p.registers++;
+  NodeInstruction nan = exp;  // inf * 0 = NaN
+  nan.mode = static_cast<uint8_t>(nodes::MathOp::Multiply);
+  nan.in = {exp.out[0], 2, 2};
+  nan.out[0] = p.registers++;
+  p.code = {exp, nan};
+  p.outputs = {exp.out[0], nan.out[0]};
+  std::array<Vec3f, 2> out;
+  p.run(ShadingContext{}, {}, out.data());
+  EXPECT_EQ(out[0], Vec3f(0.0f));
+  EXPECT_EQ(out[1], Vec3f(0.0f));
 }
 
 TEST(Program, OutputBoundsFollowTheOperations) {
