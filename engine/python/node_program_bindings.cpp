@@ -36,7 +36,7 @@ const std::vector<std::pair<const char*, NodeOp>>& op_names() {
       {"brick", NodeOp::Brick},           {"magic", NodeOp::Magic},
       {"fresnel", NodeOp::Fresnel},       {"layer_weight", NodeOp::LayerWeight},
       {"bump_offset", NodeOp::BumpOffset}, {"bump", NodeOp::Bump},
-      {"normal_map", NodeOp::NormalMap},
+      {"normal_map", NodeOp::NormalMap},  {"environment_uv", NodeOp::EnvironmentUv},
   };
   return names;
 }

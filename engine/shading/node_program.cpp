@@ -1,6 +1,7 @@
 // Running a node program (see node_program.h).
 #include "shading/node_program.h"
 
+#include "scene/environment.h"
 #include "shading/node_color.h"
 #include "shading/node_math.h"
 #include "shading/textures/procedural.h"
@@ -331,6 +332,12 @@ void NodeProgram::step(const NodeInstruction& ins, ShadingContext& at, const Sha
     }
     case NodeOp::Bump: r[out[0]] = bump(r, ins, base); break;
     case NodeOp::NormalMap: r[out[0]] = normal_map(r, ins, at); break;
+    case NodeOp::EnvironmentUv: {
+      const Vec3 d(r[in[0]]);
+      const Vec2 uv = ins.mode == 0 ? Environment::equirectangular_uv(d) : Environment::mirror_ball_uv(d);
+      r[out[0]] = Vec3f(float(uv.x), float(uv.y), 0.0f);
+      break;
+    }
   }
 }
 
@@ -398,7 +405,7 @@ void NodeProgram::validate(size_t texture_count, const std::string& what) const 
     for (uint16_t reg : ins.out)
       if (reg >= registers || (reg >= 1 && reg <= constants.size()))
         fail(at + " writes register " + std::to_string(reg) + ", which is a constant or beyond the program's");
-    if (static_cast<int>(ins.op) > static_cast<int>(NodeOp::NormalMap)) fail(at + " has an unknown operation");
+    if (static_cast<int>(ins.op) > static_cast<int>(NodeOp::EnvironmentUv)) fail(at + " has an unknown operation");
     if (ins.op == NodeOp::Coord && ins.mode > static_cast<uint8_t>(CoordKind::AttributeMean))
       fail(at + " reads an unknown coordinate");
     if (ins.op == NodeOp::Image && ins.data >= texture_count) fail(at + " refers to a texture that does not exist");

@@ -76,6 +76,7 @@ enum class NodeOp : uint8_t {
   BumpOffset,     // mode: 0 centre, 1 dx, 2 dy: where the next height is read; in filter width
   Bump,           // in strength, distance, height centre, dx, dy, normal, filter width; flag 1 invert
   NormalMap,      // mode: 0 tangent, 1 object, 2 world; in strength, colour; flag 1: normalise first (3.x)
+  EnvironmentUv,  // Environment Texture: a direction -> the image's (u, v, 0); mode 0 equirectangular, 1 mirror ball
 };
 
 enum class CoordKind : uint8_t {

@@ -82,8 +82,8 @@ def _rgb(value):
 class ClosureReader:
     """Reads one material's surface closure; `warn` gets each problem once, naming material and node."""
 
-    def __init__(self, material_name, warn, texture=None, core=None):
-        self.material, self.warn_once = material_name, warn
+    def __init__(self, material_name, warn, texture=None, core=None, kind="material"):
+        self.material, self.warn_once, self.kind = material_name, warn, kind
         self.warned = set()
         self.out = Closure()
         self.depth = 0  # Mix and Add shaders entered
@@ -94,7 +94,7 @@ class ClosureReader:
         if key not in self.warned:
             self.warned.add(key)
             where = f"node '{node.name}'" if node is not None else "its node tree"
-            self.warn_once(f"material '{self.material}': {where}: {message}")
+            self.warn_once(f"{self.kind} '{self.material}': {where}: {message}")
 
     # ------------------------------------------------------------ following links
 

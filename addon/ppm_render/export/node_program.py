@@ -360,6 +360,24 @@ def _image(c, node, ctx):
     return {"Color": color, "Alpha": alpha}
 
 
+def _environment(c, node, ctx):
+    """An Environment Texture (in a world's network): the image at the direction's equirectangular or
+    mirror-ball coordinates (for a world, Generated is the direction)."""
+    image = node.image
+    if image is None:
+        return {"Color": c.constant((1.0, 0.0, 1.0)), "Alpha": c.constant(1.0)}  # Cycles' missing image
+    try:
+        index = c.texture(image, False)
+    except ValueError as error:
+        raise Unsupported(f"image '{image.name}': {error}") from error
+    uv = c.emit("environment_uv", [c.vector_or(node, ctx, "generated")], kinds=("vector",),
+                mode=int(node.projection == "MIRROR_BALL"))[0]
+    interpolation = {"Linear": 0, "Closest": 1, "Cubic": 2, "Smart": 2}.get(node.interpolation, 0)
+    color, alpha = c.emit("image", [uv], outs=2, kinds=("color", "float"), mode=interpolation, data=index,
+                          pure=False)
+    return {"Color": color, "Alpha": alpha}
+
+
 def _dimensions(node, attribute):
     return int(getattr(node, attribute, "3D")[0])
 
@@ -733,6 +751,7 @@ NODES = {
     "ShaderNodeFresnel": _fresnel,
     "ShaderNodeLayerWeight": _layer_weight,
     "ShaderNodeTexImage": _image,
+    "ShaderNodeTexEnvironment": _environment,
     "ShaderNodeTexNoise": _noise,
     "ShaderNodeTexVoronoi": _voronoi,
     "ShaderNodeTexMusgrave": _musgrave,

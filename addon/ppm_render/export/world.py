@@ -1,8 +1,12 @@
 """Blender world -> the core's background: a constant radiance (colour * strength), or an image
 around the scene (an Environment Texture feeding the Background's colour, equirectangular or mirror
-ball, optionally turned by a Mapping node), times the strength.
+ball, optionally turned by a Mapping node), times the strength, or a node network on the
+Background's Color and Strength (a procedural sky, a tinted HDRI): compiled as materials' networks
+are (node_program.py), run by the core at every texel of a BAKE_WIDTH x BAKE_HEIGHT
+equirectangular image, which then lights the scene as an HDRI does (the directions seen as Cycles
+sees them: Generated, Object and Position are the direction, Normal and Incoming its opposite).
 
-Reads the Background node feeding the active World Output. Anything else linked to its sockets falls
+Reads the Background node feeding the active World Output. A network the compiler cannot take falls
 back to the socket's own value with a warning. The world's ray visibility (World > Settings > Ray
 Visibility, `cycles_visibility`) decides which escaping rays see it, and its Max Bounces (World >
 Settings > Light Path) the longest path it lights.
@@ -12,12 +16,15 @@ import math
 
 import numpy as np
 
+from . import closure, nodes
 from . import image as image_export
-from . import nodes
+from .node_program import Unsupported
 from .visibility import own_max_bounces
 
 PROJECTIONS = {"EQUIRECTANGULAR": "equirectangular", "MIRROR_BALL": "mirror_ball"}
 WORLD_RAY_FLAGS = ("camera", "diffuse", "glossy", "transmission", "shadow")
+BAKE_WIDTH, BAKE_HEIGHT = 1024, 512
+WORLD_OBJECT = (1 << 24) - 1  # the object id the bake's coordinates are read for (the core's last)
 
 
 def _linked_node(socket):
@@ -57,17 +64,65 @@ class WorldExporter:
             self.scene.set_background((0.0, 0.0, 0.0))
             return
         color_socket, strength_socket = node.inputs["Color"], node.inputs["Strength"]
-        if strength_socket.links:
-            self.unsupported(node, strength_socket, _linked_node(strength_socket))
-        strength = float(strength_socket.default_value)
         source = _linked_node(color_socket)
-        if source is not None and source.bl_idname == "ShaderNodeTexEnvironment" and self.add_environment(
-                source, strength):
+        if not strength_socket.links and (source is None or self.plain_environment(source)):
+            strength = float(strength_socket.default_value)
+            if source is not None and self.add_environment(source, strength):
+                return
+            color = tuple(float(c) * strength for c in tuple(color_socket.default_value)[:3])
+            self.scene.set_background(color, **self.reach())
             return
-        if source is not None and source.bl_idname != "ShaderNodeTexEnvironment":
-            self.unsupported(node, color_socket, source)
-        color = tuple(float(c) * strength for c in tuple(color_socket.default_value)[:3])
-        self.scene.set_background(color, **self.reach())
+        self.add_network(node)
+
+    @staticmethod
+    def plain_environment(source):
+        """An Environment Texture fed by nothing, Texture Coordinates or a Mapping of them: the image
+        itself lights the scene (no resampling)."""
+        if source.bl_idname != "ShaderNodeTexEnvironment":
+            return False
+        mapping = _linked_node(source.inputs["Vector"])
+        if mapping is None or mapping.bl_idname == "ShaderNodeTexCoord":
+            return True
+        feed = _linked_node(mapping.inputs["Vector"]) if mapping.bl_idname == "ShaderNodeMapping" else mapping
+        return mapping.bl_idname == "ShaderNodeMapping" and (feed is None or feed.bl_idname == "ShaderNodeTexCoord")
+
+    def add_network(self, node):
+        """The Background's Color and Strength from a node network, baked into an image around the
+        scene (see the module's comment); the sockets' own values where the network cannot be taken."""
+        reader = closure.ClosureReader(self.world.name, self.warn, self.texture, self.scene, kind="world")
+        program = reader.program
+        try:
+            color = program.socket(node.inputs["Color"], (), "color")
+            strength = program.socket(node.inputs["Strength"], (), "float")
+        except Unsupported as error:
+            reader.warn(node, f"{error}; using the Background's own colour and strength")
+            color = tuple(float(c) * node.inputs["Strength"].default_value
+                          for c in tuple(node.inputs["Color"].default_value)[:3])
+            self.scene.set_background(color, **self.reach())
+            return
+        if not color.varying and not strength.varying:
+            rgb = np.asarray(program.constant_value(color), dtype=float) * float(program.constant_value(strength))
+            self.scene.set_background(tuple(float(c) for c in np.broadcast_to(rgb, 3)), **self.reach())
+            return
+        indices = [program.add_output(color), program.add_output(strength)]
+        directions = bake_directions(BAKE_WIDTH, BAKE_HEIGHT)
+        # For the world Generated and Object are the direction: a texture space of [0, 1], unmoved.
+        self.scene.set_object_info(WORLD_OBJECT, np.eye(4), texspace_location=(0.5, 0.5, 0.5),
+                                   texspace_size=(0.5, 0.5, 0.5))
+        values = self.scene.run_program(program.program(), directions, normal=-directions, incoming=-directions,
+                                        object=WORLD_OBJECT)
+        rgb = values[:, indices[0]] * values[:, indices[1], :1]
+        pixels = np.ones((BAKE_HEIGHT, BAKE_WIDTH, 4), dtype=np.float32)
+        pixels[..., :3] = np.clip(rgb, 0.0, 6.0e4).reshape(BAKE_HEIGHT, BAKE_WIDTH, 3)  # half floats' range
+        texture = self.scene.add_texture(f"world '{self.world.name}' (baked)", pixels, storage="half")
+        self.scene.set_environment(texture, world_to_texture=np.eye(4), strength=(1.0, 1.0, 1.0),
+                                   projection="equirectangular", **self.reach())
+
+    def texture(self, image, premultiplied=False):
+        texture, repaired = image_export.add_texture(self.scene, image, premultiplied)
+        if repaired:
+            self.warn(f"image '{image.name}': {repaired}")
+        return texture
 
     def add_environment(self, node, strength):
         """The Environment Texture `node` as the background; False (with a warning) if it cannot be."""
@@ -110,6 +165,18 @@ class WorldExporter:
         if mapping.vector_type == "TEXTURE":
             rotation[:3, :3] = rotation[:3, :3].T  # the inverse transform
         return rotation
+
+
+def bake_directions(width, height):
+    """(height * width, 3) unit directions at the texel centres of an equirectangular image, rows
+    from the bottom (the core's and Blender's image order), as Cycles maps directions to it."""
+    u = (np.arange(width) + 0.5) / width
+    v = (np.arange(height) + 0.5) / height
+    phi = (0.5 - u) * 2.0 * math.pi            # u = 1/2 - atan2(y, x) / 2 pi
+    theta = (v - 0.5) * math.pi                # v = 1/2 + elevation / pi
+    cos_t = np.cos(theta)[:, None]
+    return np.stack([cos_t * np.cos(phi)[None, :], cos_t * np.sin(phi)[None, :],
+                     np.broadcast_to(np.sin(theta)[:, None], (height, width))], axis=-1).reshape(-1, 3)
 
 
 def euler_xyz(angles):
