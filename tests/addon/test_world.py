@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 from test_forgiving_input import export_scene, floor_scene
 
+import ppm_core
 from ppm_render.export import world as world_export
 
 
@@ -76,3 +77,44 @@ def test_world_ray_visibility_is_read():
     world.cycles_visibility.camera = False
     world.cycles_visibility.glossy = False
     assert world_export.visibility(world) == ["diffuse", "transmission", "shadow"]
+
+
+def test_a_baked_worlds_texels_look_where_the_core_looks_them_up():
+    # The bake runs the program at each texel's direction; the core's environment maps that direction
+    # back to the texel's centre (EnvironmentUv is the core's equirectangular mapping).
+    width, height = 16, 8
+    directions = world_export.bake_directions(width, height)
+    modes = ppm_core.node_modes()
+    program = {"code": [{"op": "coord", "mode": modes["coord"].index("position"), "out": [1]},
+                        {"op": "environment_uv", "in": [1], "out": [2]}], "outputs": [2], "registers": 3}
+    uv = ppm_core.Scene().run_program(program, directions)[:, 0, :2]
+    u, v = np.meshgrid((np.arange(width) + 0.5) / width, (np.arange(height) + 0.5) / height)
+    np.testing.assert_allclose(uv, np.stack([u.ravel(), v.ravel()], axis=1), atol=1e-6)
+
+
+def test_a_gradient_sky_lights_the_scene_from_above():
+    world = bpy.data.worlds.new("sky")
+    if world.node_tree is None or bpy.app.version < (5, 0, 0):
+        world.use_nodes = True
+    nodes, links = world.node_tree.nodes, world.node_tree.links
+    background = next(n for n in nodes if n.bl_idname == "ShaderNodeBackground")
+    coordinates, split = nodes.new("ShaderNodeTexCoord"), nodes.new("ShaderNodeSeparateXYZ")
+    clamp = nodes.new("ShaderNodeClamp")
+    links.new(coordinates.outputs["Generated"], split.inputs[0])
+    links.new(split.outputs["Z"], clamp.inputs["Value"])
+    links.new(clamp.outputs[0], background.inputs["Color"])  # the sky's height, 0 below the horizon
+    scene = ppm_core.Scene()
+    warnings = []
+    world_export.add_world(scene, world, warnings.append)
+    assert warnings == []
+    # A floor facing up sees the upper sky: irradiance pi * mean(z over the upper hemisphere, cosine
+    # weighted) = pi * 2/3; a floor facing down sees nothing.
+    corners = np.array([[-1, -1, 0], [1, -1, 0], [1, 1, 0], [-1, 1, 0]], dtype=float)
+    scene.add_material("white", base_color=(1.0, 1.0, 1.0))
+    scene.add_mesh("floor", corners, np.array([[0, 1, 2], [0, 2, 3]]))
+    camera = np.eye(4)
+    camera[2, 3] = 2.0
+    scene.set_camera(camera, 8, 8, projection="orthographic", ortho_scale=1.0)
+    renderer = ppm_core.Renderer(scene, photons_per_pass=2000, threads=2, seed=1)
+    renderer.run(passes=8)
+    assert renderer.image()[..., :3].mean() == pytest.approx(2.0 / 3.0, rel=0.03)
