@@ -280,9 +280,10 @@ def noise_normal_map(tree, out):
 
 
 def scratched_metal(tree, out):
-    """Voronoi edges (distance to edge) as scratches of higher roughness on aluminium."""
+    """Voronoi edges (distance to edge) as scratches of higher roughness on aluminium (rough enough
+    that 256 Cycles samples of the sun's glint do not move the mean by percents)."""
     voronoi = new(tree, "ShaderNodeTexVoronoi", feature="DISTANCE_TO_EDGE", in_Scale=10.0)
-    r = ramp(tree, [(0.0, (0.8, 0.8, 0.8)), (0.05, (0.2, 0.2, 0.2))])
+    r = ramp(tree, [(0.0, (0.75, 0.75, 0.75)), (0.05, (0.4, 0.4, 0.4))])
     tree.links.new(voronoi.outputs["Distance"], r.inputs["Fac"])
     p = bsdf(tree, out, Metallic=1.0, **{"Base Color": (0.9, 0.91, 0.92, 1.0)})
     link(tree, r.outputs["Color"], p, "Roughness")

@@ -26,7 +26,7 @@ MAX_OUTPUTS = 8  # the core's limit of inputs per material
 RAMP_TABLE = 257 if bpy.app.version >= (4, 0, 0) else 256  # Cycles' baked ColorRamp (i / (size - 1))
 LEGACY_TEXTURES = bpy.app.version < (4, 0, 0)  # Blender 3.x's Noise and Wave distortion
 MAGIC_WRAPPED = bpy.app.version >= (4, 0, 0)
-VORONOI_PCG = bpy.app.version >= (4, 3, 0)  # Voronoi cells hashed by integer coordinates
+VORONOI_PCG = bpy.app.version >= (5, 0, 0)  # cells hashed by integer coordinates (measured: 4.5 not, 5.0 so)
 NORMAL_MAP_NORMALISES_FIRST = bpy.app.version < (4, 0, 0)  # measured: 3.4 does, 4.2 does not
 GREY = 0 if bpy.app.version >= (5, 0, 0) else 2  # colour -> float weights (measured: 4.5 old, 5.0 new)
 
