@@ -33,8 +33,8 @@ struct UnusableTexel {
   float value = 0.0f;  // the offending channel
 };
 
-// What of a texture a material reads (Blender's Image Texture outputs): its colour, its alpha,
-// or grey (Blender's colour-to-float conversion: luminance with Rec. 709 weights).
+// What of a texture a material input reads (Blender's Image Texture outputs): its colour, its alpha,
+// or grey (Cycles' colour-to-float conversion; NodeProgram::add_image_output).
 enum class TextureChannel : uint8_t { Rgb, Alpha, Grey };
 
 // Blender's Image Texture node: how texels are blended (Smart is Cubic, as Cycles renders it) and
@@ -67,22 +67,6 @@ class Texture {
     if (storage_ == TexelStorage::Srgb8)
       return srgb_to_linear(bilinear<Color>(uv, clamp_v, [this](int x, int y) { return encoded(x, y); }));
     return bilinear<Color>(uv, clamp_v, [this](int x, int y) { return texel(x, y); });
-  }
-  // The colour and, in w, the alpha (as stored: straight unless premultiplied before; 1 for RGB
-  // sources), repeating.
-  Color lookup_channel(const Vec2& uv, TextureChannel channel) const {
-    const glm::dvec4 t = lookup_rgba(uv);
-    if (channel == TextureChannel::Alpha) return Color(t.w);
-    if (channel == TextureChannel::Grey) return Color(luminance(Color(t)));
-    return Color(t);
-  }
-  glm::dvec4 lookup_rgba(const Vec2& uv) const {
-    if (storage_ == TexelStorage::Srgb8) {
-      const glm::dvec4 e =
-          bilinear<glm::dvec4>(uv, false, [this](int x, int y) { return glm::dvec4(encoded(x, y), alpha(x, y)); });
-      return glm::dvec4(srgb_to_linear(Color(e)), e.w);
-    }
-    return bilinear<glm::dvec4>(uv, false, [this](int x, int y) { return glm::dvec4(texel(x, y), alpha(x, y)); });
   }
   // The colour and alpha at uv as the Image Texture node reads it with these settings.
   glm::dvec4 sample(const Vec2& uv, TextureInterpolation interpolation, TextureExtension extension) const;
