@@ -106,13 +106,28 @@ struct EyeTracer {
     return nearest < t_surface;
   }
 
+  // What the Light Path node sees at a hit `t` along v's ray. The eye chain scatters only at
+  // mirrors and smooth glass (followed lobes), so every ray after the camera's is singular.
+  static LightPath path_of(const EyeVertex& v, double t) {
+    LightPath p;
+    p.kind = v.ray.kind;
+    p.singular = v.depth > 0;
+    p.depth = capped(v.depth);
+    p.diffuse = v.chain.diffuse;
+    p.glossy = v.chain.glossy;
+    p.transmission = v.chain.transmission;
+    p.length = static_cast<float>(t);
+    return p;
+  }
+
   // The world size of a pixel `length` along an eye path (through mirrors and glass as if straight).
   double pixel_size(double length) const { return footprint * (orthographic ? 1.0 : length); }
 
   void record(const Hit& hit, const EyeVertex& v, uint32_t pixel, ChunkOutput& out) const {
     const Material& m = scene.material(hit.material);
     const Vec3 wo = -v.ray.direction;
-    const SurfacePoint sp = scene.surface_point(hit, wo, pixel_size(v.length));
+    const LightPath path = path_of(v, hit.t);
+    const SurfacePoint sp = scene.surface_point(hit, wo, pixel_size(v.length), path);
     const bool front = glm::dot(wo, sp.ng) >= 0.0;
     const Vec3 ns = front ? sp.ns : -sp.ns;
     const bool glossy = m.kind != MaterialKind::Diffuse;
@@ -130,7 +145,7 @@ struct EyeTracer {
     out.shading.push_back(
         HitPointShading{sp.ng, sp.ns, wo, v.throughput, Vec2f(hit.uv), Vec3f(sp.smooth_normal),
                         sp.tangent != Vec3(0.0) ? hit.tangent : glm::vec4(0.0f), hit.material, hit.object,
-                        hit.primitive, pixel});
+                        hit.primitive, pixel, path});
     if (limits.active) out.chain.push_back(v.chain);
   }
 
@@ -152,10 +167,10 @@ struct EyeTracer {
       }
       const Material& m = scene.material(hit.material);
       if (ends_at_holdout(v, hit, m, transparency)) continue;
-      if (m.emits()) emitted += v.throughput * scene.emission(hit, -v.ray.direction);
+      if (m.emits()) emitted += v.throughput * scene.emission(hit, -v.ray.direction, path_of(v, hit.t));
       if (is_black(m) || v.emission_only) continue;
       const EyeVertex here{v.ray, v.throughput, v.depth, v.length + hit.t, v.glass_only, v.chain, false};
-      const SurfacePoint sp = scene.surface_point(hit, -v.ray.direction, pixel_size(here.length));
+      const SurfacePoint sp = scene.surface_point(hit, -v.ray.direction, pixel_size(here.length), path_of(v, hit.t));
       double followed = is_specular(m) ? 1.0 : 0.0;
       if (m.kind == MaterialKind::Mixture && followed == 0.0 && closure_has_followed(m.lobes))
         followed = closure_followed_share(m.lobes, sp, -v.ray.direction);

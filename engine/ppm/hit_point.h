@@ -37,12 +37,13 @@ struct HitPointShading {
   uint32_t object;        // for its material's node program
   uint32_t primitive;     // ... and the mesh data it reads there
   uint32_t pixel;
+  LightPath path;         // the ray that found it (the Light Path node)
 };
 
 // What Scene::surface_point needs to shade a hit point again.
 inline SurfaceRecord surface_record(const HitPoint& h, const HitPointShading& sh) {
   return {h.position, sh.geometric_normal, sh.shading_normal, sh.wo, sh.uv, sh.smooth_normal, sh.tangent,
-          sh.material, sh.object, sh.primitive};
+          sh.material, sh.object, sh.primitive, sh.path};
 }
 
 // Create as HitPointStats{} (all zero). No member initialisers: they would

@@ -59,7 +59,11 @@ bool bounce_photon(const Scene& scene, const Settings& settings, const BounceLim
   const Material& m = scene.material(hit->material);
   if (is_black(m)) return false;
   const Vec3 wo = -p.ray.direction;
-  const SurfacePoint sp = scene.surface_point(*hit, wo);
+  LightPath path = kCameraPath;  // see LightPath: photons know only their own side of the path
+  path.kind = p.ray.kind;
+  path.depth = capped(p.bounce + 1);
+  path.length = static_cast<float>(hit->t);
+  const SurfacePoint sp = scene.surface_point(*hit, wo, 0.0, path);
   const bool deposit_direct = settings.direct_light == DirectLight::Photons;
   if (!is_specular(m) && (p.bounce > 0 || deposit_direct)) {
     const uint8_t here = scattering_ray_kind(m);

@@ -37,6 +37,7 @@ const std::vector<std::pair<const char*, NodeOp>>& op_names() {
       {"fresnel", NodeOp::Fresnel},       {"layer_weight", NodeOp::LayerWeight},
       {"bump_offset", NodeOp::BumpOffset}, {"bump", NodeOp::Bump},
       {"normal_map", NodeOp::NormalMap},  {"environment_uv", NodeOp::EnvironmentUv},
+      {"vector_transform", NodeOp::VectorTransform},
   };
   return names;
 }
@@ -134,7 +135,9 @@ py::dict node_modes() {
   modes["coord"] = std::vector<std::string>{
       "generated", "normal", "uv", "object", "camera", "window", "reflection", "position", "shading_normal",
       "true_normal", "incoming", "backfacing", "tangent", "object_location", "object_random", "object_index",
-      "attribute", "attribute_alpha", "attribute_mean"};
+      "attribute", "attribute_alpha", "attribute_mean", "is_camera_ray", "is_shadow_ray", "is_diffuse_ray",
+      "is_glossy_ray", "is_singular_ray", "is_reflection_ray", "is_transmission_ray", "ray_length", "ray_depth",
+      "diffuse_depth", "glossy_depth", "transmission_depth"};
   modes["noise"] = std::vector<std::string>{"fbm", "multifractal", "hybrid_multifractal", "ridged_multifractal",
                                             "hetero_terrain"};
   modes["voronoi"] = std::vector<std::string>{"f1", "f2", "smooth_f1", "distance_to_edge", "n_sphere_radius"};

@@ -404,8 +404,15 @@ void add_light(Scene& s, const std::string& kind, const std::string& name, const
 void set_camera(Scene& s, const py::object& matrix, int width, int height, const std::string& projection,
                 double fov, double ortho_scale, const std::string& sensor_fit, double shift_x, double shift_y,
                 double clip_start, double clip_end, double focus_distance, double aperture_radius,
-                double focal_length) {
+                double focal_length, const py::object& frame) {
   Camera c;
+  if (!frame.is_none()) {
+    const auto f = frame.cast<std::array<int, 4>>();
+    c.frame_x = f[0];
+    c.frame_y = f[1];
+    c.frame_width = f[2];
+    c.frame_height = f[3];
+  }
   c.camera_to_world = mat4(matrix, "camera", "matrix");
   c.width = width;
   c.height = height;
@@ -555,8 +562,14 @@ void set_object_info(Scene& s, uint32_t object, const py::object& matrix, const 
 // Runs a node program at n points (tests and the add-on's constant folding): (n, outputs, 3).
 py::array_t<float> run_program(const Scene& s, const py::object& program, const py::object& position,
                                const py::object& normal, const py::object& incoming, const py::object& uv,
-                               const py::object& tangent, uint32_t object, double footprint) {
+                               const py::object& tangent, uint32_t object, double footprint,
+                               const std::string& ray) {
   const std::string what = "run_program";
+  LightPath path = kCameraPath;
+  path.kind = choice<uint8_t>(ray, {{"camera", kCameraRay}, {"diffuse", kDiffuseRay}, {"glossy", kGlossyRay},
+                                    {"transmission", kTransmissionRay}, {"shadow", kShadowRay}, {"emission", 0}},
+                              what, "ray");
+  path.depth = path.kind == kCameraRay || path.kind == 0 ? 0 : 1;
   NodeProgram p = program_from(program, what);
   p.validate(s.textures().size(), what);
   const std::vector<Vec3> positions = vec3_list(position, what, "position");
@@ -591,6 +604,8 @@ py::array_t<float> run_program(const Scene& s, const py::object& program, const 
       c.tangent_sign = tangents[4 * i + 3];
     }
     c.object = &s.object_info(object);
+    c.camera = s.has_camera() ? &s.camera() : nullptr;
+    c.path = path;
     c.footprint = footprint;
     p.run(c, s.textures(), values.data());
     for (size_t k = 0; k < p.outputs.size(); ++k)
@@ -641,10 +656,11 @@ void bind_scene(py::module_& m) {
            "and Object Info's Random and Pass Index.")
       .def("run_program", &run_program, py::arg("program"), py::arg("position"), py::arg("normal") = py::none(),
            py::arg("incoming") = py::none(), py::arg("uv") = py::none(), py::arg("tangent") = py::none(),
-           py::arg("object") = 0, py::arg("footprint") = 0.0,
+           py::arg("object") = 0, py::arg("footprint") = 0.0, py::arg("ray") = "camera",
            "Runs a node program (add_material's `program`) at points (their normals, the direction towards "
            "the viewer, UVs, and UV tangents with the bitangent sign, (n, 4); footprint: the world size of a "
-           "pixel there, as a camera ray sees it): float32 (n, outputs, 3).")
+           "pixel there, as a camera ray sees it; ray: the kind of ray that arrived, as the Light Path node "
+           "reads it: camera, diffuse, glossy, transmission, shadow or emission): float32 (n, outputs, 3).")
       .def("add_texture", &add_texture, py::arg("name"), py::arg("pixels"), py::arg("storage") = py::none(),
            py::arg("clear_unusable") = false,
            "Adds an RGBA or RGB texture of shape (H, W, 4) or (H, W, 3), row 0 at the bottom; returns its "
@@ -713,10 +729,12 @@ void bind_scene(py::module_& m) {
            py::arg("projection") = "perspective", py::arg("fov") = 0.8575560591178853, py::arg("ortho_scale") = 7.0,
            py::arg("sensor_fit") = "auto", py::arg("shift_x") = 0.0, py::arg("shift_y") = 0.0,
            py::arg("clip_start") = 1e-3, py::arg("clip_end") = kInf, py::arg("focus_distance") = 10.0,
-           py::arg("aperture_radius") = 0.0, py::arg("focal_length") = 0.0,
+           py::arg("aperture_radius") = 0.0, py::arg("focal_length") = 0.0, py::arg("frame") = py::none(),
            "Sets the camera: camera-to-world matrix (looks down local -Z), image size, field of view "
            "in radians across the fitted side. Depth of field: focus_distance and aperture_radius in "
-           "metres, focal_length in metres (0: focus distance >> focal length).")
+           "metres, focal_length in metres (0: focus distance >> focal length). frame: (x, y, width, "
+           "height) in pixels of the full frame this image is a window of (a render border), for "
+           "Window coordinates.")
       .def(
           "set_background",
           [](Scene& s, const py::object& c, const py::object& visible_to, int max_bounces) {

@@ -56,6 +56,28 @@ Ray Camera::generate_lens_ray(double px, double py, double lens_u, double lens_v
   return ray;
 }
 
+Vec3 Camera::camera_space(const Vec3& p) const {
+  const Vec3 d = p - position();  // the axes are orthonormal (Scene::set_camera)
+  return Vec3(glm::dot(d, Vec3(camera_to_world[0])), glm::dot(d, Vec3(camera_to_world[1])),
+              -glm::dot(d, Vec3(camera_to_world[2])));
+}
+
+Vec3 Camera::window_coordinates(const Vec3& p) const {
+  const Vec3 local = camera_space(p);
+  double x = local.x, y = local.y;
+  if (projection == Projection::Perspective) {
+    if (local.z == 0.0) return Vec3(0.0);  // Cycles' perspective divide gives 0 there
+    x /= local.z;  // behind the camera this mirrors, as Cycles' divide does
+    y /= local.z;
+  }
+  // Inverse of generate_ray's image-plane mapping, then the window's place in the frame.
+  const double extent = fitted_extent(), pixel = pixel_footprint();
+  const double px = (x - shift_x * extent) / pixel + 0.5 * width + frame_x;
+  const double py = (y - shift_y * extent) / pixel + 0.5 * height + frame_y;
+  const bool whole = frame_width <= 0 || frame_height <= 0;
+  return Vec3(px / (whole ? width : frame_width), py / (whole ? height : frame_height), 0.0);
+}
+
 double Camera::coc_pixels(double z) const {
   if (aperture_radius <= 0.0 || projection != Projection::Perspective || !(z > 0.0)) return 0.0;
   // Sensor CoC = A f / (S - f) * |z - S| / z; in pixels divide by the sensor

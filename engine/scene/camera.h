@@ -24,6 +24,9 @@ struct Camera {
   double focus_distance = 10.0;      // metres
   double aperture_radius = 0.0;      // metres; 0 = pinhole
   double focal_length = 0.0;         // metres, for the exact circle of confusion; 0 = focus >> focal length
+  // Where this image (a render border's window) lies in the full frame, in pixels from its
+  // bottom-left; a frame width of 0: the image is the frame. Only Window coordinates read it.
+  int frame_x = 0, frame_y = 0, frame_width = 0, frame_height = 0;
 
   // The ray through image position (px, py) in pixels (x right, y up from the
   // bottom row). Its origin sits on the near clip plane.
@@ -37,6 +40,11 @@ struct Camera {
   double coc_pixels(double z) const;
   // Distance along the view axis of a point.
   double depth_of(const Vec3& p) const { return glm::dot(p - position(), forward()); }
+
+  // Cycles' camera space (Texture Coordinate's Camera): the camera's frame, +z looking forward.
+  Vec3 camera_space(const Vec3& p) const;
+  // Where p projects onto the full frame, 0..1 across it (Texture Coordinate's Window); z = 0.
+  Vec3 window_coordinates(const Vec3& p) const;
 
   // Size of one pixel at distance 1 from a perspective camera, or in metres
   // for an orthographic one; sets the initial gather radius.

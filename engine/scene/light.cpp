@@ -253,6 +253,7 @@ Color radiance_at(const Light& l, const Vec2& b) {
   at.normal = at.true_normal = at.incoming = triangle_normal(t);
   at.uv = (1.0 - b.x - b.y) * l.uvs[0] + b.x * l.uvs[1] + b.y * l.uvs[2];
   at.object = l.object;
+  at.path.kind = 0;  // emission sampled at the light: no ray arrived (Cycles' PATH_RAY_EMISSION)
   std::array<Vec3f, kMaxInputs> values;
   l.program->run(at, *l.textures, values.data());
   return l.emission * Color(values[l.program_output]);

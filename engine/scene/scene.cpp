@@ -368,6 +368,7 @@ void Scene::set_camera(const Camera& c) {
     fail(what, "ortho_scale must be a positive number");
   if (c.projection == Projection::Orthographic) check_size(c.ortho_scale, what, "ortho_scale");
   if (!std::isfinite(c.shift_x) || !std::isfinite(c.shift_y)) fail(what, "shift is not finite");
+  if (c.frame_width < 0 || c.frame_height < 0) fail(what, "frame width and height must be >= 0");
   if (std::fabs(c.shift_x) > 1e3 || std::fabs(c.shift_y) > 1e3)
     fail(what, "shift must be within +-1000 image widths (Blender allows +-10)");
   if (!(c.clip_start >= 0.0) || !(c.clip_end > c.clip_start)) fail(what, "need 0 <= clip_start < clip_end");
@@ -531,11 +532,11 @@ void Scene::textured_emission(const Material& m, const TriangleInfo& info, Light
   l.radiance = glm::max(sum / double(kSide * kSide), kFloor * brightest);
 }
 
-Color Scene::emission(const Hit& hit, const Vec3& wo) const {
+Color Scene::emission(const Hit& hit, const Vec3& wo, const LightPath& path) const {
   const Material& m = materials_[hit.material];
   if (m.emission_input < 0) return m.emission;
   std::array<Vec3f, kMaxInputs> values;
-  m.program.run(shading_context(hit, wo), textures_, values.data());
+  m.program.run(shading_context(hit, wo, 0.0, path), textures_, values.data());
   return m.emission * Color(values[m.emission_input]);
 }
 
@@ -773,10 +774,13 @@ void Scene::set_object_info(uint32_t object, const ObjectInfo& info) {
   invalidate();
 }
 
-ShadingContext Scene::shading_context(const Hit& hit, const Vec3& wo, double footprint) const {
+ShadingContext Scene::shading_context(const Hit& hit, const Vec3& wo, double footprint,
+                                      const LightPath& path) const {
   ShadingContext c = context_at(hit.position, hit.geometric_normal, hit.shading_normal, wo, hit.uv, hit.tangent);
   c.footprint = footprint;
+  c.path = path;
   c.object = &object_info(hit.object);
+  c.camera = has_camera_ ? &camera_ : nullptr;
   add_primitive_data(materials_[hit.material], hit.primitive, hit.position, c);
   return c;
 }
@@ -813,7 +817,7 @@ void Scene::uv_gradients(const TrianglePrim& t, const glm::vec2* uv, Vec3& du, V
   dv = d1.y * b1 + d2.y * b2;
 }
 
-SurfacePoint Scene::surface_point(const Hit& hit, const Vec3& wo, double footprint) const {
+SurfacePoint Scene::surface_point(const Hit& hit, const Vec3& wo, double footprint, const LightPath& path) const {
   const Material& m = materials_[hit.material];
   SurfacePoint sp;
   sp.ng = hit.geometric_normal;
@@ -826,7 +830,7 @@ SurfacePoint Scene::surface_point(const Hit& hit, const Vec3& wo, double footpri
   }
   sp.albedo = m.base_color;
   if (m.program.empty()) return sp;
-  const ShadingContext c = shading_context(hit, wo, footprint);
+  const ShadingContext c = shading_context(hit, wo, footprint, path);
   m.program.run(c, textures_, sp.inputs.data());
   if (m.normal_map.input >= 0) {
     sp.smooth_normal = sp.ns;
@@ -853,6 +857,8 @@ SurfacePoint Scene::surface_point(const SurfaceRecord& r) const {
   const Vec3 unmapped = r.smooth_normal != Vec3f(0.0f) ? Vec3(r.smooth_normal) : r.ns;
   ShadingContext c = context_at(r.position, r.ng, unmapped, r.wo, Vec2(r.uv), r.tangent);
   c.object = &object_info(r.object);
+  c.camera = has_camera_ ? &camera_ : nullptr;
+  c.path = r.path;
   add_primitive_data(m, r.primitive, r.position, c);
   m.program.run(c, textures_, sp.inputs.data());
   return sp;

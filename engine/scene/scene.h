@@ -58,6 +58,7 @@ struct SurfaceRecord {
   Vec3f smooth_normal;        // before the normal map; zero: none
   glm::vec4 tangent;          // xyz and the bitangent's sign; w = 0: none
   uint32_t material, object, primitive;
+  LightPath path;             // the ray that found it
 };
 
 struct MeshInput {
@@ -138,13 +139,16 @@ class Scene {
 
   // The surface at a hit seen from direction `wo` (its material's program run there); `footprint`:
   // the world size of a pixel there, for a camera ray (a Bump node's steps), else 0.
-  SurfacePoint surface_point(const Hit& hit, const Vec3& wo, double footprint = 0.0) const;
+  // `path`: the ray that found it (the Light Path node).
+  SurfacePoint surface_point(const Hit& hit, const Vec3& wo, double footprint = 0.0,
+                             const LightPath& path = kCameraPath) const;
   // The emitted radiance where `hit` is (its material's textured emission evaluated there).
-  Color emission(const Hit& hit, const Vec3& wo) const;
+  Color emission(const Hit& hit, const Vec3& wo, const LightPath& path = kCameraPath) const;
   // The same from what a hit point keeps.
   SurfacePoint surface_point(const SurfaceRecord& record) const;
   // Where node programs see `hit` (Blender's Geometry and Texture Coordinate nodes).
-  ShadingContext shading_context(const Hit& hit, const Vec3& wo, double footprint = 0.0) const;
+  ShadingContext shading_context(const Hit& hit, const Vec3& wo, double footprint = 0.0,
+                                 const LightPath& path = kCameraPath) const;
   // What node programs know of an object (Texture Coordinate's Object and Generated, Object Info);
   // objects never described are at the origin, unscaled, with generated = (object + 1) / 2.
   void set_object_info(uint32_t object, const ObjectInfo& info);

@@ -14,6 +14,7 @@ namespace ppm {
 namespace {
 
 constexpr float kInfinity = std::numeric_limits<float>::infinity();
+constexpr float kPiF = 3.14159265358979f;
 
 using nodes::MathOp;
 using nodes::MixBlend;
@@ -27,6 +28,26 @@ const ObjectInfo& object_of(const ShadingContext& c) {
   return c.object != nullptr ? *c.object : kNone;
 }
 
+// Light Path's outputs, as Cycles sets its path flags: a refraction is a glossy transmission.
+Vec3f light_path(CoordKind kind, const LightPath& p) {
+  auto flag = [](bool b) { return Vec3f(b ? 1.0f : 0.0f); };
+  switch (kind) {
+    case CoordKind::IsCameraRay: return flag(p.kind == kCameraRay);
+    case CoordKind::IsShadowRay: return flag(p.kind == kShadowRay);
+    case CoordKind::IsDiffuseRay: return flag(p.kind == kDiffuseRay);
+    case CoordKind::IsGlossyRay: return flag(p.kind == kGlossyRay || p.kind == kTransmissionRay);
+    case CoordKind::IsSingularRay: return flag(p.singular);
+    case CoordKind::IsReflectionRay: return flag(p.kind == kDiffuseRay || p.kind == kGlossyRay);
+    case CoordKind::IsTransmissionRay: return flag(p.kind == kTransmissionRay);
+    case CoordKind::RayLength: return Vec3f(p.length);
+    case CoordKind::RayDepth: return Vec3f(float(p.depth));
+    case CoordKind::DiffuseDepth: return Vec3f(float(p.diffuse));
+    case CoordKind::GlossyDepth: return Vec3f(float(p.glossy));
+    case CoordKind::TransmissionDepth: return Vec3f(float(p.transmission));
+    default: return Vec3f(0.0f);
+  }
+}
+
 Vec3f coordinate(CoordKind kind, const ShadingContext& c) {
   const ObjectInfo& o = object_of(c);
   switch (kind) {
@@ -38,8 +59,9 @@ Vec3f coordinate(CoordKind kind, const ShadingContext& c) {
       return nodes::safe_normalize(Vec3f(glm::transpose(glm::dmat3(o.object_to_world)) * c.normal));
     case CoordKind::Uv: return Vec3f(float(c.uv.x), float(c.uv.y), 0.0f);
     case CoordKind::Object: return point(o.world_to_object, c.position);
-    case CoordKind::Camera:
-    case CoordKind::Window: return Vec3f(c.position);  // without a camera here: see the exporter's warning
+    case CoordKind::Camera: return c.camera != nullptr ? Vec3f(c.camera->camera_space(c.position)) : Vec3f(c.position);
+    case CoordKind::Window:
+      return c.camera != nullptr ? Vec3f(c.camera->window_coordinates(c.position)) : Vec3f(0.0f);
     case CoordKind::Reflection: return Vec3f(2.0 * glm::dot(c.normal, c.incoming) * c.normal - c.incoming);
     case CoordKind::Position: return Vec3f(c.position);
     case CoordKind::ShadingNormal: return Vec3f(c.normal);
@@ -53,6 +75,7 @@ Vec3f coordinate(CoordKind kind, const ShadingContext& c) {
     case CoordKind::Attribute: return Vec3f(c.attribute);
     case CoordKind::AttributeAlpha: return Vec3f(c.attribute.w);
     case CoordKind::AttributeMean: return Vec3f((c.attribute.x + c.attribute.y + c.attribute.z) * (1.0f / 3.0f));
+    default: return light_path(kind, c.path);
   }
   return Vec3f(0.0f);
 }
@@ -187,14 +210,86 @@ Vec3f normal_map(const Vec3f* r, const NodeInstruction& ins, const ShadingContex
   return Vec3f(side * mapped_normal(color, ins.mode, r[ins.in[0]].x, ins.flags & 1, c, side * c.normal));
 }
 
-Vec3f image(const NodeInstruction& ins, const Vec3f* r, const std::vector<Texture>& textures, float& alpha) {
+// Blender's Sphere and Tube projections of a point in the unit box (Cycles' map_to_sphere/tube).
+Vec2 map_to_sphere(const Vec3f& co) {
+  const float l = glm::length(co);
+  if (!(l > 0.0f)) return Vec2(0.0);
+  const float u = (co.x == 0.0f && co.y == 0.0f) ? 0.0f : (1.0f - std::atan2(co.x, co.y) / kPiF) * 0.5f;
+  return Vec2(u, 1.0f - std::acos(std::clamp(co.z / l, -1.0f, 1.0f)) / kPiF);
+}
+
+Vec2 map_to_tube(const Vec3f& co) {
+  const float len = std::sqrt(co.x * co.x + co.y * co.y);
+  if (!(len > 0.0f)) return Vec2(0.0);
+  return Vec2((1.0f - std::atan2(co.x / len, co.y / len) / kPiF) * 0.5f, (co.z + 1.0f) * 0.5f);
+}
+
+// Box projection's weights of the three axis-aligned faces for object-space normal n, as Cycles
+// blends them: a face alone near its axis, two or three faces blended within `blend` of the edges.
+Vec3f box_weights(Vec3f n, float blend) {
+  n = glm::abs(n);
+  n /= (n.x + n.y + n.z);
+  const float limit = 0.5f * (1.0f + blend);
+  auto ramp = [&](float a, float b) { return std::clamp((a / (a + b) - 0.5f * (1.0f - blend)) / blend, 0.0f, 1.0f); };
+  if (n.x > limit * (n.x + n.y) && n.x > limit * (n.x + n.z)) return Vec3f(1, 0, 0);
+  if (n.y > limit * (n.x + n.y) && n.y > limit * (n.y + n.z)) return Vec3f(0, 1, 0);
+  if (n.z > limit * (n.x + n.z) && n.z > limit * (n.y + n.z)) return Vec3f(0, 0, 1);
+  if (!(blend > 0.0f)) return Vec3f(1, 0, 0);  // no face is valid: one side, as Cycles
+  if (n.z < (1.0f - limit) * (n.y + n.x)) {
+    const float w = ramp(n.x, n.y);
+    return Vec3f(w, 1.0f - w, 0.0f);
+  }
+  if (n.x < (1.0f - limit) * (n.y + n.z)) {
+    const float w = ramp(n.y, n.z);
+    return Vec3f(0.0f, w, 1.0f - w);
+  }
+  if (n.y < (1.0f - limit) * (n.x + n.z)) {
+    const float w = ramp(n.x, n.z);
+    return Vec3f(w, 0.0f, 1.0f - w);
+  }
+  return ((2.0f - limit) * n + (limit - 1.0f)) / (2.0f * limit - 1.0f);
+}
+
+glm::dvec4 image(const NodeInstruction& ins, const Vec3f* r, const std::vector<Texture>& textures) {
   const Texture& t = textures[ins.data];
-  const Vec3f uvw = r[ins.in[0]];
+  const Vec3f co = r[ins.in[0]];
   const auto interpolation = static_cast<TextureInterpolation>(ins.mode & 3);
   const auto extension = static_cast<TextureExtension>((ins.mode >> 2) & 3);
-  const glm::dvec4 c = t.sample(Vec2(uvw.x, uvw.y), interpolation, extension);
-  alpha = float(c.w);
-  return Vec3f(c);
+  auto at = [&](float u, float v) { return t.sample(Vec2(u, v), interpolation, extension); };
+  switch (ins.extra) {
+    case 1: {  // box: each face's image oriented so that none is mirrored, as Cycles maps them
+      const Vec3f n = r[ins.in[1]];
+      const Vec3f w = box_weights(n, r[ins.in[2]].x);
+      glm::dvec4 c(0.0);
+      if (w.x > 0.0f) c += double(w.x) * at(n.x < 0.0f ? 1.0f - co.y : co.y, co.z);
+      if (w.y > 0.0f) c += double(w.y) * at(n.y > 0.0f ? 1.0f - co.x : co.x, co.z);
+      if (w.z > 0.0f) c += double(w.z) * at(n.z > 0.0f ? 1.0f - co.y : co.y, co.x);
+      return c;
+    }
+    case 2: return t.sample(map_to_sphere((co - 0.5f) * 2.0f), interpolation, extension);
+    case 3: return t.sample(map_to_tube((co - 0.5f) * 2.0f), interpolation, extension);
+    default: return at(co.x, co.y);
+  }
+}
+
+// Blender's Vector Transform between world, object and camera space; a normal moves as a
+// direction and is normalised after, as Cycles does.
+Vec3f vector_transform(const NodeInstruction& ins, const Vec3f& v, const ShadingContext& c) {
+  const int from = ins.mode / 3, to = ins.mode % 3;
+  const bool direction = ins.flags != 0;
+  const ObjectInfo& o = object_of(c);
+  Vec3 p(v);
+  auto apply = [&](const Mat4& m) { p = Vec3(m * glm::dvec4(p, direction ? 0.0 : 1.0)); };
+  Mat4 world_to_camera(1.0), camera_to_world(1.0);
+  if (c.camera != nullptr) {
+    camera_to_world = c.camera->camera_to_world * glm::dmat4(1, 0, 0, 0, 0, 1, 0, 0, 0, 0, -1, 0, 0, 0, 0, 1);
+    world_to_camera = glm::inverse(camera_to_world);
+  }
+  if (from == 1 && to != 1) apply(o.object_to_world);
+  if (from == 2 && to != 2) apply(camera_to_world);
+  if (to == 1 && from != 1) apply(o.world_to_object);
+  if (to == 2 && from != 2) apply(world_to_camera);
+  return ins.flags == 2 ? nodes::safe_normalize(Vec3f(p)) : Vec3f(p);
 }
 
 }  // namespace
@@ -293,9 +388,9 @@ void NodeProgram::step(const NodeInstruction& ins, ShadingContext& at, const Sha
       r[out[0]] = nodes::vector_rotate(ins.mode, ins.flags & 1, r[in[0]], r[in[1]], r[in[2]], f(3), r[in[4]]);
       break;
     case NodeOp::Image: {
-      float alpha = 1.0f;
-      r[out[0]] = image(ins, r, textures, alpha);
-      r[out[1]] = Vec3f(alpha);
+      const glm::dvec4 c = image(ins, r, textures);
+      r[out[0]] = Vec3f(c);
+      r[out[1]] = Vec3f(float(c.w));
       break;
     }
     case NodeOp::Noise:
@@ -338,6 +433,7 @@ void NodeProgram::step(const NodeInstruction& ins, ShadingContext& at, const Sha
       r[out[0]] = Vec3f(float(uv.x), float(uv.y), 0.0f);
       break;
     }
+    case NodeOp::VectorTransform: r[out[0]] = vector_transform(ins, r[in[0]], at); break;
   }
 }
 
@@ -405,8 +501,10 @@ void NodeProgram::validate(size_t texture_count, const std::string& what) const 
     for (uint16_t reg : ins.out)
       if (reg >= registers || (reg >= 1 && reg <= constants.size()))
         fail(at + " writes register " + std::to_string(reg) + ", which is a constant or beyond the program's");
-    if (static_cast<int>(ins.op) > static_cast<int>(NodeOp::EnvironmentUv)) fail(at + " has an unknown operation");
-    if (ins.op == NodeOp::Coord && ins.mode > static_cast<uint8_t>(CoordKind::AttributeMean))
+    if (static_cast<int>(ins.op) > static_cast<int>(NodeOp::VectorTransform)) fail(at + " has an unknown operation");
+    if (ins.op == NodeOp::Image && ins.extra > 3) fail(at + " has an unknown projection");
+    if (ins.op == NodeOp::VectorTransform && (ins.mode > 8 || ins.flags > 2)) fail(at + " has an unknown space or type");
+    if (ins.op == NodeOp::Coord && ins.mode > static_cast<uint8_t>(CoordKind::TransmissionDepth))
       fail(at + " reads an unknown coordinate");
     if (ins.op == NodeOp::Image && ins.data >= texture_count) fail(at + " refers to a texture that does not exist");
     if (ins.op == NodeOp::Table && (ins.mode > 2 || size_t(ins.data) + (size_t(ins.extra) + 2) * 4 > data.size() ||
@@ -437,7 +535,8 @@ double bound_of(const NodeInstruction& ins, const std::vector<double>& b, const 
       const bool unit = kind == CoordKind::Normal || kind == CoordKind::ShadingNormal ||
                         kind == CoordKind::TrueNormal || kind == CoordKind::Incoming ||
                         kind == CoordKind::Backfacing || kind == CoordKind::ObjectRandom ||
-                        kind == CoordKind::Tangent || kind == CoordKind::Reflection;
+                        kind == CoordKind::Tangent || kind == CoordKind::Reflection ||
+                        (kind >= CoordKind::IsCameraRay && kind <= CoordKind::IsTransmissionRay);
       return unit ? 1.0 : inf;
     }
     case NodeOp::Convert: return in(0);

@@ -7,6 +7,8 @@
 #pragma once
 
 #include "math/types.h"
+#include "geometry/ray.h"
+#include "scene/camera.h"
 #include "scene/texture.h"
 
 #include <array>
@@ -26,6 +28,19 @@ struct ObjectInfo {
   float random = 0.0f, pass_index = 0.0f;
 };
 
+// What Blender's Light Path node reads at a shading point: the ray that arrived and the path's
+// scatterings before it. Camera paths know it as Cycles does; a photon arrives on a shadow ray
+// straight from its light (photons see what shadow rays see), later on the kind of its last
+// scattering, with a depth of 1 + its scatterings (the camera side of its path is not known yet).
+// A plain record (hit points keep one: no initialisers, see fill_vector.h).
+struct LightPath {
+  uint8_t kind;   // a RayKind; 0: a light's emission being sampled
+  bool singular;  // the last scattering was a mirror's or smooth glass's
+  uint8_t depth, diffuse, glossy, transmission;
+  float length;   // of the ray that arrived
+};
+inline constexpr LightPath kCameraPath{kCameraRay, false, 0, 0, 0, 0, 0.0f};
+
 // Where a program runs: the shading point as Blender's Geometry and Texture Coordinate nodes see
 // it. The bump offsets say how far a Bump node's height is looked at sideways (bump.h).
 struct ShadingContext {
@@ -38,9 +53,11 @@ struct ShadingContext {
   double tangent_sign = 1.0;
   Vec3 du_dp{0.0}, dv_dp{0.0};      // how the UV changes along the surface (triangles)
   const ObjectInfo* object = nullptr;
+  const Camera* camera = nullptr;   // the scene's (Camera and Window coordinates, Vector Transform)
   bool backfacing = false;
   double footprint = 0.0;           // world size of a pixel here, seen by a camera ray; 0: unknown
   glm::vec4 attribute{0.0f};        // the mesh attribute here (Attribute, Color Attribute nodes)
+  LightPath path = kCameraPath;
 };
 
 enum class NodeOp : uint8_t {
@@ -62,7 +79,8 @@ enum class NodeOp : uint8_t {
   HueSaturation,  // in hue, saturation, value, fac, colour
   Mapping,        // mode: 0 point, 1 texture, 2 vector, 3 normal; in vector, location, rotation, scale
   VectorRotate,   // mode: axis kind; flag 1 invert
-  Image,          // data: texture index; mode: ImageFlags; out[0] colour, out[1] alpha
+  Image,          // data: texture index; mode: interpolation | extension << 2; extra: projection (0 flat,
+                  // 1 box: in[1] the object-space normal, in[2] the blend; 2 sphere, 3 tube); out colour, alpha
   Noise,          // mode: NoiseKind; dims in `extra`; see textures/noise.h
   Voronoi,
   WhiteNoise,
@@ -77,6 +95,7 @@ enum class NodeOp : uint8_t {
   Bump,           // in strength, distance, height centre, dx, dy, normal, filter width; flag 1 invert
   NormalMap,      // mode: 0 tangent, 1 object, 2 world; in strength, colour; flag 1: normalise first (3.x)
   EnvironmentUv,  // Environment Texture: a direction -> the image's (u, v, 0); mode 0 equirectangular, 1 mirror ball
+  VectorTransform,  // mode: from * 3 + to (0 world, 1 object, 2 camera); flags: 0 point, 1 vector, 2 normal
 };
 
 enum class CoordKind : uint8_t {
@@ -85,6 +104,8 @@ enum class CoordKind : uint8_t {
   Tangent,                                                     // Tangent (the UV map's)
   ObjectLocation, ObjectRandom, ObjectIndex,                   // Object Info
   Attribute, AttributeAlpha, AttributeMean,                    // Attribute (colour, alpha, fac)
+  IsCameraRay, IsShadowRay, IsDiffuseRay, IsGlossyRay, IsSingularRay, IsReflectionRay,  // Light Path
+  IsTransmissionRay, RayLength, RayDepth, DiffuseDepth, GlossyDepth, TransmissionDepth,
 };
 
 struct NodeInstruction {

@@ -519,3 +519,22 @@ def test_an_image_on_an_emission_colour_textures_the_emission():
     params, warnings = describe(mat)
     assert warnings == [] and params["kind"] == "mixture" and params["emission_input"] == 0
     assert added(mat) == []
+
+
+def test_light_path_drives_a_mix_by_the_kind_of_ray_and_transparent_depth_warns():
+    # Glass to the camera, transparent to shadow rays (the artists' shadow trick): the factor is read per ray.
+    mat, tree, out = node_material("shadow trick")
+    glass, transparent = add(tree, "ShaderNodeBsdfGlass"), add(tree, "ShaderNodeBsdfTransparent")
+    mix, path = add(tree, "ShaderNodeMixShader"), tree.nodes.new("ShaderNodeLightPath")
+    tree.links.new(path.outputs["Is Shadow Ray"], mix.inputs["Fac"])
+    tree.links.new(glass.outputs[0], mix.inputs[1])
+    tree.links.new(transparent.outputs[0], mix.inputs[2])
+    tree.links.new(mix.outputs[0], out.inputs["Surface"])
+    params, warnings = describe(mat)
+    assert warnings == [] and params["kind"] == "mixture"
+    scene = ppm_core.Scene()
+    factor = {ray: scene.run_program(params["program"], np.zeros((1, 3)), ray=ray)[0, 0, 0]
+              for ray in ("camera", "shadow", "diffuse")}
+    assert factor == {"camera": 0.0, "shadow": 1.0, "diffuse": 0.0}
+    tree.links.new(path.outputs["Transparent Depth"], mix.inputs["Fac"])
+    assert any("Transparent Depth is not counted" in w for w in describe(mat)[1])

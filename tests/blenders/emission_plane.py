@@ -52,9 +52,9 @@ def emission_material(name, build):
     return mat
 
 
-def plane(material, extent):
+def plane(material, extent, normals=None):
     """Two triangles spanning [-extent/2, extent/2]^2 at z = 0 in object space, UVs 0..1, placed at
-    LOCATION, ROTATION, SCALE."""
+    LOCATION, ROTATION, SCALE. `normals`: the four corners' smooth normals (object space), if not +z."""
     h = extent / 2
     mesh = bpy.data.meshes.new("emission_plane")
     mesh.from_pydata([(-h, -h, 0.0), (h, -h, 0.0), (h, h, 0.0), (-h, h, 0.0)], [], [(0, 1, 2), (0, 2, 3)])
@@ -62,6 +62,12 @@ def plane(material, extent):
     corners = [mesh.vertices[loop.vertex_index].co for loop in mesh.loops]
     uv.data.foreach_set("uv", [c / extent + 0.5 for co in corners for c in co[:2]])
     mesh.materials.append(material)
+    if normals is not None:
+        for polygon in mesh.polygons:
+            polygon.use_smooth = True
+        if bpy.app.version < (4, 1, 0):
+            mesh.use_auto_smooth = True
+        mesh.normals_split_custom_set_from_vertices([tuple(n / np.linalg.norm(n)) for n in np.array(normals)])
     mesh.update()
     obj = bpy.data.objects.new("emission_plane", mesh)
     obj.location, obj.rotation_euler, obj.scale = LOCATION, ROTATION, (SCALE,) * 3
@@ -133,7 +139,19 @@ def read_exr(path):
     return pixels.reshape(height, width, 4)[::-1]
 
 
-def coordinates(obj, size, extent):
+def smooth_normals(u, v, normals):
+    """The corner normals interpolated over the plane's two triangles (0, 1, 2) and (0, 2, 3) at (u, v)
+    in 0..1, normalised, as Cycles interpolates a smooth mesh's normals."""
+    n = np.array(normals, dtype=np.float64)
+    n /= np.linalg.norm(n, axis=1, keepdims=True)
+    lower = (v <= u)[..., None]  # triangle (0, 1, 2): corners (0, 0), (1, 0), (1, 1)
+    first = (1 - u)[..., None] * n[0] + (u - v)[..., None] * n[1] + v[..., None] * n[2]
+    second = (1 - v)[..., None] * n[0] + u[..., None] * n[2] + (v - u)[..., None] * n[3]
+    out = np.where(lower, first, second)
+    return out / np.linalg.norm(out, axis=-1, keepdims=True)
+
+
+def coordinates(obj, size, extent, normals=None):
     """What Cycles sees at each pixel centre (row 0 at the top): object and world positions, UV,
     Generated, world normal, and the world matrix."""
     centres = (np.arange(size) + 0.5) / size  # 0..1 across the plane, left to right / bottom to top
@@ -143,16 +161,18 @@ def coordinates(obj, size, extent):
     world = local @ matrix[:3, :3].T + matrix[:3, 3]
     mesh = obj.data
     loc, half = np.array(mesh.texspace_location), np.array(mesh.texspace_size)
-    normal = np.linalg.inv(matrix[:3, :3]).T @ np.array([0.0, 0.0, 1.0])
+    local_normal = np.broadcast_to([0.0, 0.0, 1.0], local.shape) if normals is None else \
+        smooth_normals(u, v, normals)
+    normal = local_normal @ np.linalg.inv(matrix[:3, :3])  # (M^-T n) per row
     return {"P": world, "uv": np.stack([u, v], axis=-1), "generated": (local - (loc - half)) / (2 * half),
-            "object": local, "N": np.broadcast_to(normal / np.linalg.norm(normal), local.shape).copy(),
-            "matrix": matrix}
+            "object": local, "N": normal / np.linalg.norm(normal, axis=-1, keepdims=True), "matrix": matrix}
 
 
-def render_cycles(material, size=32, extent=2.0, samples=1):
-    """Renders the plane of `material` in the current scene (a fresh one); its rgb and coordinates."""
+def render_cycles(material, size=32, extent=2.0, samples=1, normals=None):
+    """Renders the plane of `material` in the current scene (a fresh one); its rgb and coordinates.
+    `normals`: the plane's corner normals (plane())."""
     scene = bpy.context.scene
-    obj = plane(material, extent)
+    obj = plane(material, extent, normals)
     top_down_camera(extent)
     black_world(scene)
     configure(scene, size, samples)
@@ -161,7 +181,7 @@ def render_cycles(material, size=32, extent=2.0, samples=1):
         scene.render.filepath = os.path.join(folder, "render.exr")
         bpy.ops.render.render(write_still=True)
         rgba = read_exr(scene.render.filepath)
-    return {"rgb": rgba[..., :3].astype(np.float64), **coordinates(obj, size, extent)}
+    return {"rgb": rgba[..., :3].astype(np.float64), **coordinates(obj, size, extent, normals)}
 
 
 def texture_coordinate(output):
@@ -177,7 +197,10 @@ CHECKS = {  # name -> (the socket to show, the returned array it must equal)
     "object": (texture_coordinate("Object"), lambda out: out["object"]),
     "uv": (texture_coordinate("UV"), lambda out: np.concatenate([out["uv"], 0 * out["uv"][..., :1]], axis=-1)),
     "position": (position, lambda out: out["P"]),
+    "smooth_normal": (texture_coordinate("Normal"), lambda out: out["N"] @ out["matrix"][:3, :3]
+                      / np.linalg.norm(out["N"] @ out["matrix"][:3, :3], axis=-1, keepdims=True)),
 }
+CORNER_NORMALS = ((1.0, 0.2, 0.3), (-0.3, 1.0, 0.2), (0.2, -0.4, 1.0), (-1.0, -0.5, 0.4))  # all three axes lead
 
 
 def self_check(size=32):
@@ -185,7 +208,8 @@ def self_check(size=32):
     worst = {}
     for name, (build, expected) in CHECKS.items():
         bpy.ops.wm.read_factory_settings(use_empty=True)
-        out = render_cycles(emission_material(name, build), size=size)
+        out = render_cycles(emission_material(name, build), size=size,
+                            normals=CORNER_NORMALS if name == "smooth_normal" else None)
         worst[name] = float(np.abs(out["rgb"] - expected(out)).max())
         print(f"emission_plane: Blender {bpy.app.version_string} {name}: max abs difference {worst[name]:.3g}"
               f" (values {expected(out).min():.3f}..{expected(out).max():.3f})", flush=True)

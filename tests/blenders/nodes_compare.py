@@ -205,21 +205,31 @@ def mapped_noise(tree, nodes):
     return n.outputs["Color"]
 
 
-def image_texture(interpolation, extension):
+def image_texture(interpolation, extension, projection="FLAT", blend=0.0, vector="UV"):
     def build(tree, nodes):
         image = bpy.data.images.get("checks") or bpy.data.images.new("checks", 8, 8, alpha=True)
         pixels = np.random.default_rng(3).random((8, 8, 4)).astype(np.float32)
         pixels[..., 3] = 1.0
         image.pixels.foreach_set(pixels.ravel())
-        n = node(nodes, "ShaderNodeTexImage", interpolation=interpolation, extension=extension)
+        n = node(nodes, "ShaderNodeTexImage", interpolation=interpolation, extension=extension,
+                 projection=projection, projection_blend=blend)
         n.image = image
         m = node(nodes, "ShaderNodeMapping", vector_type="POINT")
         m.inputs["Scale"].default_value = (1.7, 1.3, 1.0)
         m.inputs["Location"].default_value = (-0.35, -0.1, 0.0)
-        tree.links.new(coordinate("UV")(tree, nodes), m.inputs["Vector"])
+        tree.links.new(coordinate(vector)(tree, nodes), m.inputs["Vector"])
         tree.links.new(m.outputs[0], n.inputs["Vector"])
         return n.outputs["Color"]
     return build
+
+
+def vector_transform(source, convert_from, convert_to, vector_type):
+    return through("ShaderNodeVectorTransform", "Vector", source, convert_from=convert_from,
+                   convert_to=convert_to, vector_type=vector_type)
+
+
+def geometry(output):
+    return lambda tree, nodes: nodes.new("ShaderNodeNewGeometry").outputs[output]
 
 
 # name -> (build, tolerance, available in this Blender)
@@ -347,7 +357,21 @@ CASES = {
     "normal_map_tangent_full": (normal_map_of_noise("TANGENT", 1.0), 1e-4, True),
     "normal_map_object": (normal_map_of_noise("OBJECT", 1.0), 1e-4, True),
     "normal_map_world": (normal_map_of_noise("WORLD", 0.7), 1e-4, True),
+    "texcoord_camera": (coordinate("Camera"), 1e-5, True),
+    "texcoord_window": (coordinate("Window"), 1e-5, True),
+    "vector_transform_object_camera_point": (vector_transform(coordinate("Object"), "OBJECT", "CAMERA", "POINT"),
+                                             1e-5, True),
+    "vector_transform_camera_world_vector": (vector_transform(texture("ShaderNodeTexNoise", "Color"), "CAMERA",
+                                                              "WORLD", "VECTOR"), 1e-5, True),
+    "vector_transform_world_object_normal": (vector_transform(geometry("Normal"), "WORLD", "OBJECT", "NORMAL"),
+                                             1e-4, True),
+    "image_box": (image_texture("Linear", "REPEAT", "BOX", 0.0, "Object"), 1e-4, True),
+    "image_box_blend": (image_texture("Linear", "REPEAT", "BOX", 0.4, "Object"), 1e-4, True),
+    "image_sphere": (image_texture("Linear", "REPEAT", "SPHERE", vector="Generated"), 1e-4, True),
+    "image_tube": (image_texture("Closest", "EXTEND", "TUBE", vector="Object"), 1e-4, True),
 }
+# Cases shown on a plane whose smooth normals vary (emission_plane.CORNER_NORMALS).
+CURVED = {"vector_transform_world_object_normal", "image_box", "image_box_blend"}
 
 
 def ppm_values(material, out, package):
@@ -367,6 +391,8 @@ def ppm_values(material, out, package):
     random = importlib.import_module(package + ".export.object_info").random_of_name(obj.name)
     scene.set_object_info(0, out["matrix"], tuple(obj.data.texspace_location), tuple(obj.data.texspace_size),
                           random=random)
+    camera = importlib.import_module(package + ".export.camera")
+    scene.set_camera(**camera.camera_arguments(bpy.context.scene.camera, camera.Frame(SIZE, SIZE), warnings.append))
     normals = out["N"].reshape(-1, 3)
     u_axis = out["matrix"][:3, 0] / np.linalg.norm(out["matrix"][:3, 0])  # U runs along object x
     tangents = np.tile([*u_axis, 1.0], (len(normals), 1))
@@ -389,7 +415,8 @@ def compare(name, package="ppm_render"):
         return None
     bpy.ops.wm.read_factory_settings(use_empty=True)
     material = emission_plane.emission_material(name, build)
-    out = emission_plane.render_cycles(material, size=SIZE)
+    out = emission_plane.render_cycles(material, size=SIZE,
+                                       normals=emission_plane.CORNER_NORMALS if name in CURVED else None)
     ours, warnings = ppm_values(material, out, package)
     difference = np.abs(ours - out["rgb"])
     p99 = float(np.quantile(difference, 0.99))

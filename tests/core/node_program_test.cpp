@@ -10,11 +10,13 @@
 #include "shading/textures/patterns.h"
 #include "shading/textures/voronoi.h"
 
+#include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 namespace {
@@ -230,3 +232,94 @@ TEST(Program, OutputBoundsFollowTheOperations) {
 }
 
 }  // namespace
+
+namespace {
+
+// A program of one instruction reading coordinate `kind` (and an optional second instruction).
+Vec3f run_one(const NodeProgram& p, const ShadingContext& c) {
+  Vec3f out[1];
+  p.run(c, {}, out);
+  return out[0];
+}
+
+NodeProgram coordinate_program(CoordKind kind) {
+  NodeProgram p;
+  NodeInstruction coord;
+  coord.op = NodeOp::Coord;
+  coord.mode = static_cast<uint8_t>(kind);
+  coord.out[0] = 1;
+  p.code.push_back(coord);
+  p.outputs = {1};
+  p.registers = 2;
+  return p;
+}
+
+}  // namespace
+
+TEST(CameraCoordinates, WindowIsWhereTheCameraRayThroughAPixelLandsOnTheFullFrame) {
+  Camera cam;
+  cam.camera_to_world = glm::rotate(Mat4(1.0), 0.4, Vec3(0.3, 1.0, 0.2));
+  cam.camera_to_world[3] = glm::dvec4(1.0, -2.0, 3.0, 1.0);
+  cam.width = 64;  // a border window 64 x 40 at (100, 30) of a 320 x 200 frame
+  cam.height = 40;
+  cam.frame_x = 100;
+  cam.frame_y = 30;
+  cam.frame_width = 320;
+  cam.frame_height = 200;
+  cam.shift_x = 0.3;
+  cam.shift_y = -0.1;
+  for (const Projection projection : {Projection::Perspective, Projection::Orthographic}) {
+    cam.projection = projection;
+    const NodeProgram window = coordinate_program(CoordKind::Window), camera = coordinate_program(CoordKind::Camera);
+    ShadingContext c;
+    c.camera = &cam;
+    for (const auto& [px, py] : {std::pair{0.5, 0.5}, {63.5, 12.25}, {20.0, 39.0}}) {
+      const Ray ray = cam.generate_ray(px, py);
+      c.position = ray.origin + 7.5 * ray.direction;
+      const Vec3f w = run_one(window, c);
+      EXPECT_NEAR(w.x, (px + 100.0) / 320.0, 1e-5);
+      EXPECT_NEAR(w.y, (py + 30.0) / 200.0, 1e-5);
+      EXPECT_EQ(w.z, 0.0f);
+      // Camera space looks along +z: the depth of the point in front of the camera.
+      EXPECT_NEAR(run_one(camera, c).z, cam.depth_of(c.position), 1e-4);
+    }
+  }
+}
+
+TEST(VectorTransform, GoesToEverySpaceAndBack) {
+  Camera cam;
+  cam.camera_to_world = glm::rotate(Mat4(1.0), 1.1, Vec3(1.0, 0.2, -0.4));
+  cam.camera_to_world[3] = glm::dvec4(-3.0, 0.5, 2.0, 1.0);
+  ObjectInfo object;
+  object.object_to_world = glm::scale(glm::rotate(Mat4(1.0), -0.7, Vec3(0.0, 1.0, 1.0)), Vec3(2.0, 0.5, 1.5));
+  object.object_to_world[3] = glm::dvec4(4.0, 1.0, -2.0, 1.0);
+  object.world_to_object = glm::inverse(object.object_to_world);
+  ShadingContext c;
+  c.camera = &cam;
+  c.object = &object;
+  for (uint8_t type = 0; type < 2; ++type) {  // point, vector
+    for (int from = 0; from < 3; ++from) {
+      for (int to = 0; to < 3; ++to) {
+        NodeProgram p;
+        p.constants = {Vec3f(0.3f, -1.2f, 2.5f)};
+        NodeInstruction there, back;
+        there.op = back.op = NodeOp::VectorTransform;
+        there.flags = back.flags = type;
+        there.mode = static_cast<uint8_t>(from * 3 + to);
+        back.mode = static_cast<uint8_t>(to * 3 + from);
+        there.in[0] = 1;
+        there.out[0] = 2;
+        back.in[0] = 2;
+        back.out[0] = 3;
+        p.code = {there, back};
+        p.outputs = {3, 2};
+        p.registers = 4;
+        Vec3f out[2];
+        p.run(c, {}, out);
+        for (int k = 0; k < 3; ++k) EXPECT_NEAR(out[0][k], p.constants[0][k], 1e-4) << from << to << int(type);
+        if (from == 0 && to == 2 && type == 0)  // world -> camera is Texture Coordinate's Camera
+          for (int k = 0; k < 3; ++k) EXPECT_NEAR(out[1][k], cam.camera_space(Vec3(p.constants[0]))[k], 1e-4);
+      }
+    }
+  }
+}

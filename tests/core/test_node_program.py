@@ -117,6 +117,51 @@ def test_a_programs_emission_lights_as_its_mean():
     assert textured == pytest.approx(floor_light(None, 1.0), rel=0.05)
 
 
+LIGHT_PATH = ("is_camera_ray", "is_shadow_ray", "is_diffuse_ray", "is_glossy_ray", "is_reflection_ray",
+              "is_transmission_ray", "ray_depth")
+
+
+@pytest.mark.parametrize("ray, expected", [
+    ("camera", (1, 0, 0, 0, 0, 0, 0)), ("diffuse", (0, 0, 1, 0, 1, 0, 1)), ("glossy", (0, 0, 0, 1, 1, 0, 1)),
+    ("transmission", (0, 0, 0, 1, 0, 1, 1)), ("shadow", (0, 1, 0, 0, 0, 0, 1)), ("emission", (0,) * 7)])
+def test_light_path_outputs_follow_cycles_flags_for_each_kind_of_ray(ray, expected):
+    # Cycles: a refraction is a glossy transmission; diffuse and glossy bounces are reflections.
+    program = {"code": [op("coord", name, out=[i + 1]) for i, name in enumerate(LIGHT_PATH)],
+               "outputs": list(range(1, 8)), "registers": 8}
+    out = ppm_core.Scene().run_program(program, np.zeros((1, 3)), ray=ray)
+    assert tuple(out[0, :, 0]) == expected
+
+
+def test_an_emitter_hidden_from_camera_rays_by_light_path_still_lights_the_floor():
+    # The artists' trick: emission times (1 - Is Camera Ray). The camera sees black where the lamp is,
+    # its photons (emission sampled at the light) light the floor as a plain lamp does.
+    def render(program):
+        scene = ppm_core.Scene()
+        lamp = scene.add_material("lamp", "emission", base_color=(0, 0, 0), emission=(1.0,) * 3, program=program,
+                                  emission_input=0 if program else -1)
+        floor = scene.add_material("floor", base_color=(0.5, 0.5, 0.5))
+        quad = np.array([[-0.5, -0.5, 1.0], [0.5, -0.5, 1.0], [0.5, 0.5, 1.0], [-0.5, 0.5, 1.0]])
+        scene.add_mesh("lamp", quad, np.array([[0, 2, 1], [0, 3, 2]]), materials=lamp, object_id=1)
+        ground = np.array([[-4, -4, 0], [4, -4, 0], [4, 4, 0], [-4, 4, 0]], dtype=float)
+        scene.add_mesh("floor", ground, np.array([[0, 1, 2], [0, 2, 3]]), materials=floor, object_id=2)
+        camera = np.eye(4)
+        camera[2, 3] = 3.0
+        scene.set_camera(camera, 24, 24, projection="orthographic", ortho_scale=4.0)
+        renderer = ppm_core.Renderer(scene, photons_per_pass=50_000, threads=2, seed=4)
+        renderer.run(passes=6)
+        image = renderer.image()[..., :3].mean(axis=2)
+        around = np.ones(image.shape, bool)
+        around[6:18, 6:18] = False
+        return image[10:14, 10:14].mean(), image[around].mean()
+
+    hidden_lamp, hidden_floor = render({"constants": [(1.0,) * 3], "code": [
+        op("coord", "is_camera_ray", out=[2]), op("math", "subtract", ins=[1, 2, 1], out=[3])],
+        "outputs": [3], "registers": 4})
+    plain_lamp, plain_floor = render(None)
+    assert plain_lamp == pytest.approx(1.0, abs=0.01) and hidden_lamp < 0.01
+    assert hidden_floor == pytest.approx(plain_floor, rel=0.05) and plain_floor > 0.01
+
+
 def test_a_bumped_normal_changes_how_a_grazing_sun_lights_the_surface():
     # Height = 0.3 x: the normal tilts towards -x, away from a sun in the +x sky.
     def lit(distance):

@@ -160,6 +160,7 @@ def camera_arguments(camera_object, frame, warn, dof_mode="OFF", view=None):
         "clip_end": float(cam.clip_end),
         "focus_distance": max(focus_distance(cam, matrix_world), 1e-6),
         "aperture_radius": aperture_radius(cam) if dof_mode != "OFF" else 0.0,
+        "frame": (frame.x, frame.y, frame.width, frame.height),  # Window coordinates span the full frame
     }
     if cam.type == "ORTHO":
         args.update(projection="orthographic", ortho_scale=window_extent)

@@ -217,6 +217,11 @@ class ProgramCompiler:
         self.outputs.append(value.reg)
         return len(self.outputs) - 1
 
+    def reads_light_path(self):
+        """Whether the program so far reads a Light Path output."""
+        first = self.mode("coord", "is_camera_ray")
+        return any(i["op"] == "coord" and i["mode"] >= first for i in self.code)
+
     def coordinate(self, name):
         return self.emit("coord", [], kinds=("vector",), mode=self.mode("coord", name), pure=False)[0]
 
@@ -249,12 +254,8 @@ def _input(node, name):
 def _texture_coordinate(c, node, ctx):
     if getattr(node, "object", None) is not None:
         c.reader.warn(node, "coordinates of another object are not supported; using this object's")
-    out = {name: c.coordinate(name) for name in ("Generated", "Normal", "UV", "Object", "Reflection")}
-    for name in ("Camera", "Window"):
-        if node.outputs[name].links:
-            c.reader.warn(node, f"its {name} output is not supported yet; using the position")
-        out[name] = c.coordinate("position")
-    return out
+    return {name: c.coordinate(name) for name in ("Generated", "Normal", "UV", "Object", "Camera", "Window",
+                                                   "Reflection")}
 
 
 def _geometry(c, node, ctx):
@@ -266,6 +267,23 @@ def _geometry(c, node, ctx):
         if node.outputs[name].links:
             c.reader.warn(node, f"its {name} output is not supported; using {value}")
         out[name] = c.constant(value)
+    return out
+
+
+LIGHT_PATH_FLAGS = ("Is Camera Ray", "Is Shadow Ray", "Is Diffuse Ray", "Is Glossy Ray", "Is Singular Ray",
+                    "Is Reflection Ray", "Is Transmission Ray")
+LIGHT_PATH_NUMBERS = ("Ray Length", "Ray Depth", "Diffuse Depth", "Glossy Depth", "Transmission Depth")
+
+
+def _light_path(c, node, ctx):
+    """The ray that reached the point, as the core knows it (LightPath in node_program.h): camera paths
+    as in Cycles; photons arrive on a shadow ray from their light, then on their last scattering's kind."""
+    out = {name: Value(c.coordinate(name.replace(" ", "_")).reg, "float", True)
+           for name in LIGHT_PATH_FLAGS + LIGHT_PATH_NUMBERS}
+    out["Is Volume Scatter Ray"] = c.constant(0.0)  # no volumes
+    if node.outputs["Transparent Depth"].links:
+        c.reader.warn(node, "its Transparent Depth is not counted; using 0")
+    out["Transparent Depth"] = c.constant(0.0)
     return out
 
 
@@ -344,8 +362,6 @@ def _image(c, node, ctx):
     image = node.image
     if image is None:
         return {"Color": c.constant((0.0, 0.0, 0.0)), "Alpha": c.constant(0.0)}
-    if node.projection != "FLAT":
-        c.reader.warn(node, f"{node.projection.lower()} projection is not supported yet; using flat")
     try:
         index = c.texture(image, _premultiplied(node))
     except ValueError as error:
@@ -353,9 +369,13 @@ def _image(c, node, ctx):
     interpolation = {"Linear": 0, "Closest": 1, "Cubic": 2, "Smart": 2}.get(node.interpolation, 0)
     extension = {"REPEAT": 0, "EXTEND": 1, "CLIP": 2, "MIRROR": 3}.get(node.extension, 0)
     vector = c.vector_or(node, ctx, "uv")
-    color, alpha = c.emit("image", [vector], outs=2, kinds=("color", "float"), mode=interpolation | extension << 2,
-                          data=index, pure=False)
-    plain = (interpolation, extension) == (0, 0) and c.is_coordinate(vector, "uv")
+    projection = ["FLAT", "BOX", "SPHERE", "TUBE"].index(node.projection)
+    ins = [vector]
+    if node.projection == "BOX":  # faces weighted by the object-space normal (Texture Coordinate's Normal)
+        ins += [c.coordinate("normal"), c.constant(float(node.projection_blend))]
+    color, alpha = c.emit("image", ins, outs=2, kinds=("color", "float"), mode=interpolation | extension << 2,
+                          extra=projection, data=index, pure=False)
+    plain = (interpolation, extension, projection) == (0, 0, 0) and c.is_coordinate(vector, "uv")
     c.simple_images[color.reg] = index if plain else None
     return {"Color": color, "Alpha": alpha}
 
@@ -665,6 +685,14 @@ def _vector_rotate(c, node, ctx):
     return {"Vector": c.emit("vector_rotate", ins, kinds=("vector",), mode=mode, flags=int(node.invert))[0]}
 
 
+def _vector_transform(c, node, ctx):
+    spaces = ["WORLD", "OBJECT", "CAMERA"]
+    mode = spaces.index(node.convert_from) * 3 + spaces.index(node.convert_to)
+    kind = ["POINT", "VECTOR", "NORMAL"].index(node.vector_type)
+    vector = c.input(node, "Vector", ctx, "vector")
+    return {"Vector": c.emit("vector_transform", [vector], kinds=("vector",), mode=mode, flags=kind, pure=False)[0]}
+
+
 def _bump(c, node, ctx):
     """The height at the shading point, then beside it along two directions, as Cycles evaluates it."""
     normal = _normal_input(c, node, ctx)
@@ -742,6 +770,7 @@ NODES = {
     "ShaderNodeTexCoord": _texture_coordinate,
     "ShaderNodeNewGeometry": _geometry,
     "ShaderNodeUVMap": _uv_map,
+    "ShaderNodeLightPath": _light_path,
     "ShaderNodeObjectInfo": _object_info,
     "ShaderNodeAttribute": _attribute,
     "ShaderNodeVertexColor": _color_attribute,
@@ -786,6 +815,7 @@ NODES = {
     "ShaderNodeRGBToBW": _rgb_to_bw,
     "ShaderNodeMapping": _mapping,
     "ShaderNodeVectorRotate": _vector_rotate,
+    "ShaderNodeVectorTransform": _vector_transform,
     "ShaderNodeBump": _bump,
     "ShaderNodeNormalMap": _normal_map,
 }

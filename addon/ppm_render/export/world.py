@@ -104,6 +104,9 @@ class WorldExporter:
             rgb = np.asarray(program.constant_value(color), dtype=float) * float(program.constant_value(strength))
             self.scene.set_background(tuple(float(c) for c in np.broadcast_to(rgb, 3)), **self.reach())
             return
+        if program.reads_light_path():
+            reader.warn(node, "its Light Path outputs are read as a camera ray reads them, for lighting too "
+                              "(the world is baked once)")
         indices = [program.add_output(color), program.add_output(strength)]
         directions = bake_directions(BAKE_WIDTH, BAKE_HEIGHT)
         # For the world Generated and Object are the direction: a texture space of [0, 1], unmoved.
