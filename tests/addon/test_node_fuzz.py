@@ -18,9 +18,9 @@ from ppm_render.export import node_program
 
 # The node types this Blender has, of those the compiler reads (older ones such as Separate HSV are
 # gone from 4.x) and some it does not.
-NODE_TYPES = [t for t in sorted(node_program.NODES) + ["ShaderNodeAttribute", "ShaderNodeVertexColor",
-                                                      "ShaderNodeBlackbody", "ShaderNodeRGBCurve",
-                                                      "ShaderNodeFloatCurve"] if hasattr(bpy.types, t)]
+NODE_TYPES = [t for t in sorted(set(node_program.NODES) | {"ShaderNodeAttribute", "ShaderNodeVertexColor",
+                                                          "ShaderNodeWavelength", "ShaderNodeRGBCurve",
+                                                          "ShaderNodeFloatCurve"}) if hasattr(bpy.types, t)]
 VALUES = (0.0, 0.5, 1.0, -1.0, 2.5, 1e-30, 1e30, -1e30, math.inf, -math.inf, math.nan, 15.0, 100.0)
 SOCKETS = ("Base Color", "Roughness", "Metallic", "Normal", "Alpha", "Emission Color", "Coat Weight")
 

@@ -223,6 +223,14 @@ def image_texture(interpolation, extension, projection="FLAT", blend=0.0, vector
     return build
 
 
+def value_node(number):
+    def build(tree, nodes):
+        n = nodes.new("ShaderNodeValue")
+        n.outputs[0].default_value = number
+        return n.outputs[0]
+    return build
+
+
 def vector_transform(source, convert_from, convert_to, vector_type):
     return through("ShaderNodeVectorTransform", "Vector", source, convert_from=convert_from,
                    convert_to=convert_to, vector_type=vector_type)
@@ -369,6 +377,8 @@ CASES = {
     "image_box_blend": (image_texture("Linear", "REPEAT", "BOX", 0.4, "Object"), 1e-4, True),
     "image_sphere": (image_texture("Linear", "REPEAT", "SPHERE", vector="Generated"), 1e-4, True),
     "image_tube": (image_texture("Closest", "EXTEND", "TUBE", vector="Object"), 1e-4, True),
+    "blackbody_folded": (through("ShaderNodeBlackbody", "Temperature",
+                                 math_of("MULTIPLY", a=value_node(1.7), b=2000.0)), 1e-4, True),
 }
 # Cases shown on a plane whose smooth normals vary (emission_plane.CORNER_NORMALS).
 CURVED = {"vector_transform_world_object_normal", "image_box", "image_box_blend"}

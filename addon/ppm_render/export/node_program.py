@@ -685,6 +685,15 @@ def _vector_rotate(c, node, ctx):
     return {"Vector": c.emit("vector_rotate", ins, kinds=("vector",), mode=mode, flags=int(node.invert))[0]}
 
 
+def _blackbody(c, node, ctx):
+    """Cycles' Blackbody colour (export/blackbody.py) for a Temperature the network holds constant."""
+    from .blackbody import blackbody_rgb
+    temperature = c.input(node, "Temperature", ctx, "float")
+    if temperature.varying:
+        raise Unsupported(f"'{node.name}' (Blackbody) with a varying Temperature is not supported yet")
+    return {"Color": c.constant(blackbody_rgb(c.constant_value(temperature)))}
+
+
 def _vector_transform(c, node, ctx):
     spaces = ["WORLD", "OBJECT", "CAMERA"]
     mode = spaces.index(node.convert_from) * 3 + spaces.index(node.convert_to)
@@ -816,6 +825,7 @@ NODES = {
     "ShaderNodeMapping": _mapping,
     "ShaderNodeVectorRotate": _vector_rotate,
     "ShaderNodeVectorTransform": _vector_transform,
+    "ShaderNodeBlackbody": _blackbody,
     "ShaderNodeBump": _bump,
     "ShaderNodeNormalMap": _normal_map,
 }
