@@ -69,6 +69,10 @@ struct EyeTracer {
       return;
     }
     see_suns(v.ray, v.depth, v.throughput, emitted);
+    if (v.ray.kind == kCameraRay && scene.camera_background() != nullptr) {
+      emitted += v.throughput * scene.camera_background()->radiance(v.ray.direction);
+      return;
+    }
     if (background != nullptr && (background->visibility & v.ray.kind) && reaches(*background, v.depth))
       emitted += v.throughput * background_radiance(*background, v.ray.direction);
   }

@@ -762,6 +762,15 @@ void bind_scene(py::module_& m) {
           "from add_texture (linear radiance), looked up in the direction world_to_texture (a 4x4 "
           "rotation, the Mapping node's) gives, as Cycles maps 'equirectangular' or 'mirror_ball' "
           "images; times strength (RGB). Replaces set_background; visibility and max_bounces as there.")
+      .def(
+          "set_camera_background",
+          [](Scene& s, uint32_t texture, const py::object& strength) {
+            s.set_camera_background(texture, color(strength, "camera background", "strength"));
+          },
+          py::arg("texture"), py::arg("strength") = py::make_tuple(1.0, 1.0, 1.0),
+          "What camera rays see where they leave the scene instead of the background (a world whose Light "
+          "Path tells camera rays apart): an equirectangular image (add_texture's index) times strength; it "
+          "lights nothing. set_background and set_environment clear it.")
       .def("build", &Scene::build, "Builds the BVH (done automatically by Renderer and intersect).")
       .def("camera_rays", &camera_rays,
            "The camera's primary rays through the pixel centres, bottom row first: (origins, directions), "

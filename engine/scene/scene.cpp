@@ -401,6 +401,7 @@ void Scene::set_background(const Color& radiance, uint8_t visibility, int max_bo
   check_max_bounces(max_bounces, "background");
   background_ = radiance;
   environment_input_.reset();
+  camera_environment_input_.reset();
   background_visibility_ = visibility;
   background_max_bounces_ = max_bounces;
   invalidate();
@@ -422,9 +423,20 @@ void Scene::set_environment(uint32_t texture, const Mat4& world_to_texture, cons
     }
   if (!(glm::determinant(rotation) > 0.0)) fail(what, "world_to_texture must be a rotation, not a reflection");
   environment_input_ = std::make_unique<EnvironmentInput>(EnvironmentInput{texture, rotation, strength, projection});
+  camera_environment_input_.reset();
   background_ = Color(0.0);
   background_visibility_ = visibility;
   background_max_bounces_ = max_bounces;
+  invalidate();
+}
+
+void Scene::set_camera_background(uint32_t texture, const Color& strength) {
+  ensure_mutable();
+  const std::string what = "camera background";
+  if (texture >= textures_.size()) fail(what, "texture index out of range");
+  check_power(strength, what, "strength");
+  camera_environment_input_ = std::make_unique<EnvironmentInput>(
+      EnvironmentInput{texture, Mat3(1.0), strength, EnvironmentProjection::Equirectangular});
   invalidate();
 }
 
@@ -480,6 +492,10 @@ void Scene::build() {
     const EnvironmentInput& e = *environment_input_;
     environment_ = std::make_unique<Environment>(&textures_[e.texture], e.world_to_texture, e.strength, e.projection);
   }
+  camera_environment_.reset();
+  if (const EnvironmentInput* e = camera_environment_input_.get())
+    camera_environment_ = std::make_unique<Environment>(&textures_[e->texture], e->world_to_texture, e->strength,
+                                                        e->projection);
   if (max_component(background_) > 0.0 || environment_) {
     Light l;
     l.kind = LightKind::Background;

@@ -102,6 +102,11 @@ class Scene {
   void set_background(const Color& radiance, uint8_t visibility = kAllRayKinds, int max_bounces = 1024);
   void set_environment(uint32_t texture, const Mat4& world_to_texture, const Color& strength,
                        EnvironmentProjection projection, uint8_t visibility = kAllRayKinds, int max_bounces = 1024);
+  // What camera rays see where they leave the scene, in place of the background (a world whose
+  // Light Path tells camera rays apart): an equirectangular image times `strength`, lighting
+  // nothing. set_background and set_environment clear it.
+  void set_camera_background(uint32_t texture, const Color& strength);
+  const Environment* camera_background() const { return camera_environment_.get(); }
 
   // Renderers read a scene from their own threads without locks, so while one
   // holds a Lease on it the builders refuse to change it (std::runtime_error).
@@ -242,6 +247,8 @@ class Scene {
   };
   std::unique_ptr<EnvironmentInput> environment_input_;  // null: the constant background_
   std::unique_ptr<Environment> environment_;             // built from it
+  std::unique_ptr<EnvironmentInput> camera_environment_input_;
+  std::unique_ptr<Environment> camera_environment_;
   uint8_t background_visibility_ = kAllRayKinds;
   int background_max_bounces_ = 1024;
   Camera camera_;

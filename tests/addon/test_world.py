@@ -118,3 +118,33 @@ def test_a_gradient_sky_lights_the_scene_from_above():
     renderer = ppm_core.Renderer(scene, photons_per_pass=2000, threads=2, seed=1)
     renderer.run(passes=8)
     assert renderer.image()[..., :3].mean() == pytest.approx(2.0 / 3.0, rel=0.03)
+
+
+def test_a_world_that_tells_camera_rays_apart_shows_one_colour_and_lights_with_the_other():
+    # The artists' backdrop: Mix(bright white, dark blue, Is Camera Ray). The camera sees blue where
+    # nothing is in front, a white floor is lit by the white sky (irradiance pi: radiance 1).
+    world = bpy.data.worlds.new("backdrop")
+    if world.node_tree is None or bpy.app.version < (5, 0, 0):
+        world.use_nodes = True
+    nodes, links = world.node_tree.nodes, world.node_tree.links
+    background = next(n for n in nodes if n.bl_idname == "ShaderNodeBackground")
+    path, mix = nodes.new("ShaderNodeLightPath"), nodes.new("ShaderNodeMixRGB")
+    mix.inputs["Color1"].default_value = (1.0, 1.0, 1.0, 1.0)
+    mix.inputs["Color2"].default_value = (0.0, 0.0, 0.2, 1.0)
+    links.new(path.outputs["Is Camera Ray"], mix.inputs["Fac"])
+    links.new(mix.outputs[0], background.inputs["Color"])
+    scene = ppm_core.Scene()
+    warnings = []
+    world_export.add_world(scene, world, warnings.append)
+    assert warnings == []
+    scene.add_material("white", base_color=(1.0, 1.0, 1.0))
+    corners = np.array([[-1, -1, 0], [1, -1, 0], [1, 1, 0], [-1, 1, 0]], dtype=float)
+    scene.add_mesh("floor", corners, np.array([[0, 1, 2], [0, 2, 3]]))
+    camera = np.eye(4)
+    camera[2, 3] = 2.0
+    scene.set_camera(camera, 16, 16, projection="orthographic", ortho_scale=4.0)  # the floor fills the middle
+    renderer = ppm_core.Renderer(scene, photons_per_pass=4000, threads=2, seed=1)
+    renderer.run(passes=8)
+    image = renderer.image()[..., :3]
+    np.testing.assert_allclose(image[0, 0], (0.0, 0.0, 0.2), atol=1e-3)  # the backdrop, as camera rays see it
+    assert image[6:10, 6:10].mean() == pytest.approx(1.0, rel=0.03)  # lit by the white sky only

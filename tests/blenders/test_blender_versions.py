@@ -89,7 +89,7 @@ def test_zip_installs_renders_and_agrees_with_cycles(version, addon_zip, tmp_pat
     visibility = {row["case"]: row["max_block_error"] for row in report["visibility"]}
     assert len(visibility) == 7 and all(error <= TOLERANCE for error in visibility.values()), visibility
     worlds = {row["case"]: row["max_block_error"] for row in report["worlds"]}
-    assert len(worlds) == 7 and all(error <= TOLERANCE for error in worlds.values()), worlds
+    assert len(worlds) == 8 and all(error <= TOLERANCE for error in worlds.values()), worlds
     alpha = {row["case"]: (row["max_block_error"], row["max_alpha_error"]) for row in report["alpha"]}
     assert len(alpha) == 8 and all(c <= TOLERANCE and a <= ALPHA_TOLERANCE for c, a in alpha.values()), alpha
     stereo = report["stereo"]

@@ -11,7 +11,8 @@ dimmer in PPM, not explained yet (the sun seen directly or in a flat mirror agre
 Cases: each HDRI as it is, the sunrise turned by a Mapping node, the courtyard read as a mirror
 ball, the sunrise hidden from the camera (World > Ray Visibility), and two node networks the add-on
 bakes into an image: a procedural sky (a ColorRamp of the direction's height) and the sunrise
-tinted by a MixRGB at a strength a Value node gives. The same saved file is
+tinted by a MixRGB at a strength a Value node gives, and the sunrise behind a plain backdrop that only
+camera rays see (Light Path's Is Camera Ray: baked twice). The same saved file is
 rendered by both engines (Cycles 1024 samples, PPM 64 passes: at 512 and 32 the noise alone moved
 a block by up to 3.2% from one seed to the next); the mean radiance of 4x3 image blocks must agree
 within 3%.
@@ -31,7 +32,7 @@ import bpy
 import cycles_compare
 
 CASES = ("sunrise", "courtyard", "sunrise_turned", "courtyard_mirror_ball", "sunrise_hidden_from_camera",
-         "procedural_sky", "sunrise_tinted")
+         "procedural_sky", "sunrise_tinted", "sunrise_backdrop")
 
 
 def hdri_path(name):
@@ -62,6 +63,15 @@ def tinted(nodes, links, background, environment):
     links.new(value.outputs[0], background.inputs["Strength"])
 
 
+def backdrop(nodes, links, background, environment):
+    """Camera rays see a plain grey-blue; everything else the environment (Is Camera Ray mixes them)."""
+    mix, path = nodes.new("ShaderNodeMixRGB"), nodes.new("ShaderNodeLightPath")
+    mix.inputs["Color2"].default_value = (0.2, 0.25, 0.35, 1.0)
+    links.new(path.outputs["Is Camera Ray"], mix.inputs["Fac"])
+    links.new(environment.outputs["Color"], mix.inputs["Color1"])
+    links.new(mix.outputs["Color"], background.inputs["Color"])
+
+
 def set_environment(case):
     world = bpy.data.worlds.new("World")
     if world.node_tree is None or bpy.app.version < (5, 0, 0):
@@ -77,6 +87,8 @@ def set_environment(case):
     links.new(environment.outputs["Color"], background.inputs["Color"])
     if case.endswith("tinted"):
         tinted(nodes, links, background, environment)
+    if case.endswith("backdrop"):
+        backdrop(nodes, links, background, environment)
     if case.endswith("mirror_ball"):
         environment.projection = "MIRROR_BALL"
     if case.endswith(("turned", "mirror_ball")):

@@ -5,6 +5,8 @@ Background's Color and Strength (a procedural sky, a tinted HDRI): compiled as m
 are (node_program.py), run by the core at every texel of a BAKE_WIDTH x BAKE_HEIGHT
 equirectangular image, which then lights the scene as an HDRI does (the directions seen as Cycles
 sees them: Generated, Object and Position are the direction, Normal and Incoming its opposite).
+A network that reads Light Path is baked twice: as camera rays see it (the core's camera
+background) and as diffuse rays see it (the world that lights the scene).
 
 Reads the Background node feeding the active World Output. A network the compiler cannot take falls
 back to the socket's own value with a warning. The world's ray visibility (World > Settings > Ray
@@ -104,22 +106,32 @@ class WorldExporter:
             rgb = np.asarray(program.constant_value(color), dtype=float) * float(program.constant_value(strength))
             self.scene.set_background(tuple(float(c) for c in np.broadcast_to(rgb, 3)), **self.reach())
             return
-        if program.reads_light_path():
-            reader.warn(node, "its Light Path outputs are read as a camera ray reads them, for lighting too "
-                              "(the world is baked once)")
         indices = [program.add_output(color), program.add_output(strength)]
-        directions = bake_directions(BAKE_WIDTH, BAKE_HEIGHT)
         # For the world Generated and Object are the direction: a texture space of [0, 1], unmoved.
         self.scene.set_object_info(WORLD_OBJECT, np.eye(4), texspace_location=(0.5, 0.5, 0.5),
                                    texspace_size=(0.5, 0.5, 0.5))
+        reach = self.reach()
+        if not program.reads_light_path():
+            self.scene.set_environment(self.bake(program, indices, "camera"), **reach)
+            return
+        # Light Path tells camera rays apart (the artists' "Is Camera Ray" backdrop): camera rays see
+        # the world as they read it, everything else as a diffuse ray reads it.
+        seen = reach["visibility"]
+        reach["visibility"] = [kind for kind in seen if kind != "camera"]
+        self.scene.set_environment(self.bake(program, indices, "diffuse"), **reach)
+        if "camera" in seen:
+            self.scene.set_camera_background(self.bake(program, indices, "camera"))
+
+    def bake(self, program, indices, ray):
+        """The Background's colour times strength over all directions as rays of kind `ray` see it: a
+        texture (equirectangular, half floats)."""
+        directions = bake_directions(BAKE_WIDTH, BAKE_HEIGHT)
         values = self.scene.run_program(program.program(), directions, normal=-directions, incoming=-directions,
-                                        object=WORLD_OBJECT)
+                                        object=WORLD_OBJECT, ray=ray)
         rgb = values[:, indices[0]] * values[:, indices[1], :1]
         pixels = np.ones((BAKE_HEIGHT, BAKE_WIDTH, 4), dtype=np.float32)
         pixels[..., :3] = np.clip(rgb, 0.0, 6.0e4).reshape(BAKE_HEIGHT, BAKE_WIDTH, 3)  # half floats' range
-        texture = self.scene.add_texture(f"world '{self.world.name}' (baked)", pixels, storage="half")
-        self.scene.set_environment(texture, world_to_texture=np.eye(4), strength=(1.0, 1.0, 1.0),
-                                   projection="equirectangular", **self.reach())
+        return self.scene.add_texture(f"world '{self.world.name}' (baked for {ray} rays)", pixels, storage="half")
 
     def texture(self, image, premultiplied=False):
         texture, repaired = image_export.add_texture(self.scene, image, premultiplied)
