@@ -37,7 +37,7 @@ const std::vector<std::pair<const char*, NodeOp>>& op_names() {
       {"fresnel", NodeOp::Fresnel},       {"layer_weight", NodeOp::LayerWeight},
       {"bump_offset", NodeOp::BumpOffset}, {"bump", NodeOp::Bump},
       {"normal_map", NodeOp::NormalMap},  {"environment_uv", NodeOp::EnvironmentUv},
-      {"vector_transform", NodeOp::VectorTransform},
+      {"vector_transform", NodeOp::VectorTransform}, {"transform", NodeOp::Transform},
   };
   return names;
 }

@@ -434,6 +434,13 @@ void NodeProgram::step(const NodeInstruction& ins, ShadingContext& at, const Sha
       break;
     }
     case NodeOp::VectorTransform: r[out[0]] = vector_transform(ins, r[in[0]], at); break;
+    case NodeOp::Transform: {
+      const float* m = data.data() + ins.data;
+      const Vec3f v = r[in[0]];
+      const float w = ins.mode == 0 ? 1.0f : 0.0f;
+      for (int k = 0; k < 3; ++k) r[out[0]][k] = m[4 * k] * v.x + m[4 * k + 1] * v.y + m[4 * k + 2] * v.z + m[4 * k + 3] * w;
+      break;
+    }
   }
 }
 
@@ -501,7 +508,9 @@ void NodeProgram::validate(size_t texture_count, const std::string& what) const 
     for (uint16_t reg : ins.out)
       if (reg >= registers || (reg >= 1 && reg <= constants.size()))
         fail(at + " writes register " + std::to_string(reg) + ", which is a constant or beyond the program's");
-    if (static_cast<int>(ins.op) > static_cast<int>(NodeOp::VectorTransform)) fail(at + " has an unknown operation");
+    if (static_cast<int>(ins.op) > static_cast<int>(NodeOp::Transform)) fail(at + " has an unknown operation");
+    if (ins.op == NodeOp::Transform && (ins.mode > 1 || size_t(ins.data) + 12 > data.size()))
+      fail(at + "'s matrix lies outside the data");
     if (ins.op == NodeOp::Image && ins.extra > 3) fail(at + " has an unknown projection");
     if (ins.op == NodeOp::VectorTransform && (ins.mode > 8 || ins.flags > 2)) fail(at + " has an unknown space or type");
     if (ins.op == NodeOp::Coord && ins.mode > static_cast<uint8_t>(CoordKind::TransmissionDepth))

@@ -231,6 +231,16 @@ def value_node(number):
     return build
 
 
+def other_objects_coordinates(tree, nodes):
+    """Texture Coordinate's Object in the space of an Empty moved, turned and scaled."""
+    empty = bpy.data.objects.new("frame", None)
+    empty.location, empty.rotation_euler, empty.scale = (0.4, -0.3, 0.2), (0.3, -0.2, 0.9), (0.5, 2.0, 1.5)
+    bpy.context.scene.collection.objects.link(empty)
+    bpy.context.view_layer.update()
+    n = node(nodes, "ShaderNodeTexCoord", object=empty)
+    return n.outputs["Object"]
+
+
 def vector_transform(source, convert_from, convert_to, vector_type):
     return through("ShaderNodeVectorTransform", "Vector", source, convert_from=convert_from,
                    convert_to=convert_to, vector_type=vector_type)
@@ -367,6 +377,7 @@ CASES = {
     "normal_map_world": (normal_map_of_noise("WORLD", 0.7), 1e-4, True),
     "texcoord_camera": (coordinate("Camera"), 1e-5, True),
     "texcoord_window": (coordinate("Window"), 1e-5, True),
+    "texcoord_other_object": (other_objects_coordinates, 1e-5, True),
     "vector_transform_object_camera_point": (vector_transform(coordinate("Object"), "OBJECT", "CAMERA", "POINT"),
                                              1e-5, True),
     "vector_transform_camera_world_vector": (vector_transform(texture("ShaderNodeTexNoise", "Color"), "CAMERA",

@@ -185,6 +185,17 @@ TEST(Program, ReferencesItDoesNotHaveAreRefused) {
   NodeProgram nan = p;
   nan.constants[0] = Vec3f(std::numeric_limits<float>::quiet_NaN());
   EXPECT_THROW(nan.validate(0, "m"), std::invalid_argument);
+  NodeProgram matrix = p;  // a Transform's matrix must lie in the data
+  matrix.code[0].op = NodeOp::Transform;
+  matrix.code[0].mode = 0;
+  matrix.data.assign(11, 0.0f);
+  EXPECT_THROW(matrix.validate(0, "m"), std::invalid_argument);
+  matrix.data.assign(12, 0.0f);
+  EXPECT_NO_THROW(matrix.validate(0, "m"));
+  NodeProgram projection = p;
+  projection.code[0].op = NodeOp::Image;
+  projection.code[0].extra = 4;  // no such projection
+  EXPECT_THROW(projection.validate(1, "m"), std::invalid_argument);
 }
 
 TEST(Program, OutputsThatOverflowOrAreNotANumberAreZero) {

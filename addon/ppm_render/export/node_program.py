@@ -252,10 +252,14 @@ def _input(node, name):
 # ---------------------------------------------------------------- input nodes
 
 def _texture_coordinate(c, node, ctx):
-    if getattr(node, "object", None) is not None:
-        c.reader.warn(node, "coordinates of another object are not supported; using this object's")
-    return {name: c.coordinate(name) for name in ("Generated", "Normal", "UV", "Object", "Camera", "Window",
-                                                   "Reflection")}
+    out = {name: c.coordinate(name) for name in ("Generated", "Normal", "UV", "Object", "Camera", "Window",
+                                                  "Reflection")}
+    other = getattr(node, "object", None)
+    if other is not None:  # Object in that object's space, as Cycles (the other outputs stay this object's)
+        offset = len(c.data)
+        c.data += [float(v) for row in other.matrix_world.inverted_safe()[:3] for v in row]
+        out["Object"] = c.emit("transform", [c.coordinate("position")], kinds=("vector",), data=offset)[0]
+    return out
 
 
 def _geometry(c, node, ctx):
