@@ -1,5 +1,5 @@
 // Blender's colour nodes in float as Cycles evaluates them: the Mix node's blend modes (and the
-// older MixRGB's), HSV conversions, Hue/Saturation/Value, Invert, Gamma, Bright/Contrast.
+// older MixRGB's), HSV and HSL conversions, Hue/Saturation/Value, Invert, Gamma, Bright/Contrast.
 #pragma once
 
 #include "math/types.h"
@@ -47,6 +47,29 @@ inline Vec3f hsv_to_rgb(const Vec3f& hsv) {
     case 4: return Vec3f(t, p, v);
     default: return Vec3f(v, p, q);
   }
+}
+
+inline Vec3f rgb_to_hsl(const Vec3f& rgb) {
+  const float cmax = std::max(rgb.x, std::max(rgb.y, rgb.z));
+  const float cmin = std::min(rgb.x, std::min(rgb.y, rgb.z));
+  const float l = std::min(1.0f, (cmax + cmin) / 2.0f);
+  if (cmax == cmin) return Vec3f(0.0f, 0.0f, l);
+  const float d = cmax - cmin;
+  const float s = l > 0.5f ? d / (2.0f - cmax - cmin) : d / (cmax + cmin);
+  float h;
+  if (cmax == rgb.x) h = (rgb.y - rgb.z) / d + (rgb.y < rgb.z ? 6.0f : 0.0f);
+  else if (cmax == rgb.y) h = (rgb.z - rgb.x) / d + 2.0f;
+  else h = (rgb.x - rgb.y) / d + 4.0f;
+  return Vec3f(h / 6.0f, s, l);
+}
+
+inline Vec3f hsl_to_rgb(const Vec3f& hsl) {
+  const float h = hsl.x, s = hsl.y, l = hsl.z;
+  const Vec3f n(std::clamp(std::fabs(h * 6.0f - 3.0f) - 1.0f, 0.0f, 1.0f),
+                std::clamp(2.0f - std::fabs(h * 6.0f - 2.0f), 0.0f, 1.0f),
+                std::clamp(2.0f - std::fabs(h * 6.0f - 4.0f), 0.0f, 1.0f));
+  const float chroma = (1.0f - std::fabs(2.0f * l - 1.0f)) * s;
+  return (n - 0.5f) * chroma + l;
 }
 
 inline Vec3f dodge(const Vec3f& a, const Vec3f& b, float t) {

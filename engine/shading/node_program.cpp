@@ -370,13 +370,13 @@ void NodeProgram::step(const NodeInstruction& ins, ShadingContext& at, const Sha
       break;
     }
     case NodeOp::Separate: {
-      const Vec3f v = ins.mode < 3 ? r[in[0]] : nodes::rgb_to_hsv(r[in[0]]);
+      const Vec3f v = ins.mode < 3 ? r[in[0]] : ins.mode < 6 ? nodes::rgb_to_hsv(r[in[0]]) : nodes::rgb_to_hsl(r[in[0]]);
       r[out[0]] = Vec3f(v[ins.mode % 3]);
       break;
     }
     case NodeOp::Combine: {
       const Vec3f v(f(0), f(1), f(2));
-      r[out[0]] = ins.mode == 1 ? nodes::hsv_to_rgb(v) : v;
+      r[out[0]] = ins.mode == 1 ? nodes::hsv_to_rgb(v) : ins.mode == 2 ? nodes::hsl_to_rgb(v) : v;
       break;
     }
     case NodeOp::Invert: r[out[0]] = nodes::invert(f(0), r[in[1]]); break;
@@ -593,7 +593,8 @@ double bound_of(const NodeInstruction& ins, const std::vector<double>& b, const 
     case NodeOp::MapRange: return (ins.flags & 1) && ins.mode < 2 ? std::max(in(3), in(4)) : inf;
     case NodeOp::Clamp: return std::max(in(1), in(2));
     case NodeOp::Separate: return ins.mode < 3 ? in(0) : std::max(1.0, in(0));
-    case NodeOp::Combine: return ins.mode == 0 ? std::max({in(0), in(1), in(2)}) : in(2);
+    case NodeOp::Combine:  // HSL: l + (n - 1/2) chroma, |chroma| <= s (1 + |2 l - 1|)
+      return ins.mode == 0 ? std::max({in(0), in(1), in(2)}) : ins.mode == 1 ? in(2) : in(2) + in(1) * (1.0 + in(2));
     case NodeOp::Invert: return 1.0 + in(1);
     case NodeOp::Image: return std::max(1.0, double(textures[ins.data].max_rgb()));
     case NodeOp::Noise: return (ins.extra & 16) || ((ins.extra & 32) && ins.mode == 0) ? 1.0 : inf;

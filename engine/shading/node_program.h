@@ -71,8 +71,8 @@ enum class NodeOp : uint8_t {
                   // interpolate), 1: RGB/Vector Curves, 2: Float Curve, over [lo, hi] stored before
   MapRange,       // mode: 0 linear, 1 stepped, 2 smoothstep, 3 smootherstep; flag 1: clamp; vector: flag 2
   Clamp,          // mode: 0 min-max, 1 range
-  Separate,       // mode: channel 0-2 of in[0]; 3-5: H, S, V
-  Combine,        // mode: 0 xyz/rgb, 1 hsv
+  Separate,       // mode: channel 0-2 of in[0]; 3-5: H, S, V; 6-8: H, S, L
+  Combine,        // mode: 0 xyz/rgb, 1 hsv, 2 hsl
   Invert,         // in fac, colour
   Gamma,
   BrightContrast,

@@ -359,6 +359,8 @@ CASES = {
                                       ["Red", "Green", "Blue"] if V4 else ["H", "S", "V"],
                                       texture("ShaderNodeTexNoise", "Color"), **({"mode": "HSV"} if V4 else {})),
                              1e-5, True),
+    "separate_combine_hsl": (combined("ShaderNodeCombineColor", "Color", ["Red", "Green", "Blue"],
+                                      texture("ShaderNodeTexNoise", "Color"), mode="HSL"), 1e-5, True),
     "map_range_stepped": (through("ShaderNodeMapRange", "Value", noise_fac(), interpolation_type="STEPPED",
                                   in_Steps=5.0, **{"in_To Min": 0.2}), 1e-5, True),
     "mix_float": (mix_data("FLOAT"), 1e-5, True),

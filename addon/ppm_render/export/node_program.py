@@ -623,29 +623,27 @@ def _clamp(c, node, ctx):
     return {"Result": c.emit("clamp", ins, mode=int(node.clamp_type == "RANGE"))[0]}
 
 
-def _separate(c, node, ctx, names, hsv=False):
+COLOR_MODELS = ("RGB", "HSV", "HSL")  # the core's Separate modes 0-2, 3-5, 6-8 and Combine modes 0, 1, 2
+
+
+def _separate(c, node, ctx, names, model="RGB"):
     source = c.socket(node.inputs[0], ctx, "color" if names[0] in ("R", "Red", "H") else "vector")
-    return {name: c.emit("separate", [source], mode=i + (3 if hsv else 0))[0] for i, name in enumerate(names)}
+    first = 3 * COLOR_MODELS.index(model)
+    return {name: c.emit("separate", [source], mode=first + i)[0] for i, name in enumerate(names)}
 
 
-def _combine(c, node, ctx, names, kind, hsv=False):
+def _combine(c, node, ctx, names, kind, model="RGB"):
     ins = [c.input(node, n, ctx, "float") for n in names]
-    result = c.emit("combine", ins, kinds=(kind,), mode=int(hsv))[0]
+    result = c.emit("combine", ins, kinds=(kind,), mode=COLOR_MODELS.index(model))[0]
     return {node.outputs[0].identifier: result, node.outputs[0].name: result}
 
 
 def _separate_color(c, node, ctx):
-    mode = getattr(node, "mode", "RGB")
-    if mode == "HSL":
-        raise Unsupported(f"'{node.name}': HSL is not supported yet")
-    return _separate(c, node, ctx, ("Red", "Green", "Blue"), hsv=mode == "HSV")
+    return _separate(c, node, ctx, ("Red", "Green", "Blue"), getattr(node, "mode", "RGB"))
 
 
 def _combine_color(c, node, ctx):
-    mode = getattr(node, "mode", "RGB")
-    if mode == "HSL":
-        raise Unsupported(f"'{node.name}': HSL is not supported yet")
-    return _combine(c, node, ctx, ("Red", "Green", "Blue"), "color", hsv=mode == "HSV")
+    return _combine(c, node, ctx, ("Red", "Green", "Blue"), "color", getattr(node, "mode", "RGB"))
 
 
 def _invert(c, node, ctx):
@@ -815,11 +813,11 @@ NODES = {
     "ShaderNodeClamp": _clamp,
     "ShaderNodeSeparateRGB": lambda c, n, x: _separate(c, n, x, ("R", "G", "B")),
     "ShaderNodeSeparateXYZ": lambda c, n, x: _separate(c, n, x, ("X", "Y", "Z")),
-    "ShaderNodeSeparateHSV": lambda c, n, x: _separate(c, n, x, ("H", "S", "V"), hsv=True),
+    "ShaderNodeSeparateHSV": lambda c, n, x: _separate(c, n, x, ("H", "S", "V"), "HSV"),
     "ShaderNodeSeparateColor": _separate_color,
     "ShaderNodeCombineRGB": lambda c, n, x: _combine(c, n, x, ("R", "G", "B"), "color"),
     "ShaderNodeCombineXYZ": lambda c, n, x: _combine(c, n, x, ("X", "Y", "Z"), "vector"),
-    "ShaderNodeCombineHSV": lambda c, n, x: _combine(c, n, x, ("H", "S", "V"), "color", hsv=True),
+    "ShaderNodeCombineHSV": lambda c, n, x: _combine(c, n, x, ("H", "S", "V"), "color", "HSV"),
     "ShaderNodeCombineColor": _combine_color,
     "ShaderNodeInvert": _invert,
     "ShaderNodeGamma": _gamma,
