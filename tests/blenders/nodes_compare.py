@@ -231,6 +231,22 @@ def value_node(number):
     return build
 
 
+def environment_texture(projection, vector=None):
+    """An Environment Texture of the random checks on a material, looked up at `vector` (a coordinate
+    name) or at its default."""
+    def build(tree, nodes):
+        image = bpy.data.images.get("checks") or bpy.data.images.new("checks", 8, 8, alpha=True)
+        pixels = np.random.default_rng(3).random((8, 8, 4)).astype(np.float32)
+        pixels[..., 3] = 1.0
+        image.pixels.foreach_set(pixels.ravel())
+        n = node(nodes, "ShaderNodeTexEnvironment", projection=projection)
+        n.image = image
+        if vector is not None:
+            tree.links.new(coordinate(vector)(tree, nodes), n.inputs["Vector"])
+        return n.outputs["Color"]
+    return build
+
+
 def other_objects_coordinates(tree, nodes):
     """Texture Coordinate's Object in the space of an Empty moved, turned and scaled."""
     empty = bpy.data.objects.new("frame", None)
@@ -380,6 +396,8 @@ CASES = {
     "texcoord_camera": (coordinate("Camera"), 1e-5, True),
     "texcoord_window": (coordinate("Window"), 1e-5, True),
     "texcoord_other_object": (other_objects_coordinates, 1e-5, True),
+    "environment_default_vector": (environment_texture("EQUIRECTANGULAR"), 1e-4, True),
+    "environment_mirror_ball_normal": (environment_texture("MIRROR_BALL", "Normal"), 1e-4, True),
     "vector_transform_object_camera_point": (vector_transform(coordinate("Object"), "OBJECT", "CAMERA", "POINT"),
                                              1e-5, True),
     "vector_transform_camera_world_vector": (vector_transform(texture("ShaderNodeTexNoise", "Color"), "CAMERA",

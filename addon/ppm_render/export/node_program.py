@@ -385,8 +385,8 @@ def _image(c, node, ctx):
 
 
 def _environment(c, node, ctx):
-    """An Environment Texture (in a world's network): the image at the direction's equirectangular or
-    mirror-ball coordinates (for a world, Generated is the direction)."""
+    """An Environment Texture: the image at its Vector's equirectangular or mirror-ball coordinates; by
+    default the position, as Cycles (for a world, the direction)."""
     image = node.image
     if image is None:
         return {"Color": c.constant((1.0, 0.0, 1.0)), "Alpha": c.constant(1.0)}  # Cycles' missing image
@@ -394,7 +394,7 @@ def _environment(c, node, ctx):
         index = c.texture(image, False)
     except ValueError as error:
         raise Unsupported(f"image '{image.name}': {error}") from error
-    uv = c.emit("environment_uv", [c.vector_or(node, ctx, "generated")], kinds=("vector",),
+    uv = c.emit("environment_uv", [c.vector_or(node, ctx, "position")], kinds=("vector",),
                 mode=int(node.projection == "MIRROR_BALL"))[0]
     interpolation = {"Linear": 0, "Closest": 1, "Cubic": 2, "Smart": 2}.get(node.interpolation, 0)
     color, alpha = c.emit("image", [uv], outs=2, kinds=("color", "float"), mode=interpolation, data=index,
