@@ -38,6 +38,7 @@ const std::vector<std::pair<const char*, NodeOp>>& op_names() {
       {"bump_offset", NodeOp::BumpOffset}, {"bump", NodeOp::Bump},
       {"normal_map", NodeOp::NormalMap},  {"environment_uv", NodeOp::EnvironmentUv},
       {"vector_transform", NodeOp::VectorTransform}, {"transform", NodeOp::Transform},
+      {"wavelength", NodeOp::Wavelength},
   };
   return names;
 }

@@ -272,6 +272,21 @@ glm::dvec4 image(const NodeInstruction& ins, const Vec3f* r, const std::vector<T
   }
 }
 
+// Blender's Wavelength node as Cycles computes it (export/wavelength.py): the colour matching
+// functions interpolated (the index truncated towards zero, so 375-380 nm extrapolates the first
+// step, as Cycles does), to scene linear, divided by 2.52, clamped at zero.
+Vec3f wavelength(float nm, const float* data) {
+  const float ii = (nm - 380.0f) * (1.0f / 5.0f);
+  if (!(ii > -1.0f && ii < 80.0f)) return Vec3f(0.0f);
+  const int i = static_cast<int>(ii);
+  const float* c = data + 9 + 3 * i;
+  const float t = ii - float(i);
+  const Vec3f xyz = glm::mix(Vec3f(c[0], c[1], c[2]), Vec3f(c[3], c[4], c[5]), t);
+  Vec3f rgb;
+  for (int k = 0; k < 3; ++k) rgb[k] = data[3 * k] * xyz.x + data[3 * k + 1] * xyz.y + data[3 * k + 2] * xyz.z;
+  return glm::max(rgb * (1.0f / 2.52f), Vec3f(0.0f));
+}
+
 // Blender's Vector Transform between world, object and camera space; a normal moves as a
 // direction and is normalised after, as Cycles does.
 Vec3f vector_transform(const NodeInstruction& ins, const Vec3f& v, const ShadingContext& c) {
@@ -434,6 +449,7 @@ void NodeProgram::step(const NodeInstruction& ins, ShadingContext& at, const Sha
       break;
     }
     case NodeOp::VectorTransform: r[out[0]] = vector_transform(ins, r[in[0]], at); break;
+    case NodeOp::Wavelength: r[out[0]] = wavelength(f(0), data.data() + ins.data); break;
     case NodeOp::Transform: {
       const float* m = data.data() + ins.data;
       const Vec3f v = r[in[0]];
@@ -508,7 +524,9 @@ void NodeProgram::validate(size_t texture_count, const std::string& what) const 
     for (uint16_t reg : ins.out)
       if (reg >= registers || (reg >= 1 && reg <= constants.size()))
         fail(at + " writes register " + std::to_string(reg) + ", which is a constant or beyond the program's");
-    if (static_cast<int>(ins.op) > static_cast<int>(NodeOp::Transform)) fail(at + " has an unknown operation");
+    if (static_cast<int>(ins.op) > static_cast<int>(NodeOp::Wavelength)) fail(at + " has an unknown operation");
+    if (ins.op == NodeOp::Wavelength && size_t(ins.data) + 9 + 81 * 3 > data.size())
+      fail(at + "'s table lies outside the data");
     if (ins.op == NodeOp::Transform && (ins.mode > 1 || size_t(ins.data) + 12 > data.size()))
       fail(at + "'s matrix lies outside the data");
     if (ins.op == NodeOp::Image && ins.extra > 3) fail(at + " has an unknown projection");

@@ -97,6 +97,7 @@ enum class NodeOp : uint8_t {
   EnvironmentUv,  // Environment Texture: a direction -> the image's (u, v, 0); mode 0 equirectangular, 1 mirror ball
   VectorTransform,  // mode: from * 3 + to (0 world, 1 object, 2 camera); flags: 0 point, 1 vector, 2 normal
   Transform,      // in[0] by the 3 x 4 matrix at data (rows); mode 0: a point, 1: a direction
+  Wavelength,     // in[0] nm; data: XYZ -> scene linear (3 x 3, rows), then 81 XYZ triples from 380 nm by 5
 };
 
 enum class CoordKind : uint8_t {

@@ -375,6 +375,8 @@ CASES = {
                                       ["Red", "Green", "Blue"] if V4 else ["H", "S", "V"],
                                       texture("ShaderNodeTexNoise", "Color"), **({"mode": "HSV"} if V4 else {})),
                              1e-5, True),
+    "wavelength": (through("ShaderNodeWavelength", "Wavelength", math_of("MULTIPLY_ADD", b=600.0, c=250.0)),
+                   1e-5, True),
     "separate_combine_hsl": (combined("ShaderNodeCombineColor", "Color", ["Red", "Green", "Blue"],
                                       texture("ShaderNodeTexNoise", "Color"), mode="HSL"), 1e-5, True),
     "map_range_stepped": (through("ShaderNodeMapRange", "Value", noise_fac(), interpolation_type="STEPPED",

@@ -696,6 +696,14 @@ def _blackbody(c, node, ctx):
     return {"Color": c.constant(blackbody_rgb(c.constant_value(temperature)))}
 
 
+def _wavelength(c, node, ctx):
+    from .wavelength import program_data
+    offset = len(c.data)
+    c.data += program_data()
+    return {"Color": c.emit("wavelength", [c.input(node, "Wavelength", ctx, "float")], kinds=("color",),
+                            data=offset)[0]}
+
+
 def _vector_transform(c, node, ctx):
     spaces = ["WORLD", "OBJECT", "CAMERA"]
     mode = spaces.index(node.convert_from) * 3 + spaces.index(node.convert_to)
@@ -828,6 +836,7 @@ NODES = {
     "ShaderNodeVectorRotate": _vector_rotate,
     "ShaderNodeVectorTransform": _vector_transform,
     "ShaderNodeBlackbody": _blackbody,
+    "ShaderNodeWavelength": _wavelength,
     "ShaderNodeBump": _bump,
     "ShaderNodeNormalMap": _normal_map,
 }
