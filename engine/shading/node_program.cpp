@@ -250,12 +250,35 @@ Vec3f box_weights(Vec3f n, float blend) {
   return ((2.0f - limit) * n + (limit - 1.0f)) / (2.0f * limit - 1.0f);
 }
 
-glm::dvec4 image(const NodeInstruction& ins, const Vec3f* r, const std::vector<Texture>& textures) {
-  const Texture& t = textures[ins.data];
+// The texture of the UDIM tile (u, v) lies in, Cycles' way: tile 1001 + 10 row + column, with the
+// coordinates truncated (so -0.5 falls in the first column); (u, v) moved into the tile. `table`:
+// the count, then (tile, texture) pairs. -1: no such tile.
+int udim_texture(const float* table, float& u, float& v) {
+  if (!(std::fabs(u) < 1e6f && std::fabs(v) < 1e6f)) return -1;
+  const int tx = static_cast<int>(u), ty = static_cast<int>(v);
+  if (tx < 0 || ty < 0 || tx >= 10) return -1;
+  const int tile = 1001 + 10 * ty + tx, count = static_cast<int>(table[0]);
+  for (int k = 0; k < count; ++k) {
+    if (static_cast<int>(table[1 + 2 * k]) != tile) continue;
+    u -= float(tx);
+    v -= float(ty);
+    return static_cast<int>(table[2 + 2 * k]);
+  }
+  return -1;
+}
+
+// The Image node's RGBA: data is the texture, or with flag 1 the offset of a UDIM table.
+glm::dvec4 image(const NodeInstruction& ins, const Vec3f* r, const std::vector<Texture>& textures,
+                 const std::vector<float>& data) {
   const Vec3f co = r[ins.in[0]];
   const auto interpolation = static_cast<TextureInterpolation>(ins.mode & 3);
   const auto extension = static_cast<TextureExtension>((ins.mode >> 2) & 3);
-  auto at = [&](float u, float v) { return t.sample(Vec2(u, v), interpolation, extension); };
+  auto at = [&](float u, float v) {
+    int texture = static_cast<int>(ins.data);
+    if ((ins.flags & 1) && (texture = udim_texture(data.data() + ins.data, u, v)) < 0)
+      return glm::dvec4(1.0, 0.0, 1.0, 1.0);  // Cycles' missing image
+    return textures[texture].sample(Vec2(u, v), interpolation, extension);
+  };
   switch (ins.extra) {
     case 1: {  // box: each face's image oriented so that none is mirrored, as Cycles maps them
       const Vec3f n = r[ins.in[1]];
@@ -266,8 +289,14 @@ glm::dvec4 image(const NodeInstruction& ins, const Vec3f* r, const std::vector<T
       if (w.z > 0.0f) c += double(w.z) * at(n.z > 0.0f ? 1.0f - co.y : co.y, co.x);
       return c;
     }
-    case 2: return t.sample(map_to_sphere((co - 0.5f) * 2.0f), interpolation, extension);
-    case 3: return t.sample(map_to_tube((co - 0.5f) * 2.0f), interpolation, extension);
+    case 2: {
+      const Vec2 uv = map_to_sphere((co - 0.5f) * 2.0f);
+      return at(float(uv.x), float(uv.y));
+    }
+    case 3: {
+      const Vec2 uv = map_to_tube((co - 0.5f) * 2.0f);
+      return at(float(uv.x), float(uv.y));
+    }
     default: return at(co.x, co.y);
   }
 }
@@ -403,7 +432,7 @@ void NodeProgram::step(const NodeInstruction& ins, ShadingContext& at, const Sha
       r[out[0]] = nodes::vector_rotate(ins.mode, ins.flags & 1, r[in[0]], r[in[1]], r[in[2]], f(3), r[in[4]]);
       break;
     case NodeOp::Image: {
-      const glm::dvec4 c = image(ins, r, textures);
+      const glm::dvec4 c = image(ins, r, textures, data);
       r[out[0]] = Vec3f(c);
       r[out[1]] = Vec3f(float(c.w));
       break;
@@ -510,6 +539,21 @@ void NodeProgram::find_needs() {
   }
 }
 
+namespace {
+
+bool valid_udim_table(const std::vector<float>& data, size_t at, size_t texture_count) {
+  if (at >= data.size() || !(data[at] >= 1.0f && data[at] <= 100.0f)) return false;
+  const size_t count = static_cast<size_t>(data[at]);
+  if (at + 1 + 2 * count > data.size()) return false;
+  for (size_t k = 0; k < count; ++k) {
+    const float texture = data[at + 2 + 2 * k];
+    if (!(texture >= 0.0f && texture < float(texture_count))) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
 void NodeProgram::validate(size_t texture_count, const std::string& what) const {
   auto fail = [&](const std::string& why) { throw std::invalid_argument(what + ": node program: " + why); };
   if (registers > kMaxRegisters || registers < static_cast<int>(constants.size()) + 1)
@@ -533,7 +577,10 @@ void NodeProgram::validate(size_t texture_count, const std::string& what) const 
     if (ins.op == NodeOp::VectorTransform && (ins.mode > 8 || ins.flags > 2)) fail(at + " has an unknown space or type");
     if (ins.op == NodeOp::Coord && ins.mode > static_cast<uint8_t>(CoordKind::TransmissionDepth))
       fail(at + " reads an unknown coordinate");
-    if (ins.op == NodeOp::Image && ins.data >= texture_count) fail(at + " refers to a texture that does not exist");
+    if (ins.op == NodeOp::Image && !(ins.flags & 1) && ins.data >= texture_count)
+      fail(at + " refers to a texture that does not exist");
+    if (ins.op == NodeOp::Image && (ins.flags & 1) && !valid_udim_table(data, ins.data, texture_count))
+      fail(at + "'s UDIM tiles lie outside the data or name textures that do not exist");
     if (ins.op == NodeOp::Table && (ins.mode > 2 || size_t(ins.data) + (size_t(ins.extra) + 2) * 4 > data.size() ||
                                     (ins.mode > 0 && ins.data < 2)))
       fail(at + "'s table lies outside the data");
@@ -614,7 +661,13 @@ double bound_of(const NodeInstruction& ins, const std::vector<double>& b, const 
     case NodeOp::Combine:  // HSL: l + (n - 1/2) chroma, |chroma| <= s (1 + |2 l - 1|)
       return ins.mode == 0 ? std::max({in(0), in(1), in(2)}) : ins.mode == 1 ? in(2) : in(2) + in(1) * (1.0 + in(2));
     case NodeOp::Invert: return 1.0 + in(1);
-    case NodeOp::Image: return std::max(1.0, double(textures[ins.data].max_rgb()));
+    case NodeOp::Image: {
+      if (!(ins.flags & 1)) return std::max(1.0, double(textures[ins.data].max_rgb()));
+      double m = 1.0;  // the missing tile's magenta
+      for (int k = 0; k < static_cast<int>(data[ins.data]); ++k)
+        m = std::max(m, double(textures[static_cast<size_t>(data[ins.data + 2 + 2 * k])].max_rgb()));
+      return m;
+    }
     case NodeOp::Noise: return (ins.extra & 16) || ((ins.extra & 32) && ins.mode == 0) ? 1.0 : inf;
     case NodeOp::Voronoi: return inf;
     case NodeOp::WhiteNoise:

@@ -79,7 +79,8 @@ enum class NodeOp : uint8_t {
   HueSaturation,  // in hue, saturation, value, fac, colour
   Mapping,        // mode: 0 point, 1 texture, 2 vector, 3 normal; in vector, location, rotation, scale
   VectorRotate,   // mode: axis kind; flag 1 invert
-  Image,          // data: texture index; mode: interpolation | extension << 2; extra: projection (0 flat,
+  Image,          // data: texture index (flag 1: the offset of a UDIM table: count, then (tile, texture)
+                  // pairs); mode: interpolation | extension << 2; extra: projection (0 flat,
                   // 1 box: in[1] the object-space normal, in[2] the blend; 2 sphere, 3 tube); out colour, alpha
   Noise,          // mode: NoiseKind; dims in `extra`; see textures/noise.h
   Voronoi,

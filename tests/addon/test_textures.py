@@ -107,3 +107,33 @@ def test_esc_during_the_export_stops_it():
     with pytest.raises(Cancelled):
         build_scene(ppm_core, depsgraph, frame, print, lambda: asked.append(1) or True)
     assert asked == [1]
+
+
+def test_udim_tiles_are_read_file_by_file_and_never_as_data_blocks_off_the_main_thread(tmp_path):
+    import threading
+    for number in (1001, 1002, 1011):
+        saved_png(tmp_path, f"tiles.{number}", width=4, height=4)
+    image = bpy.data.images["tiles.1001.png"]
+    image.source = "TILED"  # Blender finds the other tiles by the file name
+    images_before = len(bpy.data.images)
+    pairs, repaired = image_export.add_tiles(ppm_core.Scene(), image)
+    assert [number for number, _ in pairs] == [1001, 1002, 1011] and repaired is None
+    assert len(bpy.data.images) == images_before  # each tile's data-block removed again
+    # An interactive render runs the export on its own thread: no data-blocks there (imbuf reads bytes
+    # from Blender 5.2 on; before, the tiles are left to background renders, with the reason).
+    outcome = []
+
+    def export():
+        try:
+            outcome.append(image_export.add_tiles(ppm_core.Scene(), image)[0])
+        except ValueError as error:
+            outcome.append(str(error))
+
+    thread = threading.Thread(target=export)
+    thread.start()
+    thread.join()
+    if READS_FILE_BYTES:
+        assert [number for number, _ in outcome[0]] == [1001, 1002, 1011]
+    else:
+        assert "background render" in outcome[0]
+    assert len(bpy.data.images) == images_before

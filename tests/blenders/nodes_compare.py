@@ -247,6 +247,31 @@ def environment_texture(projection, vector=None):
     return build
 
 
+def udim_tiles(tree, nodes):
+    """A UDIM image of tiles 1001, 1002 and 1011 (random 4 x 4 PNG files) read at the UV scaled to span
+    -0.3..2.2: the three tiles, tiles that are missing (Cycles shows those magenta) and negative UVs."""
+    import tempfile
+    folder = tempfile.mkdtemp(prefix="nodes_compare_udim_")
+    for number in (1001, 1002, 1011):
+        tile = bpy.data.images.new(f"tile {number}", 4, 4)
+        pixels = np.random.default_rng(number).random((4, 4, 4)).astype(np.float32)
+        pixels[..., 3] = 1.0
+        tile.pixels.foreach_set(pixels.ravel())
+        tile.filepath_raw, tile.file_format = os.path.join(folder, f"tiles.{number}.png"), "PNG"
+        tile.save()
+        bpy.data.images.remove(tile)
+    image = bpy.data.images.load(os.path.join(folder, "tiles.1001.png"))
+    image.source = "TILED"  # Blender finds the other tiles by the file name
+    n = node(nodes, "ShaderNodeTexImage", interpolation="Closest")
+    n.image = image
+    m = node(nodes, "ShaderNodeMapping", vector_type="POINT")
+    m.inputs["Scale"].default_value = (2.5, 2.5, 1.0)
+    m.inputs["Location"].default_value = (-0.3, -0.3, 0.0)
+    tree.links.new(coordinate("UV")(tree, nodes), m.inputs["Vector"])
+    tree.links.new(m.outputs[0], n.inputs["Vector"])
+    return n.outputs["Color"]
+
+
 def other_objects_coordinates(tree, nodes):
     """Texture Coordinate's Object in the space of an Empty moved, turned and scaled."""
     empty = bpy.data.objects.new("frame", None)
@@ -398,6 +423,7 @@ CASES = {
     "texcoord_camera": (coordinate("Camera"), 1e-5, True),
     "texcoord_window": (coordinate("Window"), 1e-5, True),
     "texcoord_other_object": (other_objects_coordinates, 1e-5, True),
+    "image_udim": (udim_tiles, 1e-5, True),
     "environment_default_vector": (environment_texture("EQUIRECTANGULAR"), 1e-4, True),
     "environment_mirror_ball_normal": (environment_texture("MIRROR_BALL", "Normal"), 1e-4, True),
     "vector_transform_object_camera_point": (vector_transform(coordinate("Object"), "OBJECT", "CAMERA", "POINT"),

@@ -11,6 +11,8 @@ Two ways in:
   and, if this export loaded it, Blender's own image buffer are freed.
 """
 
+import threading
+
 import bpy
 import numpy as np
 
@@ -29,7 +31,9 @@ NEGLIGIBLE_NEGATIVE = 1e-3
 def add_texture(core_scene, image, premultiplied=False):
     """Adds `image` to the core scene; returns (texture index, what was changed to make it usable, as
     text for a warning, or None). `premultiplied`: its colour times its alpha, in the values it is
-    stored as (sRGB-encoded bytes too), as Cycles keeps images."""
+    stored as (sRGB-encoded bytes too), as Cycles keeps images. ValueError for a tiled image (add_tiles)."""
+    if image.source == "TILED":
+        raise ValueError("UDIM tiles are read by an Image Texture node only")
     byte_storage = "srgb8" if image.colorspace_settings.name in SRGB_SPACES else "linear8"
     premultiplied = premultiplied and may_have_alpha(image)
     if can_read_file_bytes(image) and not premultiplied:
@@ -38,6 +42,55 @@ def add_texture(core_scene, image, premultiplied=False):
             return index, None  # bytes are always usable
     index = add_pixels(core_scene, image, byte_storage, premultiplied)
     return index, repairs(core_scene.texture_info(index))
+
+
+def add_tiles(core_scene, image, premultiplied=False):
+    """Adds each UDIM tile of a tiled image; returns ([(tile number, texture index)], what was changed,
+    or None). Blender gives Python the first tile's pixels only, so each tile's file is read: from
+    Blender 5.2 on, a byte file through imbuf; otherwise as an image data-block loaded for the export
+    and removed after, which only the main thread may do (background renders, scripts): an
+    interactive render's thread must not add or remove data-blocks. ValueError where none is read."""
+    if getattr(image, "packed_file", None) is not None or len(getattr(image, "packed_files", ())) > 0:
+        raise ValueError("packed UDIM tiles are not supported yet; unpack them")
+    pattern = bpy.path.abspath(image.filepath, library=image.library)
+    byte_storage = "srgb8" if image.colorspace_settings.name in SRGB_SPACES else "linear8"
+    main_thread = threading.current_thread() is threading.main_thread()
+    pairs, found, unread = [], [], []
+    for tile in image.tiles:
+        path = pattern.replace("<UDIM>", str(tile.number))
+        index = None
+        if imbuf is not None and hasattr(imbuf.types.ImBuf, "with_buffer") and not premultiplied:
+            index = read_file_bytes(core_scene, f"{image.name} {tile.number}", path, byte_storage)
+        if index is None and main_thread:
+            index, repaired = add_tile_image(core_scene, image, path, premultiplied)
+            if repaired:
+                found.append(f"tile {tile.number}: {repaired}")
+        if index is None:
+            unread.append(tile.number)
+        else:
+            pairs.append((tile.number, index))
+    if not pairs:
+        why = "" if main_thread else " (an interactive render before Blender 5.2 reads float or alpha tiles " \
+                                     "only in a background render: blender -b)"
+        raise ValueError(f"none of its UDIM tiles could be read from '{pattern}'{why}")
+    if unread:
+        found.append(f"UDIM tiles {', '.join(map(str, unread))} could not be read; they show as missing")
+    return pairs, "; ".join(found) or None
+
+
+def add_tile_image(core_scene, image, path, premultiplied):
+    """(texture index, repairs) of the tile file at `path` read as an image data-block with `image`'s
+    colour space and alpha mode, removed again; (None, None) if it cannot be loaded. Main thread only."""
+    try:
+        tile_image = bpy.data.images.load(path, check_existing=False)
+    except RuntimeError:
+        return None, None
+    try:
+        tile_image.colorspace_settings.name = image.colorspace_settings.name
+        tile_image.alpha_mode = image.alpha_mode
+        return add_texture(core_scene, tile_image, premultiplied)
+    finally:
+        bpy.data.images.remove(tile_image)
 
 
 def repairs(info):
@@ -71,18 +124,32 @@ def texels(count):
 def add_file_bytes(core_scene, image, byte_storage):
     """The texture index from the image file's bytes, or None if the file is not a byte image
     that imbuf reads (then the caller goes through Image.pixels)."""
+    if image.packed_file is None:
+        return read_file_bytes(core_scene, image.name, bpy.path.abspath(image.filepath, library=image.library),
+                               byte_storage)
     try:
-        if image.packed_file is not None:
-            buffer = imbuf.load_from_buffer(image.packed_file.data)
-        else:
-            buffer = imbuf.load(bpy.path.abspath(image.filepath, library=image.library))
+        buffer = imbuf.load_from_buffer(image.packed_file.data)
     except (OSError, ValueError, TypeError):
         return None
+    return add_buffer_bytes(core_scene, image.name, buffer, byte_storage)
+
+
+def read_file_bytes(core_scene, name, path, byte_storage):
+    """As add_file_bytes, for the file at `path`."""
+    try:
+        buffer = imbuf.load(path)
+    except (OSError, ValueError, TypeError):
+        return None
+    return add_buffer_bytes(core_scene, name, buffer, byte_storage)
+
+
+def add_buffer_bytes(core_scene, name, buffer, byte_storage):
+    """The texture index of an ImBuf's bytes (freed after), or None for a float one."""
     try:
         if buffer.buffer_type != "BYTE":
             return None  # float files are turned into scene-linear floats by the data-block: use it
         with buffer.with_buffer() as view:
-            return core_scene.add_texture(image.name, view, storage=byte_storage)
+            return core_scene.add_texture(name, view, storage=byte_storage)
     finally:
         buffer.free()
 

@@ -113,7 +113,8 @@ class MaterialExporter:
     def texture(self, image, premultiplied=False):
         key = (image.name_full if hasattr(image, "name_full") else image.name, premultiplied)
         if key not in self.textures:
-            self.textures[key], repaired = image_export.add_texture(self.scene, image, premultiplied)
+            add = image_export.add_tiles if image.source == "TILED" else image_export.add_texture
+            self.textures[key], repaired = add(self.scene, image, premultiplied)
             if repaired:
                 self.warn(f"image '{image.name}': {repaired}")
         return self.textures[key]

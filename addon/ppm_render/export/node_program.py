@@ -57,8 +57,8 @@ def socket_kind(socket):
 
 class ProgramCompiler:
     """Compiles the sockets of one material into one program; `reader` follows links and warns,
-    `texture(image, premultiplied)` gives a core texture index (ValueError: unusable), `core` runs
-    programs (ppm_core.Scene.run_program)."""
+    `texture(image, premultiplied)` gives a core texture index (a UDIM image: [(tile number, index)];
+    ValueError: unusable), `core` runs programs (ppm_core.Scene.run_program)."""
 
     def __init__(self, reader, texture, core):
         self.reader, self.texture, self.core = reader, texture, core
@@ -377,9 +377,13 @@ def _image(c, node, ctx):
     ins = [vector]
     if node.projection == "BOX":  # faces weighted by the object-space normal (Texture Coordinate's Normal)
         ins += [c.coordinate("normal"), c.constant(float(node.projection_blend))]
+    flags = 0
+    if isinstance(index, list):  # UDIM: (tile number, texture) pairs, laid out for the core's lookup
+        flags, tiles, index = 1, index, len(c.data)
+        c.data += [float(len(tiles))] + [float(v) for pair in tiles for v in pair]
     color, alpha = c.emit("image", ins, outs=2, kinds=("color", "float"), mode=interpolation | extension << 2,
-                          extra=projection, data=index, pure=False)
-    plain = (interpolation, extension, projection) == (0, 0, 0) and c.is_coordinate(vector, "uv")
+                          extra=projection, flags=flags, data=index, pure=False)
+    plain = (interpolation, extension, projection, flags) == (0, 0, 0, 0) and c.is_coordinate(vector, "uv")
     c.simple_images[color.reg] = index if plain else None
     return {"Color": color, "Alpha": alpha}
 
