@@ -778,6 +778,7 @@ ShadingContext context_at(const Vec3& position, const Vec3& ng, const Vec3& ns, 
 
 const ObjectInfo& Scene::object_info(uint32_t object) const {
   static const ObjectInfo kNone;
+  if (object == kWorldObject) return world_object_;
   return object < objects_.size() ? objects_[object] : kNone;
 }
 
@@ -785,9 +786,13 @@ void Scene::set_object_info(uint32_t object, const ObjectInfo& info) {
   ensure_mutable();
   if (object >= kMaxObjectId) fail("object " + std::to_string(object), "object ids for node programs go up to " +
                                                                             std::to_string(kMaxObjectId - 1));
+  invalidate();
+  if (object == kWorldObject) {
+    world_object_ = info;
+    return;
+  }
   if (objects_.size() <= object) objects_.resize(size_t(object) + 1);
   objects_[object] = info;
-  invalidate();
 }
 
 ShadingContext Scene::shading_context(const Hit& hit, const Vec3& wo, double footprint,

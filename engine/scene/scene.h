@@ -50,6 +50,9 @@ constexpr double kInterleaveBytes = 2.0 * 1024 * 1024;
 
 // Plain arrays describing one mesh in world space, as the exporter produces them.
 constexpr uint32_t kMaxObjectId = 1u << 24;  // objects a node program can tell apart
+// The object id a world's node program is run for (its coordinates are the direction's): kept
+// apart from the others, so that naming it costs no table of 2^24 objects.
+constexpr uint32_t kWorldObject = kMaxObjectId - 1;
 
 // What a hit point keeps of its surface, from which Scene::surface_point shades it again.
 struct SurfaceRecord {
@@ -232,6 +235,7 @@ class Scene {
   std::vector<glm::vec2> corner_uvs_;
   std::vector<glm::vec4> corner_colors_;  // the attribute node programs read (MeshInput::colors)
   std::vector<ObjectInfo> objects_;  // by object id (set_object_info)
+  ObjectInfo world_object_;          // kWorldObject's
   std::vector<glm::vec4> corner_tangents_;
   std::vector<SphereInfo> spheres_;
   std::vector<std::unique_ptr<BezierRevolve>> revolves_;

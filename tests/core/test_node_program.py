@@ -50,6 +50,24 @@ def test_generated_and_object_coordinates_come_from_the_objects_texture_space_an
     assert np.all(np.isfinite(scene.run_program(program, points, object=4)))
 
 
+def test_the_world_object_id_is_kept_apart_from_the_table_of_objects():
+    """A world's network is baked for object 2^24 - 1 (export/world.py); that id must not make a
+    table of 2^24 objects (5 GB and 18 s, as it once did)."""
+    import resource
+
+    world = (1 << 24) - 1
+    before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss  # KiB
+    scene = ppm_core.Scene()
+    scene.set_object_info(world, np.eye(4), texspace_location=(1.0, 1.0, 1.0), texspace_size=(1.0, 1.0, 1.0))
+    assert resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - before < 100_000
+    program = {"code": [op("coord", "generated", out=[1])], "outputs": [1], "registers": 2}
+    points = np.array([[1.0, 2.0, 3.0]])
+    np.testing.assert_allclose(scene.run_program(program, points, object=world)[0, 0], [0.5, 1.0, 1.5], atol=1e-6)
+    np.testing.assert_allclose(scene.run_program(program, points, object=7)[0, 0], [1.0, 1.5, 2.0], atol=1e-6)
+    with pytest.raises(ValueError, match="go up to"):
+        scene.set_object_info(world + 1, np.eye(4))
+
+
 def quad_scene(program, coloured=True, **material):
     """A 2 x 2 m quad at z = 0 (object 0, texture space its own) seen from above: diffuse, its colour
     the program's first output if `coloured`, else white."""

@@ -26,7 +26,7 @@ from .visibility import own_max_bounces
 PROJECTIONS = {"EQUIRECTANGULAR": "equirectangular", "MIRROR_BALL": "mirror_ball"}
 WORLD_RAY_FLAGS = ("camera", "diffuse", "glossy", "transmission", "shadow")
 BAKE_WIDTH, BAKE_HEIGHT = 1024, 512
-WORLD_OBJECT = (1 << 24) - 1  # the object id the bake's coordinates are read for (the core's last)
+WORLD_OBJECT = (1 << 24) - 1  # the object id the bake reads coordinates for (the core keeps it apart)
 
 
 def _linked_node(socket):
