@@ -414,7 +414,8 @@ void NodeProgram::step(const NodeInstruction& ins, ShadingContext& at, const Sha
       break;
     }
     case NodeOp::Separate: {
-      const Vec3f v = ins.mode < 3 ? r[in[0]] : ins.mode < 6 ? nodes::rgb_to_hsv(r[in[0]]) : nodes::rgb_to_hsl(r[in[0]]);
+      const Vec3f c = r[in[0]];
+      const Vec3f v = ins.mode < 3 ? c : ins.mode < 6 ? nodes::rgb_to_hsv(c) : nodes::rgb_to_hsl(c);
       r[out[0]] = Vec3f(v[ins.mode % 3]);
       break;
     }
@@ -483,7 +484,8 @@ void NodeProgram::step(const NodeInstruction& ins, ShadingContext& at, const Sha
       const float* m = data.data() + ins.data;
       const Vec3f v = r[in[0]];
       const float w = ins.mode == 0 ? 1.0f : 0.0f;
-      for (int k = 0; k < 3; ++k) r[out[0]][k] = m[4 * k] * v.x + m[4 * k + 1] * v.y + m[4 * k + 2] * v.z + m[4 * k + 3] * w;
+      for (int k = 0; k < 3; ++k)
+        r[out[0]][k] = m[4 * k] * v.x + m[4 * k + 1] * v.y + m[4 * k + 2] * v.z + m[4 * k + 3] * w;
       break;
     }
   }
@@ -574,7 +576,8 @@ void NodeProgram::validate(size_t texture_count, const std::string& what) const 
     if (ins.op == NodeOp::Transform && (ins.mode > 1 || size_t(ins.data) + 12 > data.size()))
       fail(at + "'s matrix lies outside the data");
     if (ins.op == NodeOp::Image && ins.extra > 3) fail(at + " has an unknown projection");
-    if (ins.op == NodeOp::VectorTransform && (ins.mode > 8 || ins.flags > 2)) fail(at + " has an unknown space or type");
+    if (ins.op == NodeOp::VectorTransform && (ins.mode > 8 || ins.flags > 2))
+      fail(at + " has an unknown space or type");
     if (ins.op == NodeOp::Coord && ins.mode > static_cast<uint8_t>(CoordKind::TransmissionDepth))
       fail(at + " reads an unknown coordinate");
     if (ins.op == NodeOp::Image && !(ins.flags & 1) && ins.data >= texture_count)
