@@ -5,6 +5,8 @@ PY := .venv/bin/python
 PY313 := .venvs/bpy-5.2/bin/python
 ENGINE_SOURCES := $(shell find engine -name '*.cpp' -o -name '*.h') CMakeLists.txt pyproject.toml
 JOBS ?= $(shell nproc)
+# The slowest tests of each run are listed, so that a CI log shows where the time goes.
+PYTEST := -m pytest -q --durations=8
 
 .PHONY: setup build demo demo-core test test-cpp test-cross test-python bench bench-cpp lint clean
 
@@ -47,8 +49,8 @@ test-cross: .venv/.setup-done
 
 # The core's Python tests under both Pythons (3.13 also brings numpy 2, as Blender 5.2 does).
 test-python: build
-	$(PY) -m pytest -q tests/core tests/bench
-	$(PY313) -m pytest -q tests/core
+	$(PY) $(PYTEST) tests/core tests/bench
+	$(PY313) $(PYTEST) tests/core
 
 # Benchmarks: figures and the commands behind them are in bench/README.md; every experiment is
 # `$(PY) bench/run.py NAME` (bench/experiments/NAME.toml); these are the speed ones.
@@ -83,10 +85,10 @@ addon: build
 # (tests/gui), the zip in every Blender version: 3.4, 4.2, 4.5, 5.0, 5.2 (tests/blenders), and the
 # add-on's own tests again in bpy 4.2, 4.5 and 5.2.
 test-addon: build
-	$(PY) -m pytest -q tests/addon tests/cli tests/gui tests/blenders
-	.venvs/bpy-4.2/bin/python -m pytest -q tests/addon
-	.venvs/bpy-4.5/bin/python -m pytest -q tests/addon
-	$(PY313) -m pytest -q tests/addon
+	$(PY) $(PYTEST) tests/addon tests/cli tests/gui tests/blenders
+	.venvs/bpy-4.2/bin/python $(PYTEST) tests/addon
+	.venvs/bpy-4.5/bin/python $(PYTEST) tests/addon
+	$(PY313) $(PYTEST) tests/addon
 
 # Rebuild the bundled .blend files with Blender 3.4, so that both 3.4 and 5.0 open them.
 blend-scenes: setup

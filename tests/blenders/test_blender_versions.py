@@ -3,10 +3,11 @@
 
 In each version the zip is installed the way a user does and enabled, every bundled .blend renders
 through it with the core built for that version's Python, PPM agrees with that version's Cycles
-light kind by light kind (units changed between 3.x and 4.x) and, in a room lit indirectly, through
-lenses from 5 to 5000 mm and tiny and huge orthographic cameras, and the add-on raises no Python
-warning (deprecations included). A zip without a core for the running Python fails with one clear
-message. See in_blender.py for what runs inside Blender.
+light kind by light kind (units changed between 3.x and 4.x), in a room lit indirectly through
+lenses from 5 to 5000 mm and tiny and huge orthographic cameras, under image-based light, with
+materials and texture nodes (all cases in 3.4 and 5.0, a subset of the slow ones in the others),
+and the add-on raises no Python warning (deprecations included). A zip without a core for the
+running Python fails with one clear message. See in_blender.py for what runs inside Blender.
 """
 
 import json
@@ -61,14 +62,20 @@ def run_in_blender(version, zip_path, tmp_path, *args):
     run = subprocess.run(command, capture_output=True, text=True, timeout=900, env=env, cwd=str(tmp_path))
     assert run.returncode == 0 and report.exists(), run.stdout[-3000:] + run.stderr[-3000:]
     comparisons = ("cycles_compare", "lens_compare", "visibility_compare", "world_compare", "alpha_compare",
-                   "stereo_compare", "light_paths_compare", "materials_compare", "nodes_compare")
+                   "stereo_compare", "light_paths_compare", "materials_compare", "nodes_compare", "in_blender")
     print("\n".join(line for line in run.stdout.splitlines() if line.startswith(comparisons)))
     return json.loads(report.read_text()), str(user)
 
 
+# The versions whose Cycles agreement is checked case by case; the others run a subset of the slow
+# comparisons (in_blender.py's SUBSET_*), which keeps five Blenders within minutes.
+CHECKED_IN_FULL = ("3.4", "5.0")
+
+
 @pytest.mark.parametrize("version", BLENDERS)
 def test_zip_installs_renders_and_agrees_with_cycles(version, addon_zip, tmp_path):
-    report, user = run_in_blender(version, addon_zip, tmp_path)
+    full = version in CHECKED_IN_FULL
+    report, user = run_in_blender(version, addon_zip, tmp_path, *([] if full else ["--subset"]))
     assert report["blender"].startswith(version + "."), report["blender"]
     python = BLENDERS[version][0]
     assert report["python"] == python
@@ -89,15 +96,17 @@ def test_zip_installs_renders_and_agrees_with_cycles(version, addon_zip, tmp_pat
     visibility = {row["case"]: row["max_block_error"] for row in report["visibility"]}
     assert len(visibility) == 7 and all(error <= TOLERANCE for error in visibility.values()), visibility
     worlds = {row["case"]: row["max_block_error"] for row in report["worlds"]}
-    assert len(worlds) == 8 and all(error <= TOLERANCE for error in worlds.values()), worlds
+    assert len(worlds) == (8 if full else 2) and all(error <= TOLERANCE for error in worlds.values()), worlds
     alpha = {row["case"]: (row["max_block_error"], row["max_alpha_error"]) for row in report["alpha"]}
     assert len(alpha) == 8 and all(c <= TOLERANCE and a <= ALPHA_TOLERANCE for c, a in alpha.values()), alpha
     stereo = report["stereo"]
     assert max(stereo["max_block_error_L"], stereo["max_block_error_R"]) <= TOLERANCE and stereo["views_differ"] > 0.01
     light_paths = {row["case"]: row["max_block_error"] for row in report["light_paths"]}
-    assert len(light_paths) == 5 and all(error <= TOLERANCE for error in light_paths.values()), light_paths
+    assert len(light_paths) == (5 if full else 2), light_paths
+    assert all(error <= TOLERANCE for error in light_paths.values()), light_paths
     materials = {row["case"]: row["error"] for row in report["materials"] if not row["approximated"]}
-    assert len(materials) >= 40 and all(e <= MATERIAL_TOLERANCE for e in materials.values()), materials
+    assert len(materials) >= (40 if full else 12), materials
+    assert all(e <= MATERIAL_TOLERANCE for e in materials.values()), materials
     # Every texture and utility node case this Blender has, per pixel (3.4 lacks the 4.x noise types).
     nodes = {row["case"]: (row["p99"], row["warnings"]) for row in report["nodes"]}
     assert len(nodes) >= 45 and all(row["ok"] for row in report["nodes"]), nodes
