@@ -201,7 +201,8 @@ def radial_tangents(mesh, positions, triangles, axis):
     to [0, 1]), as Cycles' Tangent node in Radial mode: around Z, (-(y - 1/2), x - 1/2, 0)."""
     location = np.asarray(getattr(mesh, "texspace_location", (0.0, 0.0, 0.0)), dtype=np.float64)
     size = np.asarray(getattr(mesh, "texspace_size", (1.0, 1.0, 1.0)), dtype=np.float64)
-    g = (positions - location) / np.where(np.abs(size) > 1e-30, 2.0 * size, 1.0)  # generated - 1/2
+    with np.errstate(invalid="ignore", over="ignore"):  # corners that are not finite are left out later
+        g = (positions - location) / np.where(np.abs(size) > 1e-30, 2.0 * size, 1.0)  # generated - 1/2
     zero = np.zeros(len(g))
     columns = {"x": (zero, -g[:, 2], g[:, 1]), "y": (-g[:, 2], zero, g[:, 0]), "z": (-g[:, 1], g[:, 0], zero)}
     per_vertex = np.stack(columns[axis] + (np.ones(len(g)),), axis=1)
