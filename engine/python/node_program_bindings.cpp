@@ -39,6 +39,7 @@ const std::vector<std::pair<const char*, NodeOp>>& op_names() {
       {"normal_map", NodeOp::NormalMap},  {"environment_uv", NodeOp::EnvironmentUv},
       {"vector_transform", NodeOp::VectorTransform}, {"transform", NodeOp::Transform},
       {"wavelength", NodeOp::Wavelength},
+      {"blackbody", NodeOp::Blackbody},
   };
   return names;
 }
@@ -136,7 +137,8 @@ py::dict node_modes() {
   modes["coord"] = std::vector<std::string>{
       "generated", "normal", "uv", "object", "camera", "window", "reflection", "position", "shading_normal",
       "true_normal", "incoming", "backfacing", "tangent", "object_location", "object_random", "object_index",
-      "attribute", "attribute_alpha", "attribute_mean", "is_camera_ray", "is_shadow_ray", "is_diffuse_ray",
+      "attribute", "attribute_alpha", "attribute_mean", "object_color", "object_alpha", "object_attribute",
+      "object_attribute_alpha", "object_attribute_mean", "is_camera_ray", "is_shadow_ray", "is_diffuse_ray",
       "is_glossy_ray", "is_singular_ray", "is_reflection_ray", "is_transmission_ray", "ray_length", "ray_depth",
       "diffuse_depth", "glossy_depth", "transmission_depth"};
   modes["noise"] = std::vector<std::string>{"fbm", "multifractal", "hybrid_multifractal", "ridged_multifractal",

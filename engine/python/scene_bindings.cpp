@@ -537,11 +537,18 @@ py::dict intersect(Scene& s, const py::object& origins, const py::object& direct
 }
 
 
-void set_object_info(Scene& s, uint32_t object, const py::object& matrix, const py::object& texspace_location,
-                     const py::object& texspace_size, double random, double pass_index) {
+glm::vec4 rgba(const double* p, const std::string& what, const std::string& field) {
+  for (int k = 0; k < 4; ++k)
+    if (!std::isfinite(p[k])) fail(what, field + " must be finite");
+  return glm::vec4(float(p[0]), float(p[1]), float(p[2]), float(p[3]));
+}
+
+void set_object_info(Scene& s, uint32_t object, const py::object& object_to_world,
+                     const py::object& texspace_location, const py::object& texspace_size, double random,
+                     double pass_index, const py::object& color, const py::object& attributes) {
   const std::string what = "object " + std::to_string(object);
   ObjectInfo info;
-  info.object_to_world = mat4(matrix, what, "matrix");
+  info.object_to_world = mat4(object_to_world, what, "matrix");
   info.location = Vec3(info.object_to_world[3]);
   // An object scaled to nothing along an axis (it renders, flat) has no inverse: its coordinates are
   // then measured from its origin along the world's axes.
@@ -556,6 +563,13 @@ void set_object_info(Scene& s, uint32_t object, const py::object& matrix, const 
   info.texspace_size = 2.0 * size;
   info.random = static_cast<float>(random);
   info.pass_index = static_cast<float>(pass_index);
+  const DoubleArray c = array_or_null<DoubleArray>(color);
+  if (!c || c.size() != 4) fail(what, "color must be 4 numbers (RGBA)");
+  info.color = rgba(c.data(), what, "color");
+  if (!attributes.is_none()) {
+    const DoubleArray a = matrix(attributes, 4, what, "attributes");
+    for (py::ssize_t i = 0; i < a.shape(0); ++i) info.attributes.push_back(rgba(a.data() + 4 * i, what, "attributes"));
+  }
   s.set_object_info(object, info);
 }
 
@@ -650,10 +664,12 @@ void bind_scene(py::module_& m) {
       .def("set_object_info", &set_object_info, py::arg("object"), py::arg("matrix"),
            py::arg("texspace_location") = py::make_tuple(0.0, 0.0, 0.0),
            py::arg("texspace_size") = py::make_tuple(1.0, 1.0, 1.0), py::arg("random") = 0.0,
-           py::arg("pass_index") = 0.0,
+           py::arg("pass_index") = 0.0, py::arg("color") = py::make_tuple(1.0, 1.0, 1.0, 1.0),
+           py::arg("attributes") = py::none(),
            "What node programs know of object id `object` (add_mesh's object_id): its object-to-world matrix "
-           "(Texture Coordinate's Object), its texture space (Blender's texspace_location and _size: Generated) "
-           "and Object Info's Random and Pass Index.")
+           "(Texture Coordinate's Object), its texture space (Blender's texspace_location and _size: Generated), "
+           "Object Info's Random, Pass Index and Color (RGBA), and `attributes`: (n, 4) RGBA values the "
+           "program's object_attribute coordinates read by slot (the instruction's data); finite numbers only.")
       .def("run_program", &run_program, py::arg("program"), py::arg("position"), py::arg("normal") = py::none(),
            py::arg("incoming") = py::none(), py::arg("uv") = py::none(), py::arg("tangent") = py::none(),
            py::arg("object") = 0, py::arg("footprint") = 0.0, py::arg("ray") = "camera",

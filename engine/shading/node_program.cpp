@@ -48,7 +48,12 @@ Vec3f light_path(CoordKind kind, const LightPath& p) {
   }
 }
 
-Vec3f coordinate(CoordKind kind, const ShadingContext& c) {
+glm::vec4 object_attribute(const ObjectInfo& o, uint32_t slot) {
+  return slot < o.attributes.size() ? o.attributes[slot] : glm::vec4(0.0f);
+}
+
+// `slot`: an object attribute's (ObjectInfo::attributes).
+Vec3f coordinate(CoordKind kind, const ShadingContext& c, uint32_t slot) {
   const ObjectInfo& o = object_of(c);
   switch (kind) {
     case CoordKind::Generated: {
@@ -75,6 +80,14 @@ Vec3f coordinate(CoordKind kind, const ShadingContext& c) {
     case CoordKind::Attribute: return Vec3f(c.attribute);
     case CoordKind::AttributeAlpha: return Vec3f(c.attribute.w);
     case CoordKind::AttributeMean: return Vec3f((c.attribute.x + c.attribute.y + c.attribute.z) * (1.0f / 3.0f));
+    case CoordKind::ObjectColor: return Vec3f(o.color);
+    case CoordKind::ObjectAlpha: return Vec3f(o.color.w);
+    case CoordKind::ObjectAttribute: return Vec3f(object_attribute(o, slot));
+    case CoordKind::ObjectAttributeAlpha: return Vec3f(object_attribute(o, slot).w);
+    case CoordKind::ObjectAttributeMean: {
+      const glm::vec4 a = object_attribute(o, slot);
+      return Vec3f((a.x + a.y + a.z) * (1.0f / 3.0f));
+    }
     default: return light_path(kind, c.path);
   }
   return Vec3f(0.0f);
@@ -316,6 +329,30 @@ Vec3f wavelength(float nm, const float* data) {
   return glm::max(rgb * (1.0f / 2.52f), Vec3f(0.0f));
 }
 
+// Blender's Blackbody node as Cycles evaluates it (export/blackbody.py): a piecewise fit in linear
+// Rec.709 (R and G a/t + b t + c, B a cubic), its end colours held outside the fitted range, to
+// scene linear, negative channels clamped.
+Vec3f blackbody(float t, const float* data) {
+  const float* fit = data + 9;
+  const float *starts = fit, *ends = fit + 6, *held = fit + 8, *coefficients = fit + 14;
+  Vec3f rec709;
+  if (t >= ends[1]) {
+    rec709 = Vec3f(held[3], held[4], held[5]);
+  } else if (!(t >= ends[0])) {  // NaN too (Cycles would give NaN): the cold end keeps it finite
+    rec709 = Vec3f(held[0], held[1], held[2]);
+  } else {
+    int i = 0;
+    while (i < 6 && t >= starts[i]) ++i;
+    const float* r = coefficients + 10 * i;
+    const float *g = r + 3, *b = r + 6;
+    rec709 = Vec3f(r[0] / t + r[1] * t + r[2], g[0] / t + g[1] * t + g[2], ((b[0] * t + b[1]) * t + b[2]) * t + b[3]);
+  }
+  Vec3f rgb;
+  for (int k = 0; k < 3; ++k)
+    rgb[k] = data[3 * k] * rec709.x + data[3 * k + 1] * rec709.y + data[3 * k + 2] * rec709.z;
+  return glm::max(rgb, Vec3f(0.0f));
+}
+
 // Blender's Vector Transform between world, object and camera space; a normal moves as a
 // direction and is normalised after, as Cycles does.
 Vec3f vector_transform(const NodeInstruction& ins, const Vec3f& v, const ShadingContext& c) {
@@ -344,7 +381,7 @@ void NodeProgram::step(const NodeInstruction& ins, ShadingContext& at, const Sha
   const auto& out = ins.out;
   auto f = [&](int k) { return r[in[k]].x; };
   switch (ins.op) {
-    case NodeOp::Coord: r[out[0]] = coordinate(static_cast<CoordKind>(ins.mode), at); break;
+    case NodeOp::Coord: r[out[0]] = coordinate(static_cast<CoordKind>(ins.mode), at, ins.data); break;
     case NodeOp::Convert: {
       const Vec3f v = r[in[0]];
       const float grey = ins.mode == 0 ? nodes::rgb_to_grey(v)
@@ -480,6 +517,7 @@ void NodeProgram::step(const NodeInstruction& ins, ShadingContext& at, const Sha
     }
     case NodeOp::VectorTransform: r[out[0]] = vector_transform(ins, r[in[0]], at); break;
     case NodeOp::Wavelength: r[out[0]] = wavelength(f(0), data.data() + ins.data); break;
+    case NodeOp::Blackbody: r[out[0]] = blackbody(f(0), data.data() + ins.data); break;
     case NodeOp::Transform: {
       const float* m = data.data() + ins.data;
       const Vec3f v = r[in[0]];
@@ -537,7 +575,8 @@ void NodeProgram::find_needs() {
   needs_ = {};
   for (const NodeInstruction& i : code) {
     needs_.uv_gradients |= i.op == NodeOp::BumpOffset;
-    needs_.attribute |= i.op == NodeOp::Coord && i.mode >= static_cast<uint8_t>(CoordKind::Attribute);
+    needs_.attribute |= i.op == NodeOp::Coord && i.mode >= static_cast<uint8_t>(CoordKind::Attribute) &&
+                        i.mode <= static_cast<uint8_t>(CoordKind::AttributeMean);
   }
 }
 
@@ -570,8 +609,9 @@ void NodeProgram::validate(size_t texture_count, const std::string& what) const 
     for (uint16_t reg : ins.out)
       if (reg >= registers || (reg >= 1 && reg <= constants.size()))
         fail(at + " writes register " + std::to_string(reg) + ", which is a constant or beyond the program's");
-    if (static_cast<int>(ins.op) > static_cast<int>(NodeOp::Wavelength)) fail(at + " has an unknown operation");
-    if (ins.op == NodeOp::Wavelength && size_t(ins.data) + 9 + 81 * 3 > data.size())
+    if (static_cast<int>(ins.op) > static_cast<int>(NodeOp::Blackbody)) fail(at + " has an unknown operation");
+    if ((ins.op == NodeOp::Wavelength && size_t(ins.data) + 9 + 81 * 3 > data.size()) ||
+        (ins.op == NodeOp::Blackbody && size_t(ins.data) + 9 + kBlackbodyFit > data.size()))
       fail(at + "'s table lies outside the data");
     if (ins.op == NodeOp::Transform && (ins.mode > 1 || size_t(ins.data) + 12 > data.size()))
       fail(at + "'s matrix lies outside the data");

@@ -20,12 +20,16 @@ namespace ppm {
 constexpr int kMaxRegisters = 256;
 
 // What Blender knows of an object that nodes read: Texture Coordinate's Object and Generated
-// (through the texture space, Blender's auto bounds of the undeformed mesh), Object Info.
+// (through the texture space, Blender's auto bounds of the undeformed mesh), Object Info, and the
+// Attribute node's object and instancer attributes (RGBA, by the slot the add-on gave each name;
+// a slot the object lacks reads 0, as a property Cycles does not find).
 struct ObjectInfo {
   Mat4 world_to_object{1.0}, object_to_world{1.0};
   Vec3 texspace_min{-1.0}, texspace_size{2.0};  // generated = (object - min) / size
   Vec3 location{0.0};
   float random = 0.0f, pass_index = 0.0f;
+  glm::vec4 color{1.0f};  // Object Info's Color and Alpha: the object's viewport display colour
+  std::vector<glm::vec4> attributes;
 };
 
 // What Blender's Light Path node reads at a shading point: the ray that arrived and the path's
@@ -99,7 +103,13 @@ enum class NodeOp : uint8_t {
   VectorTransform,  // mode: from * 3 + to (0 world, 1 object, 2 camera); flags: 0 point, 1 vector, 2 normal
   Transform,      // in[0] by the 3 x 4 matrix at data (rows); mode 0: a point, 1: a direction
   Wavelength,     // in[0] nm; data: XYZ -> scene linear (3 x 3, rows), then 81 XYZ triples from 380 nm by 5
+  Blackbody,      // in[0] kelvin; data: Rec.709 -> scene linear (3 x 3, rows), then the fit (kBlackbodyFit)
 };
+
+// The floats of a Blackbody instruction's fit, after its matrix (export/blackbody.py lays them out):
+// the 6 interval starts, the coldest and hottest temperature fitted, the colours held beyond them
+// (3 + 3), then per interval (7) the red (3), green (3) and blue (4) coefficients.
+inline constexpr size_t kBlackbodyFit = 6 + 2 + 6 + 7 * 10;
 
 enum class CoordKind : uint8_t {
   Generated, Normal, Uv, Object, Camera, Window, Reflection,  // Texture Coordinate
@@ -107,6 +117,8 @@ enum class CoordKind : uint8_t {
   Tangent,                                                     // Tangent (the UV map's)
   ObjectLocation, ObjectRandom, ObjectIndex,                   // Object Info
   Attribute, AttributeAlpha, AttributeMean,                    // Attribute (colour, alpha, fac)
+  ObjectColor, ObjectAlpha,                                    // Object Info
+  ObjectAttribute, ObjectAttributeAlpha, ObjectAttributeMean,  // Attribute, object: the slot in data
   IsCameraRay, IsShadowRay, IsDiffuseRay, IsGlossyRay, IsSingularRay, IsReflectionRay,  // Light Path
   IsTransmissionRay, RayLength, RayDepth, DiffuseDepth, GlossyDepth, TransmissionDepth,
 };

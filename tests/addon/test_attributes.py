@@ -2,7 +2,8 @@
 the shading point (per vertex, per corner or per face; byte or float colours, vectors, floats, a
 UV map by name), the exporter carrying the one attribute a material reads. A plane whose attribute
 runs linearly across it, rendered by PPM through an Emission shader, shows that ramp (which any
-interpolation, Cycles' too, gives exactly)."""
+interpolation, Cycles' too, gives exactly). Object and instancer attributes: an instancer's property
+comes before the object's (their agreement with Cycles: nodes_compare.py's object_attribute_*)."""
 
 import bpy
 import numpy as np
@@ -102,3 +103,34 @@ def test_face_and_float_attributes_and_a_uv_map_by_name_are_read_per_corner():
     np.testing.assert_allclose(uv.colors[..., :2], uv.uvs, atol=1e-6)
     missing = mesh_export.MeshData.from_object(obj.evaluated_get(depsgraph), attribute="nothing")
     assert missing.colors is None and missing.attribute_missing
+
+
+def test_an_instancer_attribute_is_read_from_the_instancer_first_then_from_the_object(tmp_path):
+    """One plane instanced twice by collection instances: the left instancer has the property, so its
+    copy shows it; the right one has not, so its copy shows the plane's own (Blender's lookup order)."""
+    bpy.ops.mesh.primitive_plane_add(size=1.0)
+    plane = bpy.context.object
+    plane["tint"] = (0.0, 0.0, 1.0)
+    collection = bpy.data.collections.new("instanced")
+    collection.objects.link(plane)
+    bpy.context.scene.collection.objects.unlink(plane)
+
+    def attribute(tree):
+        node = tree.nodes.new("ShaderNodeAttribute")
+        node.attribute_type, node.attribute_name = "INSTANCER", "tint"
+        return node.outputs["Color"]
+
+    emission_of(plane, attribute)
+    for name, x, tint in (("left", -0.5, (1.0, 0.0, 0.0)), ("right", 0.5, None)):
+        empty = bpy.data.objects.new(name, None)
+        empty.instance_type, empty.instance_collection, empty.location = "COLLECTION", collection, (x, 0.0, 0.0)
+        if tint is not None:
+            empty["tint"] = tint
+        bpy.context.scene.collection.objects.link(empty)
+    scene = bpy.context.scene
+    view_from_above(scene)
+    image = render_file(scene, tmp_path / "ppm.exr", passes=2, photons_per_pass=1000)
+    middle = SIZE // 2
+    np.testing.assert_allclose(image[middle, SIZE // 4, :3], (1.0, 0.0, 0.0), atol=1e-3)
+    np.testing.assert_allclose(image[middle, 3 * SIZE // 4, :3], (0.0, 0.0, 1.0), atol=1e-3)
+    np.testing.assert_allclose(image[1, 1, :3], 0.0, atol=1e-3)  # no plane there

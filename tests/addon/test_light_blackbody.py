@@ -1,9 +1,13 @@
 """A light's Emission Color driven by a Blackbody node is Cycles' Blackbody colour (the Cycles
-agreement itself: tests/blenders/cycles_compare.py, kinds light_blackbody and light_blackbody_hot)."""
+agreement itself: tests/blenders/cycles_compare.py, kinds light_blackbody and light_blackbody_hot),
+and so is the core's Blackbody instruction, which a varying Temperature compiles to (its Cycles
+agreement: nodes_compare.py's blackbody_varying)."""
 
+import numpy as np
 import pytest
 
 from conftest import bpy
+from ppm_render import core
 from ppm_render.export import light
 from ppm_render.export.blackbody import blackbody_rgb
 
@@ -108,3 +112,16 @@ def test_a_reroute_fed_by_nothing_warns():
     tree.links.new(tree.nodes.new("NodeReroute").outputs[0], emission.inputs["Color"])
     _, warnings = exported(data)
     assert len(warnings) == 1 and "'Color'" in warnings[0]
+
+
+def test_the_cores_instruction_for_a_varying_temperature_gives_the_same_colours():
+    """A Temperature that varies reaches the core's Blackbody instruction with the fit as data."""
+    from ppm_render.export.blackbody import program_data
+
+    ppm_core = core.load()
+    scene = ppm_core.Scene()
+    for kelvin in sorted(CYCLES_RENDERED) + [799.0, 800.0, 965.0, 6365.0, 11999.0, 12000.0]:
+        program = {"constants": [(kelvin,) * 3], "data": program_data(), "registers": 3, "outputs": [2],
+                   "code": [{"op": "blackbody", "in": [1], "out": [2], "data": 0}]}
+        colour = scene.run_program(program, np.zeros((1, 3)))[0, 0]
+        assert colour == pytest.approx(blackbody_rgb(kelvin), abs=2e-5), kelvin

@@ -168,14 +168,16 @@ def coordinates(obj, size, extent, normals=None):
             "object": local, "N": normal / np.linalg.norm(normal, axis=-1, keepdims=True), "matrix": matrix}
 
 
-def render_cycles(material, size=32, extent=2.0, samples=1, normals=None):
+def render_cycles(material, size=32, extent=2.0, samples=1, normals=None, prepare=None):
     """Renders the plane of `material` in the current scene (a fresh one); its rgb and coordinates.
-    `normals`: the plane's corner normals (plane())."""
+    `normals`: the plane's corner normals (plane()); `prepare(plane)`: called before the render."""
     scene = bpy.context.scene
     obj = plane(material, extent, normals)
     top_down_camera(extent)
     black_world(scene)
     configure(scene, size, samples)
+    if prepare is not None:
+        prepare(obj)
     bpy.context.view_layer.update()
     with tempfile.TemporaryDirectory(prefix="emission_plane_") as folder:
         scene.render.filepath = os.path.join(folder, "render.exr")

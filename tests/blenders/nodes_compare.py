@@ -13,7 +13,9 @@ Cycles' ray differentials and the core's short steps see different detail.
 
 import importlib
 import os
+import shutil
 import sys
+import tempfile
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
@@ -247,11 +249,14 @@ def environment_texture(projection, vector=None):
     return build
 
 
+FOLDERS_TO_REMOVE = []  # the tile files of a case, removed once it is compared
+
+
 def udim_tiles(tree, nodes):
     """A UDIM image of tiles 1001, 1002 and 1011 (random 4 x 4 PNG files) read at the UV scaled to span
     -0.3..2.2: the three tiles, tiles that are missing (Cycles shows those magenta) and negative UVs."""
-    import tempfile
     folder = tempfile.mkdtemp(prefix="nodes_compare_udim_")
+    FOLDERS_TO_REMOVE.append(folder)
     for number in (1001, 1002, 1011):
         tile = bpy.data.images.new(f"tile {number}", 4, 4)
         pixels = np.random.default_rng(number).random((4, 4, 4)).astype(np.float32)
@@ -280,6 +285,25 @@ def other_objects_coordinates(tree, nodes):
     bpy.context.view_layer.update()
     n = node(nodes, "ShaderNodeTexCoord", object=empty)
     return n.outputs["Object"]
+
+
+def attribute(kind, name, output):
+    def build(tree, nodes):
+        return node(nodes, "ShaderNodeAttribute", attribute_type=kind, attribute_name=name).outputs[output]
+    return build
+
+
+def give_properties(obj):
+    """The properties the attribute cases read: custom ones on the plane, its mesh, the scene and the
+    world (an int pair, a float, a colour, one name both the object's custom and RNA), its colour."""
+    obj["tint"] = (0.2, 0.6, 0.9)
+    obj["pair"] = [2, 3]
+    obj.data["level"] = 0.7
+    obj.color = (0.3, 0.5, 0.1, 0.8)
+    obj["pass_index"] = 0.25  # a custom property before the RNA property of that name
+    obj.pass_index = 3
+    bpy.context.scene["sky"] = (0.1, 0.4, 0.8, 0.5)
+    bpy.context.scene.world["glow"] = 0.35
 
 
 def vector_transform(source, convert_from, convert_to, vector_type):
@@ -436,6 +460,23 @@ CASES = {
     "image_box_blend": (image_texture("Linear", "REPEAT", "BOX", 0.4, "Object"), 1e-4, True),
     "image_sphere": (image_texture("Linear", "REPEAT", "SPHERE", vector="Generated"), 1e-4, True),
     "image_tube": (image_texture("Closest", "EXTEND", "TUBE", vector="Object"), 1e-4, True),
+    # -500 to 13500 K across the plane: below, through every interval of, and above Cycles' fit.
+    "blackbody_varying": (through("ShaderNodeBlackbody", "Temperature",
+                                  math_of("MULTIPLY_ADD", a=texture("ShaderNodeTexGradient", "Fac"), b=14000.0,
+                                          c=-500.0)), 1e-4, True),
+    "object_attribute_custom": (attribute("OBJECT", "tint", "Color"), 1e-6, True),
+    "object_attribute_int_pair": (attribute("OBJECT", "pair", "Vector"), 1e-6, True),
+    "object_attribute_of_the_mesh": (attribute("OBJECT", "level", "Fac"), 1e-6, True),
+    "object_attribute_rna_alpha": (attribute("OBJECT", "color", "Alpha"), 1e-6, True),
+    "object_attribute_custom_first": (attribute("OBJECT", "pass_index", "Fac"), 1e-6, True),
+    "object_attribute_missing": (attribute("OBJECT", "nothing", "Alpha"), 1e-6, True),
+    "instancer_attribute_of_an_object": (attribute("INSTANCER", "tint", "Color"), 1e-6, True),
+    "view_layer_attribute_of_the_scene": (attribute("VIEW_LAYER", "sky", "Color"), 1e-6, True),
+    "view_layer_attribute_of_the_world": (attribute("VIEW_LAYER", "glow", "Fac"), 1e-6, True),
+    "object_info_color": (lambda tree, nodes: node(nodes, "ShaderNodeObjectInfo").outputs["Color"], 1e-6, True),
+    "object_info_alpha": (lambda tree, nodes: node(nodes, "ShaderNodeObjectInfo").outputs["Alpha"], 1e-6, True),
+    "object_info_index": (lambda tree, nodes: node(nodes, "ShaderNodeObjectInfo").outputs["Object Index"], 1e-6,
+                          True),
     "blackbody_folded": (through("ShaderNodeBlackbody", "Temperature",
                                  math_of("MULTIPLY", a=value_node(1.7), b=2000.0)), 1e-4, True),
 }
@@ -448,18 +489,20 @@ def ppm_values(material, out, package):
     warnings. `package`: the add-on's module (the checkout's ppm_render, or an installed zip's)."""
     ppm_core = importlib.import_module(package + ".core").load()
     material_export = importlib.import_module(package + ".export.material")
+    object_info = importlib.import_module(package + ".export.object_info")
     scene = ppm_core.Scene()
     warnings = []
-    exporter = material_export.MaterialExporter(scene, warnings.append)
+    attributes = object_info.AttributeTable(bpy.context.view_layer, bpy.context.scene)
+    exporter = material_export.MaterialExporter(scene, warnings.append, attributes)
     params = exporter.describe(material)
     emission = np.array(params.get("emission", (0.0, 0.0, 0.0)), dtype=float)
     shape = out["P"].shape
     if "emission_input" not in params:
         return np.broadcast_to(emission, shape), warnings
     obj = bpy.data.objects["emission_plane"]
-    random = importlib.import_module(package + ".export.object_info").random_of_name(obj.name)
-    scene.set_object_info(0, out["matrix"], tuple(obj.data.texspace_location), tuple(obj.data.texspace_size),
-                          random=random)
+    instance = importlib.import_module(package + ".export.instance")
+    item = instance.Instance(obj, obj.name, out["matrix"], 0, object_info.random_of_name(obj.name))
+    object_info.add_object_info(scene, item, attributes)
     camera = importlib.import_module(package + ".export.camera")
     scene.set_camera(**camera.camera_arguments(bpy.context.scene.camera, camera.Frame(SIZE, SIZE), warnings.append))
     normals = out["N"].reshape(-1, 3)
@@ -485,8 +528,11 @@ def compare(name, package="ppm_render"):
     bpy.ops.wm.read_factory_settings(use_empty=True)
     material = emission_plane.emission_material(name, build)
     out = emission_plane.render_cycles(material, size=SIZE,
-                                       normals=emission_plane.CORNER_NORMALS if name in CURVED else None)
+                                       normals=emission_plane.CORNER_NORMALS if name in CURVED else None,
+                                       prepare=give_properties)
     ours, warnings = ppm_values(material, out, package)
+    while FOLDERS_TO_REMOVE:
+        shutil.rmtree(FOLDERS_TO_REMOVE.pop(), ignore_errors=True)
     difference = np.abs(ours - out["rgb"])
     p99 = float(np.quantile(difference, 0.99))
     tolerance = max(tolerance, ROUNDING)

@@ -50,6 +50,24 @@ def test_generated_and_object_coordinates_come_from_the_objects_texture_space_an
     assert np.all(np.isfinite(scene.run_program(program, points, object=4)))
 
 
+def test_object_color_and_attributes_are_read_per_object_by_slot():
+    scene = ppm_core.Scene()
+    scene.set_object_info(2, np.eye(4), color=(0.1, 0.2, 0.3, 0.4), attributes=[(1, 2, 3, 4), (0.5, 0.5, 0.5, 1)])
+    program = {"code": [op("coord", "object_color", out=[1]), op("coord", "object_alpha", out=[2]),
+                        op("coord", "object_attribute", out=[3], data=1),
+                        op("coord", "object_attribute_mean", out=[4], data=0),
+                        op("coord", "object_attribute_alpha", out=[5], data=0),
+                        op("coord", "object_attribute", out=[6], data=7)],  # a slot the object lacks
+               "outputs": [1, 2, 3, 4, 5, 6], "registers": 7}
+    out = scene.run_program(program, np.zeros((1, 3)), object=2)[0]
+    np.testing.assert_allclose(out, [[0.1, 0.2, 0.3], [0.4] * 3, [0.5] * 3, [2.0] * 3, [4.0] * 3, [0.0] * 3],
+                               atol=1e-6)
+    plain = scene.run_program(program, np.zeros((1, 3)), object=5)[0]  # never described: white, no attributes
+    np.testing.assert_allclose(plain, [[1.0] * 3, [1.0] * 3] + [[0.0] * 3] * 4, atol=1e-6)
+    with pytest.raises(ValueError, match="finite"):
+        scene.set_object_info(3, np.eye(4), attributes=[(np.nan, 0, 0, 1)])
+
+
 def test_the_world_object_id_is_kept_apart_from_the_table_of_objects():
     """A world's network is baked for object 2^24 - 1 (export/world.py); that id must not make a
     table of 2^24 objects (5 GB and 18 s, as it once did)."""

@@ -34,10 +34,11 @@ class Cancelled(Exception):
 class Exporter:
     """State of one export: the core scene, materials, mesh cache, warnings and object ids."""
 
-    def __init__(self, core_module, warn):
+    def __init__(self, core_module, warn, view_layer=None, scene=None):
         self.scene = core_module.Scene()
         self.warn = warn
-        self.materials = material.MaterialExporter(self.scene, warn)
+        self.attributes = object_info.AttributeTable(view_layer, scene)
+        self.materials = material.MaterialExporter(self.scene, warn, self.attributes)
         self.meshes = {}
         self.next_id = 0
         self.triangles = 0
@@ -48,7 +49,7 @@ class Exporter:
     def describe_object(self, item, slots):
         """Object info for the node programs of the object's materials, if any has one."""
         if any(i in self.materials.with_program for i in slots):
-            object_info.add_object_info(self.scene, item)
+            object_info.add_object_info(self.scene, item, self.attributes)
 
     def object_id(self):
         self.next_id += 1
@@ -117,24 +118,28 @@ class Exporter:
 
     def visit_unchecked(self, instance):
         obj = instance.object
-        parent = instance.instance_object if instance.is_instance else None
+        # For an instance: the object instanced (a curve lists its own evaluated mesh so) and the
+        # object instancing it (an empty with a collection, a particle or Geometry Nodes host).
+        instanced = instance.instance_object if instance.is_instance else None
+        instancer = instance.parent if instance.is_instance else None
         object_id = self.object_id()
-        name = obj.name if parent is None else f"{parent.name}/{obj.name}.{object_id}"
+        name = obj.name if instanced is None else f"{instanced.name}/{obj.name}.{object_id}"
+        particles = getattr(instance.particle_system, "settings", None) if instance.is_instance else None
         item = Instance(obj, name, np.array(instance.matrix_world, dtype=float), object_id,
-                        object_info.random_of(instance))
+                        object_info.random_of(instance), instancer, particles)
         if obj.type == "LIGHT":
             light.add_light(self.scene, item, self.warn)
-        elif parent is not None and parent.type in CURVE_TYPES and parent.original == obj.original:
+        elif instanced is not None and instanced.type in CURVE_TYPES and instanced.original == obj.original:
             # The evaluated geometry of a curve, listed as a MESH instance of the curve itself.
-            self.curves_with_mesh.add(parent.original.name)
-            if not bezier.is_revolve(parent):
+            self.curves_with_mesh.add(instanced.original.name)
+            if not bezier.is_revolve(instanced):
                 self.add_geometry(item)
         elif bezier.is_revolve(obj):
             self.add_revolve(item)
-        elif obj.type in CURVE_TYPES and parent is None:
+        elif obj.type in CURVE_TYPES and instanced is None:
             self.plain_curves.append(item)  # exported later unless a MESH instance shows up
         elif obj.type in GEOMETRY_TYPES:
-            if parent is None and not getattr(instance, "show_self", True):
+            if instanced is None and not getattr(instance, "show_self", True):
                 return
             self.add_geometry(item)
 
@@ -153,14 +158,14 @@ def build_scene(core_module, depsgraph, frame, warn, cancelled=lambda: False):
     if scene.render.use_motion_blur:
         warn("motion blur is not rendered: objects and the camera stand where they are at the frame "
              "(Cycles blurs them over the shutter)")
-    exporter = Exporter(core_module, warn)
+    exporter = Exporter(core_module, warn, depsgraph.view_layer, scene)
     for instance in depsgraph.object_instances:
         if cancelled():
             raise Cancelled()
         exporter.visit(instance)
     exporter.finish_curves()
     exporter.report_skips()
-    world.add_world(exporter.scene, scene.world, warn)
+    world.add_world(exporter.scene, scene.world, warn, exporter.attributes)
     camera_object = scene.camera.evaluated_get(depsgraph)
     camera_args = camera.camera_arguments(camera_object, frame, warn, scene.ppm.dof_mode)
     exporter.scene.set_camera(**camera_args)

@@ -67,3 +67,18 @@ def blackbody_rgb(kelvin):
     Rec.709 (identity in Blender's default working space), then clamped at zero as Cycles does."""
     scene_linear = mathutils.Color(blackbody_rec709(kelvin)).from_rec709_linear_to_scene_linear()
     return tuple(max(float(c), 0.0) for c in scene_linear)
+
+
+def rec709_to_scene_linear():
+    """The 3 x 3 matrix (rows) Blender converts linear Rec.709 to the scene linear space with."""
+    columns = [mathutils.Color(axis).from_rec709_linear_to_scene_linear() for axis in ((1, 0, 0), (0, 1, 0), (0, 0, 1))]
+    return [[float(columns[j][i]) for j in range(3)] for i in range(3)]
+
+
+def program_data():
+    """The floats the core's Blackbody instruction reads (node_program.h kBlackbodyFit): the matrix
+    (9, rows), the interval starts, the fitted range, the colours held beyond it, the coefficients."""
+    fit = [*INTERVAL_STARTS, COLDEST, HOTTEST, *BELOW_COLDEST, *HOTTEST_RGB]
+    for red, green, blue in zip(RED, GREEN, BLUE):
+        fit += [*red, *green, *blue]
+    return [v for row in rec709_to_scene_linear() for v in row] + [float(v) for v in fit]

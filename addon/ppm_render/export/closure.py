@@ -82,8 +82,9 @@ def _rgb(value):
 class ClosureReader:
     """Reads one material's surface closure; `warn` gets each problem once, naming material and node."""
 
-    def __init__(self, material_name, warn, texture=None, core=None, kind="material"):
+    def __init__(self, material_name, warn, texture=None, core=None, kind="material", attributes=None):
         self.material, self.warn_once, self.kind = material_name, warn, kind
+        self.attributes = attributes  # object_info.AttributeTable, if the export has objects
         self.warned = set()
         self.out = Closure()
         self.depth = 0  # Mix and Add shaders entered
@@ -713,10 +714,11 @@ SHADERS = {
 }
 
 
-def read_surface(material, warn, texture=None, core=None):
+def read_surface(material, warn, texture=None, core=None, attributes=None):
     """The closure of `material`'s active surface output (None if it has no node tree in use).
     Texture and utility nodes are compiled when `core` (a ppm_core.Scene, which runs constant
-    networks) and `texture(image, premultiplied)` (its texture index) are given."""
+    networks) and `texture(image, premultiplied)` (its texture index) are given; `attributes`: the
+    export's object_info.AttributeTable."""
     if not nodes.uses_nodes(material):
         return None
     outputs = [n for n in material.node_tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial"]
@@ -724,7 +726,7 @@ def read_surface(material, warn, texture=None, core=None):
               [n for n in outputs if n.is_active_output] or outputs)
     if not active:
         return None
-    reader = ClosureReader(material.name, warn, texture, core)
+    reader = ClosureReader(material.name, warn, texture, core, attributes=attributes)
     reader.closure(active[0].inputs["Surface"], (), Weight(np.ones(3)))
     if reader.program is not None and reader.program.outputs:
         reader.out.program = reader.program.program()

@@ -23,9 +23,10 @@ MAX_EMISSION = 1e20  # radiance, the core's limit
 class MaterialExporter:
     """Adds each Blender material to the core once; remembers its index."""
 
-    def __init__(self, core_scene, warn):
+    def __init__(self, core_scene, warn, attributes=None):
         self.scene = core_scene
         self.warn = warn
+        self.attributes_table = attributes  # object_info.AttributeTable: object and view-layer attributes
         self.indices = {}
         self.emissive = set()
         self.textures = {}
@@ -81,7 +82,7 @@ class MaterialExporter:
 
     def describe(self, material):
         """Keyword arguments for Scene.add_material."""
-        read = closure.read_surface(material, self.warn, self.texture, self.scene)
+        read = closure.read_surface(material, self.warn, self.texture, self.scene, self.attributes_table)
         self.needed_tangents = read.tangents if read is not None else None
         self.needed_attribute = read.attribute if read is not None else None
         if read is None:

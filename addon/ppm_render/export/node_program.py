@@ -300,11 +300,10 @@ def _uv_map(c, node, ctx):
 def _object_info(c, node, ctx):
     random = c.coordinate("object_random")
     index = c.coordinate("object_index")
-    if node.outputs["Color"].links or node.outputs.get("Alpha") is not None and node.outputs["Alpha"].links:
-        c.reader.warn(node, "the object's Color and Alpha are not supported; using white")
     return {"Location": c.coordinate("object_location"), "Random": Value(random.reg, "float", True),
             "Object Index": Value(index.reg, "float", True), "Material Index": c.constant(0.0),
-            "Color": c.constant((1.0, 1.0, 1.0)), "Alpha": c.constant(1.0)}
+            "Color": Value(c.coordinate("object_color").reg, "color", True),
+            "Alpha": Value(c.coordinate("object_alpha").reg, "float", True)}
 
 
 def _attribute_outputs(c, node, name):
@@ -317,9 +316,25 @@ def _attribute_outputs(c, node, name):
 
 
 def _attribute(c, node, ctx):
-    if getattr(node, "attribute_type", "GEOMETRY") != "GEOMETRY":
-        raise Unsupported(f"'{node.name}': {node.attribute_type.lower()} attributes are not supported yet")
-    return _attribute_outputs(c, node, node.attribute_name)
+    kind = getattr(node, "attribute_type", "GEOMETRY")
+    if kind == "GEOMETRY":
+        return _attribute_outputs(c, node, node.attribute_name)
+    table = c.reader.attributes
+    if kind == "VIEW_LAYER" and table is not None:  # a constant of the render
+        rgba = table.view_layer_value(node.attribute_name)
+        return {"Color": c.constant(rgba[:3]), "Vector": c.constant(rgba[:3]), "Fac": c.constant(sum(rgba[:3]) / 3),
+                "Alpha": c.constant(rgba[3])}
+    if table is None or c.reader.kind == "world":  # no object to read
+        c.reader.warn(node, f"{kind.lower().replace('_', ' ')} attributes read 0 here")
+        return {name: c.constant(0.0) for name in ("Color", "Vector", "Fac", "Alpha")}
+    slot = table.slot(kind, node.attribute_name)
+
+    def read(mode, value_kind):
+        return c.emit("coord", [], kinds=(value_kind,), mode=c.mode("coord", mode), data=slot, pure=False)[0]
+
+    color = read("object_attribute", "color")
+    return {"Color": color, "Vector": Value(color.reg, "vector", True), "Fac": read("object_attribute_mean", "float"),
+            "Alpha": read("object_attribute_alpha", "float")}
 
 
 def _color_attribute(c, node, ctx):
@@ -692,12 +707,15 @@ def _vector_rotate(c, node, ctx):
 
 
 def _blackbody(c, node, ctx):
-    """Cycles' Blackbody colour (export/blackbody.py) for a Temperature the network holds constant."""
-    from .blackbody import blackbody_rgb
+    """Cycles' Blackbody colour (export/blackbody.py): folded for a constant Temperature, else the
+    core's instruction with the fit in the program's data."""
+    from .blackbody import blackbody_rgb, program_data
     temperature = c.input(node, "Temperature", ctx, "float")
-    if temperature.varying:
-        raise Unsupported(f"'{node.name}' (Blackbody) with a varying Temperature is not supported yet")
-    return {"Color": c.constant(blackbody_rgb(c.constant_value(temperature)))}
+    if not temperature.varying:
+        return {"Color": c.constant(blackbody_rgb(c.constant_value(temperature)))}
+    offset = len(c.data)
+    c.data += program_data()
+    return {"Color": c.emit("blackbody", [temperature], kinds=("color",), data=offset)[0]}
 
 
 def _wavelength(c, node, ctx):

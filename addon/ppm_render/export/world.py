@@ -41,8 +41,9 @@ def visibility(world):
 class WorldExporter:
     """One world's export: warnings name the world and the node."""
 
-    def __init__(self, core_scene, world, warn):
+    def __init__(self, core_scene, world, warn, attributes=None):
         self.scene, self.world, self.warn = core_scene, world, warn
+        self.attributes = attributes
 
     def reach(self):
         """The rays that see the world, and the paths it lights."""
@@ -91,7 +92,8 @@ class WorldExporter:
     def add_network(self, node):
         """The Background's Color and Strength from a node network, baked into an image around the
         scene (see the module's comment); the sockets' own values where the network cannot be taken."""
-        reader = closure.ClosureReader(self.world.name, self.warn, self.texture, self.scene, kind="world")
+        reader = closure.ClosureReader(self.world.name, self.warn, self.texture, self.scene, kind="world",
+                                       attributes=self.attributes)
         program = reader.program
         try:
             color = program.socket(node.inputs["Color"], (), "color")
@@ -203,13 +205,14 @@ def euler_xyz(angles):
     return rz @ ry @ rx
 
 
-def add_world(core_scene, world, warn):
-    """The world's background; one the core refuses (negative, NaN, Inf) renders black with a warning."""
+def add_world(core_scene, world, warn, attributes=None):
+    """The world's background; one the core refuses (negative, NaN, Inf) renders black with a warning.
+    `attributes`: the export's object_info.AttributeTable (its view-layer attributes)."""
     if world is None:
         core_scene.set_background((0.0, 0.0, 0.0))
         return
     try:
-        WorldExporter(core_scene, world, warn).export()
+        WorldExporter(core_scene, world, warn, attributes).export()
     except ValueError as error:
         warn(f"world '{world.name}': not rendered ({error}); the background is black")
         core_scene.set_background((0.0, 0.0, 0.0))
