@@ -18,7 +18,7 @@ import math
 
 import numpy as np
 
-from . import closure, nodes
+from . import closure, nodes, object_info
 from . import image as image_export
 from .node_program import Unsupported
 from .visibility import own_max_bounces
@@ -26,7 +26,7 @@ from .visibility import own_max_bounces
 PROJECTIONS = {"EQUIRECTANGULAR": "equirectangular", "MIRROR_BALL": "mirror_ball"}
 WORLD_RAY_FLAGS = ("camera", "diffuse", "glossy", "transmission", "shadow")
 BAKE_WIDTH, BAKE_HEIGHT = 1024, 512
-WORLD_OBJECT = (1 << 24) - 1  # the object id the bake reads coordinates for (the core keeps it apart)
+WORLD_OBJECT = object_info.MAX_OBJECT_ID  # the id past the objects': the core keeps its info apart
 
 
 def _linked_node(socket):
