@@ -116,7 +116,7 @@ def test_a_reroute_fed_by_nothing_warns():
 
 def test_the_cores_instruction_for_a_varying_temperature_gives_the_same_colours():
     """A Temperature that varies reaches the core's Blackbody instruction with the fit as data."""
-    from ppm_render.export.blackbody import program_data
+    from ppm_render.export.blackbody import kernel_rec709_to_scene_linear, program_data
 
     ppm_core = core.load()
     scene = ppm_core.Scene()
@@ -124,4 +124,4 @@ def test_the_cores_instruction_for_a_varying_temperature_gives_the_same_colours(
         program = {"constants": [(kelvin,) * 3], "data": program_data(), "registers": 3, "outputs": [2],
                    "code": [{"op": "blackbody", "in": [1], "out": [2], "data": 0}]}
         colour = scene.run_program(program, np.zeros((1, 3)))[0, 0]
-        assert colour == pytest.approx(blackbody_rgb(kelvin), abs=2e-5), kelvin
+        assert colour == pytest.approx(blackbody_rgb(kelvin, kernel_rec709_to_scene_linear()), abs=2e-5), kelvin

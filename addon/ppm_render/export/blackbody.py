@@ -2,16 +2,19 @@
 
 Cycles evaluates a piecewise fit of the black body's colour in linear Rec.709, normalised to a
 luminance of about 1 (so a temperature changes a light's hue, not its power), converts it to the
-scene linear (working) space and clamps negative channels (out of gamut) to zero. Every Blender we
-support does exactly this: the Cycles kernel sources shipped with Blender 3.4, 4.2, 4.5, 5.0 and 5.2
-(cycles/source/kernel: tables.h `blackbody_table_r/g/b`, svm/math_util.h
-`svm_math_blackbody_color_rec709`, svm/blackbody.h) hold the same fit, bounds and clamp, the host's
-folding of an unlinked Temperature does the same (scene/shader_nodes.cpp `BlackbodyNode::constant_fold`),
-and renders of a Blackbody-driven Emission in each version match this function within 3e-5 from -100 to
-20000 K (tests/addon/test_light_blackbody.py keeps some of them), in 5.0's ACEScg working space too.
+scene linear (working) space and clamps negative channels (out of gamut) to zero. The Cycles sources
+shipped with Blender 3.4, 4.2, 4.5, 5.0 and 5.2 (kernel/tables.h `blackbody_table_r/g/b`,
+svm/math_util.h `svm_math_blackbody_color_rec709`, svm/blackbody.h, and the host's folding of an
+unlinked Temperature, scene/shader_nodes.cpp `BlackbodyNode::constant_fold`) hold the same fit, bounds
+and clamp. Only the conversion differs: Blender 5.2's kernel converts with a matrix up to 1.6e-4 from
+the one the host folds with (kernel_rec709_to_scene_linear). Renders of a Blackbody-driven Emission
+in each version match these functions within 3e-5 from -100 to 20000 K (tests/blenders/nodes_compare.py,
+tests/addon/test_light_blackbody.py), in 5.0's ACEScg working space too.
 """
 
 import mathutils
+
+from . import wavelength
 
 # The fit's published constants (Cycles' kernel/tables.h, Apache-2.0): per temperature interval,
 # R and G are a/t + b t + c and B is the cubic ((a t + b) t + c) t + d.
@@ -62,11 +65,13 @@ def blackbody_rec709(kelvin):
     return (ra / t + rb * t + rc, ga / t + gb * t + gc, ((ba * t + bb) * t + bc) * t + bd)
 
 
-def blackbody_rgb(kelvin):
-    """Cycles' Blackbody colour at `kelvin` in the scene linear space: the fit converted from
-    Rec.709 (identity in Blender's default working space), then clamped at zero as Cycles does."""
-    scene_linear = mathutils.Color(blackbody_rec709(kelvin)).from_rec709_linear_to_scene_linear()
-    return tuple(max(float(c), 0.0) for c in scene_linear)
+def blackbody_rgb(kelvin, matrix=None):
+    """Cycles' Blackbody colour at `kelvin` in the scene linear space: the fit converted from Rec.709
+    by `matrix` (rows; by default the host's, the identity in Blender's default working space), then
+    clamped at zero as Cycles does."""
+    rec709 = blackbody_rec709(kelvin)
+    rows = matrix or rec709_to_scene_linear()
+    return tuple(max(sum(m * c for m, c in zip(row, rec709)), 0.0) for row in rows)
 
 
 def rec709_to_scene_linear():
@@ -75,10 +80,27 @@ def rec709_to_scene_linear():
     return [[float(columns[j][i]) for j in range(3)] for i in range(3)]
 
 
+# The XYZ (D65) to linear Rec.709 constants Blender used before 5.0 (5.0 rounded them to four digits).
+XYZ_TO_REC709_BEFORE_5_0 = mathutils.Matrix(((3.2404542, -1.5371385, -0.4985314),
+                                             (-0.9692660, 1.8760108, 0.0415560),
+                                             (0.0556434, -0.2040259, 1.0572252)))
+
+
+def kernel_rec709_to_scene_linear():
+    """The matrix (rows) Cycles' kernel converts the fit with. Blender 5.2's kernel goes through XYZ and the
+    older constants' inverse (measured: its renders match this within 2e-6, the host's matrix only within
+    4e-4); before, it used the host's matrix. 5.1 is not measured."""
+    import bpy
+    if bpy.app.version < (5, 1, 0):
+        return rec709_to_scene_linear()
+    product = mathutils.Matrix(wavelength.xyz_to_scene_linear()) @ XYZ_TO_REC709_BEFORE_5_0.inverted()
+    return [[float(v) for v in row] for row in product]
+
+
 def program_data():
     """The floats the core's Blackbody instruction reads (node_program.h kBlackbodyFit): the matrix
     (9, rows), the interval starts, the fitted range, the colours held beyond it, the coefficients."""
     fit = [*INTERVAL_STARTS, COLDEST, HOTTEST, *BELOW_COLDEST, *HOTTEST_RGB]
     for red, green, blue in zip(RED, GREEN, BLUE):
         fit += [*red, *green, *blue]
-    return [v for row in rec709_to_scene_linear() for v in row] + [float(v) for v in fit]
+    return [v for row in kernel_rec709_to_scene_linear() for v in row] + [float(v) for v in fit]
