@@ -39,7 +39,7 @@ const std::vector<std::pair<const char*, NodeOp>>& op_names() {
       {"normal_map", NodeOp::NormalMap},  {"environment_uv", NodeOp::EnvironmentUv},
       {"vector_transform", NodeOp::VectorTransform}, {"transform", NodeOp::Transform},
       {"wavelength", NodeOp::Wavelength},
-      {"blackbody", NodeOp::Blackbody},
+      {"blackbody", NodeOp::Blackbody},  {"gabor", NodeOp::Gabor},
   };
   return names;
 }

@@ -21,7 +21,6 @@ using nodes::MixBlend;
 using nodes::VectorMathOp;
 
 Vec3f point(const Mat4& m, const Vec3& p) { return Vec3f(Vec3(m * glm::dvec4(p, 1.0))); }
-Vec3f direction(const Mat4& m, const Vec3& d) { return Vec3f(Vec3(m * glm::dvec4(d, 0.0))); }
 
 const ObjectInfo& object_of(const ShadingContext& c) {
   static const ObjectInfo kNone;
@@ -482,7 +481,8 @@ void NodeProgram::step(const NodeInstruction& ins, ShadingContext& at, const Sha
     case NodeOp::Gradient:
     case NodeOp::Wave:
     case NodeOp::Brick:
-    case NodeOp::Magic: textures::run(ins, data, r); break;
+    case NodeOp::Magic:
+    case NodeOp::Gabor: textures::run(ins, data, r); break;
     case NodeOp::Fresnel: {
       const float eta = std::max(f(0), 1e-5f);
       const float cosi = float(glm::dot(at.incoming, Vec3(r[in[1]])));
@@ -609,7 +609,7 @@ void NodeProgram::validate(size_t texture_count, const std::string& what) const 
     for (uint16_t reg : ins.out)
       if (reg >= registers || (reg >= 1 && reg <= constants.size()))
         fail(at + " writes register " + std::to_string(reg) + ", which is a constant or beyond the program's");
-    if (static_cast<int>(ins.op) > static_cast<int>(NodeOp::Blackbody)) fail(at + " has an unknown operation");
+    if (static_cast<int>(ins.op) > static_cast<int>(NodeOp::Gabor)) fail(at + " has an unknown operation");
     if ((ins.op == NodeOp::Wavelength && size_t(ins.data) + 9 + 81 * 3 > data.size()) ||
         (ins.op == NodeOp::Blackbody && size_t(ins.data) + 9 + kBlackbodyFit > data.size()))
       fail(at + "'s table lies outside the data");

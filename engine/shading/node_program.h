@@ -104,6 +104,7 @@ enum class NodeOp : uint8_t {
   Transform,      // in[0] by the 3 x 4 matrix at data (rows); mode 0: a point, 1: a direction
   Wavelength,     // in[0] nm; data: XYZ -> scene linear (3 x 3, rows), then 81 XYZ triples from 380 nm by 5
   Blackbody,      // in[0] kelvin; data: Rec.709 -> scene linear (3 x 3, rows), then the fit (kBlackbodyFit)
+  Gabor,          // see textures/procedural.cpp
 };
 
 // The floats of a Blackbody instruction's fit, after its matrix (export/blackbody.py lays them out):

@@ -31,6 +31,7 @@ EXTENT = 2.0  # emission_plane.render_cycles's default
 PIXEL = EXTENT * emission_plane.SCALE / SIZE  # a pixel's width on the plane: its ray differential
 V4 = bpy.app.version >= (4, 0, 0)
 V41 = bpy.app.version >= (4, 1, 0)
+V43 = bpy.app.version >= (4, 3, 0)  # the Gabor Texture
 MIRROR = "MIRROR" in bpy.types.ShaderNodeTexImage.bl_rna.properties["extension"].enum_items.keys()
 
 
@@ -464,6 +465,13 @@ CASES = {
     "blackbody_varying": (through("ShaderNodeBlackbody", "Temperature",
                                   math_of("MULTIPLY_ADD", a=texture("ShaderNodeTexGradient", "Fac"), b=14000.0,
                                           c=-500.0)), 1e-4, True),
+    "gabor_2d": (texture("ShaderNodeTexGabor", "Value") if V43 else None, 1e-4, V43),
+    "gabor_2d_phase": (texture("ShaderNodeTexGabor", "Phase", **{"in_Anisotropy": 0.3, "in_Frequency": 3.0,
+                                                                  "in_Orientation 2D": 1.0}) if V43 else None,
+                       1e-4, V43),
+    "gabor_3d_value": (texture("ShaderNodeTexGabor", "Value", gabor_type="3D") if V43 else None, 1e-4, V43),
+    "gabor_3d_intensity": (texture("ShaderNodeTexGabor", "Intensity", gabor_type="3D", in_Anisotropy=0.4,
+                                   **{"in_Orientation 3D": (0.2, -0.5, 0.8)}) if V43 else None, 1e-4, V43),
     "object_attribute_custom": (attribute("OBJECT", "tint", "Color"), 1e-6, True),
     "object_attribute_int_pair": (attribute("OBJECT", "pair", "Vector"), 1e-6, True),
     "object_attribute_of_the_mesh": (attribute("OBJECT", "level", "Fac"), 1e-6, True),

@@ -1,10 +1,11 @@
 // Tests for node programs and Blender's textures in the core: the hashes bit for bit (the values
 // below are lookup3's, and nodes_compare.py shows Cycles gives the same), noise that stays finite
 // and bounded for any input, image sampling modes, the Bump node against an analytic slope, and a
-// program that refers to what it does not have being refused.
+// program that refers to what it does not have being refused; Gabor noise's ranges.
 #include "shading/node_program.h"
 
 #include "shading/node_math.h"
+#include "shading/textures/gabor.h"
 #include "shading/textures/hash.h"
 #include "shading/textures/noise.h"
 #include "shading/textures/patterns.h"
@@ -84,6 +85,34 @@ TEST(Voronoi, HugeAndNanCoordinatesDoNotMisbehave) {
   for (float x : {1e30f, -1e30f, std::numeric_limits<float>::quiet_NaN()}) {
     const VoronoiResult r = voronoi_texture(s, glm::vec4(x, x, x, x));
     EXPECT_FALSE(std::isinf(r.color.x));  // no crash, no undefined conversion
+  }
+}
+
+TEST(Gabor, ValueCentresOnAHalfAndPhaseAndIntensityStayInTheirRanges) {
+  for (bool three_d : {false, true}) {
+    double sum = 0.0;
+    const int n = 2000;
+    for (int i = 0; i < n; ++i) {
+      const Vec3f p(0.173f * i, 0.071f * i - 3.0f, 0.013f * float(i % 97));
+      const GaborResult g = gabor(three_d, p, 2.0f, 0.5f, 0.3f, Vec3f(0.6f, 0.0f, 0.8f));
+      EXPECT_TRUE(g.phase >= 0.0f && g.phase <= 1.0f) << i;
+      EXPECT_GE(g.intensity, 0.0f);
+      // Normalised by six standard deviations: almost always within [0, 1] (Blender clamps nothing).
+      EXPECT_TRUE(g.value > -0.5f && g.value < 1.5f) << i;
+      sum += g.value;
+    }
+    EXPECT_NEAR(sum / n, 0.5, 0.02) << three_d;  // the imaginary part has zero mean
+  }
+}
+
+TEST(Gabor, DegenerateInputsGiveNoInfinityOrHang) {
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  for (float x : {0.0f, 1e30f, -1e30f, nan}) {
+    // A zero or vertical 3D orientation (Cycles divides by its zero planar length there), any frequency.
+    for (const Vec3f& orientation : {Vec3f(0.0f), Vec3f(0.0f, 0.0f, 1.0f)}) {
+      const GaborResult g = gabor(true, Vec3f(x, 0.5f, 0.25f), x, 0.2f, 0.0f, orientation);
+      EXPECT_FALSE(std::isinf(g.value) || std::isinf(g.intensity)) << x;
+    }
   }
 }
 

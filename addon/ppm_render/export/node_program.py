@@ -514,6 +514,17 @@ def _magic(c, node, ctx):
     return {"Color": color, "Fac": fac}
 
 
+def _gabor(c, node, ctx):
+    """Blender 4.3's Gabor Texture (textures/gabor.h); the orientation the type does not use is 0."""
+    vector = c.vector_or(node, ctx, "generated")
+    three_d = node.gabor_type == "3D"
+    ins = [vector] + [c.input(node, name, ctx, "float") for name in ("Scale", "Frequency", "Anisotropy")]
+    ins.append(c.constant(0.0) if three_d else c.input(node, "Orientation 2D", ctx, "float"))
+    ins.append(c.input(node, "Orientation 3D", ctx, "vector") if three_d else c.constant(0.0))
+    value, phase, intensity = c.emit("gabor", ins, outs=3, kinds=("float",) * 3, mode=int(three_d))
+    return {"Value": value, "Phase": phase, "Intensity": intensity}
+
+
 def _brick(c, node, ctx):
     vector = c.vector_or(node, ctx, "generated")
     offset = len(c.data)
@@ -830,6 +841,7 @@ NODES = {
     "ShaderNodeTexGradient": _gradient,
     "ShaderNodeTexWave": _wave,
     "ShaderNodeTexMagic": _magic,
+    "ShaderNodeTexGabor": _gabor,
     "ShaderNodeTexBrick": _brick,
     "ShaderNodeMath": _math,
     "ShaderNodeVectorMath": _vector_math,

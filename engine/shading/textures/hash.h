@@ -86,6 +86,17 @@ inline float hash_float3_to_float(const Vec3f& k) { return uint_to_unit(hash_uin
 inline float hash_float4_to_float(const glm::vec4& k) {
   return uint_to_unit(hash_uint4(bits(k.x), bits(k.y), bits(k.z), bits(k.w)));
 }
+// Blender's hash_float{3,4}_to_float{2,3}: the same key hashed with its components shuffled.
+inline glm::vec2 hash_float3_to_float2(const Vec3f& k) {
+  return {hash_float3_to_float(k), hash_float3_to_float(Vec3f(k.z, k.x, k.y))};
+}
+inline glm::vec2 hash_float4_to_float2(const glm::vec4& k) {
+  return {hash_float4_to_float(k), hash_float4_to_float(glm::vec4(k.z, k.x, k.w, k.y))};
+}
+inline Vec3f hash_float4_to_float3(const glm::vec4& k) {
+  return {hash_float4_to_float(k), hash_float4_to_float(glm::vec4(k.z, k.x, k.w, k.y)),
+          hash_float4_to_float(glm::vec4(k.w, k.z, k.y, k.x))};
+}
 
 // PCG hashes of integer vectors (Jarzynski and Olano 2020, in Blender's signed-integer form): newer
 // Blender's Voronoi hashes its cells with these. Arithmetic wraps; `>>` keeps the sign.

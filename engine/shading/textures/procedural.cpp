@@ -14,8 +14,11 @@
 //   Brick      in: vector, color1, color2, mortar, scale, mortar size, mortar smooth, bias,
 //              brick width, row height; data: offset, offset frequency, squash, squash
 //              frequency (floats); out: color, fac
+//   Gabor      in: vector, scale, frequency, anisotropy, orientation (2D: an angle), orientation
+//              (3D: a direction); mode: 0 2D, 1 3D; out: value, phase, intensity
 #include "shading/textures/procedural.h"
 
+#include "shading/textures/gabor.h"
 #include "shading/textures/hash.h"
 #include "shading/textures/noise.h"
 #include "shading/textures/patterns.h"
@@ -122,6 +125,13 @@ void run(const NodeInstruction& ins, const std::vector<float>& data, Vec3f* r) {
       break;
     }
     case NodeOp::Brick: brick_texture(ins, data, r); break;
+    case NodeOp::Gabor: {
+      const GaborResult g = gabor(ins.mode == 1, r[ins.in[0]] * f(1), f(2), f(3), f(4), r[ins.in[5]]);
+      r[ins.out[0]] = Vec3f(g.value);
+      r[ins.out[1]] = Vec3f(g.phase);
+      r[ins.out[2]] = Vec3f(g.intensity);
+      break;
+    }
     default: break;
   }
 }
@@ -139,6 +149,7 @@ bool valid(const NodeInstruction& ins, size_t data_size, int registers) {
     case NodeOp::Wave: return ((ins.mode >> 3) & 3) <= 2;
     case NodeOp::Magic: return ins.extra <= 10;
     case NodeOp::Brick: return size_t(ins.data) + 4 <= data_size;
+    case NodeOp::Gabor: return ins.mode <= 1;
     default: return true;
   }
 }
