@@ -1,6 +1,8 @@
 """Blender images reach the core compact (bytes as bytes, floats as halves) by either way in (the
 file's bytes through imbuf in Blender 5.2+, Image.pixels elsewhere), and both give the same texture."""
 
+import os
+
 import bpy
 import numpy as np
 import pytest
@@ -107,6 +109,24 @@ def test_esc_during_the_export_stops_it():
     with pytest.raises(Cancelled):
         build_scene(ppm_core, depsgraph, frame, print, lambda: asked.append(1) or True)
     assert asked == [1]
+
+
+def test_packed_udim_tiles_are_read_from_the_blend_file_with_their_files_gone(tmp_path):
+    import tempfile
+    for number in (1001, 1002, 1011):
+        saved_png(tmp_path, f"packed.{number}", width=4, height=4)
+    image = bpy.data.images["packed.1001.png"]
+    image.source = "TILED"
+    image.pack()
+    for number in (1001, 1002, 1011):
+        (tmp_path / f"packed.{number}.png").unlink()
+    images_before, temporary_before = len(bpy.data.images), set(os.listdir(tempfile.gettempdir()))
+    scene = ppm_core.Scene()
+    pairs, repaired = image_export.add_tiles(scene, image)
+    assert [number for number, _ in pairs] == [1001, 1002, 1011] and repaired is None
+    assert [scene.texture_info(index)["width"] for _, index in pairs] == [4, 4, 4]
+    assert len(bpy.data.images) == images_before  # no data-block and no unpacked copy left behind
+    assert not {name for name in os.listdir(tempfile.gettempdir()) if name.startswith("ppm_tile_")} - temporary_before
 
 
 def test_udim_tiles_are_read_file_by_file_and_never_as_data_blocks_off_the_main_thread(tmp_path):

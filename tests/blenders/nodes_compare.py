@@ -253,9 +253,10 @@ def environment_texture(projection, vector=None):
 FOLDERS_TO_REMOVE = []  # the tile files of a case, removed once it is compared
 
 
-def udim_tiles(tree, nodes):
+def udim_tiles(tree, nodes, packed=False):
     """A UDIM image of tiles 1001, 1002 and 1011 (random 4 x 4 PNG files) read at the UV scaled to span
-    -0.3..2.2: the three tiles, tiles that are missing (Cycles shows those magenta) and negative UVs."""
+    -0.3..2.2: the three tiles, tiles that are missing (Cycles shows those magenta) and negative UVs.
+    `packed`: packed into the file, and the tile files removed."""
     folder = tempfile.mkdtemp(prefix="nodes_compare_udim_")
     FOLDERS_TO_REMOVE.append(folder)
     for number in (1001, 1002, 1011):
@@ -268,6 +269,9 @@ def udim_tiles(tree, nodes):
         bpy.data.images.remove(tile)
     image = bpy.data.images.load(os.path.join(folder, "tiles.1001.png"))
     image.source = "TILED"  # Blender finds the other tiles by the file name
+    if packed:
+        image.pack()
+        shutil.rmtree(folder)
     n = node(nodes, "ShaderNodeTexImage", interpolation="Closest")
     n.image = image
     m = node(nodes, "ShaderNodeMapping", vector_type="POINT")
@@ -449,6 +453,7 @@ CASES = {
     "texcoord_window": (coordinate("Window"), 1e-5, True),
     "texcoord_other_object": (other_objects_coordinates, 1e-5, True),
     "image_udim": (udim_tiles, 1e-5, True),
+    "image_udim_packed": (lambda tree, nodes: udim_tiles(tree, nodes, packed=True), 1e-5, True),
     "environment_default_vector": (environment_texture("EQUIRECTANGULAR"), 1e-4, True),
     "environment_mirror_ball_normal": (environment_texture("MIRROR_BALL", "Normal"), 1e-4, True),
     "vector_transform_object_camera_point": (vector_transform(coordinate("Object"), "OBJECT", "CAMERA", "POINT"),

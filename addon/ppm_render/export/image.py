@@ -11,7 +11,10 @@ Two ways in:
   and, if this export loaded it, Blender's own image buffer are freed.
 """
 
+import os
+import tempfile
 import threading
+from contextlib import contextmanager, nullcontext
 
 import bpy
 import numpy as np
@@ -46,25 +49,19 @@ def add_texture(core_scene, image, premultiplied=False):
 
 def add_tiles(core_scene, image, premultiplied=False):
     """Adds each UDIM tile of a tiled image; returns ([(tile number, texture index)], what was changed,
-    or None). Blender gives Python the first tile's pixels only, so each tile's file is read: from
-    Blender 5.2 on, a byte file through imbuf; otherwise as an image data-block loaded for the export
-    and removed after, which only the main thread may do (background renders, scripts): an
+    or None). Blender gives Python the first tile's pixels only, so each tile's file (or packed file)
+    is read: from Blender 5.2 on, a byte file through imbuf; otherwise as an image data-block loaded for
+    the export and removed after, which only the main thread may do (background renders, scripts): an
     interactive render's thread must not add or remove data-blocks. ValueError where none is read."""
-    if getattr(image, "packed_file", None) is not None or len(getattr(image, "packed_files", ())) > 0:
-        raise ValueError("packed UDIM tiles are not supported yet; unpack them")
     pattern = bpy.path.abspath(image.filepath, library=image.library)
-    byte_storage = "srgb8" if image.colorspace_settings.name in SRGB_SPACES else "linear8"
+    packed = packed_tiles(image)
     main_thread = threading.current_thread() is threading.main_thread()
     pairs, found, unread = [], [], []
     for tile in image.tiles:
         path = pattern.replace("<UDIM>", str(tile.number))
-        index = None
-        if imbuf is not None and hasattr(imbuf.types.ImBuf, "with_buffer") and not premultiplied:
-            index = read_file_bytes(core_scene, f"{image.name} {tile.number}", path, byte_storage)
-        if index is None and main_thread:
-            index, repaired = add_tile_image(core_scene, image, path, premultiplied)
-            if repaired:
-                found.append(f"tile {tile.number}: {repaired}")
+        index, repaired = add_tile(core_scene, image, tile.number, path, packed.get(tile.number), premultiplied)
+        if repaired:
+            found.append(f"tile {tile.number}: {repaired}")
         if index is None:
             unread.append(tile.number)
         else:
@@ -72,10 +69,45 @@ def add_tiles(core_scene, image, premultiplied=False):
     if not pairs:
         why = "" if main_thread else " (an interactive render before Blender 5.2 reads float or alpha tiles " \
                                      "only in a background render: blender -b)"
-        raise ValueError(f"none of its UDIM tiles could be read from '{pattern}'{why}")
+        raise ValueError(f"none of its UDIM tiles could be read from '{'packed files' if packed else pattern}'{why}")
     if unread:
         found.append(f"UDIM tiles {', '.join(map(str, unread))} could not be read; they show as missing")
     return pairs, "; ".join(found) or None
+
+
+def add_tile(core_scene, image, number, path, data, premultiplied):
+    """(texture index, repairs) of tile `number`, from its file at `path` or its packed bytes `data`;
+    (None, None) if it cannot be read (here)."""
+    if imbuf is not None and hasattr(imbuf.types.ImBuf, "with_buffer") and not premultiplied:
+        byte_storage = "srgb8" if image.colorspace_settings.name in SRGB_SPACES else "linear8"
+        name = f"{image.name} {number}"
+        index = (read_file_bytes(core_scene, name, path, byte_storage) if data is None
+                 else read_buffer_bytes(core_scene, name, data, byte_storage))
+        if index is not None:
+            return index, None
+    if threading.current_thread() is not threading.main_thread():
+        return None, None
+    with nullcontext(path) if data is None else unpacked_copy(data, path) as readable:
+        return add_tile_image(core_scene, image, readable, premultiplied)
+
+
+def packed_tiles(image):
+    """{tile number: its packed file's bytes} of a tiled image's packed tiles."""
+    return {packed.tile_number: packed.packed_file.data for packed in getattr(image, "packed_files", ())
+            if packed.packed_file is not None}
+
+
+@contextmanager
+def unpacked_copy(data, path):
+    """A temporary file holding `data` (named with `path`'s extension, by which some formats are known),
+    removed after."""
+    handle, copy = tempfile.mkstemp(prefix="ppm_tile_", suffix=os.path.splitext(path)[1])
+    try:
+        with os.fdopen(handle, "wb") as file:
+            file.write(data)
+        yield copy
+    finally:
+        os.remove(copy)
 
 
 def add_tile_image(core_scene, image, path, premultiplied):
@@ -127,11 +159,16 @@ def add_file_bytes(core_scene, image, byte_storage):
     if image.packed_file is None:
         return read_file_bytes(core_scene, image.name, bpy.path.abspath(image.filepath, library=image.library),
                                byte_storage)
+    return read_buffer_bytes(core_scene, image.name, image.packed_file.data, byte_storage)
+
+
+def read_buffer_bytes(core_scene, name, data, byte_storage):
+    """As add_file_bytes, for a file's bytes in memory (a packed file's)."""
     try:
-        buffer = imbuf.load_from_buffer(image.packed_file.data)
+        buffer = imbuf.load_from_buffer(data)
     except (OSError, ValueError, TypeError):
         return None
-    return add_buffer_bytes(core_scene, image.name, buffer, byte_storage)
+    return add_buffer_bytes(core_scene, name, buffer, byte_storage)
 
 
 def read_file_bytes(core_scene, name, path, byte_storage):
