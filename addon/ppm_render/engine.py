@@ -13,9 +13,10 @@ import time
 import bpy
 import numpy as np
 
-from . import core, export, passes
+from . import core, export, passes, viewport
 from .export.camera import Frame
 from .properties import core_settings, film_settings, light_path_settings
+from .viewport_camera import camera_from_projection
 
 DISPLAY_INTERVAL = 1.0  # seconds between refreshes of the render window
 
@@ -111,6 +112,20 @@ class PPMRenderEngine(bpy.types.RenderEngine):
     bl_use_shading_nodes_custom = False  # keep Principled BSDF and the standard node menus
     bl_use_postprocess = True
 
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)  # the plain __init__(self) form crashes Blender 5.0
+        self.session = None  # the viewport's ViewportSession
+        self.drawn = None  # the viewport_draw.DrawnImage on screen
+        self.viewport_warnings = []
+
+    def __del__(self):
+        session = getattr(self, "session", None)
+        if session is not None:
+            session.stop()  # no render thread may outlive the engine it redraws
+        parent = getattr(super(), "__del__", None)
+        if parent is not None:
+            parent()
+
     def render(self, depsgraph):
         scene = depsgraph.scene
         frame = Frame.from_render_settings(scene.render)
@@ -167,6 +182,38 @@ class PPMRenderEngine(bpy.types.RenderEngine):
         if display.stopped:
             self.update_stats("", stats_line(display.passes, settings.passes, display.photons, display.elapsed())
                               + " | cancelled")
+
+    def view_update(self, context, depsgraph):
+        """The viewport's scene changed (or is shown for the first time): export it again."""
+        try:
+            if self.session is None:
+                self.session = viewport.ViewportSession(core.load(), self.tag_redraw)
+            elif not viewport.needs_export(depsgraph, self.session):
+                return
+            self.viewport_warnings = []
+            self.session.export(depsgraph, self.viewport_warnings.append)
+        except Exception as error:  # noqa: BLE001 - shown in the viewport's header
+            if self.session is not None:
+                self.session.error = str(error)
+        self.tag_redraw()
+
+    def view_draw(self, context, depsgraph):
+        """Draws the newest image; a new view (navigation, a resized region) restarts the refinement."""
+        session = self.session
+        if session is None:
+            return
+        if session.settings_key != viewport.settings_key(depsgraph.scene):  # they tag no depsgraph update
+            self.view_update(context, depsgraph)
+        region, view = context.region, context.region_data
+        session.set_view(camera_from_projection(view.view_matrix, view.window_matrix, region.width, region.height))
+        session.start()
+        image = session.newest()
+        if image is not None and (self.drawn is None or self.drawn.image is not image):
+            from .viewport_draw import DrawnImage  # gpu exists only where Blender has a window
+            self.drawn = DrawnImage(image)
+        if self.drawn is not None:
+            self.drawn.draw(self, depsgraph.scene, region.width, region.height)
+        self.update_stats("", viewport.status_line(session, self.viewport_warnings))
 
     def update_render_passes(self, scene=None, renderlayer=None):
         """Declares the passes this engine writes, so the compositor and the result list them."""

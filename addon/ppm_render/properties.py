@@ -16,6 +16,16 @@ class PPMSceneSettings(bpy.types.PropertyGroup):
     time_limit: FloatProperty(
         name="Time Limit", default=0.0, min=0.0, unit='TIME_ABSOLUTE', subtype='TIME_ABSOLUTE',
         description="Seconds of rendering per view layer (0 = no limit)")
+    viewport_passes: IntProperty(
+        name="Viewport Passes", default=1000, min=0, soft_max=100_000,
+        description="Photon passes in the viewport's Rendered shading before it stops refining (0 = no limit)")
+    viewport_time_limit: FloatProperty(
+        name="Viewport Time Limit", default=0.0, min=0.0, unit='TIME_ABSOLUTE', subtype='TIME_ABSOLUTE',
+        description="Seconds the viewport refines after each change (0 = no limit)")
+    viewport_photons_per_pass: IntProperty(
+        name="Viewport Photons per Pass", default=50_000, min=1000, soft_max=10_000_000,
+        description="Photons in each of the viewport's passes: fewer than a render's, so that the image refines "
+                    "several times a second")
     alpha: FloatProperty(
         name="Alpha", default=0.7, min=0.01, max=0.99,  # the core needs alpha < 1
         description="Radius reduction: the fraction of new photons kept each pass (Hachisuka 2008)")

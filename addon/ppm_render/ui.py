@@ -84,6 +84,20 @@ class RENDER_PT_ppm_sampling(PPMRenderPanel, bpy.types.Panel):
         col.prop(settings, "samples_per_pixel")
 
 
+class RENDER_PT_ppm_viewport(PPMRenderPanel, bpy.types.Panel):
+    bl_label = "Viewport"
+    bl_options = {"DEFAULT_CLOSED"}  # noqa: RUF012 - Blender reads a plain set
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        settings = context.scene.ppm
+        col = layout.column()
+        col.prop(settings, "viewport_passes", text="Passes")
+        col.prop(settings, "viewport_time_limit", text="Time Limit")
+        col.prop(settings, "viewport_photons_per_pass", text="Photons per Pass")
+
+
 class RENDER_PT_ppm_camera(PPMRenderPanel, bpy.types.Panel):
     bl_label = "Camera and Performance"
     bl_options = {"DEFAULT_CLOSED"}  # noqa: RUF012 - Blender reads a plain set
@@ -115,7 +129,7 @@ class OBJECT_PT_ppm_revolve(bpy.types.Panel):
         layout.label(text="Profile in local XY: radius = X, height = Y, axis = local Y")
 
 
-classes = (RENDER_PT_ppm_sampling, RENDER_PT_ppm_camera, OBJECT_PT_ppm_revolve)
+classes = (RENDER_PT_ppm_sampling, RENDER_PT_ppm_viewport, RENDER_PT_ppm_camera, OBJECT_PT_ppm_revolve)
 
 
 def register():

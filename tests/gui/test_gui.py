@@ -45,3 +45,52 @@ def test_f12_in_a_real_blender_shows_the_render():
     # progress.png (taken mid-render) is kept for people only: under Xvfb + Mesa a screenshot taken
     # while the render job updates the window comes out partly drawn. Progressive refresh is tested
     # in tests/addon/test_engine.py::test_display_refreshes_about_once_a_second.
+
+
+def region_of(status, name):
+    """The viewport region's pixels in a window screenshot (rows top first), and the image drawn there."""
+    import numpy as np
+
+    shot = read_png(status[name]["screenshot"])
+    x, y, width, height = status[name]["region"]
+    window_height = status[name]["window"][1]
+    return shot[window_height - (y + height): window_height - y, x: x + width], np.load(status[name]["image"])
+
+
+def srgb(linear):
+    import numpy as np
+
+    c = np.clip(linear, 0.0, 1.0)
+    return np.where(c <= 0.0031308, 12.92 * c, 1.055 * c ** (1 / 2.4) - 0.055)
+
+
+def test_the_viewport_in_rendered_shading_refines_and_follows_an_edit():
+    """Rendered shading in the camera view shows the Cornell box in the display's colour space; moving
+    the lamp by script restarts the refinement from the new scene (issue: viewport rendering)."""
+    out = os.path.join(OUT, "viewport")
+    os.makedirs(out, exist_ok=True)
+    status_path = os.path.join(out, "status.json")
+    if os.path.exists(status_path):
+        os.remove(status_path)
+    scene = os.path.join(ROOT, "blend_scenes", "cornell_3spheres.blend")
+    cmd = ["xvfb-run", "-a", "-s", "-screen 0 1600x900x24", "blender", "--factory-startup", scene,
+           "-P", os.path.join(ROOT, "tests", "gui", "gui_viewport.py"), "--", "--out", out]
+    run = subprocess.run(cmd, check=False, capture_output=True, text=True, timeout=240, cwd=ROOT)
+    assert os.path.exists(status_path), run.stdout[-3000:] + run.stderr[-3000:]
+    with open(status_path) as f:
+        status = json.load(f)
+    first, second = status["viewport_1"], status["viewport_2"]
+    assert first["error"] is None and second["error"] is None, status
+    assert first["passes"] >= 1 and first["pixel_size"] == 1 and second["generation"] > first["generation"]
+    assert status["first_frame_s"] < status["full_resolution_s"]  # the coarse preview comes first
+    before, image_before = region_of(status, "viewport_1")
+    after, image_after = region_of(status, "viewport_2")
+    assert before.shape[:2] == image_before.shape[:2]  # the image fills the region
+    # On screen is the image through the scene's view transform (Standard: sRGB), not its linear values.
+    middle = (slice(before.shape[0] // 2 - 150, before.shape[0] // 2 + 150),
+              slice(before.shape[1] // 2 - 150, before.shape[1] // 2 + 150))
+    assert abs(float((before[middle] - srgb(image_before[middle][..., :3])).mean())) < 0.01
+    assert float((before[middle] - image_before[middle][..., :3]).mean()) > 0.1
+    # The lamp moved towards +x: the right half of the box got brighter against the left.
+    half = before.shape[1] // 2
+    assert after[:, half:].mean() / after[:, :half].mean() > 1.05 * before[:, half:].mean() / before[:, :half].mean()

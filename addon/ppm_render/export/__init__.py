@@ -158,15 +158,21 @@ def build_scene(core_module, depsgraph, frame, warn, cancelled=lambda: False):
     if scene.render.use_motion_blur:
         warn("motion blur is not rendered: objects and the camera stand where they are at the frame "
              "(Cycles blurs them over the shutter)")
-    exporter = Exporter(core_module, warn, depsgraph.view_layer, scene)
+    core_scene = export_scene(core_module, depsgraph, warn, cancelled)
+    camera_object = scene.camera.evaluated_get(depsgraph)
+    camera_args = camera.camera_arguments(camera_object, frame, warn, scene.ppm.dof_mode)
+    core_scene.set_camera(**camera_args)
+    return core_scene, camera_args
+
+
+def export_scene(core_module, depsgraph, warn, cancelled=lambda: False):
+    """The ppm_core.Scene of the evaluated depsgraph's objects, lights and world, without a camera."""
+    exporter = Exporter(core_module, warn, depsgraph.view_layer, depsgraph.scene)
     for instance in depsgraph.object_instances:
         if cancelled():
             raise Cancelled()
         exporter.visit(instance)
     exporter.finish_curves()
     exporter.report_skips()
-    world.add_world(exporter.scene, scene.world, warn, exporter.attributes)
-    camera_object = scene.camera.evaluated_get(depsgraph)
-    camera_args = camera.camera_arguments(camera_object, frame, warn, scene.ppm.dof_mode)
-    exporter.scene.set_camera(**camera_args)
-    return exporter.scene, camera_args
+    world.add_world(exporter.scene, depsgraph.scene.world, warn, exporter.attributes)
+    return exporter.scene

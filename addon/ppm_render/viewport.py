@@ -1,0 +1,208 @@
+"""The interactive render of one 3D viewport in Rendered shading.
+
+A `ViewportSession` keeps the exported core scene and a render thread that refines the image: a
+first image at a quarter and then half of the region's resolution with few photons (it appears
+within a fraction of a second), then full-resolution passes until the viewport's pass count or
+time limit. The core releases the GIL while it renders, so Blender's UI stays live; the thread asks
+Blender to redraw after each pass, and `view_draw` shows the newest image.
+
+An edit (`restart`) cancels the pass in progress (the core notices within its 0.1 s poll), waits for
+the thread, and starts again from the new scene or view: an image never mixes photons of two
+scenes. Everything that reads Blender data (the export) runs on the main thread, in view_update and
+view_draw; the render thread touches only the core scene, which the main thread leaves alone while
+a thread runs.
+"""
+
+import threading
+import time
+import weakref
+
+from . import export
+from .properties import core_settings, film_settings, light_path_settings
+
+# (pixel size, photons per pass) of the quick first images, before the full-resolution passes.
+PREVIEW_LEVELS = ((4, 10_000), (2, 25_000))
+# The live sessions, for scripts that measure the viewport (tests/gui, bench): engines are not reachable.
+SESSIONS = weakref.WeakSet()
+
+
+class ViewportImage:
+    """One image of the session: RGBA (H, W, 4) top row first, at `pixel_size` region pixels a pixel."""
+
+    def __init__(self, rgba, pixel_size, passes, photons, seconds, generation):
+        self.rgba, self.pixel_size, self.passes = rgba, pixel_size, passes
+        self.photons, self.seconds, self.generation = photons, seconds, generation
+
+
+class ViewportSession:
+    """The core scene, the render thread and the newest image of one viewport."""
+
+    def __init__(self, ppm_core, redraw):
+        self.ppm_core, self.redraw = ppm_core, redraw
+        self.scene = None  # the exported core scene; only the render thread uses it while it runs
+        self.settings = None  # Renderer keyword arguments of the full-resolution passes
+        self.settings_key = None  # settings_key() of the scene exported
+        self.limits = (0, 0.0)  # (passes, seconds); 0 = none
+        self.view = None  # set_camera arguments of the full region
+        self.thread = None
+        self.stop_requested = threading.Event()
+        self.renderer = None
+        self.lock = threading.Lock()
+        self.image = None  # the newest ViewportImage
+        self.generation = 0  # counts restarts; an image from an older one is dropped
+        self.error = None
+        self.done = False
+        SESSIONS.add(self)
+
+    def export(self, depsgraph, warn):
+        """(Re)exports the whole scene from the evaluated depsgraph (main thread), stopping the thread."""
+        self.stop()
+        scene = depsgraph.scene
+        self.scene = None  # until the export succeeds: a failed one renders nothing and shows its error
+        self.scene = export.export_scene(self.ppm_core, depsgraph, warn)
+        settings = scene.ppm
+        self.settings = {**core_settings(settings), **film_settings(scene), **light_path_settings(scene),
+                         "photons_per_pass": settings.viewport_photons_per_pass, "dof_mode": "off"}
+        self.settings["hit_points"] = "stochastic"  # a pass count the user need not guess: refine forever
+        self.limits = (settings.viewport_passes, settings.viewport_time_limit)
+        self.settings_key = settings_key(scene)
+
+    def set_view(self, view):
+        """Restarts with the camera arguments `view` if they differ from the current ones."""
+        if self.view is not None and same_view(self.view, view):
+            return False
+        self.stop()
+        self.view = view
+        return True
+
+    def start(self):
+        """Starts refining (a no-op while running or without a scene and view)."""
+        if self.thread is not None or self.scene is None or self.view is None:
+            return
+        self.generation += 1
+        self.stop_requested.clear()
+        self.error, self.done = None, False
+        self.thread = threading.Thread(target=self.refine, args=(self.generation,), name="PPM viewport", daemon=True)
+        self.thread.start()
+
+    def stop(self):
+        """Cancels the pass in progress and waits for the thread (the core stops within 0.1 s)."""
+        if self.thread is None:
+            return
+        self.stop_requested.set()
+        renderer = self.renderer
+        if renderer is not None:
+            renderer.cancel()
+        self.thread.join()
+        self.thread = None
+
+    def newest(self):
+        with self.lock:
+            return self.image
+
+    # The render thread.
+
+    def refine(self, generation):
+        try:
+            start = time.monotonic()
+            for pixel_size, photons in PREVIEW_LEVELS:
+                if self.level_fits(pixel_size):
+                    self.render_level(generation, start, pixel_size, {"photons_per_pass": photons}, passes=1)
+            self.render_level(generation, start, 1, {}, passes=None)
+        except Exception as error:  # noqa: BLE001 - shown in the viewport's header by view_draw
+            self.error = str(error)
+            self.redraw()
+        finally:
+            self.renderer = None
+            self.done = True
+
+    def level_fits(self, pixel_size):
+        """A preview level is worth it where its image has at least a few pixels."""
+        return min(self.view["width"], self.view["height"]) >= 8 * pixel_size
+
+    def render_level(self, generation, start, pixel_size, overrides, passes):
+        """Renders passes at one pixel size (`passes`: None = up to the viewport's limits)."""
+        if self.stop_requested.is_set():
+            return
+        self.scene.set_camera(**scaled_view(self.view, pixel_size))
+        renderer = self.ppm_core.Renderer(self.scene, **{**self.settings, **overrides})
+        self.renderer = renderer
+        max_passes, max_seconds = self.limits
+        done = 0
+        while not self.stop_requested.is_set():
+            if passes is not None and done >= passes:
+                break
+            if passes is None and ((max_passes and done >= max_passes)
+                                   or (max_seconds and time.monotonic() - start >= max_seconds)):
+                break
+            renderer.run(passes=1, callback=lambda _info: not self.stop_requested.is_set())
+            stats = renderer.stats()
+            if self.stop_requested.is_set() or stats["passes"] == done:
+                break
+            done = stats["passes"]
+            self.publish(ViewportImage(renderer.image(), pixel_size, done, stats["photons_emitted"],
+                                       time.monotonic() - start, generation))
+        self.renderer = None
+        del renderer  # the next level may change the scene's camera only once no renderer holds it
+
+    def publish(self, image):
+        with self.lock:
+            if image.generation == self.generation:
+                self.image = image
+        self.redraw()
+
+
+def needs_export(depsgraph, session):
+    """Whether the depsgraph's updates change what is rendered (a selection does not), or the
+    viewport's settings changed."""
+    if session.settings_key != settings_key(depsgraph.scene):
+        return True
+    return any(update.is_updated_geometry or update.is_updated_transform or update.is_updated_shading
+               or update.id.bl_rna.identifier not in ("Scene", "ViewLayer") for update in depsgraph.updates)
+
+
+def settings_key(scene):
+    """What of the scene's settings the viewport's render depends on."""
+    settings = scene.ppm
+    return (tuple(sorted(core_settings(settings).items())), tuple(sorted(film_settings(scene).items())),
+            tuple(sorted(light_path_settings(scene).items())), settings.viewport_passes,
+            settings.viewport_time_limit, settings.viewport_photons_per_pass)
+
+
+def status_line(session, warnings):
+    """The viewport header's text: the error, or passes, photons and time, and the warnings' count."""
+    if session.error:
+        return f"PPM: {session.error}"
+    image = session.newest()
+    if image is None:
+        return "PPM: starting"
+    line = f"Pass {image.passes} | {image.photons / 1e6:.1f} M photons | {image.seconds:.1f} s"
+    if image.pixel_size > 1:
+        line = f"Preview 1/{image.pixel_size} | " + line
+    elif session.done:
+        line += " | done"
+    if warnings:
+        line += f" | {len(warnings)} warning{'s' if len(warnings) > 1 else ''}: {warnings[0]}"
+    return line
+
+
+def scaled_view(view, pixel_size):
+    """`view` rendered at 1 / pixel_size of its resolution (the same field of view)."""
+    if pixel_size == 1:
+        return view
+    width, height = max(1, view["width"] // pixel_size), max(1, view["height"] // pixel_size)
+    return {**view, "width": width, "height": height, "frame": (0, 0, width, height)}
+
+
+def same_view(a, b):
+    """Whether two set_camera argument sets describe the same view (matrices compared by value)."""
+    if a.keys() != b.keys():
+        return False
+    for key, value in a.items():
+        other = b[key]
+        if hasattr(value, "shape"):
+            if value.shape != other.shape or not (value == other).all():
+                return False
+        elif value != other:
+            return False
+    return True

@@ -1,0 +1,42 @@
+"""The 3D viewport's view as a core camera.
+
+Blender hands a viewport's view to an engine as two matrices (RegionView3D): `view_matrix` (world
+to view) and `window_matrix` (the projection of the whole region). Every kind of view is read from
+them the same way: a user perspective or orthographic view, and the camera view, whose projection
+already holds the camera's lens, shift, zoom and pan and the passepartout around its frame. So the
+region is rendered as Cycles renders it: all of it, the camera's frame where the camera sees.
+
+Perspective (OpenGL convention, looking down -Z): x_ndc = P00 x / -z + P02, so the image's centre
+lies at x / -z = P02 / P00 and the region's width at distance 1 is 2 / P00; orthographic:
+x_ndc = P00 x + P03. Clipping planes come from the third row either way.
+"""
+
+import math
+
+import numpy as np
+
+
+def camera_from_projection(view_matrix, window_matrix, width, height):
+    """Keyword arguments for Scene.set_camera (width x height pixels) of a view given by its
+    world-to-view and projection matrices (4 x 4, rows)."""
+    view = np.array(view_matrix, dtype=float)
+    p = np.array(window_matrix, dtype=float)
+    camera_to_world = np.linalg.inv(view)
+    perspective = abs(p[3, 3]) < 0.5  # an orthographic projection has (0, 0, 0, 1) as last row
+    args = {"matrix": camera_to_world, "width": int(width), "height": int(height), "sensor_fit": "horizontal",
+            "frame": (0, 0, int(width), int(height))}
+    if perspective:
+        near, far = p[2, 3] / (p[2, 2] - 1.0), p[2, 3] / (p[2, 2] + 1.0)
+        # Shifts in units of the image's width (the fitted side), as set_camera takes them.
+        args.update(projection="perspective", fov=2.0 * math.atan(1.0 / p[0, 0]), shift_x=0.5 * p[0, 2],
+                    shift_y=0.5 * p[1, 2] * p[0, 0] / p[1, 1])
+    else:
+        near, far = (p[2, 3] + 1.0) / p[2, 2], (p[2, 3] - 1.0) / p[2, 2]
+        args.update(projection="orthographic", ortho_scale=2.0 / p[0, 0], shift_x=-0.5 * p[0, 3],
+                    shift_y=-0.5 * p[1, 3] * p[0, 0] / p[1, 1])
+        # Blender's orthographic views see behind their eye (near < 0); the core's rays start at
+        # the near plane, so the eye moves back to it.
+        camera_to_world[:3, 3] -= camera_to_world[:3, 2] * near
+        near, far = 0.0, far - near
+    args.update(clip_start=float(max(near, 0.0)), clip_end=float(far))
+    return args

@@ -1,0 +1,191 @@
+"""The viewport's code path without a window (bpy as a module has none, so view_draw's drawing is
+tested in tests/gui): the view read from a region's matrices, the export, the render thread's
+refinement from a coarse preview to full resolution, restarts after edits, and stopping."""
+
+import os
+import threading
+import time
+
+import bpy
+import numpy as np
+import pytest
+from conftest import SCENES_DIR
+
+from ppm_render import core, viewport
+from ppm_render.export.camera import Frame, camera_arguments
+from ppm_render.viewport_camera import camera_from_projection
+
+ppm_core = core.load()
+
+
+def camera(kind="PERSP"):
+    bpy.ops.object.camera_add(location=(1.0, -5.0, 2.0), rotation=(1.2, 0.1, 0.3))
+    cam = bpy.context.object
+    cam.data.type, cam.data.lens, cam.data.ortho_scale = kind, 35.0, 4.0
+    cam.data.shift_x, cam.data.shift_y = 0.13, -0.21
+    cam.data.clip_start, cam.data.clip_end = 0.3, 80.0
+    return cam
+
+
+@pytest.mark.parametrize("kind", ["PERSP", "ORTHO"])
+@pytest.mark.parametrize("size", [(640, 480), (300, 500)])
+def test_a_view_read_from_its_matrices_is_the_camera_blender_projects(kind, size):
+    """A camera's own projection matrix (as a viewport in camera view gets it) gives the same core
+    camera as the camera's data: field of view or scale, shifts and clipping."""
+    cam = camera(kind)
+    width, height = size
+    projection = cam.calc_matrix_camera(bpy.context.evaluated_depsgraph_get(), x=width, y=height)
+    ours = camera_from_projection(cam.matrix_world.inverted(), projection, width, height)
+    expected = camera_arguments(cam, Frame(width, height), print)
+    for key in ("fov", "ortho_scale", "shift_x", "shift_y"):
+        if key in expected:
+            assert ours[key] == pytest.approx(expected[key], rel=1e-5, abs=1e-6), key
+    assert ours["projection"] == expected["projection"]
+    forward = -expected["matrix"][:3, 2]
+    if kind == "PERSP":
+        assert ours["clip_start"] == pytest.approx(0.3, rel=1e-4)
+        assert ours["clip_end"] == pytest.approx(80.0, rel=1e-4)
+        assert np.allclose(ours["matrix"], expected["matrix"], atol=1e-5)
+    else:  # the eye moved onto the near plane: the same visible slab
+        assert np.allclose(ours["matrix"][:3, 3], expected["matrix"][:3, 3] + 0.3 * forward, atol=1e-4)
+        assert ours["clip_start"] == 0.0 and ours["clip_end"] == pytest.approx(79.7, rel=1e-4)
+
+
+def test_an_orthographic_view_that_sees_behind_its_eye_starts_its_rays_behind_it():
+    """Blender's orthographic user views clip from a negative distance: the eye moves back."""
+    near, far = -50.0, 50.0
+    projection = np.diag([0.5, 0.5, -2.0 / (far - near), 1.0])
+    projection[2, 3] = -(far + near) / (far - near)
+    args = camera_from_projection(np.eye(4), projection, 100, 100)
+    assert args["matrix"][:3, 3] == pytest.approx([0.0, 0.0, 50.0])  # moved back along +Z (it looks down -Z)
+    assert (args["clip_start"], args["clip_end"]) == (0.0, pytest.approx(100.0))
+
+
+class Session:
+    """A ViewportSession on the Cornell box, with the redraws it asks for counted."""
+
+    def __init__(self, width=160, height=120):
+        bpy.ops.wm.open_mainfile(filepath=os.path.join(SCENES_DIR, "cornell_3spheres.blend"))
+        self.scene = bpy.context.scene
+        self.scene.ppm.viewport_photons_per_pass = 5_000
+        self.scene.ppm.viewport_passes = 6
+        self.redraws = 0
+        self.session = viewport.ViewportSession(ppm_core, self.redraw)
+        self.session.export(bpy.context.evaluated_depsgraph_get(), print)
+        cam = self.scene.camera
+        projection = cam.calc_matrix_camera(bpy.context.evaluated_depsgraph_get(), x=width, y=height)
+        self.session.set_view(camera_from_projection(cam.matrix_world.inverted(), projection, width, height))
+
+    def redraw(self):
+        self.redraws += 1
+
+    def images_until_done(self, timeout=60.0):
+        """Each new image seen while the thread refines, until it is done."""
+        seen, start = [], time.monotonic()
+        while time.monotonic() - start < timeout:
+            image = self.session.newest()
+            if image is not None and (not seen or seen[-1] is not image):
+                seen.append(image)
+            if self.session.done and self.session.newest() is seen[-1]:
+                return seen
+            time.sleep(0.002)
+        raise AssertionError("the viewport did not finish refining")
+
+
+def export_needed_after(session, change):
+    """needs_export as view_update would see it after `change()`: the updates a depsgraph lists exist
+    only while it reports them (here in a depsgraph_update_post handler)."""
+    answers = []
+
+    def handler(_scene, depsgraph):
+        answers.append(viewport.needs_export(depsgraph, session))
+
+    bpy.context.evaluated_depsgraph_get()  # settles earlier changes
+    bpy.app.handlers.depsgraph_update_post.append(handler)
+    try:
+        change()
+        bpy.context.evaluated_depsgraph_get()
+    finally:
+        bpy.app.handlers.depsgraph_update_post.remove(handler)
+    return any(answers)
+
+
+def test_the_viewport_refines_from_a_coarse_preview_to_full_resolution_and_stops_at_its_passes():
+    s = Session()
+    s.session.start()
+    images = s.images_until_done()
+    s.session.stop()
+    assert s.session.error is None
+    assert images[0].pixel_size > 1 and images[0].rgba.shape[1] < 160  # a coarse image first
+    last = images[-1]
+    assert last.pixel_size == 1 and last.rgba.shape == (120, 160, 4) and last.passes == 6
+    assert s.redraws >= 3  # the thread asks Blender to redraw for each image
+    assert np.isfinite(last.rgba).all() and last.rgba[..., :3].mean() > 0.01
+
+
+def test_an_edit_restarts_from_the_new_scene_and_no_image_mixes_the_two():
+    s = Session()
+    s.session.start()
+    before = s.images_until_done()[-1]
+    lamp = s.scene.objects["lamp"]
+    assert export_needed_after(s.session, lambda: setattr(lamp.location, "x", lamp.location.x + 0.6))
+    s.session.export(bpy.context.evaluated_depsgraph_get(), print)
+    s.session.start()
+    after = s.images_until_done()
+    s.session.stop()
+    assert all(image.generation == after[-1].generation for image in after[1:])
+    assert after[-1].generation > before.generation
+    assert np.abs(after[-1].rgba[..., :3] - before.rgba[..., :3]).mean() > 0.01  # lit from elsewhere
+
+
+def test_stopping_mid_pass_returns_within_the_cores_poll_interval():
+    s = Session(width=320, height=240)
+    s.scene.ppm.viewport_photons_per_pass = 2_000_000  # passes of seconds each
+    s.scene.ppm.viewport_passes = 0
+    s.session.export(bpy.context.evaluated_depsgraph_get(), print)
+    s.session.start()
+    time.sleep(1.0)
+    start = time.monotonic()
+    s.session.stop()
+    assert time.monotonic() - start < 0.5
+    assert s.session.thread is None and not any(t.name == "PPM viewport" for t in threading.enumerate())
+
+
+def test_a_selection_alone_needs_no_new_export_but_a_setting_or_a_material_does():
+    s = Session()
+
+    def select_all():
+        for obj in s.scene.objects:
+            obj.select_set(True)
+
+    def more_photons():
+        s.scene.ppm.viewport_photons_per_pass += 1000
+
+    def redder():
+        bpy.data.materials["blue"].diffuse_color = (1.0, 0.0, 0.0, 1.0)
+
+    assert not export_needed_after(s.session, select_all)
+    assert export_needed_after(s.session, redder)
+    # A setting of the add-on's own tags no update (Python-defined properties do not): view_draw, which
+    # every change in a panel triggers, compares the settings instead.
+    assert viewport.settings_key(s.scene) == s.session.settings_key
+    more_photons()
+    assert viewport.settings_key(s.scene) != s.session.settings_key
+
+
+def test_an_export_that_fails_renders_nothing_and_keeps_its_error():
+    s = Session()
+    session = viewport.ViewportSession(ppm_core, s.redraw)
+    session.view = s.session.view
+
+    class Broken:
+        scene, view_layer = s.scene, s.scene.view_layers[0]
+
+        @property
+        def object_instances(self):
+            raise RuntimeError("broken depsgraph")
+
+    with pytest.raises(RuntimeError):
+        session.export(Broken(), print)
+    session.start()
+    assert session.thread is None and session.scene is None
