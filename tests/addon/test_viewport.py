@@ -9,8 +9,8 @@ import time
 import bpy
 import numpy as np
 import pytest
-from conftest import SCENES_DIR
 
+from conftest import SCENES_DIR
 from ppm_render import core, viewport
 from ppm_render.export.camera import Frame, camera_arguments
 from ppm_render.viewport_camera import camera_from_projection
