@@ -187,7 +187,7 @@ class PPMRenderEngine(bpy.types.RenderEngine):
         """The viewport's scene changed (or is shown for the first time): export it again."""
         try:
             if self.session is None:
-                self.session = viewport.ViewportSession(core.load(), self.tag_redraw)
+                self.session = viewport.ViewportSession(core.load(), viewport.redraw_of(self))
             elif not viewport.needs_export(depsgraph, self.session):
                 return
             self.viewport_warnings = []

@@ -152,6 +152,22 @@ class ViewportSession:
         self.redraw()
 
 
+def redraw_of(engine):
+    """engine.tag_redraw for the render thread, holding no reference that would keep the engine (and so
+    its session and thread) alive after Blender frees it, and quiet once Blender has invalidated it."""
+    engine_ref = weakref.ref(engine)
+
+    def redraw():
+        engine = engine_ref()
+        if engine is not None:
+            try:
+                engine.tag_redraw()
+            except ReferenceError:  # freed by Blender: its __del__ is stopping this thread
+                pass
+
+    return redraw
+
+
 def needs_export(depsgraph, session):
     """Whether the depsgraph's updates change what is rendered (a selection does not), or the
     viewport's settings changed."""

@@ -94,3 +94,23 @@ def test_the_viewport_in_rendered_shading_refines_and_follows_an_edit():
     # The lamp moved towards +x: the right half of the box got brighter against the left.
     half = before.shape[1] // 2
     assert after[:, half:].mean() / after[:, :half].mean() > 1.05 * before[:, half:].mean() / before[:, :half].mean()
+
+
+def test_a_viewport_survives_what_users_do_to_it_while_it_renders():
+    """Solid/Rendered toggles, deleting the object rendered, undo, frames, another editor, another file
+    and quitting mid-render: Blender exits normally, with one viewport session and render thread left
+    (the others were stopped with their engines)."""
+    out = os.path.join(OUT, "viewport_abuse")
+    os.makedirs(out, exist_ok=True)
+    status_path = os.path.join(out, "status.json")
+    if os.path.exists(status_path):
+        os.remove(status_path)
+    scene = os.path.join(ROOT, "blend_scenes", "cornell_3spheres.blend")
+    cmd = ["xvfb-run", "-a", "-s", "-screen 0 1600x900x24", "blender", "--factory-startup", scene,
+           "-P", os.path.join(ROOT, "tests", "gui", "gui_viewport_abuse.py"), "--", "--out", out]
+    run = subprocess.run(cmd, check=False, capture_output=True, text=True, timeout=240, cwd=ROOT)
+    with open(status_path) as f:
+        status = json.load(f)
+    assert status["complete"], status["steps"][-1]
+    assert run.returncode == 0 and "Traceback" not in run.stderr, run.stderr[-3000:]
+    assert status["errors"] == [] and status["render_threads"] <= 1 and status["sessions"] <= 1, status

@@ -1,0 +1,117 @@
+"""Runs inside a real Blender GUI (Xvfb): what users do to a viewport while it renders with PPM, one
+step every 0.4 s: toggle Solid and Rendered, delete the object being rendered, undo, change frames,
+turn the 3D viewport into another editor and back, open another file, and quit mid-render.
+
+    xvfb-run -a -s "-screen 0 1600x900x24" blender --factory-startup scene.blend -P tests/gui/gui_viewport_abuse.py -- --out DIR
+
+DIR/status.json lists the steps done (written before each step, so a crash shows where) and the
+viewport's error text, if any.
+"""
+
+import json
+import os
+import sys
+
+import bpy
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+sys.path.insert(0, ROOT)
+import render
+
+OUT = sys.argv[sys.argv.index("--out") + 1] if "--out" in sys.argv else "/tmp"
+DONE = []
+
+
+def context():
+    window = bpy.context.window_manager.windows[0]
+    area = next(a for a in window.screen.areas if a.type in ("VIEW_3D", "IMAGE_EDITOR"))
+    return window, area
+
+
+def shading(kind):
+    _window, area = context()
+    area.spaces.active.shading.type = kind
+
+
+def delete_ball():
+    bpy.data.objects.remove(bpy.data.objects["matte_ball"])
+
+
+def undo():
+    window, area = context()
+    with bpy.context.temp_override(window=window, screen=window.screen, area=area):
+        bpy.ops.ed.undo_push(message="before undo")
+        bpy.ops.ed.undo()
+
+
+def editor(kind):
+    _window, area = context()
+    area.type = kind
+
+
+def open_other():
+    bpy.ops.wm.open_mainfile(filepath=os.path.join(ROOT, "blend_scenes", "cornell_diffuse.blend"))
+
+
+def prepare():
+    scene = bpy.context.scene
+    scene.render.engine = "PPM"
+    scene.ppm.viewport_photons_per_pass = 20_000
+
+
+def errors():
+    from ppm_render import viewport
+
+    return [s.error for s in viewport.SESSIONS if s.error]
+
+
+STEPS = [
+    ("rendered", lambda: shading("RENDERED")),
+    ("solid", lambda: shading("SOLID")),
+    ("rendered again", lambda: shading("RENDERED")),
+    ("delete the object", delete_ball),
+    ("undo", undo),
+    ("frame 10", lambda: bpy.context.scene.frame_set(10)),
+    ("stronger lamp", lambda: setattr(bpy.data.lights[0], "energy", bpy.data.lights[0].energy * 2.0)),
+    ("fewer viewport photons", lambda: setattr(bpy.context.scene.ppm, "viewport_photons_per_pass", 10_000)),
+    ("image editor", lambda: editor("IMAGE_EDITOR")),
+    ("3D viewport", lambda: editor("VIEW_3D")),
+    ("rendered after the editor", lambda: shading("RENDERED")),
+    ("open another file", open_other),
+    ("prepare it", prepare),
+    ("rendered in it", lambda: shading("RENDERED")),
+    ("wait", lambda: None),
+]
+
+
+def write(status):
+    with open(os.path.join(OUT, "status.json"), "w") as f:
+        json.dump(status, f, indent=1)
+
+
+def step():
+    if len(DONE) == len(STEPS):
+        import threading
+
+        from ppm_render import viewport
+
+        running = [t for t in threading.enumerate() if t.name == "PPM viewport" and t.is_alive()]
+        write({"steps": DONE, "complete": True, "errors": errors(), "render_threads": len(running),
+               "sessions": len(viewport.SESSIONS)})
+        bpy.ops.wm.quit_blender()  # while the viewport refines
+        return None
+    name, action = STEPS[len(DONE)]
+    write({"steps": DONE + [name + " (started)"], "complete": False})
+    action()
+    DONE.append(name)
+    return 0.4
+
+
+def main():
+    render.make_core_importable()
+    render.ensure_addon(bpy)
+    prepare()
+    bpy.app.timers.register(step, first_interval=1.0, persistent=True)  # survives opening a file
+
+
+main()
