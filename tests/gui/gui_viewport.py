@@ -1,7 +1,8 @@
 """Runs inside a real Blender GUI (Xvfb): the 3D viewport in Rendered shading with PPM, a light moved
 by script while it refines, and what the viewport shows photographed.
 
-    xvfb-run -a -s "-screen 0 1600x900x24" blender --factory-startup scene.blend -P tests/gui/gui_viewport.py -- --out DIR
+    xvfb-run -a -s "-screen 0 1600x900x24" blender --factory-startup scene.blend \
+        -P tests/gui/gui_viewport.py -- --out DIR
 
 Timers drive it as a user would: switch the viewport to the camera view in Rendered shading
 (overlays off, so the region shows only the image), wait, screenshot the region (the window, DIR/viewport_1.png)

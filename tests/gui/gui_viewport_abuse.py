@@ -2,7 +2,8 @@
 step every 0.4 s: toggle Solid and Rendered, delete the object being rendered, undo, change frames,
 turn the 3D viewport into another editor and back, open another file, and quit mid-render.
 
-    xvfb-run -a -s "-screen 0 1600x900x24" blender --factory-startup scene.blend -P tests/gui/gui_viewport_abuse.py -- --out DIR
+    xvfb-run -a -s "-screen 0 1600x900x24" blender --factory-startup scene.blend \
+        -P tests/gui/gui_viewport_abuse.py -- --out DIR
 
 DIR/status.json lists the steps done (written before each step, so a crash shows where) and the
 viewport's error text, if any.
