@@ -1,0 +1,134 @@
+"""The viewport's responsiveness, through the add-on's ViewportSession in Blender as a module (no
+window, so drawing is left out: `view_draw` uploads and draws the newest image, about a millisecond):
+
+    .venv/bin/python bench/run.py viewport [--quick]
+
+On `scene` seen through its camera at width x height: an edit (the lamp moved) is followed by
+view_update's work (the session stops the thread and exports the scene again) and the thread's
+restart; reported are the seconds from the edit to the first image of the new scene (a 1/4
+resolution preview), to the first full-resolution image, and the export alone (median and 90th
+percentile over `edits_timed` edits). Then the images per second while refining at full resolution
+(each asks Blender for a redraw), and the process's resident memory after 10, 100 and `edits` edits."""
+
+from __future__ import annotations
+
+import os
+import statistics
+import sys
+import time
+
+from harness import blenders
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+
+
+def rss_mb():
+    with open("/proc/self/status") as f:
+        for line in f:
+            if line.startswith("VmRSS:"):
+                return int(line.split()[1]) / 1024.0
+    return float("nan")
+
+
+class Edits:
+    """The session on the scene, and edits of its lamp, timed."""
+
+    def __init__(self, params):
+        import bpy
+
+        from ppm_render import core, viewport
+        from ppm_render.viewport_camera import camera_from_projection
+
+        bpy.ops.wm.open_mainfile(filepath=os.path.join(ROOT, "blend_scenes", params["scene"]))
+        self.bpy, self.scene = bpy, bpy.context.scene
+        self.scene.ppm.viewport_photons_per_pass = params["photons"]
+        self.scene.ppm.viewport_passes = 0
+        self.session = viewport.ViewportSession(core.load(), lambda: None)
+        depsgraph = bpy.context.evaluated_depsgraph_get()
+        cam = self.scene.camera
+        projection = cam.calc_matrix_camera(depsgraph, x=params["width"], y=params["height"])
+        self.session.export(depsgraph, lambda _: None)
+        self.session.set_view(camera_from_projection(cam.matrix_world.inverted(), projection, params["width"],
+                                                     params["height"]))
+        self.session.start()
+        self.lamp = next(o for o in self.scene.objects if o.type == "LIGHT")
+        self.step = 0
+
+    def edit(self):
+        """Moves the lamp and does what view_update and view_draw do; (seconds to the first image, to the
+        first full-resolution image, of the export)."""
+        self.step += 1
+        start = time.perf_counter()
+        self.lamp.location.x = 0.2 * ((self.step % 5) - 2)
+        depsgraph = self.bpy.context.evaluated_depsgraph_get()
+        export_start = time.perf_counter()
+        self.session.export(depsgraph, lambda _: None)
+        export_s = time.perf_counter() - export_start
+        self.session.start()
+        generation, first, full = self.session.generation, None, None
+        while full is None:
+            image = self.session.newest()
+            if image is not None and image.generation == generation:
+                first = first or time.perf_counter() - start
+                if image.pixel_size == 1:
+                    full = time.perf_counter() - start
+            if self.session.error:
+                raise RuntimeError(self.session.error)
+            time.sleep(0.0005)
+        return first, full, export_s
+
+    def images_per_second(self, seconds):
+        seen, start, last = 0, time.perf_counter(), self.session.newest()
+        while time.perf_counter() - start < seconds:
+            image = self.session.newest()
+            if image is not last and image.pixel_size == 1:
+                seen, last = seen + 1, image
+            time.sleep(0.0005)
+        return seen / seconds
+
+
+def measure(params):
+    sys.path.insert(0, os.path.join(ROOT, "addon"))
+    import bpy
+
+    import ppm_render
+
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    ppm_render.register()
+    try:
+        edits = Edits(params)
+        timed = [edits.edit() for _ in range(params["edits_timed"])]
+        rate = edits.images_per_second(params["refine_seconds"])
+        memory = {}
+        for count in range(edits.step + 1, params["edits"] + 1):
+            edits.edit()
+            if count in (10, 100, params["edits"]):
+                memory[count] = rss_mb()
+        edits.session.stop()
+    finally:
+        ppm_render.unregister()  # bpy 4.2 and 4.5 crash or hang at exit otherwise
+    return {"version": bpy.app.version_string, "timed": timed, "images_per_s": rate, "rss_mb": memory}
+
+
+def quantiles(values):
+    ordered = sorted(values)
+    return statistics.median(ordered), ordered[min(len(ordered) - 1, int(0.9 * len(ordered)))]
+
+
+def run(experiment, results):
+    params = {k: experiment[k] for k in ("scene", "width", "height", "photons", "edits_timed", "refine_seconds",
+                                         "edits")}
+    m = blenders.result_of(experiment["blender"], "kinds.viewport:measure", params)
+    rows = []
+    for i, name in enumerate(("edit -> first image (1/4 preview)", "edit -> first full-resolution image",
+                              "export alone")):
+        median, p90 = quantiles([t[i] for t in m["timed"]])
+        results.row(part="edit", measure=name, median_s=median, p90_s=p90)
+        rows.append([name, f"{median:.3f}", f"{p90:.3f}"])
+    results.table(["seconds", "median", "90th percentile"], rows,
+                  title=f"{experiment['scene']} at {experiment['width']}x{experiment['height']}, "
+                        f"{experiment['photons']:,} photons per pass, Blender {m['version']}")
+    results.row(part="refine", images_per_s=m["images_per_s"])
+    results.table(["full-resolution images per second while refining"], [[f"{m['images_per_s']:.1f}"]])
+    results.row(part="memory", rss_mb=m["rss_mb"])
+    results.table(["edits", "resident memory (MB)"], [[k, f"{v:.0f}"] for k, v in m["rss_mb"].items()])
