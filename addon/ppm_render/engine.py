@@ -16,7 +16,7 @@ import numpy as np
 from . import core, export, passes, viewport
 from .export.camera import Frame
 from .properties import core_settings, film_settings, light_path_settings
-from .viewport_camera import camera_from_projection
+from .viewport_camera import camera_from_projection, with_camera_lens
 
 DISPLAY_INTERVAL = 1.0  # seconds between refreshes of the render window
 
@@ -205,7 +205,12 @@ class PPMRenderEngine(bpy.types.RenderEngine):
         if session.settings_key != viewport.settings_key(depsgraph.scene):  # they tag no depsgraph update
             self.view_update(context, depsgraph)
         region, view = context.region, context.region_data
-        session.set_view(camera_from_projection(view.view_matrix, view.window_matrix, region.width, region.height))
+        camera_view = camera_from_projection(view.view_matrix, view.window_matrix, region.width, region.height)
+        if view.view_perspective == "CAMERA":
+            scene = depsgraph.scene
+            camera = scene.camera.evaluated_get(depsgraph) if scene.camera else None
+            camera_view = with_camera_lens(camera_view, camera, scene.ppm.dof_mode)
+        session.set_view(camera_view)
         session.start()
         image = session.newest()
         if image is not None and (self.drawn is None or self.drawn.image is not image):

@@ -62,7 +62,9 @@ class ViewportSession:
         self.scene = export.export_scene(self.ppm_core, depsgraph, warn)
         settings = scene.ppm
         self.settings = {**core_settings(settings), **film_settings(scene), **light_path_settings(scene),
-                         "photons_per_pass": settings.viewport_photons_per_pass, "dof_mode": "off"}
+                         "photons_per_pass": settings.viewport_photons_per_pass,
+                         # The camera view's depth of field, sampled on the lens (a post blur needs the finished image)
+                         "dof_mode": "off" if settings.dof_mode == "OFF" else "lens"}
         self.settings["hit_points"] = "stochastic"  # a pass count the user need not guess: refine forever
         self.limits = (settings.viewport_passes, settings.viewport_time_limit)
         self.settings_key = settings_key(scene)

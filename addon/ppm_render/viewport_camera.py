@@ -40,3 +40,15 @@ def camera_from_projection(view_matrix, window_matrix, width, height):
         near, far = 0.0, far - near
     args.update(clip_start=float(max(near, 0.0)), clip_end=float(far))
     return args
+
+
+def with_camera_lens(view, camera_object, dof_mode):
+    """`view` with the depth of field of the scene camera it looks through (Cycles shows it in the
+    camera view): its focus distance, aperture and focal length, where `dof_mode` is not OFF."""
+    from .export.camera import Frame, camera_arguments
+
+    if dof_mode == "OFF" or camera_object is None or camera_object.type != "CAMERA":
+        return view
+    lens = camera_arguments(camera_object, Frame(view["width"], view["height"]), lambda _: None, dof_mode)
+    return {**view, **{key: lens[key] for key in ("focus_distance", "aperture_radius", "focal_length")
+                       if key in lens}}

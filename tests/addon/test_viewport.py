@@ -13,7 +13,7 @@ import pytest
 from conftest import SCENES_DIR
 from ppm_render import core, viewport
 from ppm_render.export.camera import Frame, camera_arguments
-from ppm_render.viewport_camera import camera_from_projection
+from ppm_render.viewport_camera import camera_from_projection, with_camera_lens
 
 ppm_core = core.load()
 
@@ -59,6 +59,17 @@ def test_an_orthographic_view_that_sees_behind_its_eye_starts_its_rays_behind_it
     args = camera_from_projection(np.eye(4), projection, 100, 100)
     assert args["matrix"][:3, 3] == pytest.approx([0.0, 0.0, 50.0])  # moved back along +Z (it looks down -Z)
     assert (args["clip_start"], args["clip_end"]) == (0.0, pytest.approx(100.0))
+
+
+def test_the_camera_view_has_the_cameras_depth_of_field_where_the_settings_ask_for_it():
+    cam = camera()
+    cam.data.dof.use_dof, cam.data.dof.aperture_fstop, cam.data.dof.focus_distance = True, 2.8, 3.0
+    projection = cam.calc_matrix_camera(bpy.context.evaluated_depsgraph_get(), x=320, y=240)
+    view = camera_from_projection(cam.matrix_world.inverted(), projection, 320, 240)
+    assert with_camera_lens(view, cam, "OFF") is view
+    lens = with_camera_lens(view, cam, "LENS")
+    assert lens["aperture_radius"] == pytest.approx(35e-3 / (2 * 2.8)) and lens["focus_distance"] == 3.0
+    assert lens["fov"] == view["fov"] and lens["shift_x"] == view["shift_x"]  # the view's own framing
 
 
 class Session:
