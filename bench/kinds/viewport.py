@@ -8,7 +8,8 @@ view_update's work (the session stops the thread and exports the scene again) an
 restart; reported are the seconds from the edit to the first image of the new scene (a 1/4
 resolution preview), to the first full-resolution image, and the export alone (median and 90th
 percentile over `edits_timed` edits). Then the images per second while refining at full resolution
-(each asks Blender for a redraw), and the process's resident memory after 10, 100 and `edits` edits."""
+(each asks Blender for a redraw), and the process's resident memory after 10, 100 and `edits` edits
+(each cancelling the last one's refinement after its first image, as dragging a lamp does)."""
 
 from __future__ import annotations
 
@@ -54,9 +55,9 @@ class Edits:
         self.lamp = next(o for o in self.scene.objects if o.type == "LIGHT")
         self.step = 0
 
-    def edit(self):
+    def edit(self, wait_full=True):
         """Moves the lamp and does what view_update and view_draw do; (seconds to the first image, to the
-        first full-resolution image, of the export)."""
+        first full-resolution image (None without `wait_full`), of the export)."""
         self.step += 1
         start = time.perf_counter()
         self.lamp.location.x = 0.2 * ((self.step % 5) - 2)
@@ -66,7 +67,7 @@ class Edits:
         export_s = time.perf_counter() - export_start
         self.session.start()
         generation, first, full = self.session.generation, None, None
-        while full is None:
+        while full is None and (wait_full or first is None):
             image = self.session.newest()
             if image is not None and image.generation == generation:
                 first = first or time.perf_counter() - start
@@ -101,7 +102,7 @@ def measure(params):
         rate = edits.images_per_second(params["refine_seconds"])
         memory = {}
         for count in range(edits.step + 1, params["edits"] + 1):
-            edits.edit()
+            edits.edit(wait_full=False)  # the next edit cancels the refinement, as a dragged lamp does
             if count in (10, 100, params["edits"]):
                 memory[count] = rss_mb()
         edits.session.stop()
