@@ -65,7 +65,8 @@ class ViewportSession:
                          "photons_per_pass": settings.viewport_photons_per_pass,
                          # The camera view's depth of field, sampled on the lens (a post blur needs the finished image)
                          "dof_mode": "off" if settings.dof_mode == "OFF" else "lens"}
-        self.settings["hit_points"] = "stochastic"  # a pass count the user need not guess: refine forever
+        # New eye samples every pass (one per pixel in the core): anti-aliasing converges as it refines.
+        self.settings["hit_points"] = "stochastic"
         self.limits = (settings.viewport_passes, settings.viewport_time_limit)
         self.settings_key = settings_key(scene)
 

@@ -3,7 +3,7 @@
     .venv/bin/python bench/run.py throughput [--quick] [--set 'parts=["eye", "photons"]']
 
 Parts (the list `parts`), each a table:
-- eye: eye rays per second of the eye pass on 1 and 2 threads (median of 3);
+- eye: eye rays per second of the eye pass on 1 and 2 threads (median of `eye_repeats`);
 - photons: photon paths per second including the index build and the gather into the hit points,
   with the default settings, on 1 and 2 threads, and the time per pass of each step (each the
   median of `repeats` runs of `passes` timed passes of `photons` photons);
@@ -115,7 +115,8 @@ def memory_child(marks):
 
 
 def eye_part(experiment, results):
-    one, two = eye_rays_per_second(1), eye_rays_per_second(2)
+    repeats = experiment.get("eye_repeats", 3)
+    one, two = eye_rays_per_second(1, repeats=repeats), eye_rays_per_second(2, repeats=repeats)
     for threads, rate in ((1, one), (2, two)):
         results.row(part="eye", threads=threads, eye_rays_per_s=rate)
     results.table(["threads", "eye rays/s (4 spp, incl. specular chains)"],

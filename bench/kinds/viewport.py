@@ -8,7 +8,7 @@ view_update's work (the session stops the thread and exports the scene again) an
 restart; reported are the seconds from the edit to the first image of the new scene (a 1/4
 resolution preview), to the first full-resolution image, and the export alone (median and 90th
 percentile over `edits_timed` edits). Then the images per second while refining at full resolution
-(each asks Blender for a redraw), and the process's resident memory after 10, 100 and `edits` edits
+(each asks Blender for a redraw), and the process's resident memory after the edits in `memory_marks`
 (each cancelling the last one's refinement after its first image, as dragging a lamp does)."""
 
 from __future__ import annotations
@@ -103,7 +103,7 @@ def measure(params):
         memory = {}
         for count in range(edits.step + 1, params["edits"] + 1):
             edits.edit(wait_full=False)  # the next edit cancels the refinement, as a dragged lamp does
-            if count in (10, 100, params["edits"]):
+            if count in params["memory_marks"]:
                 memory[count] = rss_mb()
         edits.session.stop()
     finally:
@@ -118,7 +118,7 @@ def quantiles(values):
 
 def run(experiment, results):
     params = {k: experiment[k] for k in ("scene", "width", "height", "photons", "edits_timed", "refine_seconds",
-                                         "edits")}
+                                         "edits", "memory_marks")}
     m = blenders.result_of(experiment["blender"], "kinds.viewport:measure", params)
     rows = []
     for i, name in enumerate(("edit -> first image (1/4 preview)", "edit -> first full-resolution image",
