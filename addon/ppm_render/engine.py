@@ -19,6 +19,9 @@ from .properties import core_settings, film_settings, light_path_settings
 from .viewport_camera import camera_from_projection, with_camera_lens
 
 DISPLAY_INTERVAL = 1.0  # seconds between refreshes of the render window
+# id(engine) -> its viewport's ViewportSession (None before its first view_update). Kept outside the
+# engine: after Blender invalidates an engine, its __del__ can no longer read its attributes.
+VIEWPORT_SESSIONS = {}
 
 
 def write_pixels(result, rgba):
@@ -114,12 +117,17 @@ class PPMRenderEngine(bpy.types.RenderEngine):
 
     def __init__(self, *args, **kwargs):
         super().__init__(*args, **kwargs)  # the plain __init__(self) form crashes Blender 5.0
-        self.session = None  # the viewport's ViewportSession
+        stale = VIEWPORT_SESSIONS.pop(id(self), None)  # of a freed engine whose __del__ never ran
+        if stale is not None:
+            stale.stop()
+        VIEWPORT_SESSIONS[id(self)] = None  # the viewport's ViewportSession, once it has one
         self.drawn = None  # the viewport_draw.DrawnImage on screen
         self.viewport_warnings = []
 
     def __del__(self):
-        session = getattr(self, "session", None)
+        # Blender may have invalidated this instance already (its attributes then raise ReferenceError),
+        # so the session is found by the instance's id.
+        session = VIEWPORT_SESSIONS.pop(id(self), None)
         if session is not None:
             session.stop()  # no render thread may outlive the engine it redraws
         parent = getattr(super(), "__del__", None)
@@ -186,20 +194,21 @@ class PPMRenderEngine(bpy.types.RenderEngine):
     def view_update(self, context, depsgraph):
         """The viewport's scene changed (or is shown for the first time): export it again."""
         try:
-            if self.session is None:
-                self.session = viewport.ViewportSession(core.load(), viewport.redraw_of(self))
-            elif not viewport.needs_export(depsgraph, self.session):
+            session = VIEWPORT_SESSIONS.get(id(self))
+            if session is None:
+                session = VIEWPORT_SESSIONS[id(self)] = viewport.ViewportSession(core.load(), viewport.redraw_of(self))
+            elif not viewport.needs_export(depsgraph, session):
                 return
             self.viewport_warnings = []
-            self.session.export(depsgraph, self.viewport_warnings.append)
+            session.export(depsgraph, self.viewport_warnings.append)
         except Exception as error:  # noqa: BLE001 - shown in the viewport's header
-            if self.session is not None:
-                self.session.error = str(error)
+            if VIEWPORT_SESSIONS.get(id(self)) is not None:
+                VIEWPORT_SESSIONS[id(self)].error = str(error)
         self.tag_redraw()
 
     def view_draw(self, context, depsgraph):
         """Draws the newest image; a new view (navigation, a resized region) restarts the refinement."""
-        session = self.session
+        session = VIEWPORT_SESSIONS.get(id(self))
         if session is None:
             return
         if session.settings_key != viewport.settings_key(depsgraph.scene):  # they tag no depsgraph update

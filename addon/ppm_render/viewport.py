@@ -152,7 +152,8 @@ class ViewportSession:
         with self.lock:
             if image.generation == self.generation:
                 self.image = image
-        self.redraw()
+        if self.redraw() is False:  # nobody to show it to
+            self.stop_requested.set()
 
 
 def redraw_of(engine):
@@ -161,12 +162,15 @@ def redraw_of(engine):
     engine_ref = weakref.ref(engine)
 
     def redraw():
+        """False once the engine is gone (the thread then stops)."""
         engine = engine_ref()
-        if engine is not None:
-            try:
-                engine.tag_redraw()
-            except ReferenceError:  # freed by Blender: its __del__ is stopping this thread
-                pass
+        if engine is None:
+            return False
+        try:
+            engine.tag_redraw()
+        except ReferenceError:  # freed by Blender
+            return False
+        return True
 
     return redraw
 

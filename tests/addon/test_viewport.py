@@ -149,6 +149,16 @@ def test_an_edit_restarts_from_the_new_scene_and_no_image_mixes_the_two():
     assert np.abs(after[-1].rgba[..., :3] - before.rgba[..., :3]).mean() > 0.01  # lit from elsewhere
 
 
+def test_a_session_whose_engine_is_gone_stops_after_its_image():
+    """redraw() returns False once Blender has freed the engine: nobody would see more passes."""
+    s = Session()
+    s.session.redraw = lambda: False
+    s.session.start()
+    images = s.images_until_done(timeout=20.0)
+    s.session.stop()
+    assert len(images) == 1 and images[0].pixel_size > 1
+
+
 def test_stopping_mid_pass_returns_within_the_cores_poll_interval():
     s = Session(width=320, height=240)
     s.scene.ppm.viewport_photons_per_pass = 2_000_000  # passes of seconds each
