@@ -9,7 +9,8 @@ restart; reported are the seconds from the edit to the first image of the new sc
 resolution preview), to the first full-resolution image, and the export alone (median and 90th
 percentile over `edits_timed` edits). Then the images per second while refining at full resolution
 (each asks Blender for a redraw), and the process's resident memory after the edits in `memory_marks`
-(each cancelling the last one's refinement after its first image, as dragging a lamp does)."""
+(each cancelling the last one's refinement after its first image, as dragging a lamp does), as it is
+and after glibc's malloc_trim (what is still allocated)."""
 
 from __future__ import annotations
 
@@ -29,6 +30,17 @@ def rss_mb():
             if line.startswith("VmRSS:"):
                 return int(line.split()[1]) / 1024.0
     return float("nan")
+
+
+def trimmed_rss_mb():
+    """Resident memory after glibc returns its free pages (malloc_trim): what is still in use, where
+    rss_mb also counts what the allocator keeps for later."""
+    import ctypes
+    import gc
+
+    gc.collect()
+    ctypes.CDLL("libc.so.6").malloc_trim(0)
+    return rss_mb()
 
 
 class Edits:
@@ -104,7 +116,7 @@ def measure(params):
         for count in range(edits.step + 1, params["edits"] + 1):
             edits.edit(wait_full=False)  # the next edit cancels the refinement, as a dragged lamp does
             if count in params["memory_marks"]:
-                memory[count] = rss_mb()
+                memory[count] = (rss_mb(), trimmed_rss_mb())
         edits.session.stop()
     finally:
         ppm_render.unregister()  # bpy 4.2 and 4.5 crash or hang at exit otherwise
@@ -132,4 +144,5 @@ def run(experiment, results):
     results.row(part="refine", images_per_s=m["images_per_s"])
     results.table(["full-resolution images per second while refining"], [[f"{m['images_per_s']:.1f}"]])
     results.row(part="memory", rss_mb=m["rss_mb"])
-    results.table(["edits", "resident memory (MB)"], [[k, f"{v:.0f}"] for k, v in m["rss_mb"].items()])
+    results.table(["edits", "resident memory (MB)", "after malloc_trim"],
+                  [[k, f"{rss:.0f}", f"{trimmed:.0f}"] for k, (rss, trimmed) in m["rss_mb"].items()])
