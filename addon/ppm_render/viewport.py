@@ -39,7 +39,7 @@ class ViewportSession:
 
     def __init__(self, ppm_core, redraw):
         self.ppm_core, self.redraw = ppm_core, redraw
-        self.scene = None  # the exported core scene; only the render thread uses it while it runs
+        self.core_scene = None  # the exported scene; only the render thread uses it while it runs
         self.settings = None  # Renderer keyword arguments of the full-resolution passes
         self.settings_key = None  # settings_key() of the scene exported
         self.limits = (0, 0.0)  # (passes, seconds); 0 = none
@@ -57,17 +57,11 @@ class ViewportSession:
     def export(self, depsgraph, warn):
         """(Re)exports the whole scene from the evaluated depsgraph (main thread), stopping the thread."""
         self.stop()
+        self.core_scene = None  # until the export succeeds: a failed one renders nothing and shows its error
+        self.core_scene = export.export_scene(self.ppm_core, depsgraph, warn)
         scene = depsgraph.scene
-        self.scene = None  # until the export succeeds: a failed one renders nothing and shows its error
-        self.scene = export.export_scene(self.ppm_core, depsgraph, warn)
-        settings = scene.ppm
-        self.settings = {**core_settings(settings), **film_settings(scene), **light_path_settings(scene),
-                         "photons_per_pass": settings.viewport_photons_per_pass,
-                         # The camera view's depth of field, sampled on the lens (a post blur needs the finished image)
-                         "dof_mode": "off" if settings.dof_mode == "OFF" else "lens"}
-        # New eye samples every pass (one per pixel in the core): anti-aliasing converges as it refines.
-        self.settings["hit_points"] = "stochastic"
-        self.limits = (settings.viewport_passes, settings.viewport_time_limit)
+        self.settings = renderer_settings(scene)
+        self.limits = (scene.ppm.viewport_passes, scene.ppm.viewport_time_limit)
         self.settings_key = settings_key(scene)
 
     def set_view(self, view):
@@ -80,7 +74,7 @@ class ViewportSession:
 
     def start(self):
         """Starts refining (a no-op while running or without a scene and view)."""
-        if self.thread is not None or self.scene is None or self.view is None:
+        if self.thread is not None or self.core_scene is None or self.view is None:
             return
         self.generation += 1
         self.stop_requested.clear()
@@ -127,8 +121,8 @@ class ViewportSession:
         """Renders passes at one pixel size (`passes`: None = up to the viewport's limits)."""
         if self.stop_requested.is_set():
             return
-        self.scene.set_camera(**scaled_view(self.view, pixel_size))
-        renderer = self.ppm_core.Renderer(self.scene, **{**self.settings, **overrides})
+        self.core_scene.set_camera(**scaled_view(self.view, pixel_size))
+        renderer = self.ppm_core.Renderer(self.core_scene, **{**self.settings, **overrides})
         self.renderer = renderer
         max_passes, max_seconds = self.limits
         done = 0
@@ -154,6 +148,17 @@ class ViewportSession:
                 self.image = image
         if self.redraw() is False:  # nobody to show it to
             self.stop_requested.set()
+
+
+def renderer_settings(scene):
+    """The Renderer's settings for the viewport's full-resolution passes: the render's, but with the
+    viewport's photons per pass, new eye samples every pass (one per pixel in the core: anti-aliasing
+    converges as it refines), and the camera view's depth of field sampled on the lens (a post blur
+    needs the finished image)."""
+    settings = scene.ppm
+    return {**core_settings(settings), **film_settings(scene), **light_path_settings(scene),
+            "photons_per_pass": settings.viewport_photons_per_pass, "hit_points": "stochastic",
+            "dof_mode": "off" if settings.dof_mode == "OFF" else "lens"}
 
 
 def redraw_of(engine):

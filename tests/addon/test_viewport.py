@@ -209,4 +209,4 @@ def test_an_export_that_fails_renders_nothing_and_keeps_its_error():
     with pytest.raises(RuntimeError):
         session.export(Broken(), print)
     session.start()
-    assert session.thread is None and session.scene is None
+    assert session.thread is None and session.core_scene is None
