@@ -16,7 +16,7 @@ import numpy as np
 from . import core, export, passes, viewport
 from .export.camera import Frame
 from .properties import core_settings, film_settings, light_path_settings
-from .viewport_camera import camera_from_projection, with_camera_lens
+from .viewport_camera import region_view
 
 DISPLAY_INTERVAL = 1.0  # seconds between refreshes of the render window
 # id(engine) -> its viewport's ViewportSession (None before its first view_update). Kept outside the
@@ -193,17 +193,18 @@ class PPMRenderEngine(bpy.types.RenderEngine):
 
     def view_update(self, context, depsgraph):
         """The viewport's scene changed (or is shown for the first time): export it again."""
+        session = VIEWPORT_SESSIONS.get(id(self))
         try:
-            session = VIEWPORT_SESSIONS.get(id(self))
             if session is None:
                 session = VIEWPORT_SESSIONS[id(self)] = viewport.ViewportSession(core.load(), viewport.redraw_of(self))
-            elif not viewport.needs_export(depsgraph, session):
+            elif session.core_scene is not None and not viewport.needs_export(depsgraph, session):
                 return
             self.viewport_warnings = []
             session.export(depsgraph, self.viewport_warnings.append)
         except Exception as error:  # noqa: BLE001 - shown in the viewport's header
-            if VIEWPORT_SESSIONS.get(id(self)) is not None:
-                VIEWPORT_SESSIONS[id(self)].error = str(error)
+            if session is not None:
+                session.error = str(error)
+            self.update_stats("", f"PPM: {error}")
         self.tag_redraw()
 
     def view_draw(self, context, depsgraph):
@@ -213,20 +214,14 @@ class PPMRenderEngine(bpy.types.RenderEngine):
             return
         if session.settings_key != viewport.settings_key(depsgraph.scene):  # they tag no depsgraph update
             self.view_update(context, depsgraph)
-        region, view = context.region, context.region_data
-        camera_view = camera_from_projection(view.view_matrix, view.window_matrix, region.width, region.height)
-        if view.view_perspective == "CAMERA":
-            scene = depsgraph.scene
-            camera = scene.camera.evaluated_get(depsgraph) if scene.camera else None
-            camera_view = with_camera_lens(camera_view, camera, scene.ppm.dof_mode)
-        session.set_view(camera_view)
+        session.set_view(region_view(context, depsgraph))
         session.start()
         image = session.newest()
         if image is not None and (self.drawn is None or self.drawn.image is not image):
             from .viewport_draw import DrawnImage  # gpu exists only where Blender has a window
             self.drawn = DrawnImage(image)
         if self.drawn is not None:
-            self.drawn.draw(self, depsgraph.scene, region.width, region.height)
+            self.drawn.draw(self, depsgraph.scene, context.region.width, context.region.height)
         self.update_stats("", viewport.status_line(session, self.viewport_warnings))
 
     def update_render_passes(self, scene=None, renderlayer=None):

@@ -52,3 +52,14 @@ def with_camera_lens(view, camera_object, dof_mode):
     lens = camera_arguments(camera_object, Frame(view["width"], view["height"]), lambda _: None, dof_mode)
     return {**view, **{key: lens[key] for key in ("focus_distance", "aperture_radius", "focal_length")
                        if key in lens}}
+
+
+def region_view(context, depsgraph):
+    """The set_camera arguments of the viewport region being drawn (`context` of view_draw)."""
+    region, view = context.region, context.region_data
+    args = camera_from_projection(view.view_matrix, view.window_matrix, region.width, region.height)
+    if view.view_perspective != "CAMERA":
+        return args
+    scene = depsgraph.scene
+    camera = scene.camera.evaluated_get(depsgraph) if scene.camera else None
+    return with_camera_lens(args, camera, scene.ppm.dof_mode)
