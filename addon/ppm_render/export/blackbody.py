@@ -12,6 +12,7 @@ in each version match these functions within 3e-5 from -100 to 20000 K (tests/bl
 tests/addon/test_light_blackbody.py), in 5.0's ACEScg working space too.
 """
 
+import bpy
 import mathutils
 
 from . import wavelength
@@ -90,7 +91,6 @@ def kernel_rec709_to_scene_linear():
     """The matrix (rows) Cycles' kernel converts the fit with. Blender 5.2's kernel goes through XYZ and the
     older constants' inverse (measured: its renders match this within 2e-6, the host's matrix only within
     4e-4); before, it used the host's matrix. 5.1 is not measured."""
-    import bpy
     if bpy.app.version < (5, 1, 0):
         return rec709_to_scene_linear()
     product = mathutils.Matrix(wavelength.xyz_to_scene_linear()) @ XYZ_TO_REC709_BEFORE_5_0.inverted()
