@@ -221,7 +221,7 @@ class PPMRenderEngine(bpy.types.RenderEngine):
             from .viewport_draw import DrawnImage  # gpu exists only where Blender has a window
             self.drawn = DrawnImage(image)
         if self.drawn is not None:
-            self.drawn.draw(self, depsgraph.scene, context.region.width, context.region.height)
+            self.drawn.draw(self, depsgraph.scene)
         self.update_stats("", viewport.status_line(session, self.viewport_warnings))
 
     def update_render_passes(self, scene=None, renderlayer=None):

@@ -27,11 +27,12 @@ SESSIONS = weakref.WeakSet()
 
 
 class ViewportImage:
-    """One image of the session: RGBA (H, W, 4) top row first, at `pixel_size` region pixels a pixel."""
+    """One image of the session: RGBA (H, W, 4) top row first, at `pixel_size` region pixels a pixel,
+    to be drawn over `window` (x, y, width, height in region pixels)."""
 
-    def __init__(self, rgba, pixel_size, passes, photons, seconds, generation):
+    def __init__(self, rgba, pixel_size, passes, photons, seconds, generation, window):
         self.rgba, self.pixel_size, self.passes = rgba, pixel_size, passes
-        self.photons, self.seconds, self.generation = photons, seconds, generation
+        self.photons, self.seconds, self.generation, self.window = photons, seconds, generation, window
 
 
 class ViewportSession:
@@ -138,7 +139,7 @@ class ViewportSession:
                 break
             done = stats["passes"]
             self.publish(ViewportImage(renderer.image(), pixel_size, done, stats["photons_emitted"],
-                                       time.monotonic() - start, generation))
+                                       time.monotonic() - start, generation, window_of(self.view)))
         self.renderer = None
         del renderer  # the next level may change the scene's camera only once no renderer holds it
 
@@ -219,7 +220,13 @@ def scaled_view(view, pixel_size):
     if pixel_size == 1:
         return view
     width, height = max(1, view["width"] // pixel_size), max(1, view["height"] // pixel_size)
-    return {**view, "width": width, "height": height, "frame": (0, 0, width, height)}
+    frame = tuple(max(1, v // pixel_size) if i >= 2 else v // pixel_size for i, v in enumerate(view["frame"]))
+    return {**view, "width": width, "height": height, "frame": frame}
+
+
+def window_of(view):
+    """(x, y, width, height) in region pixels where the image of `view` (full resolution) is drawn."""
+    return view["frame"][0], view["frame"][1], view["width"], view["height"]
 
 
 def same_view(a, b):

@@ -54,10 +54,69 @@ def with_camera_lens(view, camera_object, dof_mode):
                        if key in lens}}
 
 
+def sub_window(args, x, y, width, height):
+    """`args` (a whole region's camera) narrowed to the window of `width` x `height` pixels whose
+    bottom-left pixel is (x, y): the same pixels, as a render border renders them."""
+    full_width, full_height = args["frame"][2], args["frame"][3]
+    if args["projection"] == "perspective":
+        extent = 2.0 * math.tan(0.5 * args["fov"])  # the region's width at distance 1
+    else:
+        extent = args["ortho_scale"]
+    pixel = extent / full_width
+    cx = (x + 0.5 * width - 0.5 * full_width) * pixel + args["shift_x"] * extent
+    cy = (y + 0.5 * height - 0.5 * full_height) * pixel + args["shift_y"] * extent
+    window_extent = pixel * width
+    narrowed = {**args, "width": int(width), "height": int(height), "shift_x": cx / window_extent,
+                "shift_y": cy / window_extent, "frame": (int(x), int(y), full_width, full_height)}
+    if args["projection"] == "perspective":
+        narrowed["fov"] = 2.0 * math.atan(0.5 * window_extent)
+    else:
+        narrowed["ortho_scale"] = window_extent
+    return narrowed
+
+
+def render_region(context, depsgraph):
+    """(x, y, width, height) in region pixels of the part Cycles renders: in the camera view the scene's
+    render border within the camera's frame (where Render Region is on), elsewhere the viewport's own
+    Render Region; None for the whole region."""
+    region, view, space = context.region, context.region_data, context.space_data
+    render = depsgraph.scene.render
+    if view.view_perspective == "CAMERA":
+        camera = depsgraph.scene.camera
+        if not render.use_border or camera is None or camera.type != "CAMERA":
+            return None
+        from bpy_extras.view3d_utils import location_3d_to_region_2d
+
+        corners = [location_3d_to_region_2d(region, view, camera.matrix_world @ corner)
+                   for corner in camera.data.view_frame(scene=depsgraph.scene)]
+        if any(c is None for c in corners):
+            return None
+        x0, x1 = min(c.x for c in corners), max(c.x for c in corners)
+        y0, y1 = min(c.y for c in corners), max(c.y for c in corners)
+        box = (render.border_min_x, render.border_max_x, render.border_min_y, render.border_max_y)
+    elif getattr(space, "use_render_border", False):
+        x0, x1, y0, y1 = 0.0, region.width, 0.0, region.height
+        box = (space.render_border_min_x, space.render_border_max_x, space.render_border_min_y,
+               space.render_border_max_y)
+    else:
+        return None
+    left = max(0, int(round(x0 + box[0] * (x1 - x0))))
+    right = min(region.width, int(round(x0 + box[1] * (x1 - x0))))
+    bottom = max(0, int(round(y0 + box[2] * (y1 - y0))))
+    top = min(region.height, int(round(y0 + box[3] * (y1 - y0))))
+    if right - left < 1 or top - bottom < 1:
+        return None
+    return left, bottom, right - left, top - bottom
+
+
 def region_view(context, depsgraph):
-    """The set_camera arguments of the viewport region being drawn (`context` of view_draw)."""
+    """The set_camera arguments of the viewport region being drawn (`context` of view_draw), narrowed
+    to its render region if it has one."""
     region, view = context.region, context.region_data
     args = camera_from_projection(view.view_matrix, view.window_matrix, region.width, region.height)
+    window = render_region(context, depsgraph)
+    if window is not None:
+        args = sub_window(args, *window)
     if view.view_perspective != "CAMERA":
         return args
     scene = depsgraph.scene

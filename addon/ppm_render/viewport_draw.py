@@ -1,10 +1,10 @@
 """Drawing a viewport image with Blender's `gpu` module, in the scene's display colour space.
 
-The image is uploaded once per new pass as a half-float texture and drawn over the whole region
-(a preview image of a quarter or half resolution is stretched, as Cycles shows its first, coarse
-samples) between the engine's bind_display_space_shader and unbind_display_space_shader, which
-apply the scene's view transform and look. The built-in image shader is `IMAGE` from Blender 4.0
-on and `2D_IMAGE` before; `bgl` is not used (5.0 has none).
+The image is uploaded once per new pass as a half-float texture and drawn over its window of the
+region (the whole region, or its render region; a preview image of a quarter or half resolution is
+stretched, as Cycles shows its first, coarse samples) between the engine's bind_display_space_shader
+and unbind_display_space_shader, which apply the scene's view transform and look. The built-in image
+shader is `IMAGE` from Blender 4.0 on and `2D_IMAGE` before; `bgl` is not used (5.0 has none).
 """
 
 import gpu
@@ -32,10 +32,13 @@ class DrawnImage:
         corners = ((0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0))
         self.batch = batch_for_shader(self.shader, "TRI_FAN", {"pos": corners, "texCoord": corners})
 
-    def draw(self, engine, scene, width, height):
+    def draw(self, engine, scene):
+        """Draws the image over its window of the region (all of it, or its render region)."""
+        x, y, width, height = self.image.window
         gpu.state.blend_set("ALPHA_PREMULT")
         engine.bind_display_space_shader(scene)
         with gpu.matrix.push_pop():
+            gpu.matrix.translate((x, y))
             gpu.matrix.scale((width, height))
             self.shader.uniform_sampler("image", self.texture)
             self.batch.draw(self.shader)

@@ -13,7 +13,7 @@ import pytest
 from conftest import SCENES_DIR
 from ppm_render import core, viewport
 from ppm_render.export.camera import Frame, camera_arguments
-from ppm_render.viewport_camera import camera_from_projection, with_camera_lens
+from ppm_render.viewport_camera import camera_from_projection, sub_window, with_camera_lens
 
 ppm_core = core.load()
 
@@ -49,6 +49,24 @@ def test_a_view_read_from_its_matrices_is_the_camera_blender_projects(kind, size
     else:  # the eye moved onto the near plane: the same visible slab
         assert np.allclose(ours["matrix"][:3, 3], expected["matrix"][:3, 3] + 0.3 * forward, atol=1e-4)
         assert ours["clip_start"] == 0.0 and ours["clip_end"] == pytest.approx(79.7, rel=1e-4)
+
+
+@pytest.mark.parametrize("kind", ["PERSP", "ORTHO"])
+def test_a_render_region_renders_the_same_pixels_as_a_render_border(kind):
+    """A window of the region, narrowed from the region's camera, is the camera F12 renders for the same
+    border (export/camera.py's Frame window), so the region's pixels stay where they were."""
+    cam = camera(kind)
+    width, height, window = 640, 480, (100, 60, 200, 300)
+    projection = cam.calc_matrix_camera(bpy.context.evaluated_depsgraph_get(), x=width, y=height)
+    ours = sub_window(camera_from_projection(cam.matrix_world.inverted(), projection, width, height), *window)
+    expected = camera_arguments(cam, Frame(width, height, *window), print)
+    for key in ("fov", "ortho_scale", "shift_x", "shift_y"):
+        if key in expected:
+            assert ours[key] == pytest.approx(expected[key], rel=1e-5, abs=1e-6), key
+    assert (ours["width"], ours["height"], ours["frame"]) == (200, 300, expected["frame"])
+    preview = viewport.scaled_view(ours, 4)
+    assert (preview["width"], preview["height"], preview["frame"]) == (50, 75, (25, 15, 160, 120))
+    assert viewport.window_of(ours) == window
 
 
 def test_an_orthographic_view_that_sees_behind_its_eye_starts_its_rays_behind_it():

@@ -1,6 +1,7 @@
 """Runs inside a real Blender GUI (Xvfb): what users do to a viewport while it renders with PPM, one
 step every 0.4 s: toggle Solid and Rendered, delete the object being rendered, undo, change frames,
-turn the 3D viewport into another editor and back, open another file, and quit mid-render.
+turn on a render border in the camera view and a viewport render region, turn the 3D viewport
+into another editor and back, open another file, and quit mid-render.
 
     xvfb-run -a -s "-screen 0 1600x900x24" blender --factory-startup scene.blend \
         -P tests/gui/gui_viewport_abuse.py -- --out DIR
@@ -21,6 +22,7 @@ import render
 
 OUT = sys.argv[sys.argv.index("--out") + 1] if "--out" in sys.argv else "/tmp"
 DONE = []
+WINDOWS = {}
 
 
 def context():
@@ -60,6 +62,35 @@ def prepare():
     scene.ppm.viewport_photons_per_pass = 20_000
 
 
+def camera_border():
+    render = bpy.context.scene.render
+    render.use_border = True
+    render.border_min_x, render.border_max_x, render.border_min_y, render.border_max_y = 0.25, 0.75, 0.2, 0.6
+    _window, area = context()
+    area.spaces.active.region_3d.view_perspective = "CAMERA"
+
+
+def viewport_region():
+    bpy.context.scene.render.use_border = False
+    _window, area = context()
+    space = area.spaces.active
+    space.region_3d.view_perspective = "PERSP"
+    space.use_render_border = True
+    space.render_border_min_x, space.render_border_max_x = 0.1, 0.4
+    space.render_border_min_y, space.render_border_max_y = 0.5, 0.9
+
+
+def note_window(name):
+    """Records the rendered window's size against the region's."""
+    from ppm_render import viewport
+
+    _window, area = context()
+    region = next(r for r in area.regions if r.type == "WINDOW")
+    views = [s.view for s in viewport.SESSIONS if s.view is not None]
+    WINDOWS[name] = {"region": [region.width, region.height],
+                     "rendered": [views[0]["width"], views[0]["height"]] if views else None}
+
+
 def errors():
     from ppm_render import viewport
 
@@ -75,6 +106,10 @@ STEPS = [
     ("frame 10", lambda: bpy.context.scene.frame_set(10)),
     ("stronger lamp", lambda: setattr(bpy.data.lights[0], "energy", bpy.data.lights[0].energy * 2.0)),
     ("fewer viewport photons", lambda: setattr(bpy.context.scene.ppm, "viewport_photons_per_pass", 10_000)),
+    ("render border in the camera view", camera_border),
+    ("note it", lambda: note_window("camera border")),
+    ("viewport render region", viewport_region),
+    ("note that", lambda: note_window("viewport region")),
     ("image editor", lambda: editor("IMAGE_EDITOR")),
     ("3D viewport", lambda: editor("VIEW_3D")),
     ("rendered after the editor", lambda: shading("RENDERED")),
@@ -98,7 +133,7 @@ def step():
 
         running = [t for t in threading.enumerate() if t.name == "PPM viewport" and t.is_alive()]
         write({"steps": DONE, "complete": True, "errors": errors(), "render_threads": len(running),
-               "sessions": len(viewport.SESSIONS)})
+               "sessions": len(viewport.SESSIONS), "windows": WINDOWS})
         bpy.ops.wm.quit_blender()  # while the viewport refines
         return None
     name, action = STEPS[len(DONE)]

@@ -97,9 +97,9 @@ def test_the_viewport_in_rendered_shading_refines_and_follows_an_edit():
 
 
 def test_a_viewport_survives_what_users_do_to_it_while_it_renders():
-    """Solid/Rendered toggles, deleting the object rendered, undo, frames, another editor, another file
-    and quitting mid-render: Blender exits normally, with one viewport session and render thread left
-    (the others were stopped with their engines)."""
+    """Solid/Rendered toggles, deleting the object rendered, undo, frames, render regions, another
+    editor, another file and quitting mid-render: Blender exits normally, with one viewport session
+    and render thread left (the others were stopped with their engines)."""
     out = os.path.join(OUT, "viewport_abuse")
     os.makedirs(out, exist_ok=True)
     status_path = os.path.join(out, "status.json")
@@ -114,3 +114,9 @@ def test_a_viewport_survives_what_users_do_to_it_while_it_renders():
     assert status["complete"], status["steps"][-1]
     assert run.returncode == 0 and "Traceback" not in run.stderr, run.stderr[-3000:]
     assert status["errors"] == [] and status["render_threads"] <= 1 and status["sessions"] <= 1, status
+    # A render region renders only its part: the viewport's own (x 0.1-0.4, y 0.5-0.9 of the region),
+    # and the scene's border (x 0.25-0.75, y 0.2-0.6) inside the camera's frame in the camera view.
+    (width, height), rendered = status["windows"]["viewport region"].values()
+    assert abs(rendered[0] - 0.3 * width) <= 1 and abs(rendered[1] - 0.4 * height) <= 1, status["windows"]
+    (width, height), rendered = status["windows"]["camera border"].values()
+    assert rendered[0] < 0.5 * width and rendered[1] < 0.4 * height, status["windows"]
