@@ -4,7 +4,8 @@ Blender hands a viewport's view to an engine as two matrices (RegionView3D): `vi
 to view) and `window_matrix` (the projection of the whole region). Every kind of view is read from
 them the same way: a user perspective or orthographic view, and the camera view, whose projection
 already holds the camera's lens, shift, zoom and pan and the passepartout around its frame. So the
-region is rendered as Cycles renders it: all of it, the camera's frame where the camera sees.
+region is rendered as Cycles renders it: all of it (or its render region, `render_region`), the
+camera's frame where the camera sees.
 
 Perspective (OpenGL convention, looking down -Z): x_ndc = P00 x / -z + P02, so the image's centre
 lies at x / -z = P02 / P00 and the region's width at distance 1 is 2 / P00; orthographic:
