@@ -6,11 +6,11 @@ within a fraction of a second), then full-resolution passes until the viewport's
 time limit. The core releases the GIL while it renders, so Blender's UI stays live; the thread asks
 Blender to redraw after each pass, and `view_draw` shows the newest image.
 
-An edit (`export`) or a new view (`set_view`) cancels the pass in progress (the core notices within its 0.1 s poll), waits for
-the thread, and starts again from the new scene or view: an image never mixes photons of two
-scenes. Everything that reads Blender data (the export) runs on the main thread, in view_update and
-view_draw; the render thread touches only the core scene, which the main thread leaves alone while
-a thread runs.
+An edit (`export`) or a new view (`set_view`) cancels the pass in progress (the core notices
+within its 0.1 s poll), waits for the thread, and starts again from the new scene or view: an image
+never mixes photons of two scenes. Everything that reads Blender data (the export) runs on the main
+thread, in view_update and view_draw; the render thread touches only the core scene, which the main
+thread leaves alone while a thread runs.
 """
 
 import threading
