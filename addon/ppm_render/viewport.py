@@ -220,7 +220,8 @@ def scaled_view(view, pixel_size):
     if pixel_size == 1:
         return view
     width, height = max(1, view["width"] // pixel_size), max(1, view["height"] // pixel_size)
-    frame = tuple(max(1, v // pixel_size) if i >= 2 else v // pixel_size for i, v in enumerate(view["frame"]))
+    x, y, frame_width, frame_height = view["frame"]
+    frame = (x // pixel_size, y // pixel_size, max(1, frame_width // pixel_size), max(1, frame_height // pixel_size))
     return {**view, "width": width, "height": height, "frame": frame}
 
 

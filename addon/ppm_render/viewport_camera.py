@@ -58,18 +58,16 @@ def with_camera_lens(view, camera_object, dof_mode):
 def sub_window(args, x, y, width, height):
     """`args` (a whole region's camera) narrowed to the window of `width` x `height` pixels whose
     bottom-left pixel is (x, y): the same pixels, as a render border renders them."""
+    from .export.camera import Frame, window_of
+
     full_width, full_height = args["frame"][2], args["frame"][3]
-    if args["projection"] == "perspective":
-        extent = 2.0 * math.tan(0.5 * args["fov"])  # the region's width at distance 1
-    else:
-        extent = args["ortho_scale"]
-    pixel = extent / full_width
-    cx = (x + 0.5 * width - 0.5 * full_width) * pixel + args["shift_x"] * extent
-    cy = (y + 0.5 * height - 0.5 * full_height) * pixel + args["shift_y"] * extent
-    window_extent = pixel * width
-    narrowed = {**args, "width": int(width), "height": int(height), "shift_x": cx / window_extent,
-                "shift_y": cy / window_extent, "frame": (int(x), int(y), full_width, full_height)}
-    if args["projection"] == "perspective":
+    perspective = args["projection"] == "perspective"
+    extent = 2.0 * math.tan(0.5 * args["fov"]) if perspective else args["ortho_scale"]  # the region's width
+    window_extent, shift_x, shift_y = window_of(Frame(full_width, full_height, x, y, width, height),
+                                                extent / full_width, extent, args["shift_x"], args["shift_y"])
+    narrowed = {**args, "width": int(width), "height": int(height), "shift_x": shift_x, "shift_y": shift_y,
+                "frame": (int(x), int(y), full_width, full_height)}
+    if perspective:
         narrowed["fov"] = 2.0 * math.atan(0.5 * window_extent)
     else:
         narrowed["ortho_scale"] = window_extent

@@ -121,6 +121,16 @@ def aperture_radius(cam):
     return cam.lens * 1e-3 / (2.0 * dof.aperture_fstop)
 
 
+def window_of(frame, pixel, extent, shift_x, shift_y):
+    """(width, shift_x, shift_y) of `frame`'s window as a camera of its own, fitted horizontally with
+    the full frame's pixel size `pixel`: its width on the image plane (in the units of `extent`, the
+    full frame's fitted side) and its centre's shifts in units of that width."""
+    cx = (frame.x + 0.5 * frame.window_width - 0.5 * frame.width) * pixel + shift_x * extent
+    cy = (frame.y + 0.5 * frame.window_height - 0.5 * frame.height) * pixel + shift_y * extent
+    window_extent = pixel * frame.window_width
+    return window_extent, cx / window_extent, cy / window_extent
+
+
 def camera_arguments(camera_object, frame, warn, dof_mode="OFF", view=None):
     """Keyword arguments for Scene.set_camera for `frame` (full frame or border window).
 
@@ -140,11 +150,8 @@ def camera_arguments(camera_object, frame, warn, dof_mode="OFF", view=None):
     fit_h = _fit_horizontal(cam.sensor_fit, frame.width, frame.height)
     extent = _fitted_extent(cam, fit_h)
     pixel = extent / (frame.width if fit_h else frame.height)
-    # Window centre on the image plane, in the same units as `extent`.
     shift_x = cam.shift_x if view is None else view[1]
-    cx = (frame.x + 0.5 * frame.window_width - 0.5 * frame.width) * pixel + shift_x * extent
-    cy = (frame.y + 0.5 * frame.window_height - 0.5 * frame.height) * pixel + cam.shift_y * extent
-    window_extent = pixel * frame.window_width  # the window is fitted horizontally, same pixel size
+    window_extent, window_shift_x, window_shift_y = window_of(frame, pixel, extent, shift_x, cam.shift_y)
     position = np.array(matrix_world.translation, dtype=float)
     if not (np.isfinite(position).all() and np.abs(position).max() <= MAX_COORDINATE):
         raise ValueError(f"camera '{camera_object.name}' is at {tuple(position)}, not a point the core can render "
@@ -154,8 +161,8 @@ def camera_arguments(camera_object, frame, warn, dof_mode="OFF", view=None):
         "width": frame.window_width,
         "height": frame.window_height,
         "sensor_fit": "horizontal",
-        "shift_x": cx / window_extent,
-        "shift_y": cy / window_extent,
+        "shift_x": window_shift_x,
+        "shift_y": window_shift_y,
         "clip_start": float(cam.clip_start),
         "clip_end": float(cam.clip_end),
         "focus_distance": max(focus_distance(cam, matrix_world), 1e-6),
