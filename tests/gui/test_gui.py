@@ -23,18 +23,26 @@ def read_png(path):
     return buf.get_pixels(oiio.FLOAT)[..., :3]
 
 
-def test_f12_in_a_real_blender_shows_the_render():
-    os.makedirs(OUT, exist_ok=True)
-    status_path = os.path.join(OUT, "status.json")
+def run_in_gui(script, out):
+    """Runs tests/gui/`script` in a real Blender on the Cornell box under Xvfb, writing into `out`;
+    (the finished process, the status.json it wrote: None if it wrote none)."""
+    os.makedirs(out, exist_ok=True)
+    status_path = os.path.join(out, "status.json")
     if os.path.exists(status_path):
         os.remove(status_path)
     scene = os.path.join(ROOT, "blend_scenes", "cornell_3spheres.blend")
     cmd = ["xvfb-run", "-a", "-s", "-screen 0 1600x900x24", "blender", "--factory-startup", scene,
-           "-P", os.path.join(ROOT, "tests", "gui", "gui_render.py"), "--", "--out", OUT]
+           "-P", os.path.join(ROOT, "tests", "gui", script), "--", "--out", out]
     run = subprocess.run(cmd, check=False, capture_output=True, text=True, timeout=240, cwd=ROOT)
-    assert os.path.exists(status_path), run.stdout[-3000:] + run.stderr[-3000:]
+    if not os.path.exists(status_path):
+        return run, None
     with open(status_path) as f:
-        status = json.load(f)
+        return run, json.load(f)
+
+
+def test_f12_in_a_real_blender_shows_the_render():
+    run, status = run_in_gui("gui_render.py", OUT)
+    assert status is not None, run.stdout[-3000:] + run.stderr[-3000:]
     assert status["ok"] and status["engine"] == "PPM", status
     assert status["windows"] >= 2 and status["image_editor_shows"] == "Render Result"
     shot = read_png(status["screenshot"])
@@ -67,18 +75,8 @@ def srgb(linear):
 def test_the_viewport_in_rendered_shading_refines_and_follows_an_edit():
     """Rendered shading in the camera view shows the Cornell box in the display's colour space; moving
     the lamp by script restarts the refinement from the new scene (issue: viewport rendering)."""
-    out = os.path.join(OUT, "viewport")
-    os.makedirs(out, exist_ok=True)
-    status_path = os.path.join(out, "status.json")
-    if os.path.exists(status_path):
-        os.remove(status_path)
-    scene = os.path.join(ROOT, "blend_scenes", "cornell_3spheres.blend")
-    cmd = ["xvfb-run", "-a", "-s", "-screen 0 1600x900x24", "blender", "--factory-startup", scene,
-           "-P", os.path.join(ROOT, "tests", "gui", "gui_viewport.py"), "--", "--out", out]
-    run = subprocess.run(cmd, check=False, capture_output=True, text=True, timeout=240, cwd=ROOT)
-    assert os.path.exists(status_path), run.stdout[-3000:] + run.stderr[-3000:]
-    with open(status_path) as f:
-        status = json.load(f)
+    run, status = run_in_gui("gui_viewport.py", os.path.join(OUT, "viewport"))
+    assert status is not None, run.stdout[-3000:] + run.stderr[-3000:]
     first, second = status["viewport_1"], status["viewport_2"]
     assert first["error"] is None and second["error"] is None, status
     assert first["passes"] >= 1 and first["pixel_size"] == 1 and second["generation"] > first["generation"]
@@ -100,17 +98,8 @@ def test_a_viewport_survives_what_users_do_to_it_while_it_renders():
     """Solid/Rendered toggles, deleting the object rendered, undo, frames, render regions, another
     editor, another file and quitting mid-render: Blender exits normally, with one viewport session
     and render thread left (the others were stopped with their engines)."""
-    out = os.path.join(OUT, "viewport_abuse")
-    os.makedirs(out, exist_ok=True)
-    status_path = os.path.join(out, "status.json")
-    if os.path.exists(status_path):
-        os.remove(status_path)
-    scene = os.path.join(ROOT, "blend_scenes", "cornell_3spheres.blend")
-    cmd = ["xvfb-run", "-a", "-s", "-screen 0 1600x900x24", "blender", "--factory-startup", scene,
-           "-P", os.path.join(ROOT, "tests", "gui", "gui_viewport_abuse.py"), "--", "--out", out]
-    run = subprocess.run(cmd, check=False, capture_output=True, text=True, timeout=240, cwd=ROOT)
-    with open(status_path) as f:
-        status = json.load(f)
+    run, status = run_in_gui("gui_viewport_abuse.py", os.path.join(OUT, "viewport_abuse"))
+    assert status is not None, run.stdout[-3000:] + run.stderr[-3000:]  # it writes one before each step
     assert status["complete"], status["steps"][-1]
     assert run.returncode == 0 and "Traceback" not in run.stderr, run.stderr[-3000:]
     assert status["errors"] == [] and status["render_threads"] <= 1 and status["sessions"] <= 1, status
