@@ -191,11 +191,9 @@ def needs_export(depsgraph, session):
 
 
 def settings_key(scene):
-    """What of the scene's settings the viewport's render depends on."""
+    """What of the scene's settings the viewport's render depends on: its Renderer settings and limits."""
     settings = scene.ppm
-    return (tuple(sorted(core_settings(settings).items())), tuple(sorted(film_settings(scene).items())),
-            tuple(sorted(light_path_settings(scene).items())), settings.viewport_passes,
-            settings.viewport_time_limit, settings.viewport_photons_per_pass)
+    return tuple(sorted(renderer_settings(scene).items())), settings.viewport_passes, settings.viewport_time_limit
 
 
 def status_line(session, warnings):
