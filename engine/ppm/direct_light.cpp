@@ -36,13 +36,13 @@ Color light_contribution(const Scene& scene, const Light& light, const HitPoint&
 
 bool direct_light_pass(const Scene& scene, const LightSampler& lights, const Settings& settings,
                        uint64_t pass, int threads, HitPoints& hp, std::vector<Color>& sums,
-                       std::atomic<bool>& cancel, const std::function<bool()>& poll) {
+                       std::atomic<bool>& cancel, const std::function<bool()>& poll, uint64_t first_index) {
   const size_t n = hp.size(), chunks = (n + kChunk - 1) / kChunk;
   sums.resize(n);  // every entry is written below before any is added
   const BounceLimits limits = BounceLimits::of(settings, scene);
   auto work = [&](int, size_t chunk) {
     for (size_t i = chunk * kChunk; i < std::min(n, (chunk + 1) * kChunk); ++i) {
-      Rng rng(settings.seed, kDirectStream + pass, i);
+      Rng rng(settings.seed, kDirectStream + pass, first_index + i);
       const int depth = limits.active ? hp.chain[i].total : 0;  // the eye chain's scatterings
       Color sum(0.0);
       for (uint32_t l : lights.analytic()) {

@@ -17,8 +17,10 @@ namespace ppm {
 
 // `scratch` holds the pass's sums until the pass completes (a cancelled pass
 // adds nothing); the caller keeps it across passes so that no pass allocates.
+// Hit point i draws the random numbers of index `first_index + i` of the pass,
+// so that the bands of one pass (stochastic hit points) draw distinct ones.
 bool direct_light_pass(const Scene& scene, const LightSampler& lights, const Settings& settings,
                        uint64_t pass, int threads, HitPoints& hit_points, std::vector<Color>& scratch,
-                       std::atomic<bool>& cancel, const std::function<bool()>& poll);
+                       std::atomic<bool>& cancel, const std::function<bool()>& poll, uint64_t first_index = 0);
 
 }  // namespace ppm

@@ -27,7 +27,7 @@ class Estimator {
   // Pixel p (row 0 at the bottom) after the passes so far; only once prepared.
   virtual PixelValue pixel(size_t p) const = 0;
   virtual double radius_mean() const = 0;
-  virtual size_t memory_bytes() const = 0;
+  virtual void add_memory(MemoryUse& use) const = 0;
 };
 
 // The estimator `context.settings.hit_points` names; `context` must outlive it.

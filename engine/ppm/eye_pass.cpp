@@ -4,6 +4,7 @@
 #include "math/rng.h"
 #include "ppm/parallel.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -238,14 +239,18 @@ bool eye_pass(const Scene& scene, const Settings& settings, const EyePassOptions
     if (k == LightKind::Sun && scene.lights()[i].cos_sun < 1.0) tracer.visible_suns.push_back(i);
     if (k == LightKind::Background) tracer.background = &scene.lights()[i];
   }
-  const int W = cam.width, H = cam.height, spp = options.samples_per_pixel;
+  const int W = cam.width, spp = options.samples_per_pixel;
+  const int row_begin = std::clamp(options.row_begin, 0, cam.height);
+  const int row_end = options.row_end < 0 ? cam.height : std::clamp(options.row_end, row_begin, cam.height);
+  const size_t first_pixel = static_cast<size_t>(row_begin) * W, pixels = static_cast<size_t>(row_end - row_begin) * W;
   const int grid = static_cast<int>(std::floor(std::sqrt(static_cast<double>(spp))));
-  const size_t chunks = (H + kRowsPerChunk - 1) / kRowsPerChunk;
+  const size_t chunks = (row_end - row_begin + kRowsPerChunk - 1) / kRowsPerChunk;
   std::vector<ChunkOutput> outputs(chunks);
-  out.emitted.assign(static_cast<size_t>(W) * H, Color(0.0));
-  out.transparency.assign(static_cast<size_t>(W) * H, 0.0);
-  std::vector<uint32_t> counts(static_cast<size_t>(W) * H, 0);
-  if (options.record_depth) out.depth.assign(static_cast<size_t>(W) * H, std::numeric_limits<float>::infinity());
+  out.emitted.assign(pixels, Color(0.0));
+  out.transparency.assign(pixels, 0.0);
+  std::vector<uint32_t> counts(pixels, 0);
+  if (options.record_depth) out.depth.assign(pixels, std::numeric_limits<float>::infinity());
+  else out.depth.clear();
 
   auto work = [&](int, size_t chunk) {
     ChunkOutput& o = outputs[chunk];
@@ -253,9 +258,11 @@ bool eye_pass(const Scene& scene, const Settings& settings, const EyePassOptions
     o.points.reserve(size_t(kRowsPerChunk) * W * spp);
     o.shading.reserve(size_t(kRowsPerChunk) * W * spp);
     if (tracer.limits.active) o.chain.reserve(size_t(kRowsPerChunk) * W * spp);
-    for (int y = static_cast<int>(chunk) * kRowsPerChunk; y < std::min(H, (static_cast<int>(chunk) + 1) * kRowsPerChunk); ++y)
+    const int y_begin = row_begin + static_cast<int>(chunk) * kRowsPerChunk;
+    for (int y = y_begin; y < std::min(row_end, y_begin + kRowsPerChunk); ++y)
       for (int x = 0; x < W; ++x) {
         const uint32_t pixel = static_cast<uint32_t>(y) * W + x;  // row 0 = bottom
+        const size_t local = pixel - first_pixel;                 // in this band's outputs
         const size_t before = o.points.size();
         double depth_sum = 0.0;
         int depth_count = 0;
@@ -277,10 +284,10 @@ bool eye_pass(const Scene& scene, const Settings& settings, const EyePassOptions
               ++depth_count;
             }
           }
-          tracer.trace(ray, Color(1.0 / spp), rng, pixel, o, out.emitted[pixel], out.transparency[pixel]);
+          tracer.trace(ray, Color(1.0 / spp), rng, pixel, o, out.emitted[local], out.transparency[local]);
         }
-        if (depth_count > 0) out.depth[pixel] = static_cast<float>(depth_sum / depth_count);
-        counts[pixel] = static_cast<uint32_t>(o.points.size() - before);
+        if (depth_count > 0) out.depth[local] = static_cast<float>(depth_sum / depth_count);
+        counts[local] = static_cast<uint32_t>(o.points.size() - before);
       }
   };
   if (!parallel_chunks(options.threads, chunks, work, cancel, poll, settings.progress_interval)) return false;

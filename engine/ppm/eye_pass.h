@@ -20,9 +20,15 @@ struct EyePassOptions {
   uint64_t generation = 0;      // stochastic PPM draws new eye samples every pass
   bool lens = false;            // sample the aperture (thin lens)
   bool record_depth = false;    // per-pixel depth for the depth-of-field post-process
+  // The rows traced: [row_begin, row_end), row 0 at the bottom; row_end < 0 means to the top.
+  // The per-pixel outputs (pixel_begin, emitted, transparency, depth) cover these rows only,
+  // indexed from the first pixel of row_begin.
+  int row_begin = 0;
+  int row_end = -1;
 };
 
-// Returns false if cancelled; `out` is then incomplete.
+// Returns false if cancelled; `out` is then incomplete. A band of rows traces the same random
+// samples as those rows of the whole image.
 bool eye_pass(const Scene& scene, const Settings& settings, const EyePassOptions& options, HitPoints& out,
               std::atomic<bool>& cancel, const std::function<bool()>& poll);
 

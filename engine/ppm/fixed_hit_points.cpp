@@ -72,11 +72,12 @@ bool FixedHitPoints::pass(const Poll& poll) {
 
 PixelValue FixedHitPoints::pixel(size_t p) const {
   const double direct_scale = c_.stats.direct_samples > 0 ? 1.0 / c_.stats.direct_samples : 0.0;
+  const double photons_emitted = static_cast<double>(c_.stats.photon.emitted);
   Color c = hit_points_.emitted[p];
   for (uint32_t i = hit_points_.pixel_begin[p]; i < hit_points_.pixel_begin[p + 1]; ++i) {
     const HitPointStats& s = hit_points_.stats[i];
     c += s.direct * direct_scale;
-    c += c_.photon_radiance(hit_points_.points[i].r2, s);
+    c += c_.photon_radiance(hit_points_.points[i].r2, s, photons_emitted);
   }
   return PixelValue{c, hit_points_.transparency[p]};
 }

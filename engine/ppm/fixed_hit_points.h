@@ -14,7 +14,10 @@ class FixedHitPoints : public Estimator {
   bool pass(const Poll& poll) override;
   PixelValue pixel(size_t p) const override;
   double radius_mean() const override;
-  size_t memory_bytes() const override { return hit_points_.memory_bytes(); }
+  void add_memory(MemoryUse& use) const override {
+    use.hit_points += hit_points_.memory_bytes() - hit_points_.pixel_bytes();
+    use.pixels += hit_points_.pixel_bytes();
+  }
 
  private:
   void widen_to_photon_spacing();

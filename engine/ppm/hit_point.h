@@ -69,9 +69,12 @@ struct HitPoints {
   size_t size() const { return points.size(); }
   size_t memory_bytes() const {
     return points.capacity() * sizeof(HitPoint) + shading.capacity() * sizeof(HitPointShading) +
-           stats.capacity() * sizeof(HitPointStats) + pixel_begin.capacity() * sizeof(uint32_t) +
-           emitted.capacity() * sizeof(Color) + transparency.capacity() * sizeof(double) +
-           depth.capacity() * sizeof(float) + chain.capacity() * sizeof(Bounces);
+           stats.capacity() * sizeof(HitPointStats) + chain.capacity() * sizeof(Bounces) + pixel_bytes();
+  }
+  // Of which per pixel.
+  size_t pixel_bytes() const {
+    return pixel_begin.capacity() * sizeof(uint32_t) + emitted.capacity() * sizeof(Color) +
+           transparency.capacity() * sizeof(double) + depth.capacity() * sizeof(float);
   }
 };
 

@@ -121,9 +121,8 @@ bool PhotonPass::run(const Scene& scene, const LightSampler& lights, uint64_t pa
                ? run_hit_point_index(quantile_, scene, lights, pass, hp, cancel, poll, counters)
                : run_hit_point_index(hash_, scene, lights, pass, hp, cancel, poll, counters);
   }
-  return settings_.grid == GridKind::Quantile
-             ? run_photon_index(quantile_, scene, lights, pass, hp, cancel, poll, counters)
-             : run_photon_index(hash_, scene, lights, pass, hp, cancel, poll, counters);
+  return trace_and_index(scene, lights, pass, mean_r2(hp), cancel, poll, counters) &&
+         gather(scene, hp, cancel, poll, counters);
 }
 
 template <class Grid>
@@ -182,7 +181,7 @@ bool PhotonPass::run_hit_point_index(const Grid& grid, const Scene& scene, const
 // The traced photons of a Photons-organisation pass into the grid, and stored in its cell order;
 // returns how many there are.
 template <class Grid>
-size_t PhotonPass::index_photons(Grid& grid, size_t chunks, const HitPoints& hp) {
+size_t PhotonPass::index_photons(Grid& grid, size_t chunks, double typical_r2) {
   // The grid's input: the positions, concatenated in chunk order (each chunk
   // copied by whichever thread takes it). The rest stays in the chunk buffers.
   chunk_first_.resize(chunks + 1);
@@ -197,7 +196,7 @@ size_t PhotonPass::index_photons(Grid& grid, size_t chunks, const HitPoints& hp)
   });
   static const std::vector<double> kNoRadii;
   if constexpr (std::is_same_v<Grid, HashGrid>)
-    grid.build(traced_positions_, kNoRadii, std::fmax(2.0 * std::sqrt(mean_r2(hp)), 1e-300));
+    grid.build(traced_positions_, kNoRadii, std::fmax(2.0 * std::sqrt(typical_r2), 1e-300));
   else
     grid.build(traced_positions_, kNoRadii, threads_);
   // Store the photons in the grid's cell order, straight from the chunk
@@ -224,29 +223,39 @@ size_t PhotonPass::index_photons(Grid& grid, size_t chunks, const HitPoints& hp)
   return count;
 }
 
-template <class Grid>
-bool PhotonPass::run_photon_index(Grid& grid, const Scene& scene, const LightSampler& lights, uint64_t pass,
-                                  HitPoints& hp, std::atomic<bool>& cancel, const std::function<bool()>& poll,
-                                  PhotonPassCounters& counters) {
+bool PhotonPass::trace_and_index(const Scene& scene, const LightSampler& lights, uint64_t pass, double typical_r2,
+                                 std::atomic<bool>& cancel, const std::function<bool()>& poll,
+                                 PhotonPassCounters& counters) {
+  limits_ = BounceLimits::of(settings_, scene);
   const size_t chunks = (settings_.photons_per_pass + kPhotonChunk - 1) / kPhotonChunk;
   auto t0 = std::chrono::steady_clock::now();
   if (!trace_into_chunks(scene, lights, pass, chunks, cancel, poll)) return false;
   counters.trace_seconds += seconds_since(t0);
   t0 = std::chrono::steady_clock::now();
   size_t count = 0;
-  if (!run_polled([&] { count = index_photons(grid, chunks, hp); }, cancel, poll, settings_.progress_interval))
-    return false;
+  auto index = [&] {
+    count = settings_.grid == GridKind::Quantile ? index_photons(quantile_, chunks, typical_r2)
+                                                 : index_photons(hash_, chunks, typical_r2);
+  };
+  if (!run_polled(index, cancel, poll, settings_.progress_interval)) return false;
   counters.index_seconds += seconds_since(t0);
-  t0 = std::chrono::steady_clock::now();
-  if (!gather_at_hit_points(grid, scene, hp, cancel, poll)) return false;
+  counters.deposited += count;
+  counters.emitted += settings_.photons_per_pass;
+  return true;
+}
+
+bool PhotonPass::gather(const Scene& scene, HitPoints& hp, std::atomic<bool>& cancel,
+                        const std::function<bool()>& poll, PhotonPassCounters& counters) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const bool gathered = settings_.grid == GridKind::Quantile ? gather_at_hit_points(quantile_, scene, hp, cancel, poll)
+                                                             : gather_at_hit_points(hash_, scene, hp, cancel, poll);
+  if (!gathered) return false;
   parallel_for(threads_, hp.size(), [&](size_t begin, size_t end) {
     for (size_t i = begin; i < end; ++i) {
       hp.stats[i].m += gathered_m_[i];
       hp.stats[i].tau_m += gathered_tau_[i];
     }
   });
-  counters.deposited += count;
-  counters.emitted += settings_.photons_per_pass;
   counters.gather_seconds += seconds_since(t0);
   return true;
 }
@@ -337,17 +346,22 @@ bool PhotonPass::gather_at_hit_points(const Grid& grid, const Scene& scene, cons
   return parallel_chunks(threads_, hchunks, gather, cancel, poll, settings_.progress_interval);
 }
 
-size_t PhotonPass::memory_bytes() const {
-  size_t bytes = quantile_.memory_bytes() + hash_.memory_bytes();
-  for (const auto& v : m_acc_) bytes += v.capacity() * sizeof(uint32_t);
-  for (const auto& v : tau_acc_) bytes += v.capacity() * sizeof(Vec3f);
+size_t PhotonPass::photon_bytes() const {
+  size_t bytes = 0;
   for (const auto& v : chunk_photons_) bytes += v.capacity() * sizeof(Photon);
   bytes += (traced_positions_.capacity() + positions_.capacity()) * sizeof(Vec3) + arrivals_.capacity() * sizeof(Arrival) +
            arrival_bounces_.capacity() * sizeof(Bounces);
-  bytes += (gathered_m_.capacity() + old_of_new_.capacity() + new_of_old_.capacity()) * sizeof(uint32_t) +
-           gathered_tau_.capacity() * sizeof(Color);
-  bytes += centers_.capacity() * sizeof(Vec3) + radii_.capacity() * sizeof(double);
-  return bytes;
+  return bytes + (old_of_new_.capacity() + new_of_old_.capacity()) * sizeof(uint32_t);
+}
+
+size_t PhotonPass::index_bytes() const { return quantile_.memory_bytes() + hash_.memory_bytes(); }
+
+size_t PhotonPass::per_hit_point_bytes() const {
+  size_t bytes = 0;
+  for (const auto& v : m_acc_) bytes += v.capacity() * sizeof(uint32_t);
+  for (const auto& v : tau_acc_) bytes += v.capacity() * sizeof(Vec3f);
+  bytes += gathered_m_.capacity() * sizeof(uint32_t) + gathered_tau_.capacity() * sizeof(Color);
+  return bytes + centers_.capacity() * sizeof(Vec3) + radii_.capacity() * sizeof(double);
 }
 
 }  // namespace ppm

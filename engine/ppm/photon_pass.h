@@ -39,7 +39,19 @@ class PhotonPass {
   bool run(const Scene& scene, const LightSampler& lights, uint64_t pass, HitPoints& hp,
            std::atomic<bool>& cancel, const std::function<bool()>& poll, PhotonPassCounters& counters);
 
-  size_t memory_bytes() const;
+  // The Photons organisation in two steps, for hit points made band by band (stochastic hit
+  // points): trace and index the pass's photons (`typical_r2`, a hit point's radius^2, sizes the
+  // hashed grid's cells), then gather them into each band. False if cancelled.
+  bool indexes_photons() const { return settings_.gather == GatherOrganisation::Photons; }
+  bool trace_and_index(const Scene& scene, const LightSampler& lights, uint64_t pass, double typical_r2,
+                       std::atomic<bool>& cancel, const std::function<bool()>& poll, PhotonPassCounters& counters);
+  bool gather(const Scene& scene, HitPoints& hp, std::atomic<bool>& cancel, const std::function<bool()>& poll,
+              PhotonPassCounters& counters);
+
+  // The photons (as traced and in cell order), the spatial index, and what the pass keeps per hit point.
+  size_t photon_bytes() const;
+  size_t index_bytes() const;
+  size_t per_hit_point_bytes() const;
   // The hit points changed (stochastic PPM): rebuild the hit-point index before the next pass.
   void reset_index() { index_built_ = false; }
 
@@ -63,15 +75,11 @@ class PhotonPass {
   bool run_hit_point_index(const Grid& grid, const Scene& scene, const LightSampler& lights, uint64_t pass,
                            HitPoints& hp, std::atomic<bool>& cancel, const std::function<bool()>& poll,
                            PhotonPassCounters& counters);
-  template <class Grid>
-  bool run_photon_index(Grid& grid, const Scene& scene, const LightSampler& lights, uint64_t pass,
-                        HitPoints& hp, std::atomic<bool>& cancel, const std::function<bool()>& poll,
-                        PhotonPassCounters& counters);
   // The three steps of a Photons-organisation pass.
   bool trace_into_chunks(const Scene& scene, const LightSampler& lights, uint64_t pass, size_t chunks,
                          std::atomic<bool>& cancel, const std::function<bool()>& poll);
   template <class Grid>
-  size_t index_photons(Grid& grid, size_t chunks, const HitPoints& hp);
+  size_t index_photons(Grid& grid, size_t chunks, double typical_r2);
   template <class Grid>
   bool gather_at_hit_points(const Grid& grid, const Scene& scene, const HitPoints& hp, std::atomic<bool>& cancel,
                             const std::function<bool()>& poll);

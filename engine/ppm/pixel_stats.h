@@ -1,18 +1,53 @@
 // Per-pixel statistics of stochastic progressive photon mapping (Hachisuka &
 // Jensen 2009): the eye samples change every pass, so radius, photon count and
-// flux live with the pixel instead of with a hit point. Emitted and direct
-// light are running sums over passes.
+// flux live with the pixel instead of with a hit point. They are the whole of a
+// render's memory that grows with the image (the hit points are made and
+// dropped band by band), so they are floats: 52 bytes a pixel instead of 128 in
+// doubles. The progressive update itself runs in double.
 #pragma once
 
 #include "ppm/hit_point.h"
+#include "ppm/progressive.h"
 
 namespace ppm {
 
+// What a pixel keeps across passes.
 struct PixelStats {
-  double r2 = 0.0;       // 0 until the pixel's first hit point sets the initial radius
-  HitPointStats stats{}; // n, m, tau, tau_m as for a fixed hit point; direct: sum over passes
-  Color emitted{0.0};    // sum over passes
-  double transparency = 0.0;  // sum over passes
+  float r2;            // 0 until the pixel's first hit point sets the initial radius
+  float n;             // photons accumulated so far (alpha-weighted)
+  uint32_t m;          // photons gathered at the current radius, not yet applied
+  Vec3f tau, tau_m;    // flux at the current radius; flux of the m pending photons
+  Vec3f light;         // mean over passes of what eye paths saw directly: emission, background, direct light
+  float transparency;  // mean over passes
 };
+static_assert(sizeof(PixelStats) == 52, "PixelStats grew");
+
+// What one pass found for a pixel.
+struct PixelPass {
+  uint32_t m;
+  Vec3f tau_m;
+  Vec3f light;
+  float transparency;
+};
+static_assert(sizeof(PixelPass) == 32, "PixelPass grew");
+
+// The smallest r^2 a float radius keeps: the update stops shrinking there (see kMinRadius2).
+constexpr double kMinPixelRadius2 = 1e-30;
+
+// Folds pass number `pass` (1 for the first) into `px`: the running means, then the progressive
+// update with the cross-generation threshold, in double.
+inline void fold_pass(PixelStats& px, const PixelPass& p, uint64_t pass, double alpha, uint32_t threshold) {
+  const float w = 1.0f / static_cast<float>(pass);  // a running mean keeps float error at sqrt(passes) ulps
+  px.light += (p.light - px.light) * w;
+  px.transparency += (p.transparency - px.transparency) * w;
+  HitPointStats s{px.n, px.m + p.m, Color(px.tau), Color(px.tau_m) + Color(p.tau_m), Color(0.0)};
+  double r2 = px.r2;
+  progressive_update(r2, s, alpha, threshold, kMinPixelRadius2);
+  px.r2 = static_cast<float>(r2);
+  px.n = static_cast<float>(s.n);
+  px.m = s.m;
+  px.tau = Vec3f(s.tau);
+  px.tau_m = Vec3f(s.tau_m);
+}
 
 }  // namespace ppm

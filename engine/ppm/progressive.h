@@ -18,11 +18,12 @@ namespace ppm {
 // keeps the estimate tau / (pi r^2) consistent instead of dividing by zero.
 constexpr double kMinRadius2 = 1e-200;
 
-inline void progressive_update(double& r2, HitPointStats& s, double alpha, uint32_t threshold) {
+inline void progressive_update(double& r2, HitPointStats& s, double alpha, uint32_t threshold,
+                               double min_r2 = kMinRadius2) {
   if (s.m < threshold || s.m == 0) return;
   const double m = static_cast<double>(s.m);
   const double ratio = (s.n + alpha * m) / (s.n + m);
-  if (r2 * ratio >= kMinRadius2) {
+  if (r2 * ratio >= min_r2) {
     r2 *= ratio;
     s.tau = (s.tau + s.tau_m) * ratio;
     s.n += alpha * m;

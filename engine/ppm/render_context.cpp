@@ -98,13 +98,17 @@ bool RenderContext::run_photon_pass(HitPoints& hp, uint64_t pass, const Poll& po
   return photon_pass.run(*scene, lights, pass, hp, cancel, poll, counters);
 }
 
-Color RenderContext::photon_radiance(double r2, const HitPointStats& s) const {
+Color RenderContext::photon_radiance(double r2, const HitPointStats& s, double photons_emitted) const {
   if (!analysis.trace_photons) return Color(0.0);
-  return ppm::photon_radiance(r2, s, static_cast<double>(stats.photon.emitted), lights.flux_unit());
+  return ppm::photon_radiance(r2, s, photons_emitted, lights.flux_unit());
 }
 
-size_t RenderContext::memory_bytes() const {
-  return depth.capacity() * sizeof(float) + photon_pass.memory_bytes() + direct_scratch.capacity() * sizeof(Color);
+void RenderContext::add_memory(MemoryUse& use) const {
+  use.scene += scene->memory_bytes();
+  use.pixels += depth.capacity() * sizeof(float);
+  use.hit_points += photon_pass.per_hit_point_bytes() + direct_scratch.capacity() * sizeof(Color);
+  use.photons += photon_pass.photon_bytes();
+  use.index += photon_pass.index_bytes();
 }
 
 }  // namespace ppm

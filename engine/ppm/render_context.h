@@ -31,9 +31,9 @@ struct RenderContext {
   // One pass's photons into the hit points' pending statistics, counted in `counters` (a copy
   // the caller keeps once the pass completes). With nothing to trace, only their number.
   bool run_photon_pass(HitPoints& hp, uint64_t pass, const Poll& poll, PhotonPassCounters& counters);
-  // Radiance of the photons gathered at radius^2 `r2` into `s`, over the photons emitted so far.
-  Color photon_radiance(double r2, const HitPointStats& s) const;
-  size_t memory_bytes() const;
+  // Radiance of the photons gathered at radius^2 `r2` into `s`, over `photons_emitted`.
+  Color photon_radiance(double r2, const HitPointStats& s, double photons_emitted) const;
+  void add_memory(MemoryUse& use) const;
 
   std::shared_ptr<const Scene> scene;
   Settings settings;

@@ -16,6 +16,16 @@ struct Progress {
   double seconds;  // since this run() started
 };
 
+// Bytes each part of a render holds (capacities: what it has allocated).
+struct MemoryUse {
+  size_t scene = 0;       // geometry, BVH, textures, materials, lights (shared by the scene's renders)
+  size_t hit_points = 0;  // the hit points (stochastic: one band's), and what a pass keeps per hit point
+  size_t pixels = 0;      // per-pixel statistics and buffers
+  size_t photons = 0;     // one pass's photons
+  size_t index = 0;       // the spatial index over photons or hit points
+  size_t total() const { return scene + hit_points + pixels + photons + index; }
+};
+
 struct RenderStats {
   uint64_t passes = 0;
   uint64_t photons_emitted = 0;
@@ -25,7 +35,7 @@ struct RenderStats {
   double eye_seconds = 0, direct_seconds = 0, update_seconds = 0, total_seconds = 0;
   PhotonPassCounters photon;
   bool cancelled = false;
-  size_t memory_bytes = 0;
+  MemoryUse memory;
   int threads = 1;
   double initial_radius_mean = 0.0;
   double photon_spacing = 0.0;  // floor of the automatic initial radius (photon_density_radius.h); 0 if none

@@ -104,7 +104,9 @@ RenderStats Renderer::stats() const {
   s.photons_emitted = s.photon.emitted;
   s.photons_deposited = s.photon.deposited;
   s.radius_mean = estimator_->radius_mean();
-  s.memory_bytes = context_.memory_bytes() + estimator_->memory_bytes();
+  s.memory = MemoryUse{};
+  context_.add_memory(s.memory);
+  estimator_->add_memory(s.memory);
   return s;
 }
 

@@ -8,7 +8,8 @@
 //       progressive_update(hit_points, alpha, P)  // cross-generation rule: fold
 //                                                 // m, tau_m into r, n, tau once m >= P
 //   image = emitted + direct / samples + (tau + tau_m) / (pi r^2 N_emitted)
-// A pass cancelled half-way is discarded, so the image always reflects whole passes.
+// A cancelled pass leaves the image as it was before it (fixed hit points), or
+// keeps the bands of rows it completed and resumes at the next (stochastic).
 #pragma once
 
 #include "ppm/estimator.h"
@@ -35,7 +36,7 @@ class Renderer {
   // Runs up to `passes` passes (0 = no limit) and for at most `seconds`
   // (0 = no limit; at least one of the two must be set). `poll` is called
   // between passes and every settings.progress_interval inside them; returning
-  // false cancels (the unfinished pass is dropped). Returns the passes completed.
+  // false cancels (what becomes of the unfinished pass: above). Returns the passes completed.
   uint64_t run(uint64_t passes, double seconds, const std::function<bool(const Progress&)>& poll);
 
   // Thread-safe: stops the current run within one poll interval.

@@ -3,99 +3,152 @@
 
 #include "ppm/direct_light.h"
 #include "ppm/parallel.h"
-#include "ppm/progressive.h"
 #include "ppm/scoped_seconds.h"
+
+#include <algorithm>
+#include <limits>
 
 namespace ppm {
 
 bool StochasticHitPoints::prepare(const Poll&) {
   const Camera& cam = c_.scene->camera();
   pixels_.assign(static_cast<size_t>(cam.width) * cam.height, PixelStats{});
+  current_ = PassInProgress{};
   return true;
+}
+
+int StochasticHitPoints::band_rows() const {
+  const Camera& cam = c_.scene->camera();
+  if (!c_.photon_pass.indexes_photons()) return cam.height;
+  return static_cast<int>(std::clamp<size_t>(kBandPixels / cam.width, 1, cam.height));
 }
 
 bool StochasticHitPoints::pass(const Poll& poll) {
   RenderStats& stats = c_.stats;
   const uint64_t pass = stats.passes;
+  const int height = c_.scene->camera().height, rows = band_rows();
+  EyePassOptions eye = c_.eye_options(pass + 1, 1);
+  if (current_.next_row == 0) {
+    current_ = PassInProgress{0, stats.photon, 0};
+    if (eye.record_depth) depth_.assign(pixels_.size(), std::numeric_limits<float>::infinity());
+  }
+  for (int row = current_.next_row; row < height; row += rows) {
+    eye.row_begin = row;
+    eye.row_end = std::min(height, row + rows);
+    if (!band(eye, pass, poll)) return false;
+    current_.next_row = eye.row_end;
+  }
+  if (eye.record_depth) c_.depth.swap(depth_);
+  stats.photon = current_.counters;
+  if (c_.analysis.sample_direct) ++stats.direct_samples;
+  stats.hit_points = current_.hit_points;
+  ++stats.passes;
+  current_.next_row = 0;
+  return true;
+}
+
+bool StochasticHitPoints::band(const EyePassOptions& eye, uint64_t pass, const Poll& poll) {
+  RenderStats& stats = c_.stats;
   HitPoints& fresh = hit_points_;
   {
     ScopedSeconds timer(stats.eye_seconds);
-    if (!eye_pass(*c_.scene, c_.settings, c_.eye_options(pass + 1, 1), fresh, c_.cancel, poll)) return false;
+    if (!eye_pass(*c_.scene, c_.settings, eye, fresh, c_.cancel, poll)) return false;
   }
-  if (!c_.measure_photon_spacing_once(fresh, poll)) return false;
-  start_at_pixel_radii(fresh);
-  // Photons and direct light into the fresh hit points; a cancel drops the whole pass.
-  PhotonPassCounters counters = stats.photon;
-  c_.photon_pass.reset_index();
-  if (!c_.run_photon_pass(fresh, pass, poll, counters)) return false;
+  const size_t first_pixel = static_cast<size_t>(eye.row_begin) * c_.scene->camera().width;
+  const bool first_band = eye.row_begin == 0;
+  if (first_band && !c_.measure_photon_spacing_once(fresh, poll)) return false;
+  start_at_pixel_radii(first_pixel);
+  if (!gather_photons(first_band, pass, poll)) return false;
   if (c_.analysis.sample_direct) {
     ScopedSeconds timer(stats.direct_seconds);
     if (!direct_light_pass(*c_.scene, c_.lights, c_.settings, pass, c_.threads, fresh, c_.direct_scratch, c_.cancel,
-                           poll))
+                           poll, current_.hit_points))
       return false;
   }
-  {
+  {  // not polled: a band is folded whole or not at all
     ScopedSeconds timer(stats.update_seconds);
-    fold_into_pixels(fresh);
-    if (!fresh.depth.empty()) c_.depth.swap(fresh.depth);
+    fold_band(first_pixel, pass + 1);
+    if (eye.record_depth) std::copy(fresh.depth.begin(), fresh.depth.end(), depth_.begin() + first_pixel);
   }
-  stats.photon = counters;
-  if (c_.analysis.sample_direct) ++stats.direct_samples;
-  stats.hit_points = fresh.size();
-  ++stats.passes;
+  current_.hit_points += fresh.size();
   return true;
+}
+
+// The pass's photons into the band's hit points: traced and indexed at the first band.
+bool StochasticHitPoints::gather_photons(bool first_band, uint64_t pass, const Poll& poll) {
+  HitPoints& fresh = hit_points_;
+  PhotonPass& photons = c_.photon_pass;
+  PhotonPassCounters& counters = current_.counters;
+  if (!c_.analysis.trace_photons || !photons.indexes_photons()) {  // one band: the whole pass at once
+    photons.reset_index();
+    return c_.run_photon_pass(fresh, pass, poll, counters);
+  }
+  if (first_band) {
+    double sum_r2 = 0.0;  // sizes the hashed grid's cells
+    for (const HitPoint& h : fresh.points) sum_r2 += h.r2;
+    const double typical_r2 = fresh.size() ? sum_r2 / fresh.size() : 0.0;
+    if (!photons.trace_and_index(*c_.scene, c_.lights, pass, typical_r2, c_.cancel, poll, counters)) return false;
+  }
+  return photons.gather(*c_.scene, fresh, c_.cancel, poll, counters);
 }
 
 // Every hit point gathers with its pixel's current radius; a pixel's first comes from its first
 // hit point (no smaller than the photons' spacing, photon_density_radius.h).
-void StochasticHitPoints::start_at_pixel_radii(HitPoints& fresh) {
-  for (size_t p = 0; p < pixels_.size(); ++p)
+void StochasticHitPoints::start_at_pixel_radii(size_t first_pixel) {
+  HitPoints& fresh = hit_points_;
+  const size_t band_pixels = fresh.pixel_begin.size() - 1;
+  for (size_t p = 0; p < band_pixels; ++p) {
+    PixelStats& px = pixels_[first_pixel + p];
     for (uint32_t i = fresh.pixel_begin[p]; i < fresh.pixel_begin[p + 1]; ++i) {
-      if (pixels_[p].r2 == 0.0) {
-        pixels_[p].r2 = std::max(fresh.points[i].r2, c_.min_initial_r2);
+      if (px.r2 == 0.0f) {
+        px.r2 = static_cast<float>(std::max(fresh.points[i].r2, c_.min_initial_r2));
         c_.stats.radii_widened += fresh.points[i].r2 < c_.min_initial_r2;
       }
-      fresh.points[i].r2 = pixels_[p].r2;
+      fresh.points[i].r2 = px.r2;
     }
+  }
 }
 
-// The pass into the pixels: the same cross-generation rule as fixed hit points, per pixel.
-void StochasticHitPoints::fold_into_pixels(const HitPoints& fresh) {
-  parallel_for(c_.threads, pixels_.size(), [&](size_t begin, size_t end) {
+// The band's findings into its pixels (pass number `pass`, 1 for the first), with the same
+// cross-generation rule as fixed hit points, per pixel.
+void StochasticHitPoints::fold_band(size_t first_pixel, uint64_t pass) {
+  const HitPoints& fresh = hit_points_;
+  const size_t band_pixels = fresh.pixel_begin.size() - 1;
+  parallel_for(c_.threads, band_pixels, [&](size_t begin, size_t end) {
     for (size_t p = begin; p < end; ++p) {
-      PixelStats& px = pixels_[p];
+      uint32_t m = 0;
+      Color tau_m(0.0), light = fresh.emitted[p];
       for (uint32_t i = fresh.pixel_begin[p]; i < fresh.pixel_begin[p + 1]; ++i) {
-        px.stats.m += fresh.stats[i].m;
-        px.stats.tau_m += fresh.stats[i].tau_m;
-        px.stats.direct += fresh.stats[i].direct;
+        m += fresh.stats[i].m;
+        tau_m += fresh.stats[i].tau_m;
+        light += fresh.stats[i].direct;
       }
-      px.emitted += fresh.emitted[p];
-      px.transparency += fresh.transparency[p];
-      progressive_update(px.r2, px.stats, c_.settings.alpha, c_.settings.threshold);
+      const PixelPass found{m, Vec3f(tau_m), Vec3f(light), static_cast<float>(fresh.transparency[p])};
+      fold_pass(pixels_[first_pixel + p], found, pass, c_.settings.alpha, c_.settings.threshold);
     }
   });
 }
 
 PixelValue StochasticHitPoints::pixel(size_t p) const {
-  const RenderStats& stats = c_.stats;
-  const double direct_scale = stats.direct_samples > 0 ? 1.0 / stats.direct_samples : 0.0;
-  const double pass_scale = stats.passes > 0 ? 1.0 / stats.passes : 0.0;
   const PixelStats& px = pixels_[p];
-  Color c = px.emitted * pass_scale + px.stats.direct * direct_scale;
-  c += c_.photon_radiance(px.r2, px.stats);
-  return PixelValue{c, px.transparency * pass_scale};
+  // The rows a cancelled pass completed have its photons too.
+  const bool in_pass = p < static_cast<size_t>(current_.next_row) * c_.scene->camera().width;
+  const double emitted = static_cast<double>(in_pass ? current_.counters.emitted : c_.stats.photon.emitted);
+  const HitPointStats s{px.n, px.m, Color(px.tau), Color(px.tau_m), Color(0.0)};
+  return PixelValue{Color(px.light) + c_.photon_radiance(px.r2, s, emitted), px.transparency};
 }
 
 double StochasticHitPoints::radius_mean() const {
   double sum = 0.0;
   size_t count = 0;
   for (const PixelStats& px : pixels_)
-    if (px.r2 > 0.0) sum += std::sqrt(px.r2), ++count;
+    if (px.r2 > 0.0f) sum += std::sqrt(static_cast<double>(px.r2)), ++count;
   return count ? sum / count : 0.0;
 }
 
-size_t StochasticHitPoints::memory_bytes() const {
-  return pixels_.capacity() * sizeof(PixelStats) + hit_points_.memory_bytes();
+void StochasticHitPoints::add_memory(MemoryUse& use) const {
+  use.pixels += pixels_.capacity() * sizeof(PixelStats) + depth_.capacity() * sizeof(float);
+  use.hit_points += hit_points_.memory_bytes();
 }
 
 }  // namespace ppm

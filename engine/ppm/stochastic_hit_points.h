@@ -2,6 +2,17 @@
 // draws new eye samples, gathers the pass's photons at them with their pixel's
 // current radius, and folds them into the pixel's statistics with the same
 // progressive update.
+//
+// A pass traces and indexes its photons once, then makes its hit points band
+// by band (rows of about kBandPixels pixels): each band's eye pass, gather and
+// direct light, folded into its pixels. Memory for hit points is then one
+// band's, whatever the image size; what grows with the image is the pixels'
+// statistics (pixel_stats.h). The hit-point-indexed gather needs every hit
+// point before the photons fly: it takes the image as one band.
+//
+// A cancelled pass keeps the bands it completed and resumes at the next one
+// (the pass's photons stay indexed), so the image is the same as without the
+// cancel; meanwhile each pixel shows the passes folded into it.
 #pragma once
 
 #include "ppm/estimator.h"
@@ -18,15 +29,30 @@ class StochasticHitPoints : public Estimator {
   bool pass(const Poll& poll) override;
   PixelValue pixel(size_t p) const override;
   double radius_mean() const override;
-  size_t memory_bytes() const override;
+  void add_memory(MemoryUse& use) const override;
+
+  static constexpr size_t kBandPixels = size_t(1) << 16;
 
  private:
-  void start_at_pixel_radii(HitPoints& fresh);
-  void fold_into_pixels(const HitPoints& fresh);
+  // The pass in progress: where it resumes after a cancel.
+  struct PassInProgress {
+    int next_row = 0;                // 0: no pass in progress
+    PhotonPassCounters counters;     // the stats' photon counters once the pass completes
+    uint64_t hit_points = 0;         // made so far; numbers the next band's (their random numbers)
+  };
+
+  int band_rows() const;
+  // One band of rows (eye.row_begin to eye.row_end) of pass `pass`, folded into its pixels.
+  bool band(const EyePassOptions& eye, uint64_t pass, const Poll& poll);
+  bool gather_photons(bool first_band, uint64_t pass, const Poll& poll);
+  void start_at_pixel_radii(size_t first_pixel);
+  void fold_band(size_t first_pixel, uint64_t pass);
 
   RenderContext& c_;
   std::vector<PixelStats> pixels_;
-  HitPoints hit_points_;  // the pass being made, reused: no pass allocates once sizes settle
+  PassInProgress current_;
+  std::vector<float> depth_;  // the pass's depth (POST depth of field), until it completes
+  HitPoints hit_points_;      // the band being made, reused: no pass allocates once sizes settle
 };
 
 }  // namespace ppm

@@ -638,6 +638,16 @@ void Scene::prefetch_leaf(uint32_t first, uint32_t count) const {
     prefetch(reinterpret_cast<const void*>(p));
 }
 
+size_t Scene::memory_bytes() const {
+  auto bytes = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
+  size_t b = bytes(triangles_) + bytes(triangle_info_) + bytes(corner_normals_) + bytes(corner_uvs_) +
+             bytes(corner_colors_) + bytes(corner_tangents_) + bytes(spheres_) + bytes(revolve_segments_) +
+             bytes(prims_) + bytes(leaf_prims_) + bytes(bvh_.nodes()) + bytes(bvh_.prim_order()) +
+             bytes(materials_) + bytes(lights_) + bytes(user_lights_) + bytes(objects_);
+  for (const Texture& t : textures_) b += sizeof(Texture) + t.memory_bytes();
+  return b;
+}
+
 bool Scene::intersect(const Ray& ray, Hit& hit, double tmax) const {
   Hit scratch;
   bvh_.closest(

@@ -173,6 +173,8 @@ class Scene {
   bool has_camera() const { return has_camera_; }
   Aabb bounds() const { return bvh_.bounds(); }
   size_t triangle_count() const { return triangles_.size(); }
+  // Geometry (primitives, their attributes, the BVH), textures, materials and lights.
+  size_t memory_bytes() const;
   size_t primitive_count() const { return prims_.size(); }
 
  private:

@@ -52,6 +52,7 @@ class Texture {
   static Texture from_floats(int width, int height, int channels, const float* texels, TexelStorage storage);
 
   int width() const { return width_; }
+  size_t memory_bytes() const { return bytes_.capacity() + halves_.capacity() * sizeof(uint16_t); }
   int height() const { return height_; }
   TexelStorage storage() const { return storage_; }
   size_t bytes() const { return bytes_.size() + 2 * halves_.size(); }

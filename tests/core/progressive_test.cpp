@@ -1,6 +1,7 @@
 // The progressive radius/flux update under stress: 10,000 updates, radii
 // driven towards underflow, flux sums growing. Nothing may become NaN, Inf,
 // zero or denormal, and the estimate tau / (pi r^2 N) must stay consistent.
+#include "ppm/pixel_stats.h"
 #include "ppm/progressive.h"
 
 #include <gtest/gtest.h>
@@ -80,6 +81,30 @@ TEST(Progressive, NothingHappensBelowTheThreshold) {
   EXPECT_EQ(s.m, 9u);
   EXPECT_EQ(photon_radiance(0.0, s, 1.0, 1.0).x, 0.0);  // no radius, no estimate: not a division by zero
   EXPECT_EQ(photon_radiance(1.0, s, 0.0, 1.0).x, 0.0);
+}
+
+// A pixel's float statistics (pixel_stats.h) over 100,000 passes: the same uniform density as
+// above, one pixel, and light that varies by pass. The float running mean stays within 1e-5 of the
+// double mean, and the photon estimate within 1e-3 of the density as in double.
+TEST(Progressive, FloatPixelStatsKeepTheEstimateOverAHundredThousandPasses) {
+  PixelStats px{};
+  px.r2 = 1e-2f;
+  const double density = 1e6, flux = 1e-3;
+  double carry = 0.0, light_sum = 0.0;
+  for (uint64_t pass = 1; pass <= 100000; ++pass) {
+    carry += density * kPi * px.r2;
+    const double m = std::floor(carry);
+    carry -= m;
+    const float light = 1.0f + 0.5f * static_cast<float>(std::sin(0.37 * static_cast<double>(pass)));
+    light_sum += light;
+    fold_pass(px, PixelPass{static_cast<uint32_t>(m), Vec3f(static_cast<float>(m * flux)), Vec3f(light), 0.25f}, pass,
+              0.7, 30);
+    ASSERT_TRUE(px.r2 > 0.0f && std::isfinite(px.tau.x) && std::isfinite(px.n));
+  }
+  EXPECT_NEAR(px.light.x, light_sum / 100000, 1e-5);
+  EXPECT_FLOAT_EQ(px.transparency, 0.25f);
+  const HitPointStats s{px.n, px.m, Color(px.tau), Color(px.tau_m), Color(0.0)};
+  EXPECT_NEAR(photon_radiance(px.r2, s, 100000.0, 1.0).x, density * flux, 1e-3 * density * flux);
 }
 
 }  // namespace

@@ -64,3 +64,66 @@ def test_stochastic_and_fixed_agree_on_the_cornell_box():
 
     np.testing.assert_allclose(mean(hit_points="stochastic"), mean(samples_per_pixel=4), rtol=0.03)
 
+
+
+# Stochastic hit points are made in bands of rows (stochastic_hit_points.h): 512 x 320 pixels is
+# three bands of 128 rows. The hit-point-indexed gather takes the image as one band.
+BANDED = (512, 320)
+
+
+def cornell(**settings):
+    return ppm_core.Renderer(core_scenes.cornell_3spheres(*BANDED), photons_per_pass=20_000, threads=2,
+                             hit_points="stochastic", **settings)
+
+
+def test_stochastic_bands_make_the_image_of_one_band():
+    banded, whole = cornell(gather="photons"), cornell(gather="hit_points")
+    for r in (banded, whole):
+        r.run(passes=3)
+    # The same eye samples, photons and light samples: only the sums' rounding differs.
+    a, b = banded.image(), whole.image()
+    assert np.abs(a - b).max() <= 1e-4 * max(1.0, np.abs(b).max())
+    assert banded.stats()["hit_points"] == whole.stats()["hit_points"] > BANDED[0] * BANDED[1] // 2
+
+
+def test_a_cancelled_stochastic_pass_resumes_at_its_next_band():
+    uninterrupted = cornell(progress_interval=1e-6)
+    uninterrupted.run(passes=3)
+    polls = []
+    uninterrupted.run(passes=1, callback=lambda info: polls.append(info) or True)
+    partial_images = 0
+    # Where a cancel lands depends on timing: cancel at several points of the pass.
+    for share in (0.5, 0.8, 0.95):
+        renderer = cornell(progress_interval=1e-6)
+        renderer.run(passes=3)
+        before = renderer.image()
+        calls = []
+
+        def cancel_in_the_pass(info):
+            calls.append(info)
+            return len(calls) < share * len(polls)
+
+        assert renderer.run(passes=1, callback=cancel_in_the_pass) == 0
+        stats = renderer.stats()
+        assert stats["cancelled"] and stats["passes"] == 3
+        changed_rows = np.flatnonzero(np.any(renderer.image() != before, axis=(1, 2)))
+        if changed_rows.size:  # the completed bands show the pass; rows run bottom-up
+            partial_images += 1
+            assert changed_rows.min() in (64, 192) and changed_rows.max() == 319
+        assert renderer.run(passes=1) == 1
+        assert np.array_equal(renderer.image(), uninterrupted.image())
+        assert renderer.stats()["photons_emitted"] == uninterrupted.stats()["photons_emitted"]
+    assert partial_images > 0, "some cancel should have landed past the first band"
+
+
+def test_stochastic_memory_for_hit_points_does_not_grow_with_the_image():
+    def memory(width, height):
+        r = ppm_core.Renderer(core_scenes.cornell_3spheres(width, height), photons_per_pass=2_000, threads=2,
+                              hit_points="stochastic")
+        r.run(passes=1)
+        return r.stats()["memory"]
+
+    small, large = memory(512, 512), memory(2048, 2048)  # 4 bands of 128 rows, and 64 of 32
+    assert large["hit_points"] <= 1.5 * small["hit_points"]  # 16 times the pixels; bands differ in hit points
+    assert large["pixels"] <= 52 * 2048 * 2048 * 1.01  # pixel_stats.h: 52 bytes a pixel
+    assert large["pixels"] >= 15 * small["pixels"]
