@@ -61,6 +61,7 @@ class ProgressiveDisplay:
         self.passes = 0
         self.photons = 0
         self.shown = -1  # passes in the displayed image
+        self.memory_peak = 0.0  # MiB, the most the core has held
 
     def cancelled(self):
         return self.engine.test_break()  # Esc in the render window
@@ -92,6 +93,7 @@ class ProgressiveDisplay:
             self.renderer.run(passes=1, callback=self)
             stats = self.renderer.stats()
             self.passes, self.photons = stats["passes"], stats["photons_emitted"]
+            self.report_memory(stats)
             now = time.monotonic()
             if self.last_display is None or now - self.last_display >= DISPLAY_INTERVAL:
                 self.show()
@@ -99,6 +101,12 @@ class ProgressiveDisplay:
         if self.shown != self.passes:
             self.show()
         self.report(self.passes, self.photons)
+
+    def report_memory(self, stats):
+        """The core's memory into the render window's header ("Mem:"), as Cycles reports its own."""
+        used = stats["memory_bytes"] / 2**20
+        self.memory_peak = max(self.memory_peak, used)
+        self.engine.update_memory_stats(memory_used=used, memory_peak=self.memory_peak)
 
     def show(self):
         if bpy.app.background:  # no render window: the terminal shows progress instead

@@ -145,6 +145,17 @@ def test_display_refreshes_about_once_a_second(monkeypatch, tmp_path):
     assert len(shown) >= 3 and (gaps >= 0.99).all() and (gaps < 2.0).all(), gaps
 
 
+def test_the_header_shows_the_cores_memory(spy, monkeypatch, tmp_path):
+    reported = []
+    original = engine.ProgressiveDisplay.report_memory
+    monkeypatch.setattr(engine.ProgressiveDisplay, "report_memory",
+                        lambda self, stats: (original(self, stats), reported.append(self.memory_peak)))
+    render_file(simple_scene(160, 120), tmp_path / "m.exr", passes=2, photons_per_pass=20_000)
+    memory = spy.renderers[-1].stats()["memory"]
+    assert len(reported) == 2
+    assert reported[-1] >= sum(memory.values()) / 2**20 > 160 * 120 * 52 / 2**20  # pixels and more
+
+
 def test_border_and_resolution_percentage(tmp_path):
     scene = simple_scene(80, 60)
     scene.render.resolution_percentage = 50

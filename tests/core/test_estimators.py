@@ -97,11 +97,11 @@ def test_a_cancelled_stochastic_pass_resumes_at_its_next_band():
         renderer = cornell(progress_interval=1e-6)
         renderer.run(passes=3)
         before = renderer.image()
-        calls = []
+        calls, last = [], share * len(polls)
 
-        def cancel_in_the_pass(info):
+        def cancel_in_the_pass(info, calls=calls, last=last):
             calls.append(info)
-            return len(calls) < share * len(polls)
+            return len(calls) < last
 
         assert renderer.run(passes=1, callback=cancel_in_the_pass) == 0
         stats = renderer.stats()
