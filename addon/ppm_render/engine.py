@@ -74,11 +74,11 @@ class ProgressiveDisplay:
         if self.cancelled():
             self.stopped = True
             return False
-        self.report(info["passes"], info["photons_emitted"])
+        self.report(info["passes"], info["photons_emitted"], info["pass_done"])
         return True
 
-    def report(self, passes, photons):
-        fraction = passes / self.total
+    def report(self, passes, photons, pass_done=0.0):
+        fraction = (passes + pass_done) / self.total
         if self.time_limit > 0:
             fraction = max(fraction, self.elapsed() / self.time_limit)
         self.engine.update_progress(min(fraction, 1.0))

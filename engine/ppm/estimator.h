@@ -27,6 +27,8 @@ class Estimator {
   // Pixel p (row 0 at the bottom) after the passes so far; only once prepared.
   virtual PixelValue pixel(size_t p) const = 0;
   virtual double radius_mean() const = 0;
+  // The share of the pass in progress already folded into the image (stochastic: its bands).
+  virtual double pass_done() const { return 0.0; }
   virtual void add_memory(MemoryUse& use) const = 0;
 };
 

@@ -13,7 +13,8 @@ namespace ppm {
 struct Progress {
   uint64_t passes;
   uint64_t photons_emitted;
-  double seconds;  // since this run() started
+  double seconds;    // since this run() started
+  double pass_done;  // the share of the pass in progress that is kept whatever happens (its bands)
 };
 
 // Bytes each part of a render holds (capacities: what it has allocated).

@@ -46,7 +46,7 @@ uint64_t Renderer::run(uint64_t passes, double seconds, const std::function<bool
   stats.cancelled = false;
   const auto t0 = Clock::now();
   const uint64_t start = stats.passes;
-  auto progress = [&] { return Progress{stats.passes, stats.photon.emitted, since(t0)}; };
+  auto progress = [&] { return Progress{stats.passes, stats.photon.emitted, since(t0), estimator_->pass_done()}; };
   auto last_callback = Clock::now();
   const Poll inner_poll = [&]() {
     // A time limit ends the pass in progress too, once at least one pass is done.

@@ -138,6 +138,10 @@ PixelValue StochasticHitPoints::pixel(size_t p) const {
   return PixelValue{Color(px.light) + c_.photon_radiance(px.r2, s, emitted), px.transparency};
 }
 
+double StochasticHitPoints::pass_done() const {
+  return static_cast<double>(current_.next_row) / c_.scene->camera().height;
+}
+
 double StochasticHitPoints::radius_mean() const {
   double sum = 0.0;
   size_t count = 0;

@@ -29,6 +29,7 @@ class StochasticHitPoints : public Estimator {
   bool pass(const Poll& poll) override;
   PixelValue pixel(size_t p) const override;
   double radius_mean() const override;
+  double pass_done() const override;
   void add_memory(MemoryUse& use) const override;
 
   static constexpr size_t kBandPixels = size_t(1) << 16;

@@ -211,6 +211,7 @@ void bind_renderer(py::module_& m) {
               info["passes"] = p.passes;
               info["photons_emitted"] = p.photons_emitted;
               info["seconds"] = p.seconds;
+              info["pass_done"] = p.pass_done;
               const py::object result = callback(info);
               if (result.is_none()) return true;
               const bool numpy_flag = py::hasattr(result, "dtype") && py::hasattr(result, "ndim") &&
@@ -226,7 +227,8 @@ void bind_renderer(py::module_& m) {
           },
           py::arg("passes") = 0, py::arg("seconds") = 0.0, py::arg("callback") = py::none(),
           "Runs passes until `passes` are done or `seconds` have passed (0 = no limit for either). "
-          "callback(dict(passes, photons_emitted, seconds)) is called often; returning False cancels. "
+          "callback(dict(passes, photons_emitted, seconds, pass_done)) is called often (pass_done: the share of "
+          "the pass in progress already in the image); returning False cancels. "
           "Returns the number of passes completed.")
       .def("cancel", &Renderer::cancel, "Stops a run() in progress (callable from another thread).")
       .def("image",
