@@ -27,11 +27,7 @@ struct EyeVertex {
   bool emission_only;
 };
 
-struct ChunkOutput {
-  std::vector<HitPoint> points;
-  std::vector<HitPointShading> shading;
-  std::vector<Bounces> chain;  // with bounce limits
-};
+using ChunkOutput = EyePassScratch::Chunk;
 
 struct EyeTracer {
   const Scene& scene;
@@ -226,8 +222,16 @@ struct EyeTracer {
 
 }  // namespace
 
+size_t EyePassScratch::memory_bytes() const {
+  size_t bytes = counts.capacity() * sizeof(uint32_t);
+  for (const Chunk& c : chunks)
+    bytes += c.points.capacity() * sizeof(HitPoint) + c.shading.capacity() * sizeof(HitPointShading) +
+             c.chain.capacity() * sizeof(Bounces);
+  return bytes;
+}
+
 bool eye_pass(const Scene& scene, const Settings& settings, const EyePassOptions& options, HitPoints& out,
-              std::atomic<bool>& cancel, const std::function<bool()>& poll) {
+              EyePassScratch& scratch, std::atomic<bool>& cancel, const std::function<bool()>& poll) {
   const Camera& cam = scene.camera();
   EyeTracer tracer{scene, settings, options, {}, {}, nullptr, cam.pixel_footprint(),
                    cam.projection == Projection::Orthographic, BounceLimits::of(settings, scene)};
@@ -245,15 +249,20 @@ bool eye_pass(const Scene& scene, const Settings& settings, const EyePassOptions
   const size_t first_pixel = static_cast<size_t>(row_begin) * W, pixels = static_cast<size_t>(row_end - row_begin) * W;
   const int grid = static_cast<int>(std::floor(std::sqrt(static_cast<double>(spp))));
   const size_t chunks = (row_end - row_begin + kRowsPerChunk - 1) / kRowsPerChunk;
-  std::vector<ChunkOutput> outputs(chunks);
+  if (scratch.chunks.size() < chunks) scratch.chunks.resize(chunks);
+  std::vector<ChunkOutput>& outputs = scratch.chunks;
   out.emitted.assign(pixels, Color(0.0));
   out.transparency.assign(pixels, 0.0);
-  std::vector<uint32_t> counts(pixels, 0);
+  std::vector<uint32_t>& counts = scratch.counts;
+  counts.assign(pixels, 0);
   if (options.record_depth) out.depth.assign(pixels, std::numeric_limits<float>::infinity());
   else out.depth.clear();
 
   auto work = [&](int, size_t chunk) {
     ChunkOutput& o = outputs[chunk];
+    o.points.clear();
+    o.shading.clear();
+    o.chain.clear();
     // About one hit point per eye sample: reserving saves the regrowth copies and their page faults.
     o.points.reserve(size_t(kRowsPerChunk) * W * spp);
     o.shading.reserve(size_t(kRowsPerChunk) * W * spp);
@@ -310,9 +319,6 @@ bool eye_pass(const Scene& scene, const Settings& settings, const EyePassOptions
       out.stats[first[c] + k] = HitPointStats{};
       if (tracer.limits.active) out.chain[first[c] + k] = o.chain[k];
     }
-    ChunkOutput().points.swap(o.points);
-    ChunkOutput().shading.swap(o.shading);
-    ChunkOutput().chain.swap(o.chain);
   });
   out.pixel_begin.assign(counts.size() + 1, 0);
   for (size_t p = 0; p < counts.size(); ++p) out.pixel_begin[p + 1] = out.pixel_begin[p] + counts[p];

@@ -27,9 +27,23 @@ struct EyePassOptions {
   int row_end = -1;
 };
 
+// What the eye pass's chunks of rows record before they are joined into `out`, kept by the
+// caller across passes: allocated anew for every band of stochastic hit points, their pages
+// were zeroed by the kernel each time (a third of a 1080p pass went to it).
+struct EyePassScratch {
+  struct Chunk {
+    std::vector<HitPoint> points;
+    std::vector<HitPointShading> shading;
+    std::vector<Bounces> chain;  // with bounce limits
+  };
+  std::vector<Chunk> chunks;
+  std::vector<uint32_t> counts;  // hit points per pixel
+  size_t memory_bytes() const;
+};
+
 // Returns false if cancelled; `out` is then incomplete. A band of rows traces the same random
 // samples as those rows of the whole image.
 bool eye_pass(const Scene& scene, const Settings& settings, const EyePassOptions& options, HitPoints& out,
-              std::atomic<bool>& cancel, const std::function<bool()>& poll);
+              EyePassScratch& scratch, std::atomic<bool>& cancel, const std::function<bool()>& poll);
 
 }  // namespace ppm

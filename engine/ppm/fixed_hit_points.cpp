@@ -12,8 +12,9 @@ bool FixedHitPoints::prepare(const Poll& poll) {
   double seconds = 0.0;
   {
     ScopedSeconds timer(seconds);
-    if (!eye_pass(*c_.scene, c_.settings, c_.eye_options(0, c_.settings.samples_per_pixel), hit_points_, c_.cancel,
-                  poll))
+    EyePassScratch scratch;  // freed once the hit points are made
+    if (!eye_pass(*c_.scene, c_.settings, c_.eye_options(0, c_.settings.samples_per_pixel), hit_points_, scratch,
+                  c_.cancel, poll))
       return false;
     if (!hit_points_.depth.empty()) c_.depth.swap(hit_points_.depth);
     if (!c_.measure_photon_spacing_once(hit_points_, poll)) return false;

@@ -52,7 +52,7 @@ bool StochasticHitPoints::band(const EyePassOptions& eye, uint64_t pass, const P
   HitPoints& fresh = hit_points_;
   {
     ScopedSeconds timer(stats.eye_seconds);
-    if (!eye_pass(*c_.scene, c_.settings, eye, fresh, c_.cancel, poll)) return false;
+    if (!eye_pass(*c_.scene, c_.settings, eye, fresh, eye_scratch_, c_.cancel, poll)) return false;
   }
   const size_t first_pixel = static_cast<size_t>(eye.row_begin) * c_.scene->camera().width;
   const bool first_band = eye.row_begin == 0;
@@ -152,7 +152,7 @@ double StochasticHitPoints::radius_mean() const {
 
 void StochasticHitPoints::add_memory(MemoryUse& use) const {
   use.pixels += pixels_.capacity() * sizeof(PixelStats) + depth_.capacity() * sizeof(float);
-  use.hit_points += hit_points_.memory_bytes();
+  use.hit_points += hit_points_.memory_bytes() + eye_scratch_.memory_bytes();
 }
 
 }  // namespace ppm

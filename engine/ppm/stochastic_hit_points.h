@@ -54,6 +54,7 @@ class StochasticHitPoints : public Estimator {
   PassInProgress current_;
   std::vector<float> depth_;  // the pass's depth (POST depth of field), until it completes
   HitPoints hit_points_;      // the band being made, reused: no pass allocates once sizes settle
+  EyePassScratch eye_scratch_;
 };
 
 }  // namespace ppm
