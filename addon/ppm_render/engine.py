@@ -172,9 +172,9 @@ class PPMRenderEngine(bpy.types.RenderEngine):
     def render_view(self, ppm_core, ppm_scene, camera_args, depsgraph, frame, view):
         """Renders one view into its result; False after a failure."""
         scene = depsgraph.scene
+        settings = {**core_settings(scene.ppm), **film_settings(scene), **light_path_settings(scene)}
         try:
-            renderer = ppm_core.Renderer(ppm_scene, **core_settings(scene.ppm), **film_settings(scene),
-                                         **light_path_settings(scene))
+            renderer = ppm_core.Renderer(ppm_scene, **settings)
         except Exception as error:  # noqa: BLE001 - every failure must reach the user
             self.fail(error)
             return False
@@ -183,7 +183,15 @@ class PPMRenderEngine(bpy.types.RenderEngine):
                                    view=view)
         try:
             self.write_data_passes(depsgraph.view_layer, result, ppm_scene, camera_args)
-            self.run(renderer, result, scene.ppm)
+            try:
+                self.run(renderer, result, scene.ppm)
+            except MemoryError as error:  # the core found no memory for them before making them
+                if settings["hit_points"] != "fixed":
+                    raise
+                # Where Cycles renders the frame, so do we: stochastic hit points need 52 bytes a pixel.
+                self.warn(f"{error}; rendering with stochastic hit points instead")
+                renderer = ppm_core.Renderer(ppm_scene, **{**settings, "hit_points": "stochastic"})
+                self.run(renderer, result, scene.ppm)
             return True
         except Exception as error:  # noqa: BLE001
             self.fail(error)

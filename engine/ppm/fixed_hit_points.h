@@ -20,6 +20,7 @@ class FixedHitPoints : public Estimator {
   }
 
  private:
+  void check_memory_for_hit_points() const;
   void widen_to_photon_spacing();
   void report_empty_pixels();
 

@@ -2,16 +2,23 @@
 #include "ppm/stochastic_hit_points.h"
 
 #include "ppm/direct_light.h"
+#include "ppm/memory_budget.h"
 #include "ppm/parallel.h"
 #include "ppm/scoped_seconds.h"
 
 #include <algorithm>
 #include <limits>
+#include <string>
 
 namespace ppm {
 
 bool StochasticHitPoints::prepare(const Poll&) {
   const Camera& cam = c_.scene->camera();
+  // The pixels' statistics, a depth buffer and the image read back, before any of it is made.
+  const double pixels = static_cast<double>(cam.width) * cam.height;
+  check_memory(static_cast<size_t>(pixels * (sizeof(PixelStats) + 2 * sizeof(float) + 4 * sizeof(float))),
+               "stochastic hit points at " + std::to_string(cam.width) + "x" + std::to_string(cam.height),
+               "render a smaller image or in parts (render border)");
   pixels_.assign(static_cast<size_t>(cam.width) * cam.height, PixelStats{});
   current_ = PassInProgress{};
   return true;

@@ -1,5 +1,6 @@
 // Python bindings of the settings and the renderer. run() releases the GIL;
 // the progress callback and Ctrl-C checks take it back briefly.
+#include "ppm/memory_budget.h"
 #include "ppm/renderer.h"
 #include "python/convert.h"
 
@@ -175,6 +176,14 @@ py::dict stats_dict(const RenderStats& s) {
 }  // namespace
 
 void bind_renderer(py::module_& m) {
+  // A render the machine has no memory for (memory_budget.h): MemoryError, with its message.
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const ppm::MemoryShortage& e) {
+      PyErr_SetString(PyExc_MemoryError, e.what());
+    }
+  });
   py::class_<Settings>(m, "Settings", "Render settings; unknown names are an error.")
       .def(py::init([](const py::kwargs& kw) { return settings_from(kw); }))
       .def("as_dict", &settings_dict)

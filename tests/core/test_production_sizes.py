@@ -7,6 +7,11 @@ import os
 import subprocess
 import sys
 
+import pytest
+
+import core_scenes
+import ppm_core
+
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 WIDTH, HEIGHT = 3840, 2160
 CEILING_BYTES_PER_PIXEL = 96  # issue 20's goal, everything included: the image read back too
@@ -38,3 +43,20 @@ def test_a_4k_stochastic_render_stays_under_96_bytes_a_pixel():
     assert row["shape"] == [HEIGHT, WIDTH, 4] and row["mean"] > 0.0
     assert row["grown"] <= CEILING_BYTES_PER_PIXEL * pixels, row
     assert row["memory"]["pixels"] <= 52 * pixels * 1.01, row
+
+
+def resident_bytes():
+    with open("/proc/self/status") as f:
+        return next(int(line.split()[1]) * 1024 for line in f if line.startswith("VmRSS:"))
+
+
+def test_a_render_the_machine_has_no_memory_for_fails_with_memory_error_before_allocating():
+    # 9e8 pixels at 64 eye samples: tens of terabytes of hit points.
+    scene = core_scenes.cornell_3spheres(30_000, 30_000)
+    renderer = ppm_core.Renderer(scene, hit_points="fixed", samples_per_pixel=64, photons_per_pass=1_000)
+    before = resident_bytes()
+    with pytest.raises(MemoryError, match=r"fixed hit points at 30000x30000 and 64 samples per pixel needs about "
+                                          r"\d+\.\d GB, but .* GB of memory are available; use stochastic hit points"):
+        renderer.run(passes=1)
+    assert resident_bytes() - before < 100 * 2**20
+    assert renderer.stats()["passes"] == 0

@@ -1,0 +1,136 @@
+"""Production sizes: memory and time per pass as the image grows, and memory per mesh triangle.
+
+    .venv/bin/python bench/run.py sizes [--quick]
+
+Images: cornell_3spheres through ppm_core at each of `sizes`, for each of `hit_points` (fixed:
+`samples_per_pixel` eye samples per pixel, kept for the render; stochastic: one per pixel and pass,
+made in bands), `photons` photons per pass, 2 threads, one untimed pass and then `passes` timed
+ones. Reported: the process's peak resident memory grown over the render (bytes per pixel, image
+read back included), the core's own figures by part (stats()["memory"]), seconds per pass and per
+stage, photon paths per second (trace, index, gather).
+
+Meshes: the raycast kind's terrain at about each of `triangles`, added to a scene and built:
+resident memory grown per triangle, the core's scene bytes per triangle, seconds to add and build.
+
+Each measurement runs in a fresh process (`python -m kinds.sizes image|mesh ...` from bench/),
+so that its peak is its own."""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+import time
+
+import numpy as np
+
+BENCH_DIR = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+STAGES = ("eye_pass", "photon_trace", "index_build", "gather", "direct_light", "progressive_update")
+
+
+def status_bytes(field):
+    with open("/proc/self/status") as f:
+        return next(int(line.split()[1]) * 1024 for line in f if line.startswith(field + ":"))
+
+
+def image_child(width, height, hit_points, photons, passes, spp):
+    import core_scenes
+    import ppm_core
+
+    before = status_bytes("VmRSS")
+    r = ppm_core.Renderer(core_scenes.cornell_3spheres(width, height), threads=2, photons_per_pass=photons,
+                          hit_points=hit_points, samples_per_pixel=spp, seed=1)
+    r.run(passes=1)
+    s0 = r.stats()
+    start = time.perf_counter()
+    r.run(passes=passes)
+    wall = time.perf_counter() - start
+    s1 = r.stats()
+    r.image()
+    step = {k: (s1["seconds"][k] - s0["seconds"][k]) / passes for k in STAGES}
+    photon_s = step["photon_trace"] + step["index_build"] + step["gather"]
+    return {"width": width, "height": height, "hit_points": hit_points, "grown_bytes": status_bytes("VmHWM") - before,
+            "memory": s1["memory"], "seconds_per_pass": wall / passes, "step": step,
+            "paths_per_s": photons / photon_s if photon_s > 0 else 0.0, "first_pass": s0["seconds"]["total"]}
+
+
+def mesh_child(triangles):
+    import ppm_core
+    from kinds.raycast import terrain
+
+    n = max(2, int((triangles * 0.72 / 2) ** 0.5))  # the terrain's grid; the leaves are the rest
+    vertices, tris = terrain(n, max(1, triangles - 2 * n * n), np.random.default_rng(7))
+    vertices = vertices.astype(float)
+    before = status_bytes("VmRSS")
+    start = time.perf_counter()
+    scene = ppm_core.Scene()
+    scene.add_material("ground", base_color=(0.7, 0.7, 0.7))
+    scene.add_mesh("terrain", vertices, tris)
+    added = time.perf_counter() - start
+    scene.set_camera(np.eye(4), 64, 48)
+    scene.build()
+    built = time.perf_counter() - start - added
+    del vertices, tris
+    return {"triangles": triangles, "grid": n,
+            "grown_bytes": status_bytes("VmHWM") - before, "resident_bytes": status_bytes("VmRSS") - before,
+            "add_seconds": added, "build_seconds": built}
+
+
+def child(args):
+    if args[0] == "image":
+        w, h, mode, photons, passes, spp = args[1:]
+        row = image_child(int(w), int(h), mode, int(photons), int(passes), int(spp))
+    else:
+        row = mesh_child(int(args[1]))
+    print(json.dumps(row), flush=True)
+
+
+def fresh(*args):
+    out = subprocess.run([sys.executable, "-m", "kinds.sizes", *map(str, args)], cwd=BENCH_DIR,
+                         stdout=subprocess.PIPE, text=True, check=True)
+    return json.loads(out.stdout.splitlines()[-1])
+
+
+def images_part(experiment, results):
+    rows = []
+    for width, height in experiment["sizes"]:
+        for mode in experiment["hit_points"]:
+            r = fresh("image", width, height, mode, experiment["photons"], experiment["passes"],
+                      experiment["samples_per_pixel"])
+            results.row(part="images", **r)
+            pixels = width * height
+            mem = r["memory"]
+            rows.append([f"{width}x{height}", mode, f"{r['grown_bytes'] / 2**20:.0f}",
+                         f"{r['grown_bytes'] / pixels:.0f}", f"{mem['pixels'] / pixels:.0f}",
+                         f"{mem['hit_points'] / 2**20:.0f}", f"{(mem['photons'] + mem['index']) / 2**20:.0f}",
+                         f"{r['seconds_per_pass']:.2f}", f"{r['step']['eye_pass']:.2f}",
+                         f"{r['step']['gather']:.2f}", f"{r['step']['direct_light']:.2f}",
+                         f"{r['paths_per_s'] / 1e6:.2f} M"])
+    results.table(["image", "hit points", "peak grown MB", "peak B/pixel", "core pixels B/pixel",
+                   "core hit points MB", "core photons + index MB", "s/pass", "eye s", "gather s", "direct s",
+                   "photon paths/s"], rows)
+
+
+def meshes_part(experiment, results):
+    rows = []
+    for triangles in experiment["triangles"]:
+        r = fresh("mesh", triangles)
+        results.row(part="meshes", **r)
+        rows.append([f"{triangles:,}", f"{r['grown_bytes'] / triangles:.0f}", f"{r['resident_bytes'] / triangles:.0f}",
+                     f"{r['add_seconds']:.2f}", f"{r['build_seconds']:.2f}"])
+    results.table(["triangles", "peak grown B/triangle", "resident B/triangle (after build)", "add s", "build s"],
+                  rows)
+
+
+def run(experiment, results):
+    results.note(f"cornell_3spheres, {experiment['photons']} photons per pass, 2 threads, "
+                 f"{experiment['passes']} timed passes; fixed hit points at {experiment['samples_per_pixel']} "
+                 "samples per pixel")
+    images_part(experiment, results)
+    meshes_part(experiment, results)
+
+
+if __name__ == "__main__":
+    sys.path.insert(0, os.path.join(os.path.dirname(BENCH_DIR), "blend_scenes"))
+    child(sys.argv[1:])
