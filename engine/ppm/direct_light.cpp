@@ -17,9 +17,9 @@ Color light_contribution(const Scene& scene, const Light& light, const HitPoint&
   if (!sample_direct(light, hp.position, n, u1, u2, ds, strategy)) return Color(0.0);
   const Material& m = scene.material(sh.material);
   const SurfacePoint sp = scene.surface_point(surface_record(hp, sh));
-  const Color f = bsdf_eval(m, sp, sh.wo, ds.wi);
-  const double cos = std::fabs(glm::dot(sh.shading_normal, ds.wi));
-  const Color c = sh.throughput * f * (cos * ds.value);
+  const Color f = bsdf_eval(m, sp, Vec3(sh.wo), ds.wi);
+  const double cos = std::fabs(glm::dot(Vec3(sh.shading_normal), ds.wi));
+  const Color c = Color(sh.throughput) * f * (cos * ds.value);
   if (!(max_component(c) > 0.0)) return Color(0.0);
   const Vec3 origin = offset_point(hp.position, sh.geometric_normal, ds.wi, scene.offset_floor());
   double dist = ds.distance;

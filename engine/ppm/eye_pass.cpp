@@ -124,11 +124,12 @@ struct EyeTracer {
   // The world size of a pixel `length` along an eye path (through mirrors and glass as if straight).
   double pixel_size(double length) const { return footprint * (orthographic ? 1.0 : length); }
 
-  void record(const Hit& hit, const EyeVertex& v, uint32_t pixel, ChunkOutput& out) const {
+  // `sp`: the surface point at `hit` as v sees it (surface_point(hit, -v.ray.direction,
+  // pixel_size(v.length), path_of(v, hit.t))).
+  void record(const Hit& hit, const SurfacePoint& sp, const EyeVertex& v, uint32_t pixel, ChunkOutput& out) const {
     const Material& m = scene.material(hit.material);
     const Vec3 wo = -v.ray.direction;
     const LightPath path = path_of(v, hit.t);
-    const SurfacePoint sp = scene.surface_point(hit, wo, pixel_size(v.length), path);
     const bool front = glm::dot(wo, sp.ng) >= 0.0;
     const Vec3 ns = front ? sp.ns : -sp.ns;
     const bool glossy = m.kind != MaterialKind::Diffuse;
@@ -144,7 +145,7 @@ struct EyeTracer {
     hp.glossy = glossy ? 1u : 0u;
     out.points.push_back(hp);
     out.shading.push_back(
-        HitPointShading{sp.ng, sp.ns, wo, v.throughput, Vec2f(hit.uv), Vec3f(sp.smooth_normal),
+        HitPointShading{sp.ng, Vec3f(sp.ns), Vec3f(wo), Vec3f(v.throughput), Vec2f(hit.uv), Vec3f(sp.smooth_normal),
                         sp.tangent != Vec3(0.0) ? hit.tangent : glm::vec4(0.0f), hit.material, hit.object,
                         hit.primitive, pixel, path});
     if (limits.active) out.chain.push_back(v.chain);
@@ -177,8 +178,8 @@ struct EyeTracer {
         followed = closure_followed_share(m.lobes, sp, -v.ray.direction);
       // A mixture of followed and stored lobes: one or the other, divided by its probability.
       if (!(followed >= 1.0 || (followed > 0.0 && rng.uniform() < followed))) {
-        record(hit, EyeVertex{here.ray, here.throughput / (1.0 - followed), here.depth, here.length,
-                              here.glass_only, here.chain, false}, pixel, out);
+        record(hit, sp, EyeVertex{here.ray, here.throughput / (1.0 - followed), here.depth, here.length,
+                                  here.glass_only, here.chain, false}, pixel, out);
         continue;
       }
       // With Cycles' limits, one ray more than the total: it may still see emission.
@@ -243,6 +244,7 @@ bool eye_pass(const Scene& scene, const Settings& settings, const EyePassOptions
     if (k == LightKind::Sun && scene.lights()[i].cos_sun < 1.0) tracer.visible_suns.push_back(i);
     if (k == LightKind::Background) tracer.background = &scene.lights()[i];
   }
+  const CameraRays rays(cam);
   const int W = cam.width, spp = options.samples_per_pixel;
   const int row_begin = std::clamp(options.row_begin, 0, cam.height);
   const int row_end = options.row_end < 0 ? cam.height : std::clamp(options.row_end, row_begin, cam.height);
@@ -284,7 +286,7 @@ bool eye_pass(const Scene& scene, const Settings& settings, const EyePassOptions
             jy = (s / grid + jy) / grid;
           }
           const double lu = rng.uniform(), lv = rng.uniform();
-          Ray ray = options.lens ? cam.generate_lens_ray(x + jx, y + jy, lu, lv) : cam.generate_ray(x + jx, y + jy);
+          Ray ray = options.lens ? rays.through_lens(x + jx, y + jy, lu, lv) : rays.through(x + jx, y + jy);
           ray.kind = kCameraRay;
           if (options.record_depth) {
             Hit first;

@@ -25,11 +25,13 @@ struct HitPoint {
 };
 static_assert(sizeof(HitPoint) == 64, "HitPoint should fill one cache line");
 
+// Float where a BSDF needs no more; the geometric normal stays double, as ray offsets read its
+// side at grazing angles.
 struct HitPointShading {
   Vec3 geometric_normal;  // outward as the primitive defines it
-  Vec3 shading_normal;
-  Vec3 wo;                // towards the viewer
-  Color throughput;       // eye-path weight including 1/samples_per_pixel
+  Vec3f shading_normal;
+  Vec3f wo;               // towards the viewer
+  Vec3f throughput;       // eye-path weight including 1/samples_per_pixel
   Vec2f uv;               // where the material's textures are looked up (Scene::surface_point)
   Vec3f smooth_normal;    // before a normal map (SurfacePoint::smooth_normal)
   glm::vec4 tangent;      // a mesh's tangent and bitangent sign (SurfacePoint::tangent)
@@ -42,7 +44,7 @@ struct HitPointShading {
 
 // What Scene::surface_point needs to shade a hit point again.
 inline SurfaceRecord surface_record(const HitPoint& h, const HitPointShading& sh) {
-  return {h.position, sh.geometric_normal, sh.shading_normal, sh.wo, sh.uv, sh.smooth_normal, sh.tangent,
+  return {h.position, sh.geometric_normal, Vec3(sh.shading_normal), Vec3(sh.wo), sh.uv, sh.smooth_normal, sh.tangent,
           sh.material, sh.object, sh.primitive, sh.path};
 }
 

@@ -69,7 +69,7 @@ inline bool photon_weight(const Scene& scene, const HitPoints& hp, uint32_t i, c
   // Glass and translucent lobes transmit: photons that arrived on the other side count through the BSDF.
   if (!transmits(m) && across_a_solid(d, normal, h.normal, photon_normal)) return false;
   const SurfacePoint sp = scene.surface_point(surface_record(h, sh));
-  weight = Vec3f(sh.throughput * bsdf_eval(m, sp, sh.wo, -Vec3(dir)));
+  weight = sh.throughput * Vec3f(bsdf_eval(m, sp, Vec3(sh.wo), -Vec3(dir)));
   return weight.x > 0.0f || weight.y > 0.0f || weight.z > 0.0f;
 }
 

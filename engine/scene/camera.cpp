@@ -19,40 +19,51 @@ double Camera::pixel_footprint() const {
   return fitted_extent() / (fit_horizontal() ? width : height);
 }
 
-Ray Camera::generate_ray(double px, double py) const {
+Ray Camera::generate_ray(double px, double py) const { return CameraRays(*this).through(px, py); }
+
+Ray Camera::generate_lens_ray(double px, double py, double lens_u, double lens_v) const {
+  return CameraRays(*this).through_lens(px, py, lens_u, lens_v);
+}
+
+CameraRays::CameraRays(const Camera& camera)
+    : cam_(camera),
+      extent_(camera.fitted_extent()),
+      pixel_(camera.pixel_footprint()),
+      origin_(camera.position()),
+      right_(camera.camera_to_world[0]),
+      up_(camera.camera_to_world[1]),
+      back_(camera.camera_to_world[2]),
+      forward_(camera.forward()) {}
+
+Ray CameraRays::through(double px, double py) const {
   // Image-plane coordinates in units of the fitted extent, centred, plus shift.
-  const double extent = fitted_extent();
-  const double pixel = pixel_footprint();
-  const double x = (px - 0.5 * width) * pixel + shift_x * extent;
-  const double y = (py - 0.5 * height) * pixel + shift_y * extent;
-  const Vec3 right = Vec3(camera_to_world[0]), up = Vec3(camera_to_world[1]), back = Vec3(camera_to_world[2]);
-  const Vec3 origin = position();
+  const double x = (px - 0.5 * cam_.width) * pixel_ + cam_.shift_x * extent_;
+  const double y = (py - 0.5 * cam_.height) * pixel_ + cam_.shift_y * extent_;
   Ray ray;
-  if (projection == Projection::Perspective) {
+  if (cam_.projection == Projection::Perspective) {
     const Vec3 local = Vec3(x, y, -1.0);
-    const Vec3 d = glm::normalize(local.x * right + local.y * up + local.z * back);
+    const Vec3 d = glm::normalize(local.x * right_ + local.y * up_ + local.z * back_);
     const double along = 1.0 / glm::length(local);  // cos of the angle to the view axis
-    ray.origin = origin + d * (clip_start / along);
+    ray.origin = origin_ + d * (cam_.clip_start / along);
     ray.direction = d;
   } else {
-    ray.direction = -glm::normalize(back);
-    ray.origin = origin + x * glm::normalize(right) + y * glm::normalize(up) + ray.direction * clip_start;
+    ray.direction = -glm::normalize(back_);
+    ray.origin = origin_ + x * glm::normalize(right_) + y * glm::normalize(up_) + ray.direction * cam_.clip_start;
   }
   return ray;
 }
 
-Ray Camera::generate_lens_ray(double px, double py, double lens_u, double lens_v) const {
-  Ray pinhole = generate_ray(px, py);
-  if (aperture_radius <= 0.0 || projection != Projection::Perspective) return pinhole;
-  const Vec3 eye = position(), fwd = forward();
+Ray CameraRays::through_lens(double px, double py, double lens_u, double lens_v) const {
+  Ray pinhole = through(px, py);
+  if (cam_.aperture_radius <= 0.0 || cam_.projection != Projection::Perspective) return pinhole;
   // Where the pinhole ray meets the plane of focus.
-  const double t_focus = focus_distance / glm::dot(pinhole.direction, fwd);
-  const Vec3 focus_point = eye + pinhole.direction * t_focus;
-  const Vec2 d = sample_uniform_disk(lens_u, lens_v) * aperture_radius;
-  const Vec3 lens_point = eye + d.x * Vec3(camera_to_world[0]) + d.y * Vec3(camera_to_world[1]);
+  const double t_focus = cam_.focus_distance / glm::dot(pinhole.direction, forward_);
+  const Vec3 focus_point = origin_ + pinhole.direction * t_focus;
+  const Vec2 d = sample_uniform_disk(lens_u, lens_v) * cam_.aperture_radius;
+  const Vec3 lens_point = origin_ + d.x * right_ + d.y * up_;
   Ray ray;
   ray.direction = glm::normalize(focus_point - lens_point);
-  ray.origin = lens_point + ray.direction * (clip_start / glm::dot(ray.direction, fwd));
+  ray.origin = lens_point + ray.direction * (cam_.clip_start / glm::dot(ray.direction, forward_));
   return ray;
 }
 

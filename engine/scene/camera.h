@@ -54,8 +54,23 @@ struct Camera {
   Vec3 forward() const { return -glm::normalize(Vec3(camera_to_world[2])); }
 
  private:
+  friend class CameraRays;
   double fitted_extent() const;  // size of the fitted side on the plane at distance 1 (or metres)
   bool fit_horizontal() const;
+};
+
+// A camera's rays with what is the same for all of them worked out once (the field of view's
+// tangent, the axes): the eye pass makes millions.
+class CameraRays {
+ public:
+  explicit CameraRays(const Camera& camera);
+  Ray through(double px, double py) const;  // Camera::generate_ray
+  Ray through_lens(double px, double py, double lens_u, double lens_v) const;  // Camera::generate_lens_ray
+
+ private:
+  const Camera& cam_;
+  double extent_, pixel_;
+  Vec3 origin_, right_, up_, back_, forward_;
 };
 
 }  // namespace ppm

@@ -434,7 +434,8 @@ def make_callback(kind, renderer):
     value = {"true": True, "false": False, "string": "yes"}.get(kind)
 
     def callback(info):
-        assert set(info) == {"passes", "photons_emitted", "seconds"}
+        assert set(info) == {"passes", "photons_emitted", "seconds", "pass_done"}
+        assert 0.0 <= info["pass_done"] <= 1.0
         if kind == "raise":
             raise ValueError("stop from the callback")
         return value
