@@ -51,7 +51,7 @@ def image_child(width, height, hit_points, photons, passes, spp):
     step = {k: (s1["seconds"][k] - s0["seconds"][k]) / passes for k in STAGES}
     photon_s = step["photon_trace"] + step["index_build"] + step["gather"]
     return {"width": width, "height": height, "hit_points": hit_points, "grown_bytes": status_bytes("VmHWM") - before,
-            "memory": s1["memory"], "seconds_per_pass": wall / passes, "step": step,
+            "memory": s1.get("memory", {}), "seconds_per_pass": wall / passes, "step": step,
             "paths_per_s": photons / photon_s if photon_s > 0 else 0.0, "first_pass": s0["seconds"]["total"]}
 
 
@@ -92,6 +92,11 @@ def fresh(*args):
     return json.loads(out.stdout.splitlines()[-1])
 
 
+def share(memory, parts, scale):
+    """The core's bytes in `parts` over `scale`; n/a for a core from before stats()["memory"] (A/B)."""
+    return f"{sum(memory[p] for p in parts) / scale:.0f}" if memory else "n/a"
+
+
 def images_part(experiment, results):
     rows = []
     for width, height in experiment["sizes"]:
@@ -102,8 +107,8 @@ def images_part(experiment, results):
             pixels = width * height
             mem = r["memory"]
             rows.append([f"{width}x{height}", mode, f"{r['grown_bytes'] / 2**20:.0f}",
-                         f"{r['grown_bytes'] / pixels:.0f}", f"{mem['pixels'] / pixels:.0f}",
-                         f"{mem['hit_points'] / 2**20:.0f}", f"{(mem['photons'] + mem['index']) / 2**20:.0f}",
+                         f"{r['grown_bytes'] / pixels:.0f}", share(mem, ("pixels",), pixels),
+                         share(mem, ("hit_points",), 2**20), share(mem, ("photons", "index"), 2**20),
                          f"{r['seconds_per_pass']:.2f}", f"{r['step']['eye_pass']:.2f}",
                          f"{r['step']['gather']:.2f}", f"{r['step']['direct_light']:.2f}",
                          f"{r['paths_per_s'] / 1e6:.2f} M"])

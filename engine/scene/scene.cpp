@@ -194,6 +194,7 @@ void Scene::check_not_emissive(uint32_t material, const std::string& what) const
 
 void Scene::add_mesh(MeshInput mesh) {
   ensure_mutable();
+  restore_triangles();
   const std::string what = quoted("mesh", mesh.name);
   const size_t nv = mesh.positions.size(), nt = mesh.triangles.size() / 3;
   if (nt == 0 || mesh.triangles.size() % 3 != 0) fail(what, "has no triangles");
@@ -440,8 +441,26 @@ void Scene::set_camera_background(uint32_t texture, const Color& strength) {
   invalidate();
 }
 
+// A built scene keeps its triangles in the BVH's leaf records only (72 bytes a triangle less);
+// they come back in triangle order before the scene changes or is built again.
+void Scene::restore_triangles() {
+  if (triangles_.size() == triangle_info_.size()) return;
+  triangles_.resize(triangle_info_.size());
+  for (size_t i = 0; i < triangles_.size(); ++i) triangles_[i] = leaf_prims_[slot_of_triangle_[i]].tri;
+}
+
+// After the build: the triangles are found through their leaf slots.
+void Scene::release_triangles() {
+  slot_of_triangle_.resize(triangles_.size());
+  for (uint32_t slot = 0; slot < leaf_prims_.size(); ++slot)
+    if (leaf_prims_[slot].kind == PrimitiveKind::Triangle) slot_of_triangle_[leaf_prims_[slot].index] = slot;
+  std::vector<TrianglePrim>().swap(triangles_);
+  std::vector<PrimRef>().swap(prims_);
+}
+
 void Scene::build() {
   if (built_) return;
+  restore_triangles();
   prims_.clear();
   std::vector<Aabb> boxes;
   boxes.reserve(triangles_.size() + spheres_.size() + revolve_segments_.size());
@@ -520,6 +539,7 @@ void Scene::build() {
     prepare_light(l, light_bounds);
     lights_.push_back(l);
   }
+  release_triangles();
   built_ = true;
 }
 
@@ -642,7 +662,8 @@ size_t Scene::memory_bytes() const {
   auto bytes = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
   size_t b = bytes(triangles_) + bytes(triangle_info_) + bytes(corner_normals_) + bytes(corner_uvs_) +
              bytes(corner_colors_) + bytes(corner_tangents_) + bytes(spheres_) + bytes(revolve_segments_) +
-             bytes(prims_) + bytes(leaf_prims_) + bytes(bvh_.nodes()) + bytes(bvh_.prim_order()) +
+             bytes(prims_) + bytes(slot_of_triangle_) + bytes(leaf_prims_) + bytes(bvh_.nodes()) +
+             bytes(bvh_.prim_order()) +
              bytes(materials_) + bytes(lights_) + bytes(user_lights_) + bytes(objects_);
   for (const Texture& t : textures_) b += sizeof(Texture) + t.memory_bytes();
   return b;
@@ -685,7 +706,7 @@ void Scene::fill_hit(const Ray& ray, Hit& hit, double b1, double b2) const {
   const LeafPrim& ref = leaf_prims_[hit.primitive];
   // Primitive ids number triangles, then spheres, then revolve segments.
   hit.primitive = ref.index;
-  if (ref.kind != PrimitiveKind::Triangle) hit.primitive += static_cast<uint32_t>(triangles_.size());
+  if (ref.kind != PrimitiveKind::Triangle) hit.primitive += static_cast<uint32_t>(triangle_info_.size());
   if (ref.kind == PrimitiveKind::BezierRevolve) hit.primitive += static_cast<uint32_t>(spheres_.size());
   switch (ref.kind) {
     case PrimitiveKind::Triangle: {
@@ -817,12 +838,12 @@ ShadingContext Scene::shading_context(const Hit& hit, const Vec3& wo, double foo
 }
 
 void Scene::add_primitive_data(const Material& m, uint32_t primitive, const Vec3& position, ShadingContext& c) const {
-  if (primitive >= prims_.size() || prims_[primitive].kind != PrimitiveKind::Triangle) return;
+  if (primitive >= triangle_info_.size()) return;  // primitive ids number the triangles first
   const NodeProgram::Needs needs = m.program.needs();
   if (!needs.uv_gradients && !needs.attribute) return;
-  const uint32_t index = prims_[primitive].index;
+  const uint32_t index = primitive;
   const TriangleInfo& info = triangle_info_[index];
-  const TrianglePrim& t = triangles_[index];
+  const TrianglePrim& t = leaf_prims_[slot_of_triangle_[index]].tri;
   if (needs.uv_gradients && info.uvs >= 0) uv_gradients(t, &corner_uvs_[info.uvs], c.du_dp, c.dv_dp);
   if (needs.attribute && info.colors >= 0) {
     // Barycentric coordinates of the point: the dual basis of the edges (as uv_gradients).

@@ -172,10 +172,10 @@ class Scene {
   const Camera& camera() const { return camera_; }
   bool has_camera() const { return has_camera_; }
   Aabb bounds() const { return bvh_.bounds(); }
-  size_t triangle_count() const { return triangles_.size(); }
+  size_t triangle_count() const { return triangle_info_.size(); }
   // Geometry (primitives, their attributes, the BVH), textures, materials and lights.
   size_t memory_bytes() const;
-  size_t primitive_count() const { return prims_.size(); }
+  size_t primitive_count() const { return triangle_info_.size() + spheres_.size() + revolve_segments_.size(); }
 
  private:
   struct PrimRef {
@@ -210,6 +210,8 @@ class Scene {
   void add_primitive_data(const Material& m, uint32_t primitive, const Vec3& position, ShadingContext& c) const;
   void textured_emission(const Material& m, const TriangleInfo& info, Light& l) const;
   void invalidate();
+  void restore_triangles();
+  void release_triangles();
   void ensure_mutable() const;
   // One record per BVH leaf slot (see Bvh::prim_order), in leaf order: a
   // leaf's primitives sit side by side and a triangle's kind and vertices
@@ -260,7 +262,8 @@ class Scene {
   Camera camera_;
   bool has_camera_ = false;
 
-  std::vector<PrimRef> prims_;
+  std::vector<PrimRef> prims_;             // during the build
+  std::vector<uint32_t> slot_of_triangle_;  // once built: each triangle's leaf slot (triangles_ is then empty)
   Bvh bvh_;
   HugePageVector<LeafPrim> leaf_prims_;
   double offset_floor_ = 1e-12;
