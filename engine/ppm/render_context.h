@@ -18,7 +18,7 @@
 
 namespace ppm {
 
-using Poll = std::function<bool()>;  // false: cancel (the pass in progress is dropped)
+using Poll = std::function<bool()>;  // false: cancel (what becomes of the pass in progress: renderer.h)
 
 struct RenderContext {
   RenderContext(std::shared_ptr<const Scene> scene, const Settings& settings);
