@@ -86,7 +86,11 @@ bool StochasticHitPoints::gather_photons(bool first_band, uint64_t pass, const P
   HitPoints& fresh = hit_points_;
   PhotonPass& photons = c_.photon_pass;
   PhotonPassCounters& counters = current_.counters;
-  if (!c_.analysis.trace_photons || !photons.indexes_photons()) {  // one band: the whole pass at once
+  if (!c_.analysis.trace_photons) {  // nothing to trace: the pass's photons are only counted, once
+    if (first_band) counters.emitted += c_.settings.photons_per_pass;
+    return true;
+  }
+  if (!photons.indexes_photons()) {  // one band: the whole pass at once
     photons.reset_index();
     return c_.run_photon_pass(fresh, pass, poll, counters);
   }

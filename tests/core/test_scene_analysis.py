@@ -43,14 +43,15 @@ def test_an_area_light_is_sampled_every_pass(hit_points):
     assert not skipped(stats, "direct light resampling") and stats["direct_samples"] == 3
 
 
-def test_without_anything_that_scatters_there_are_no_photon_passes():
+@pytest.mark.parametrize("hit_points", ["fixed", "stochastic"])
+def test_without_anything_that_scatters_there_are_no_photon_passes(hit_points):
     """A mirror under a light: nothing diffuse or glossy receives photons."""
     scene = ppm_core.Scene()
     mirror = scene.add_material("mirror", "mirror")
     core_scenes.quad(scene, "floor", [(-1, -1, 0), (1, -1, 0), (1, 1, 0), (-1, 1, 0)], mirror)
     scene.add_light("point", position=(0, 0, 1))
-    scene.set_camera(core_scenes.look_at((0, -2, 1), (0, 0, 0)), 8, 8)
-    _, stats = render(scene, passes=2)
+    scene.set_camera(core_scenes.look_at((0, -2, 1), (0, 0, 0)), 512, 300)  # stochastic: 3 bands of rows
+    _, stats = render(scene, passes=2, hit_points=hit_points)
     assert skipped(stats, "photon passes")
     assert stats["photons_emitted"] == 2 * 5_000  # an empty pass still counts its photons
     assert stats["photons_deposited"] == 0
