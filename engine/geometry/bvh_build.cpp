@@ -2,18 +2,23 @@
 #include "geometry/bvh_build.h"
 
 #include <algorithm>
+#include <exception>
 #include <numeric>
 #include <stdexcept>
 #include <string>
+#include <thread>
 
 namespace ppm {
 namespace {
 
 constexpr int kBins = 16;
 constexpr int kMaxDepth = 60;  // keeps traversal stacks small and bounded
+// Subtrees this large, near the root, are built on a thread of their own (2 levels: up to 4 threads).
+constexpr uint32_t kParallelPrims = 1u << 16;
+constexpr int kParallelDepth = 2;
 
 struct Bin {
-  Aabb box;
+  Aabb box, cbox;  // of the primitives' boxes, and of their centroids
   uint32_t count = 0;
 };
 
@@ -34,19 +39,64 @@ class Builder {
     out_.order.resize(boxes_.size());
     std::iota(out_.order.begin(), out_.order.end(), 0u);
     out_.nodes.reserve(2 * boxes_.size() / std::max(1u, max_leaf_ / 2) + 2);
-    node(0, static_cast<uint32_t>(boxes_.size()), box, cbox, 0);
+    node(out_.nodes, 0, static_cast<uint32_t>(boxes_.size()), box, cbox, 0);
   }
 
  private:
-  // Builds the subtree over order[begin, end) whose box and centroid box are given.
-  uint32_t node(uint32_t begin, uint32_t end, const Aabb& box, const Aabb& cbox, int depth) {
-    const uint32_t index = static_cast<uint32_t>(out_.nodes.size());
-    out_.nodes.push_back(BinaryBvhNode{box, begin, end - begin});
+  struct Split {
+    uint32_t at;
+    Aabb left_box, left_cbox, right_box, right_cbox;
+  };
+
+  // Builds the subtree over order[begin, end) whose box and centroid box are given, appending its
+  // nodes depth-first to `nodes` (whose indices it uses); returns the index of its root.
+  uint32_t node(std::vector<BinaryBvhNode>& nodes, uint32_t begin, uint32_t end, const Aabb& box, const Aabb& cbox,
+                int depth) {
+    const uint32_t index = static_cast<uint32_t>(nodes.size());
+    nodes.push_back(BinaryBvhNode{box, begin, end - begin});
     const uint32_t count = end - begin;
     if (count <= max_leaf_ || depth >= kMaxDepth) return index;
+    const Split s = split(begin, end, cbox);
+    nodes[index].count = 0;
+    if (count >= kParallelPrims && depth < kParallelDepth) {
+      // Each half into a list of its own (the left on another thread), then both after this node:
+      // the same depth-first layout as one thread makes.
+      std::vector<BinaryBvhNode> left, right;
+      std::exception_ptr failed;
+      std::thread worker([&] {
+        try {
+          node(left, begin, s.at, s.left_box, s.left_cbox, depth + 1);
+        } catch (...) {
+          failed = std::current_exception();
+        }
+      });
+      node(right, s.at, end, s.right_box, s.right_cbox, depth + 1);
+      worker.join();
+      if (failed) std::rethrow_exception(failed);
+      append(nodes, left);
+      nodes[index].first = static_cast<uint32_t>(nodes.size());
+      append(nodes, right);
+      return index;
+    }
+    node(nodes, begin, s.at, s.left_box, s.left_cbox, depth + 1);
+    const uint32_t right = node(nodes, s.at, end, s.right_box, s.right_cbox, depth + 1);
+    nodes[index].first = right;
+    return index;
+  }
 
+  // A subtree built with indices from 0, moved to the end of `nodes`.
+  static void append(std::vector<BinaryBvhNode>& nodes, const std::vector<BinaryBvhNode>& subtree) {
+    const uint32_t offset = static_cast<uint32_t>(nodes.size());
+    for (BinaryBvhNode n : subtree) {
+      if (!n.is_leaf()) n.first += offset;  // a leaf's first indexes the shared order
+      nodes.push_back(n);
+    }
+  }
+
+  // Partitions order[begin, end) at the binned SAH split and returns the halves' boxes.
+  Split split(uint32_t begin, uint32_t end, const Aabb& cbox) {
     uint32_t* prims = out_.order.data();
-    uint32_t split = begin + count / 2;
+    const uint32_t count = end - begin;
     // Bin centroids along all three axes in one pass; sweep each axis for the
     // split with the lowest surface area heuristic cost.
     Bin bins[3][kBins];
@@ -63,6 +113,7 @@ class Builder {
       for (int a = 0; a < 3; ++a) {
         Bin& b = bins[a][bin_of(p, a)];
         b.box.grow(boxes_[p]);
+        b.cbox.grow(centers_[p]);
         ++b.count;
       }
     }
@@ -94,27 +145,31 @@ class Builder {
         }
       }
     }
+    Split s;
     if (best_axis >= 0) {
-      split = static_cast<uint32_t>(
+      s.at = static_cast<uint32_t>(
           std::partition(prims + begin, prims + end, [&](uint32_t p) { return bin_of(p, best_axis) < best; }) - prims);
+      // The halves' boxes are their bins' (no second pass over the primitives).
+      for (int i = 0; i < kBins; ++i) {
+        const Bin& b = bins[best_axis][i];
+        (i < best ? s.left_box : s.right_box).grow(b.box);
+        (i < best ? s.left_cbox : s.right_cbox).grow(b.cbox);
+      }
+      return s;
     }
     // When all centroids coincide (or the bins could not separate them) the
     // split stays at the middle by index, so the tree stays balanced instead
     // of making one huge leaf.
-    Aabb left_box, right_box, left_cbox, right_cbox;
-    for (uint32_t i = begin; i < split; ++i) {
-      left_box.grow(boxes_[prims[i]]);
-      left_cbox.grow(centers_[prims[i]]);
+    s.at = begin + count / 2;
+    for (uint32_t i = begin; i < s.at; ++i) {
+      s.left_box.grow(boxes_[prims[i]]);
+      s.left_cbox.grow(centers_[prims[i]]);
     }
-    for (uint32_t i = split; i < end; ++i) {
-      right_box.grow(boxes_[prims[i]]);
-      right_cbox.grow(centers_[prims[i]]);
+    for (uint32_t i = s.at; i < end; ++i) {
+      s.right_box.grow(boxes_[prims[i]]);
+      s.right_cbox.grow(centers_[prims[i]]);
     }
-    out_.nodes[index].count = 0;
-    node(begin, split, left_box, left_cbox, depth + 1);
-    const uint32_t right = node(split, end, right_box, right_cbox, depth + 1);
-    out_.nodes[index].first = right;
-    return index;
+    return s;
   }
 
   const std::vector<Aabb>& boxes_;

@@ -2,12 +2,15 @@
 // random triangle soups, on degenerate input (coincident centroids, flat
 // sheets, zero-area triangles), and for rays along the box faces.
 #include "geometry/bvh.h"
+#include "geometry/bvh_build.h"
 #include "geometry/triangle.h"
 #include "math/rng.h"
 #include "bvh_test_helpers.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <functional>
 #include <vector>
 
 namespace ppm {
@@ -45,6 +48,46 @@ TEST(Bvh, MatchesBruteForceOnRandomTriangles) {
     soup.build();
     expect_agree(soup, rng, scale, 3000);
   }
+}
+
+// Over 2^16 primitives the top subtrees are built on threads of their own and joined: the tree
+// must still be depth-first (left child next), every box the union of its children's (leaves: of
+// their primitives'), and every primitive in exactly one leaf.
+TEST(Bvh, SubtreesBuiltInParallelJoinIntoOneDepthFirstTree) {
+  Rng rng(11, 0, 0);
+  std::vector<Aabb> boxes(300000);
+  for (Aabb& b : boxes) {
+    const Vec3 c = random_point(rng, 100.0);
+    b = Aabb{};
+    b.grow(c);
+    b.grow(c + Vec3(rng.uniform(), rng.uniform(), rng.uniform()));
+  }
+  const BinaryBvh tree = build_binary_bvh(boxes, 4);
+  std::vector<int> seen(boxes.size(), 0);
+  // Returns the subtree's end (the index after its last node) and checks it on the way.
+  std::function<uint32_t(uint32_t)> check = [&](uint32_t i) -> uint32_t {
+    const BinaryBvhNode& n = tree.nodes[i];
+    Aabb expected;
+    if (n.is_leaf()) {
+      for (uint32_t k = n.first; k < n.first + n.count; ++k) {
+        ++seen[tree.order[k]];
+        expected.grow(boxes[tree.order[k]]);
+      }
+      EXPECT_EQ(expected.lo, n.box.lo);
+      EXPECT_EQ(expected.hi, n.box.hi);
+      return i + 1;
+    }
+    const uint32_t left_end = check(i + 1);
+    EXPECT_EQ(left_end, n.first) << "the right child follows the left subtree";
+    const uint32_t end = check(n.first);
+    expected.grow(tree.nodes[i + 1].box);
+    expected.grow(tree.nodes[n.first].box);
+    EXPECT_EQ(expected.lo, n.box.lo);
+    EXPECT_EQ(expected.hi, n.box.hi);
+    return end;
+  };
+  EXPECT_EQ(check(0), tree.nodes.size());
+  EXPECT_TRUE(std::all_of(seen.begin(), seen.end(), [](int k) { return k == 1; }));
 }
 
 TEST(Bvh, CoincidentCentroidsAndFlatSheet) {
