@@ -13,7 +13,8 @@ namespace {
 
 constexpr int kBins = 16;
 constexpr int kMaxDepth = 60;  // keeps traversal stacks small and bounded
-// Subtrees this large, near the root, are built on a thread of their own (2 levels: up to 4 threads).
+// Right subtrees this large, near the root, are built on a thread of their own (2 levels: up to 4
+// threads).
 constexpr uint32_t kParallelPrims = 1u << 16;
 constexpr int kParallelDepth = 2;
 
@@ -59,21 +60,27 @@ class Builder {
     const Split s = split(begin, end, cbox);
     nodes[index].count = 0;
     if (count >= kParallelPrims && depth < kParallelDepth) {
-      // Each half into a list of its own (the left on another thread), then both after this node:
-      // the same depth-first layout as one thread makes.
-      std::vector<BinaryBvhNode> left, right;
+      // The right half on another thread into a list of its own, the left here straight after this
+      // node; then the right after the left: the depth-first layout one thread makes, with one copy
+      // of the right half's nodes (reserved whole, so that the worker never regrows it).
+      std::vector<BinaryBvhNode> right;
+      right.reserve(2 * static_cast<size_t>(end - s.at));
       std::exception_ptr failed;
       std::thread worker([&] {
         try {
-          node(left, begin, s.at, s.left_box, s.left_cbox, depth + 1);
+          node(right, s.at, end, s.right_box, s.right_cbox, depth + 1);
         } catch (...) {
           failed = std::current_exception();
         }
       });
-      node(right, s.at, end, s.right_box, s.right_cbox, depth + 1);
+      try {
+        node(nodes, begin, s.at, s.left_box, s.left_cbox, depth + 1);
+      } catch (...) {
+        worker.join();
+        throw;
+      }
       worker.join();
       if (failed) std::rethrow_exception(failed);
-      append(nodes, left);
       nodes[index].first = static_cast<uint32_t>(nodes.size());
       append(nodes, right);
       return index;
