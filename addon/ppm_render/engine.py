@@ -130,7 +130,6 @@ class PPMRenderEngine(bpy.types.RenderEngine):
             stale.stop()
         VIEWPORT_SESSIONS[id(self)] = None  # the viewport's ViewportSession, once it has one
         self.drawn = None  # the viewport_draw.DrawnImage on screen
-        self.viewport_warnings = []
 
     def __del__(self):
         # Blender may have invalidated this instance already (its attributes then raise ReferenceError),
@@ -208,15 +207,13 @@ class PPMRenderEngine(bpy.types.RenderEngine):
                               + " | cancelled")
 
     def view_update(self, context, depsgraph):
-        """The viewport's scene changed (or is shown for the first time): export it again."""
+        """The viewport's scene changed (or is shown for the first time): export what changed."""
         session = VIEWPORT_SESSIONS.get(id(self))
         try:
             if session is None:
                 session = VIEWPORT_SESSIONS[id(self)] = viewport.ViewportSession(core.load(), viewport.redraw_of(self))
-            elif session.core_scene is not None and not viewport.needs_export(depsgraph, session):
+            if session.update(depsgraph) is None:
                 return
-            self.viewport_warnings = []
-            session.export(depsgraph, self.viewport_warnings.append)
         except Exception as error:  # noqa: BLE001 - shown in the viewport's header
             if session is not None:
                 session.error = str(error)
@@ -238,7 +235,7 @@ class PPMRenderEngine(bpy.types.RenderEngine):
             self.drawn = DrawnImage(image)
         if self.drawn is not None:
             self.drawn.draw(self, depsgraph.scene)
-        self.update_stats("", viewport.status_line(session, self.viewport_warnings))
+        self.update_stats("", viewport.status_line(session))
 
     def update_render_passes(self, scene=None, renderlayer=None):
         """Declares the passes this engine writes, so the compositor and the result list them."""

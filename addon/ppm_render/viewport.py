@@ -6,9 +6,11 @@ within a fraction of a second), then full-resolution passes until the viewport's
 time limit. The core releases the GIL while it renders, so Blender's UI stays live; the thread asks
 Blender to redraw after each pass, and `view_draw` shows the newest image.
 
-An edit (`export`) or a new view (`set_view`) cancels the pass in progress (the core notices
+An edit (`update`) or a new view (`set_view`) cancels the pass in progress (the core notices
 within its 0.1 s poll), waits for the thread, and starts again from the new scene or view: an image
-never mixes photons of two scenes. Everything that reads Blender data (the export) runs on the main
+never mixes photons of two scenes. An edit of lights alone (a lamp moved, its power or colour) replaces
+the core scene's lights and keeps its objects and BVH, so lighting a heavy scene stays interactive;
+any other edit exports the scene again. Everything that reads Blender data (the export) runs on the main
 thread, in view_update and view_draw; the render thread touches only the core scene, which the main
 thread leaves alone while a thread runs.
 """
@@ -16,6 +18,8 @@ thread leaves alone while a thread runs.
 import threading
 import time
 import weakref
+
+import bpy
 
 from . import export
 from .properties import core_settings, film_settings, light_path_settings
@@ -53,17 +57,45 @@ class ViewportSession:
         self.generation = 0  # counts restarts; an image from an older one is dropped
         self.error = None
         self.done = False
+        self.object_warnings = []  # of the last whole export (objects, materials, world)
+        self.light_warnings = []  # of the last export of the lights
         SESSIONS.add(self)
 
-    def export(self, depsgraph, warn):
-        """(Re)exports the whole scene from the evaluated depsgraph (main thread), stopping the thread."""
+    @property
+    def warnings(self):
+        return self.object_warnings + self.light_warnings
+
+    def update(self, depsgraph):
+        """Brings the core scene up to the depsgraph's updates (main thread): what changed_part says.
+        Returns that part (None: nothing that is rendered changed)."""
+        part = changed_part(depsgraph, self)
+        if part == "lights":
+            self.export_lights(depsgraph)
+        elif part == "scene":
+            self.export(depsgraph)
+        return part
+
+    def export(self, depsgraph):
+        """(Re)exports the whole scene from the evaluated depsgraph, stopping the thread."""
         self.stop()
         self.core_scene = None  # until the export succeeds: a failed one renders nothing and shows its error
-        self.core_scene = export.export_scene(self.ppm_core, depsgraph, warn)
+        self.object_warnings, self.light_warnings = [], []
+        core_scene = export.export_scene(self.ppm_core, depsgraph, self.object_warnings.append, lights=False)
+        export.export_lights(core_scene, depsgraph, self.light_warnings.append)
+        self.core_scene = core_scene
         scene = depsgraph.scene
         self.settings = renderer_settings(scene)
         self.limits = (scene.ppm.viewport_passes, scene.ppm.viewport_time_limit)
         self.settings_key = settings_key(scene)
+
+    def export_lights(self, depsgraph):
+        """Replaces the core scene's lights with the depsgraph's, stopping the thread; the objects, the
+        world and the BVH built from them stay."""
+        self.stop()
+        core_scene, self.core_scene = self.core_scene, None  # as in export: a failure renders nothing
+        self.light_warnings = []
+        export.export_lights(core_scene, depsgraph, self.light_warnings.append)
+        self.core_scene = core_scene
 
     def set_view(self, view):
         """Restarts with the camera arguments `view` if they differ from the current ones."""
@@ -181,13 +213,21 @@ def redraw_of(engine):
     return redraw
 
 
-def needs_export(depsgraph, session):
-    """Whether the depsgraph's updates change what is rendered (a selection does not), or the
-    viewport's settings changed."""
-    if session.settings_key != settings_key(depsgraph.scene):
-        return True
-    return any(update.is_updated_geometry or update.is_updated_transform or update.is_updated_shading
-               or update.id.bl_rna.identifier not in ("Scene", "ViewLayer") for update in depsgraph.updates)
+def changed_part(depsgraph, session):
+    """What of the rendered scene the depsgraph's updates change: None (a selection, say), "lights"
+    (light objects and light data alone: moved, or their power, colour or size) or "scene" (anything
+    else, the add-on's settings, or a session without a scene)."""
+    if session.core_scene is None or session.settings_key != settings_key(depsgraph.scene):
+        return "scene"
+    changed = [update.id for update in depsgraph.updates
+               if update.is_updated_geometry or update.is_updated_transform or update.is_updated_shading
+               or update.id.bl_rna.identifier not in ("Scene", "ViewLayer")]
+    if not changed:
+        return None
+    if all(isinstance(id, bpy.types.Light) or (isinstance(id, bpy.types.Object) and id.type == "LIGHT")
+           for id in changed):
+        return "lights"
+    return "scene"
 
 
 def settings_key(scene):
@@ -196,8 +236,9 @@ def settings_key(scene):
     return tuple(sorted(renderer_settings(scene).items())), settings.viewport_passes, settings.viewport_time_limit
 
 
-def status_line(session, warnings):
+def status_line(session):
     """The viewport header's text: the error, or passes, photons and time, and the warnings' count."""
+    warnings = session.warnings
     if session.error:
         return f"PPM: {session.error}"
     image = session.newest()

@@ -4,13 +4,15 @@ window, so drawing is left out: `view_draw` uploads and draws the newest image, 
     .venv/bin/python bench/run.py viewport [--quick]
 
 On `scene` seen through its camera at width x height: an edit (the lamp moved) is followed by
-view_update's work (the session stops the thread and exports the scene again) and the thread's
-restart; reported are the seconds from the edit to the first image of the new scene (a 1/4
-resolution preview), to the first full-resolution image, and the export alone (median and 90th
-percentile over `edits_timed` edits). Then the images per second while refining at full resolution
-(each asks Blender for a redraw), and the process's resident memory after the edits in `memory_marks`
-(each cancelling the last one's refinement after its first image, as dragging a lamp does), as it is
-and after glibc's malloc_trim (what is still allocated)."""
+view_update's work (session.update, called in a depsgraph handler as Blender calls view_update: a lamp
+edit replaces the core scene's lights) and the thread's restart; reported are the seconds from the edit
+to the first image of the new scene (a 1/4 resolution preview), to the first full-resolution image, and
+session.update alone (median and 90th percentile over `edits_timed` edits). Then the images per second
+while refining at full resolution (each asks Blender for a redraw), and the process's resident memory
+after the edits in `memory_marks` (each cancelling the last one's refinement after its first image, as
+dragging a lamp does), as it is and after glibc's malloc_trim (what is still allocated). Last, the same
+scene with a dense ball of about `heavy_triangles` triangles added: lamp edits (lights replaced, the BVH
+kept) against material edits (the whole scene exported and its BVH built again)."""
 
 from __future__ import annotations
 
@@ -44,9 +46,9 @@ def trimmed_rss_mb():
 
 
 class Edits:
-    """The session on the scene, and edits of its lamp, timed."""
+    """The session on the scene, and edits of its lamp or a material, timed."""
 
-    def __init__(self, params):
+    def __init__(self, params, extra_triangles=0):
         import bpy
 
         from ppm_render import core, viewport
@@ -54,29 +56,54 @@ class Edits:
 
         bpy.ops.wm.open_mainfile(filepath=os.path.join(ROOT, "blend_scenes", params["scene"]))
         self.bpy, self.scene = bpy, bpy.context.scene
+        if extra_triangles:  # a dense ball on the floor: a heavy scene that still looks like the box
+            rings = int(round((extra_triangles / 4) ** 0.5))
+            bpy.ops.mesh.primitive_uv_sphere_add(segments=2 * rings, ring_count=rings, radius=0.15,
+                                                 location=(0.45, 0.45, 0.15))
         self.scene.ppm.viewport_photons_per_pass = params["photons"]
         self.scene.ppm.viewport_passes = 0
         self.session = viewport.ViewportSession(core.load(), lambda: None)
         depsgraph = bpy.context.evaluated_depsgraph_get()
+        self.triangles = sum(len(p.vertices) - 2 for o in self.scene.objects if o.type == "MESH"
+                             for p in o.data.polygons)
         cam = self.scene.camera
         projection = cam.calc_matrix_camera(depsgraph, x=params["width"], y=params["height"])
-        self.session.export(depsgraph, lambda _: None)
+        self.session.export(depsgraph)
         self.session.set_view(camera_from_projection(cam.matrix_world.inverted(), projection, params["width"],
                                                      params["height"]))
         self.session.start()
         self.lamp = next(o for o in self.scene.objects if o.type == "LIGHT")
+        self.matte = next(n for n in self.bpy.data.materials["matte"].node_tree.nodes if n.type.startswith("BSDF"))
         self.step = 0
 
-    def edit(self, wait_full=True):
-        """Moves the lamp and does what view_update and view_draw do; (seconds to the first image, to the
-        first full-resolution image (None without `wait_full`), of the export)."""
+    def change(self, what):
+        if what == "lamp":
+            self.lamp.location.x = 0.2 * ((self.step % 5) - 2)
+        else:  # the matte ball's colour: the whole scene is exported again
+            self.matte.inputs["Color"].default_value = (0.8, 0.7, 0.1 + 0.1 * (self.step % 5), 1.0)
+
+    def edit(self, what="lamp", wait_full=True):
+        """Changes the lamp or a material and does what view_update (session.update, in a depsgraph
+        handler as Blender calls it) and view_draw (start) do; (seconds to the first image, to the first
+        full-resolution image (None without `wait_full`), of session.update)."""
         self.step += 1
-        start = time.perf_counter()
-        self.lamp.location.x = 0.2 * ((self.step % 5) - 2)
-        depsgraph = self.bpy.context.evaluated_depsgraph_get()
-        export_start = time.perf_counter()
-        self.session.export(depsgraph, lambda _: None)
-        export_s = time.perf_counter() - export_start
+        updated = []
+
+        def handler(_scene, depsgraph):
+            update_start = time.perf_counter()
+            if self.session.update(depsgraph) is not None:
+                updated.append(time.perf_counter() - update_start)
+
+        self.bpy.context.evaluated_depsgraph_get()
+        self.bpy.app.handlers.depsgraph_update_post.append(handler)
+        try:
+            start = time.perf_counter()
+            self.change(what)
+            self.bpy.context.evaluated_depsgraph_get()
+        finally:
+            self.bpy.app.handlers.depsgraph_update_post.remove(handler)
+        if len(updated) != 1:
+            raise RuntimeError(f"the edit updated the session {len(updated)} times")
         self.session.start()
         generation, first, full = self.session.generation, None, None
         while full is None and (wait_full or first is None):
@@ -88,7 +115,7 @@ class Edits:
             if self.session.error:
                 raise RuntimeError(self.session.error)
             time.sleep(0.0005)
-        return first, full, export_s
+        return first, full, updated[0]
 
     def images_per_second(self, seconds):
         seen, start, last = 0, time.perf_counter(), self.session.newest()
@@ -118,9 +145,17 @@ def measure(params):
             if count in params["memory_marks"]:
                 memory[count] = (rss_mb(), trimmed_rss_mb())
         edits.session.stop()
+        heavy = {}
+        if params["heavy_triangles"]:
+            edits = Edits(params, params["heavy_triangles"])
+            for what in ("lamp", "material"):
+                heavy[what] = [edits.edit(what) for _ in range(params["heavy_edits_timed"])]
+            heavy["triangles"] = edits.triangles
+            edits.session.stop()
     finally:
         ppm_render.unregister()  # bpy 4.2 and 4.5 crash or hang at exit otherwise
-    return {"version": bpy.app.version_string, "timed": timed, "images_per_s": rate, "rss_mb": memory}
+    return {"version": bpy.app.version_string, "timed": timed, "images_per_s": rate, "rss_mb": memory,
+            "heavy": heavy}
 
 
 def quantiles(values):
@@ -130,11 +165,11 @@ def quantiles(values):
 
 def run(experiment, results):
     params = {k: experiment[k] for k in ("scene", "width", "height", "photons", "edits_timed", "refine_seconds",
-                                         "edits", "memory_marks")}
+                                         "edits", "memory_marks", "heavy_triangles", "heavy_edits_timed")}
     m = blenders.result_of(experiment["blender"], "kinds.viewport:measure", params)
     rows = []
     for i, name in enumerate(("edit -> first image (1/4 preview)", "edit -> first full-resolution image",
-                              "export alone")):
+                              "session.update alone (the export)")):
         median, p90 = quantiles([t[i] for t in m["timed"]])
         results.row(part="edit", measure=name, median_s=median, p90_s=p90)
         rows.append([name, f"{median:.3f}", f"{p90:.3f}"])
@@ -146,3 +181,13 @@ def run(experiment, results):
     results.row(part="memory", rss_mb=m["rss_mb"])
     results.table(["edits", "resident memory (MB)", "after malloc_trim"],
                   [[k, f"{rss:.0f}", f"{trimmed:.0f}"] for k, (rss, trimmed) in m["rss_mb"].items()])
+    if m["heavy"]:
+        rows = []
+        for what, label in (("lamp", "lamp moved (lights replaced)"), ("material", "material edited (all exported)")):
+            for i, name in enumerate(("edit -> first image", "edit -> first full-resolution image",
+                                      "session.update alone")):
+                median, p90 = quantiles([t[i] for t in m["heavy"][what]])
+                results.row(part="heavy", edit=what, measure=name, median_s=median, p90_s=p90)
+                rows.append([label, name, f"{median:.3f}", f"{p90:.3f}"])
+        results.table(["edit", "seconds", "median", "90th percentile"], rows,
+                      title=f"the same with a dense ball added: {m['heavy']['triangles']:,} triangles")

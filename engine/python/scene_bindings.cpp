@@ -741,6 +741,9 @@ void bind_scene(py::module_& m) {
            "reach it (as for add_mesh; Blender lights leave out 'camera'); cast_shadow: False lights through "
            "everything in the way. max_bounces: Cycles' per-light Max Bounces, the longest path (in "
            "scatterings) the light reaches; 1024 is no limit.")
+      .def("remove_lights", &Scene::remove_lights,
+           "Removes every light add_light added; the world and emissive surfaces stay. A built scene keeps "
+           "its BVH: replacing the lights of a large scene costs the lights alone.")
       .def("set_camera", &set_camera, py::arg("matrix"), py::arg("width"), py::arg("height"),
            py::arg("projection") = "perspective", py::arg("fov") = 0.8575560591178853, py::arg("ortho_scale") = 7.0,
            py::arg("sensor_fit") = "auto", py::arg("shift_x") = 0.0, py::arg("shift_y") = 0.0,

@@ -79,7 +79,19 @@ void Scene::ensure_mutable() const {
 }
 
 void Scene::invalidate() {
-  built_ = false;
+  geometry_built_ = false;
+  lights_built_ = false;
+}
+
+// The lights and the world are prepared after the BVH, from it: changing them keeps the BVH.
+void Scene::invalidate_lights() {
+  lights_built_ = false;
+}
+
+void Scene::remove_lights() {
+  ensure_mutable();
+  user_lights_.clear();
+  invalidate_lights();
 }
 
 Scene::Scene() = default;
@@ -357,7 +369,7 @@ void Scene::add_light(Light light) {
   if (light.kind == LightKind::Background || light.kind == LightKind::Triangle)
     fail(what, "use set_background or an emissive material for this kind");
   user_lights_.push_back(light);
-  invalidate();
+  invalidate_lights();
 }
 
 void Scene::set_camera(const Camera& c) {
@@ -409,7 +421,7 @@ void Scene::set_background(const Color& radiance, uint8_t visibility, int max_bo
   camera_environment_input_.reset();
   background_visibility_ = visibility;
   background_max_bounces_ = max_bounces;
-  invalidate();
+  invalidate_lights();
 }
 
 void Scene::set_environment(uint32_t texture, const Mat4& world_to_texture, const Color& strength,
@@ -432,7 +444,7 @@ void Scene::set_environment(uint32_t texture, const Mat4& world_to_texture, cons
   background_ = Color(0.0);
   background_visibility_ = visibility;
   background_max_bounces_ = max_bounces;
-  invalidate();
+  invalidate_lights();
 }
 
 void Scene::set_camera_background(uint32_t texture, const Color& strength) {
@@ -442,7 +454,7 @@ void Scene::set_camera_background(uint32_t texture, const Color& strength) {
   check_power(strength, what, "strength");
   camera_environment_input_ = std::make_unique<EnvironmentInput>(
       EnvironmentInput{texture, Mat3(1.0), strength, EnvironmentProjection::Equirectangular});
-  invalidate();
+  invalidate_lights();
 }
 
 // A built scene keeps its triangles in the BVH's leaf records only (72 bytes a triangle less);
@@ -469,7 +481,14 @@ void Scene::release_triangles() {
 }
 
 void Scene::build() {
-  if (built_) return;
+  if (!geometry_built_) {
+    build_geometry();
+    lights_built_ = false;
+  }
+  if (!lights_built_) prepare_lights();
+}
+
+void Scene::build_geometry() {
   restore_triangles();
   prims_.clear();
   std::vector<Aabb> boxes;
@@ -507,9 +526,14 @@ void Scene::build() {
   interleave_ = bvh_.nodes().size() * sizeof(BvhNode) + leaf_prims_.size() * sizeof(LeafPrim) > kInterleaveBytes;
   const Aabb bounds = bvh_.bounds();
   offset_floor_ = bounds.empty() ? 1e-12 : 1e-10 * max_abs(bounds.extent()) + 1e-300;
+  release_triangles();
+  geometry_built_ = true;
+}
 
+// The user lights, the world and the emissive triangles (read from their leaf records).
+void Scene::prepare_lights() {
   lights_.clear();
-  Aabb light_bounds = bounds;
+  Aabb light_bounds = bvh_.bounds();
   for (const Light& l : user_lights_)
     if (l.kind != LightKind::Sun) light_bounds.grow(l.position);
   for (Light l : user_lights_) {
@@ -536,21 +560,21 @@ void Scene::build() {
     prepare_light(l, light_bounds);
     lights_.push_back(l);
   }
-  for (uint32_t i = 0; i < triangles_.size(); ++i) {
+  for (uint32_t i = 0; i < triangle_info_.size(); ++i) {
     const Material& m = materials_[triangle_info_[i].material];
-    if (!m.emits() || triangle_area(triangles_[i]) <= 0.0) continue;
+    const TrianglePrim& triangle = leaf_prims_[slot_of_triangle_[i]].tri;
+    if (!m.emits() || triangle_area(triangle) <= 0.0) continue;
     Light l;
     l.kind = LightKind::Triangle;
     l.name = m.name;
-    l.triangle = triangles_[i];
+    l.triangle = triangle;
     l.primitive = i;
     l.radiance = m.emission;
     if (m.emission_input >= 0) textured_emission(m, triangle_info_[i], l);
     prepare_light(l, light_bounds);
     lights_.push_back(l);
   }
-  release_triangles();
-  built_ = true;
+  lights_built_ = true;
 }
 
 // A triangle's textured emission: its material's program and UVs, and as its radiance (which its

@@ -96,6 +96,9 @@ class Scene {
                           const Mat4& object_to_world, uint32_t material, uint32_t object_id,
                           uint8_t visibility = kAllRayKinds);
   void add_light(Light light);
+  // Removes the lights add_light added (the world and emissive surfaces stay). The BVH is kept:
+  // a scene whose lights alone change is built again in the time its lights take.
+  void remove_lights();
   void set_camera(const Camera& camera);
   // The world: a constant radiance, or an image (`texture`, an index from
   // add_texture) seen through the rotation `world_to_texture` and scaled by
@@ -125,14 +128,15 @@ class Scene {
     const Scene& scene_;
   };
 
-  // Builds the BVH and prepares the lights. Idempotent; builders called after it rebuild.
+  // Builds the BVH and prepares the lights. Idempotent; builders called after it rebuild what they
+  // change (the lights and the world alone keep the BVH).
   void build();
 
   // For a built scene: throws std::invalid_argument naming the light whose
   // flux overflows a double, or the material whose colour above 1 could grow a
   // photon's share of the flux beyond kMaxPhotonGain over `max_bounces` scatterings.
   void check_energy_range(int max_bounces) const;
-  bool built() const { return built_; }
+  bool built() const { return geometry_built_ && lights_built_; }
 
   // Closest hit with 0 < t < tmax; fills the hit record.
   bool intersect(const Ray& ray, Hit& hit, double tmax = kInf) const;
@@ -210,6 +214,9 @@ class Scene {
   void add_primitive_data(const Material& m, uint32_t primitive, const Vec3& position, ShadingContext& c) const;
   void textured_emission(const Material& m, const TriangleInfo& info, Light& l) const;
   void invalidate();
+  void invalidate_lights();
+  void build_geometry();
+  void prepare_lights();
   void restore_triangles();
   void release_triangles();
   void ensure_mutable() const;
@@ -268,7 +275,8 @@ class Scene {
   HugePageVector<LeafPrim> leaf_prims_;
   double offset_floor_ = 1e-12;
   bool interleave_ = false;  // BVH larger than kInterleaveBytes
-  bool built_ = false;
+  bool geometry_built_ = false;  // the BVH and its leaf records
+  bool lights_built_ = false;    // lights_ and the environments
   // The leases on this scene. Movable so that Scene is (a leased scene is never moved: its
   // renderers hold it by shared_ptr).
   struct LeaseCount {

@@ -84,7 +84,7 @@ def test_operator_creates_a_flagged_curve_with_a_preview():
 def test_export_sends_the_control_points_not_the_preview():
     _scene, vase = revolve_scene()
     warnings = []
-    exporter = export.Exporter(ppm_core, warnings.append)
+    exporter = export.Exporter(ppm_core.Scene(), warnings.append)
     for instance in bpy.context.evaluated_depsgraph_get().object_instances:
         exporter.visit(instance)
     exporter.finish_curves()

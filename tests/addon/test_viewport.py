@@ -93,14 +93,15 @@ def test_the_camera_view_has_the_cameras_depth_of_field_where_the_settings_ask_f
 class Session:
     """A ViewportSession on the Cornell box, with the redraws it asks for counted."""
 
-    def __init__(self, width=160, height=120):
-        bpy.ops.wm.open_mainfile(filepath=os.path.join(SCENES_DIR, "cornell_3spheres.blend"))
+    def __init__(self, width=160, height=120, open_file=True):
+        if open_file:
+            bpy.ops.wm.open_mainfile(filepath=os.path.join(SCENES_DIR, "cornell_3spheres.blend"))
         self.scene = bpy.context.scene
         self.scene.ppm.viewport_photons_per_pass = 5_000
         self.scene.ppm.viewport_passes = 6
         self.redraws = 0
         self.session = viewport.ViewportSession(ppm_core, self.redraw)
-        self.session.export(bpy.context.evaluated_depsgraph_get(), print)
+        self.session.export(bpy.context.evaluated_depsgraph_get())
         cam = self.scene.camera
         projection = cam.calc_matrix_camera(bpy.context.evaluated_depsgraph_get(), x=width, y=height)
         self.session.set_view(camera_from_projection(cam.matrix_world.inverted(), projection, width, height))
@@ -121,13 +122,15 @@ class Session:
         raise AssertionError("the viewport did not finish refining")
 
 
-def export_needed_after(session, change):
-    """needs_export as view_update would see it after `change()`: the updates a depsgraph lists exist
-    only while it reports them (here in a depsgraph_update_post handler)."""
+def updated_after(session, change, update=True):
+    """The parts changed_part names after `change()` (None, "lights" or "scene"), as view_update sees
+    them; with `update`, session.update then brings the session up to them, as view_update does. The
+    updates a depsgraph lists exist only while it reports them (here in a depsgraph_update_post
+    handler)."""
     answers = []
 
     def handler(_scene, depsgraph):
-        answers.append(viewport.needs_export(depsgraph, session))
+        answers.append(session.update(depsgraph) if update else viewport.changed_part(depsgraph, session))
 
     bpy.context.evaluated_depsgraph_get()  # settles earlier changes
     bpy.app.handlers.depsgraph_update_post.append(handler)
@@ -136,7 +139,18 @@ def export_needed_after(session, change):
         bpy.context.evaluated_depsgraph_get()
     finally:
         bpy.app.handlers.depsgraph_update_post.remove(handler)
-    return any(answers)
+    return {answer for answer in answers if answer is not None} or {None}
+
+
+def part_changed_by(session, change):
+    """The one part changed_part names after `change()`."""
+    (part,) = updated_after(session, change, update=False)
+    return part
+
+
+def bsdf_colour(material_name, rgb):
+    node = next(n for n in bpy.data.materials[material_name].node_tree.nodes if n.type.startswith("BSDF"))
+    node.inputs["Color"].default_value = (*rgb, 1.0)
 
 
 def test_the_viewport_refines_from_a_coarse_preview_to_full_resolution_and_stops_at_its_passes():
@@ -156,15 +170,36 @@ def test_an_edit_restarts_from_the_new_scene_and_no_image_mixes_the_two():
     s = Session()
     s.session.start()
     before = s.images_until_done()[-1]
-    lamp = s.scene.objects["lamp"]
-    assert export_needed_after(s.session, lambda: setattr(lamp.location, "x", lamp.location.x + 0.6))
-    s.session.export(bpy.context.evaluated_depsgraph_get(), print)
+    assert updated_after(s.session, lambda: bsdf_colour("matte", (0.1, 0.1, 0.9))) == {"scene"}
     s.session.start()
     after = s.images_until_done()
     s.session.stop()
     assert all(image.generation == after[-1].generation for image in after[1:])
     assert after[-1].generation > before.generation
-    assert np.abs(after[-1].rgba[..., :3] - before.rgba[..., :3]).mean() > 0.01  # lit from elsewhere
+    assert np.abs(after[-1].rgba[..., :3] - before.rgba[..., :3]).mean() > 0.005  # the ball's new colour
+
+
+def test_a_lamp_edit_replaces_the_lights_alone_and_renders_as_a_new_export_would():
+    """Moving a lamp and changing its power keep the exported objects (and their BVH); the image is the
+    one a session exporting the edited scene afresh renders, to the last bit."""
+    s = Session()
+    s.session.start()
+    s.images_until_done()
+    kept = s.session.core_scene
+    lamp = s.scene.objects["lamp"]
+    assert updated_after(s.session, lambda: setattr(lamp.location, "x", lamp.location.x + 0.6)) == {"lights"}
+    assert updated_after(s.session, lambda: setattr(lamp.data, "energy", 2.0 * lamp.data.energy)) == {"lights"}
+    assert s.session.core_scene is kept
+    s.session.start()
+    edited = s.images_until_done()[-1]
+    s.session.stop()
+    fresh = Session(open_file=False)  # the edited scene, exported afresh
+    fresh.session.start()
+    expected = fresh.images_until_done()[-1]
+    fresh.session.stop()
+    np.testing.assert_array_equal(edited.rgba, expected.rgba)
+    assert updated_after(fresh.session, lambda: bsdf_colour("matte", (0.1, 0.1, 0.9))) == {"scene"}
+    assert fresh.session.core_scene is not expected
 
 
 def test_a_session_whose_engine_is_gone_stops_after_its_image():
@@ -181,7 +216,7 @@ def test_stopping_mid_pass_returns_within_the_cores_poll_interval():
     s = Session(width=320, height=240)
     s.scene.ppm.viewport_photons_per_pass = 2_000_000  # passes of seconds each
     s.scene.ppm.viewport_passes = 0
-    s.session.export(bpy.context.evaluated_depsgraph_get(), print)
+    s.session.export(bpy.context.evaluated_depsgraph_get())
     s.session.start()
     time.sleep(1.0)
     start = time.monotonic()
@@ -190,7 +225,7 @@ def test_stopping_mid_pass_returns_within_the_cores_poll_interval():
     assert s.session.thread is None and not any(t.name == "PPM viewport" for t in threading.enumerate())
 
 
-def test_a_selection_alone_needs_no_new_export_but_a_setting_or_a_material_does():
+def test_a_selection_alone_needs_no_export_but_a_setting_or_a_material_does():
     s = Session()
 
     def select_all():
@@ -203,8 +238,8 @@ def test_a_selection_alone_needs_no_new_export_but_a_setting_or_a_material_does(
     def redder():
         bpy.data.materials["blue"].diffuse_color = (1.0, 0.0, 0.0, 1.0)
 
-    assert not export_needed_after(s.session, select_all)
-    assert export_needed_after(s.session, redder)
+    assert part_changed_by(s.session, select_all) is None
+    assert part_changed_by(s.session, redder) == "scene"
     # A setting of the add-on's own tags no update (Python-defined properties do not): view_draw, which
     # every change in a panel triggers, compares the settings instead.
     assert viewport.settings_key(s.scene) == s.session.settings_key
@@ -225,6 +260,6 @@ def test_an_export_that_fails_renders_nothing_and_keeps_its_error():
             raise RuntimeError("broken depsgraph")
 
     with pytest.raises(RuntimeError):
-        session.export(Broken(), print)
+        session.export(Broken())
     session.start()
     assert session.thread is None and session.core_scene is None

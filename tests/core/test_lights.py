@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 import ppm_core
+from core_scenes import cornell_3spheres
 
 RHO = 0.5
 
@@ -178,3 +179,50 @@ def test_glowing_closed_room_is_emission_over_one_minus_albedo(mode):
     scene.set_camera(camera, 16, 16, fov=math.radians(60))
     image = render(scene, 60, direct_light=mode, photons_per_pass=50_000, max_bounces=40)
     assert image.mean() == pytest.approx(0.3 / (1 - RHO), rel=0.02)
+
+
+def lit_cornell(lamp_position, background=(0.0, 0.0, 0.0)):
+    """The Cornell box of core_scenes without its lamp, plus an emissive quad under the ceiling, one
+    sphere lamp at `lamp_position` and a constant world."""
+    scene = cornell_3spheres(24, 18)
+    scene.remove_lights()
+    glow = scene.add_material("glow", "diffuse", base_color=(0.5, 0.5, 0.5), emission=(4.0, 3.0, 2.0))
+    quad = np.array([[-0.2, -0.2, 1.9], [0.2, -0.2, 1.9], [0.2, 0.2, 1.9], [-0.2, 0.2, 1.9]], dtype=float)
+    scene.add_mesh("glow", quad, np.array([[0, 2, 1], [0, 3, 2]]), materials=glow)
+    scene.add_light("sphere", name="lamp", power=25.0, position=lamp_position, radius=0.05)
+    scene.set_background(background)
+    return scene
+
+
+@pytest.mark.parametrize("hit_points", ["fixed", "stochastic"])
+def test_lights_replaced_after_a_build_render_as_a_scene_built_with_them(hit_points):
+    # The viewport moves a lamp by replacing a built scene's lights (its BVH is kept): the image must
+    # be the one of a scene exported afresh, emissive surfaces and world included.
+    settings = {"photons_per_pass": 5_000, "threads": 2, "seed": 3, "hit_points": hit_points}
+    edited = lit_cornell((0.0, 0.0, 1.3))
+    ppm_core.Renderer(edited, **settings).run(passes=1)  # built, with the first lamp
+    edited.remove_lights()
+    edited.add_light("sphere", name="lamp", power=25.0, position=(0.4, 0.3, 1.0), radius=0.05)
+    edited.set_background((0.05, 0.05, 0.1))
+    fresh = lit_cornell((0.4, 0.3, 1.0), background=(0.05, 0.05, 0.1))
+    images = []
+    for scene in (edited, fresh):
+        renderer = ppm_core.Renderer(scene, **settings)
+        renderer.run(passes=3)
+        images.append(renderer.image())
+    np.testing.assert_array_equal(images[0], images[1])
+    before = ppm_core.Renderer(lit_cornell((0.0, 0.0, 1.3)), **settings)
+    before.run(passes=3)
+    assert not np.array_equal(before.image(), images[0])  # the edit did change the image
+
+
+def test_removing_the_lights_keeps_the_emissive_surfaces():
+    scene = lit_cornell((0.0, 0.0, 1.3))
+    scene.remove_lights()
+    renderer = ppm_core.Renderer(scene, photons_per_pass=2_000, threads=2)
+    renderer.run(passes=1)
+    assert renderer.image()[..., :3].mean() > 0.0
+    held = ppm_core.Renderer(scene, photons_per_pass=2_000, threads=2)
+    with pytest.raises(RuntimeError):
+        scene.remove_lights()  # a renderer holds the scene: the builders refuse to change it
+    del held

@@ -32,11 +32,14 @@ class Cancelled(Exception):
 
 
 class Exporter:
-    """State of one export: the core scene, materials, mesh cache, warnings and object ids."""
+    """State of one export: the core scene, materials, mesh cache, warnings and object ids. `lights`
+    and `objects` choose what of the depsgraph's instances it adds; either way every instance gets
+    its object id, so that names are the same whatever is exported."""
 
-    def __init__(self, core_module, warn, view_layer=None, scene=None):
-        self.scene = core_module.Scene()
+    def __init__(self, core_scene, warn, view_layer=None, scene=None, lights=True, objects=True):
+        self.scene = core_scene
         self.warn = warn
+        self.lights, self.objects = lights, objects
         self.attributes = object_info.AttributeTable(view_layer, scene)
         self.materials = material.MaterialExporter(self.scene, warn, self.attributes)
         self.meshes = {}
@@ -128,7 +131,10 @@ class Exporter:
         item = Instance(obj, name, np.array(instance.matrix_world, dtype=float), object_id,
                         object_info.random_of(instance), instancer, particles)
         if obj.type == "LIGHT":
-            light.add_light(self.scene, item, self.warn)
+            if self.lights:
+                light.add_light(self.scene, item, self.warn)
+        elif not self.objects:
+            return
         elif instanced is not None and instanced.type in CURVE_TYPES and instanced.original == obj.original:
             # The evaluated geometry of a curve, listed as a MESH instance of the curve itself.
             self.curves_with_mesh.add(instanced.original.name)
@@ -165,14 +171,28 @@ def build_scene(core_module, depsgraph, frame, warn, cancelled=lambda: False):
     return core_scene, camera_args
 
 
-def export_scene(core_module, depsgraph, warn, cancelled=lambda: False):
-    """The ppm_core.Scene of the evaluated depsgraph's objects, lights and world, without a camera."""
-    exporter = Exporter(core_module, warn, depsgraph.view_layer, depsgraph.scene)
-    for instance in depsgraph.object_instances:
-        if cancelled():
-            raise Cancelled()
-        exporter.visit(instance)
+def export_scene(core_module, depsgraph, warn, cancelled=lambda: False, lights=True):
+    """The ppm_core.Scene of the evaluated depsgraph's objects, world and (with `lights`) lights,
+    without a camera."""
+    exporter = Exporter(core_module.Scene(), warn, depsgraph.view_layer, depsgraph.scene, lights=lights)
+    visit_instances(exporter, depsgraph, cancelled)
     exporter.finish_curves()
     exporter.report_skips()
     world.add_world(exporter.scene, depsgraph.scene.world, warn, exporter.attributes)
     return exporter.scene
+
+
+def export_lights(core_scene, depsgraph, warn, cancelled=lambda: False):
+    """Replaces `core_scene`'s lights with the evaluated depsgraph's; its objects and world stay (and so
+    does its BVH, if built): the viewport's update when only lights changed."""
+    core_scene.remove_lights()
+    exporter = Exporter(core_scene, warn, depsgraph.view_layer, depsgraph.scene, objects=False)
+    visit_instances(exporter, depsgraph, cancelled)
+    exporter.report_skips()
+
+
+def visit_instances(exporter, depsgraph, cancelled):
+    for instance in depsgraph.object_instances:
+        if cancelled():
+            raise Cancelled()
+        exporter.visit(instance)
