@@ -58,7 +58,7 @@ def exported_scene(scene):
             names[item.object_id] = item.obj.original.name
             super().add_revolve(item)
 
-    exporter = NamingExporter(ppm_core, lambda message: None)
+    exporter = NamingExporter(ppm_core.Scene(), lambda message: None)
     for instance in depsgraph.object_instances:
         exporter.visit(instance)
     exporter.finish_curves()

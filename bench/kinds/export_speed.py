@@ -27,7 +27,7 @@ def export_seconds(obj):
 
     depsgraph = bpy.context.evaluated_depsgraph_get()
     start = time.monotonic()
-    exporter = export.Exporter(core.load(), print)
+    exporter = export.Exporter(core.load().Scene(), print)
     exporter.add_geometry(export.instance.Instance(obj.evaluated_get(depsgraph), "grid", np.eye(4), 0))
     return time.monotonic() - start, exporter.triangles
 

@@ -21,6 +21,8 @@ import statistics
 import sys
 import time
 
+import numpy as np
+
 from harness import blenders
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
@@ -45,6 +47,32 @@ def trimmed_rss_mb():
     return rss_mb()
 
 
+def add_dense_ball(bpy, triangles, radius, location):
+    """A UV sphere of about `triangles` triangles, made from arrays (bpy.ops' UV sphere takes minutes
+    at this size, now and then)."""
+    rings = max(3, int(round((triangles / 4) ** 0.5)))
+    segments = 2 * rings
+    theta = np.linspace(0.0, np.pi, rings + 1)[1:-1]
+    phi = np.linspace(0.0, 2.0 * np.pi, segments, endpoint=False)
+    ring = np.stack([np.outer(np.sin(theta), np.cos(phi)), np.outer(np.sin(theta), np.sin(phi)),
+                     np.repeat(np.cos(theta)[:, None], segments, axis=1)], axis=-1).reshape(-1, 3)
+    vertices = np.concatenate([[(0.0, 0.0, 1.0)], ring, [(0.0, 0.0, -1.0)]]) * radius
+    index = 1 + np.arange((rings - 1) * segments).reshape(rings - 1, segments)
+    right = np.roll(index, -1, axis=1)
+    top = np.stack([np.zeros(segments, int), index[0], right[0]], axis=1)
+    bottom = np.stack([np.full(segments, len(vertices) - 1), right[-1], index[-1]], axis=1)
+    a, b, c, d = index[:-1], right[:-1], right[1:], index[1:]
+    sides = np.concatenate([np.stack([a, d, c], -1).reshape(-1, 3), np.stack([a, c, b], -1).reshape(-1, 3)])
+    faces = np.concatenate([top, sides, bottom])
+    mesh = bpy.data.meshes.new("dense_ball")
+    mesh.from_pydata(vertices, [], faces)
+    mesh.update()
+    obj = bpy.data.objects.new("dense_ball", mesh)
+    obj.location = location
+    bpy.context.scene.collection.objects.link(obj)
+    return obj
+
+
 class Edits:
     """The session on the scene, and edits of its lamp or a material, timed."""
 
@@ -57,9 +85,7 @@ class Edits:
         bpy.ops.wm.open_mainfile(filepath=os.path.join(ROOT, "blend_scenes", params["scene"]))
         self.bpy, self.scene = bpy, bpy.context.scene
         if extra_triangles:  # a dense ball on the floor: a heavy scene that still looks like the box
-            rings = int(round((extra_triangles / 4) ** 0.5))
-            bpy.ops.mesh.primitive_uv_sphere_add(segments=2 * rings, ring_count=rings, radius=0.15,
-                                                 location=(0.45, 0.45, 0.15))
+            add_dense_ball(bpy, extra_triangles, 0.15, (0.45, 0.45, 0.15))
         self.scene.ppm.viewport_photons_per_pass = params["photons"]
         self.scene.ppm.viewport_passes = 0
         self.session = viewport.ViewportSession(core.load(), lambda: None)

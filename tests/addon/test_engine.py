@@ -244,7 +244,7 @@ def test_instances_are_exported_with_their_own_matrices():
         empty.instance_type, empty.instance_collection = "COLLECTION", coll
         empty.location = (i, 0.0, 1.0)
         scene.collection.objects.link(empty)
-    exporter = export.Exporter(ppm_core, print)
+    exporter = export.Exporter(ppm_core.Scene(), print)
     for instance in bpy.context.evaluated_depsgraph_get().object_instances:
         exporter.visit(instance)
     assert exporter.triangles == 2 + 3  # the floor quad + three instanced triangles
@@ -259,7 +259,7 @@ def test_a_million_triangles_export_whole():
     bpy.ops.mesh.primitive_grid_add(x_subdivisions=708, y_subdivisions=708, size=2.0)
     obj = bpy.context.object
     depsgraph = bpy.context.evaluated_depsgraph_get()
-    exporter = export.Exporter(ppm_core, print)
+    exporter = export.Exporter(ppm_core.Scene(), print)
     exporter.add_geometry(export.instance.Instance(obj.evaluated_get(depsgraph), "grid", np.eye(4), 0))
     assert exporter.triangles == 2 * 708 * 708
     exporter.scene.set_camera(np.eye(4), 4, 4)
