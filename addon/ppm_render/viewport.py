@@ -4,7 +4,8 @@ A `ViewportSession` keeps the exported core scene and a render thread that refin
 first image at a quarter and then half of the region's resolution with few photons (it appears
 within a fraction of a second), then full-resolution passes until the viewport's pass count or
 time limit. The core releases the GIL while it renders, so Blender's UI stays live; the thread asks
-Blender to redraw after each pass, and `view_draw` shows the newest image.
+Blender to redraw after each pass, and within a full-resolution pass every IMAGE_INTERVAL seconds (the
+bands of rows done so far), and `view_draw` shows the newest image.
 
 An edit (`update`) or a new view (`set_view`) cancels the pass in progress (the core notices
 within its 0.1 s poll), waits for the thread, and starts again from the new scene or view: an image
@@ -26,6 +27,9 @@ from .properties import core_settings, film_settings, light_path_settings
 
 # (pixel size, photons per pass) of the quick first images, before the full-resolution passes.
 PREVIEW_LEVELS = ((4, 10_000), (2, 25_000))
+# Seconds between images within a full-resolution pass: the core pauses at the next band of rows,
+# the image shows the bands done, and the pass goes on (a pass of a large view takes longer).
+IMAGE_INTERVAL = 0.075
 # The live sessions, for scripts that measure the viewport (tests/gui, bench): engines are not reachable.
 SESSIONS = weakref.WeakSet()
 
@@ -158,18 +162,19 @@ class ViewportSession:
         renderer = self.ppm_core.Renderer(self.core_scene, **{**self.settings, **overrides})
         self.renderer = renderer
         max_passes, max_seconds = self.limits
-        done = 0
+        done, shown = 0, 0.0  # passes completed, and those plus the share of the next in the image
         while not self.stop_requested.is_set():
             if passes is not None and done >= passes:
                 break
             if passes is None and ((max_passes and done >= max_passes)
                                    or (max_seconds and time.monotonic() - start >= max_seconds)):
                 break
-            renderer.run(passes=1, callback=lambda _info: not self.stop_requested.is_set())
+            renderer.run(passes=1, callback=lambda _info: not self.stop_requested.is_set(),
+                         pause_after=IMAGE_INTERVAL if pixel_size == 1 else 0.0)
             stats = renderer.stats()
-            if self.stop_requested.is_set() or stats["passes"] == done:
+            if self.stop_requested.is_set() or stats["cancelled"] or stats["passes"] + stats["pass_done"] <= shown:
                 break
-            done = stats["passes"]
+            done, shown = stats["passes"], stats["passes"] + stats["pass_done"]
             self.publish(ViewportImage(renderer.image(), pixel_size, done, stats["photons_emitted"],
                                        time.monotonic() - start, generation, window_of(self.view)))
         self.renderer = None

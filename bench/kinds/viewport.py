@@ -7,12 +7,13 @@ On `scene` seen through its camera at width x height: an edit (the lamp moved) i
 view_update's work (session.update, called in a depsgraph handler as Blender calls view_update: a lamp
 edit replaces the core scene's lights) and the thread's restart; reported are the seconds from the edit
 to the first image of the new scene (a 1/4 resolution preview), to the first full-resolution image, and
-session.update alone (median and 90th percentile over `edits_timed` edits). Then the images per second
-while refining at full resolution (each asks Blender for a redraw), and the process's resident memory
-after the edits in `memory_marks` (each cancelling the last one's refinement after its first image, as
-dragging a lamp does), as it is and after glibc's malloc_trim (what is still allocated). Last, the same
-scene with a dense ball of about `heavy_triangles` triangles added: lamp edits (lights replaced, the BVH
-kept) against material edits (the whole scene exported and its BVH built again)."""
+session.update alone (median and 90th percentile over `edits_timed` edits). Then the images and passes
+per second while refining at full resolution (each image asks Blender for a redraw; within a pass one
+comes every viewport.IMAGE_INTERVAL seconds), and the process's resident memory after the edits in
+`memory_marks` (each cancelling the last one's refinement after its first image, as dragging a lamp
+does), as it is and after glibc's malloc_trim (what is still allocated). Last, the same scene with a
+dense ball of about `heavy_triangles` triangles added: lamp edits (lights replaced, the BVH kept)
+against material edits (the whole scene exported and its BVH built again)."""
 
 from __future__ import annotations
 
@@ -144,13 +145,16 @@ class Edits:
         return first, full, updated[0]
 
     def images_per_second(self, seconds):
+        """(full-resolution images, completed passes) per second while refining: an image comes after
+        each pass and within one every viewport.IMAGE_INTERVAL seconds."""
         seen, start, last = 0, time.perf_counter(), self.session.newest()
+        first = last
         while time.perf_counter() - start < seconds:
             image = self.session.newest()
             if image is not last and image.pixel_size == 1:
                 seen, last = seen + 1, image
             time.sleep(0.0005)
-        return seen / seconds
+        return seen / seconds, (last.passes - first.passes) / seconds
 
 
 def measure(params):
@@ -202,8 +206,10 @@ def run(experiment, results):
     results.table(["seconds", "median", "90th percentile"], rows,
                   title=f"{experiment['scene']} at {experiment['width']}x{experiment['height']}, "
                         f"{experiment['photons']:,} photons per pass, Blender {m['version']}")
-    results.row(part="refine", images_per_s=m["images_per_s"])
-    results.table(["full-resolution images per second while refining"], [[f"{m['images_per_s']:.1f}"]])
+    images, passes = m["images_per_s"]
+    results.row(part="refine", images_per_s=images, passes_per_s=passes)
+    results.table(["while refining at full resolution, per second", "images", "passes"],
+                  [["", f"{images:.1f}", f"{passes:.1f}"]])
     results.row(part="memory", rss_mb=m["rss_mb"])
     results.table(["edits", "resident memory (MB)", "after malloc_trim"],
                   [[k, f"{rss:.0f}", f"{trimmed:.0f}"] for k, (rss, trimmed) in m["rss_mb"].items()])

@@ -48,6 +48,10 @@ struct RenderContext {
   double min_initial_r2 = 0.0;  // floor for automatic initial radii (photon_density_radius.h)
   bool spacing_measured = false;
   std::atomic<bool> cancel{false};
+  // Between two bands of a stochastic pass, whether the run asked to pause there (the next run
+  // continues the pass); `paused` then says it did.
+  std::function<bool()> pause_due;
+  bool paused = false;
   RenderStats stats;
 
  private:

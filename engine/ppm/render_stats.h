@@ -43,6 +43,7 @@ struct RenderStats {
   uint64_t radii_widened = 0;   // hit points (fixed) or pixels (stochastic) whose initial radius it raised
   double density_radius_seconds = 0.0;
   double radius_mean = 0.0;
+  double pass_done = 0.0;  // the share of the pass in progress already in the image (Progress::pass_done)
   std::vector<std::string> skipped;
 };
 

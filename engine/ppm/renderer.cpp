@@ -33,9 +33,11 @@ Renderer::Renderer(std::shared_ptr<const Scene> scene, const Settings& settings)
 
 Renderer::~Renderer() = default;
 
-uint64_t Renderer::run(uint64_t passes, double seconds, const std::function<bool(const Progress&)>& poll) {
+uint64_t Renderer::run(uint64_t passes, double seconds, const std::function<bool(const Progress&)>& poll,
+                       double pause_after) {
   if (passes == 0 && !(seconds > 0.0)) throw std::invalid_argument("run: give passes > 0 or seconds > 0");
   if (!(seconds >= 0.0)) throw std::invalid_argument("run: seconds must be >= 0");
+  if (!(pause_after >= 0.0)) throw std::invalid_argument("run: pause_after must be >= 0");
   if (running_.exchange(true)) throw std::runtime_error("run: this renderer is already running");
   struct Done {
     std::atomic<bool>& flag;
@@ -43,8 +45,11 @@ uint64_t Renderer::run(uint64_t passes, double seconds, const std::function<bool
   } done{running_};
   RenderStats& stats = context_.stats;
   context_.cancel = false;
+  context_.paused = false;
   stats.cancelled = false;
   const auto t0 = Clock::now();
+  context_.pause_due = nullptr;
+  if (pause_after > 0.0) context_.pause_due = [t0, pause_after] { return since(t0) >= pause_after; };
   const uint64_t start = stats.passes;
   auto progress = [&] { return Progress{stats.passes, stats.photon.emitted, since(t0), estimator_->pass_done()}; };
   auto last_callback = Clock::now();
@@ -63,7 +68,7 @@ uint64_t Renderer::run(uint64_t passes, double seconds, const std::function<bool
     last_callback = Clock::now();
   }
   const bool timed_out = seconds > 0.0 && since(t0) >= seconds;
-  stats.cancelled = !ok && !timed_out;
+  stats.cancelled = !ok && !timed_out && !context_.paused;
   stats.total_seconds += since(t0);
   return stats.passes - start;
 }
@@ -104,6 +109,7 @@ RenderStats Renderer::stats() const {
   s.photons_emitted = s.photon.emitted;
   s.photons_deposited = s.photon.deposited;
   s.radius_mean = estimator_->radius_mean();
+  s.pass_done = estimator_->pass_done();
   s.memory = MemoryUse{};
   context_.add_memory(s.memory);
   estimator_->add_memory(s.memory);

@@ -36,8 +36,12 @@ class Renderer {
   // Runs up to `passes` passes (0 = no limit) and for at most `seconds`
   // (0 = no limit; at least one of the two must be set). `poll` is called
   // between passes and every settings.progress_interval inside them; returning
-  // false cancels (what becomes of the unfinished pass: above). Returns the passes completed.
-  uint64_t run(uint64_t passes, double seconds, const std::function<bool(const Progress&)>& poll);
+  // false cancels (what becomes of the unfinished pass: above). With `pause_after` > 0, a
+  // stochastic pass still in progress that long after the start returns at the end of its band,
+  // its finished bands in the image, and the next run() continues it (an interactive view shows
+  // new pixels several times a pass). Returns the passes completed.
+  uint64_t run(uint64_t passes, double seconds, const std::function<bool(const Progress&)>& poll,
+               double pause_after = 0.0);
 
   // Thread-safe: stops the current run within one poll interval.
   void cancel() { context_.cancel = true; }

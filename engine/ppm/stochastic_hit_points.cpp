@@ -44,6 +44,10 @@ bool StochasticHitPoints::pass(const Poll& poll) {
     eye.row_end = std::min(height, row + rows);
     if (!band(eye, pass, poll)) return false;
     current_.next_row = eye.row_end;
+    if (current_.next_row < height && c_.pause_due && c_.pause_due()) {
+      c_.paused = true;
+      return false;
+    }
   }
   if (eye.record_depth) c_.depth.swap(depth_);
   stats.photon = current_.counters;

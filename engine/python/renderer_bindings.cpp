@@ -147,6 +147,7 @@ py::dict stats_dict(const RenderStats& s) {
   d["direct_samples"] = s.direct_samples;
   d["threads"] = s.threads;
   d["cancelled"] = s.cancelled;
+  d["pass_done"] = s.pass_done;
   d["memory_bytes"] = s.memory.total();
   py::dict memory;
   memory["scene"] = s.memory.scene;
@@ -211,7 +212,7 @@ void bind_renderer(py::module_& m) {
            py::arg("scene"), py::arg("settings") = py::none())
       .def(
           "run",
-          [](Renderer& r, uint64_t passes, double seconds, const py::object& callback) {
+          [](Renderer& r, uint64_t passes, double seconds, const py::object& callback, double pause_after) {
             std::function<bool(const Progress&)> poll = [&](const Progress& p) {
               py::gil_scoped_acquire gil;
               if (PyErr_CheckSignals() != 0) throw py::error_already_set();  // Ctrl-C cancels
@@ -232,12 +233,15 @@ void bind_renderer(py::module_& m) {
               return PyObject_IsTrue(result.ptr()) == 1;
             };
             py::gil_scoped_release release;
-            return r.run(passes, seconds, poll);
+            return r.run(passes, seconds, poll, pause_after);
           },
           py::arg("passes") = 0, py::arg("seconds") = 0.0, py::arg("callback") = py::none(),
+          py::arg("pause_after") = 0.0,
           "Runs passes until `passes` are done or `seconds` have passed (0 = no limit for either). "
           "callback(dict(passes, photons_emitted, seconds, pass_done)) is called often (pass_done: the share of "
-          "the pass in progress already in the image); returning False cancels. "
+          "the pass in progress already in the image); returning False cancels. pause_after > 0: a "
+          "stochastic pass still running that many seconds after the start returns at the end of its band "
+          "of rows, its finished bands in the image (stats()['pass_done']); the next run() continues it. "
           "Returns the number of passes completed.")
       .def("cancel", &Renderer::cancel, "Stops a run() in progress (callable from another thread).")
       .def("image",

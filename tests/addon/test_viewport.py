@@ -202,6 +202,23 @@ def test_a_lamp_edit_replaces_the_lights_alone_and_renders_as_a_new_export_would
     assert fresh.session.core_scene is not expected
 
 
+def test_within_a_full_resolution_pass_the_viewport_shows_the_bands_done(monkeypatch):
+    """A view of more pixels than a band of rows gets images between a pass's bands too (here after
+    every band), and ends on the image of whole passes."""
+    monkeypatch.setattr(viewport, "IMAGE_INTERVAL", 1e-9)
+    s = Session(width=400, height=300)  # 120,000 pixels: two bands of rows
+    s.scene.ppm.viewport_passes = 3
+    s.session.export(bpy.context.evaluated_depsgraph_get())
+    published, publish = [], s.session.publish
+    s.session.publish = lambda image: (published.append(image), publish(image))  # every image, none missed
+    s.session.start()
+    s.images_until_done()
+    s.session.stop()
+    full = [image for image in published if image.pixel_size == 1]
+    assert [image.passes for image in full] == [0, 1, 1, 2, 2, 3]
+    assert np.abs(full[1].rgba - full[2].rgba).max() > 0.0  # half a pass later: new pixels
+
+
 def test_a_session_whose_engine_is_gone_stops_after_its_image():
     """redraw() returns False once Blender has freed the engine: nobody would see more passes."""
     s = Session()

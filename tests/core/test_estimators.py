@@ -110,6 +110,31 @@ def test_a_cancelled_stochastic_pass_resumes_at_its_next_band():
     assert renderer.stats()["photons_emitted"] == uninterrupted.stats()["photons_emitted"]
 
 
+def test_a_paused_pass_shows_its_finished_bands_and_ends_as_an_uninterrupted_one():
+    """run(pause_after=...) returns between two bands of a pass (the viewport shows them) and the next
+    run continues it, without the loss of a cancel."""
+    uninterrupted = cornell()
+    uninterrupted.run(passes=4)
+    renderer = cornell()
+    renderer.run(passes=3)
+    before = renderer.image()
+    assert renderer.run(passes=1, pause_after=1e-9) == 0  # paused after its first band
+    stats = renderer.stats()
+    assert not stats["cancelled"] and stats["passes"] == 3 and stats["pass_done"] == 0.4  # 128 of 320 rows
+    changed_rows = np.flatnonzero(np.any(renderer.image() != before, axis=(1, 2)))
+    assert changed_rows.min() == 320 - 128 and changed_rows.max() == 319  # rows run bottom-up
+    runs = 1
+    while renderer.stats()["passes"] < 4:
+        renderer.run(passes=1, pause_after=1e-9)
+        runs += 1
+    assert runs == 3  # a band a run: 128, 128 and 64 rows
+    assert np.array_equal(renderer.image(), uninterrupted.image())
+    assert renderer.stats()["pass_done"] == 0.0
+    fixed = ppm_core.Renderer(core_scenes.cornell_3spheres(*BANDED), photons_per_pass=2_000, threads=2,
+                              hit_points="fixed")
+    assert fixed.run(passes=1, pause_after=1e-9) == 1  # fixed hit points have no bands to pause between
+
+
 def test_stochastic_memory_for_hit_points_does_not_grow_with_the_image():
     def memory(width, height):
         r = ppm_core.Renderer(core_scenes.cornell_3spheres(width, height), photons_per_pass=2_000, threads=2,
