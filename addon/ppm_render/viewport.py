@@ -229,10 +229,18 @@ def changed_part(depsgraph, session):
                or update.id.bl_rna.identifier not in ("Scene", "ViewLayer")]
     if not changed:
         return None
-    if all(isinstance(id, bpy.types.Light) or (isinstance(id, bpy.types.Object) and id.type == "LIGHT")
-           for id in changed):
+    lights = [id for id in changed if is_light(id)]
+    # Blender 5.x lists a light's own node tree with it (its colour and strength edits tag it).
+    light_trees = {id.original.node_tree.as_pointer() for id in lights
+                   if isinstance(id, bpy.types.Light) and getattr(id.original, "node_tree", None) is not None}
+    if all(is_light(id) or id.original.as_pointer() in light_trees for id in changed):
         return "lights"
     return "scene"
+
+
+def is_light(id):
+    """A light object, or a light's data."""
+    return isinstance(id, bpy.types.Light) or (isinstance(id, bpy.types.Object) and id.type == "LIGHT")
 
 
 def settings_key(scene):
