@@ -243,3 +243,22 @@ def test_bad_programs_are_refused_with_a_message(program, message):
     scene = ppm_core.Scene()
     with pytest.raises(ValueError, match=message):
         scene.add_material("patterned", "mixture", lobes=[{"kind": "diffuse"}], program=program)
+
+
+@pytest.mark.parametrize("detail,octaves", [(1e30, 15.0), (1e3, 15.0), (-5.0, 0.0)])
+def test_a_wave_texture_sums_at_most_fifteen_octaves(detail, octaves):
+    """The Wave texture's distortion sums `detail` octaves of noise; a script may set 10^30 (Blender's
+    socket stops at 15), which once ran for hours inside Blender (the add-on's node fuzz, Blender 4.2)."""
+
+    def wave(detail):
+        # Wave (bands along Y, sine, Blender 4.x's fBM): vector, scale, distortion, detail, detail
+        # scale, detail roughness, phase.
+        return {"constants": [(1.0,) * 3, (15.0,) * 3, (detail,) * 3, (2.0,) * 3, (0.5,) * 3, (0.0,) * 3],
+                "code": [op("coord", "generated", out=[7]), op("wave", 2, ins=[7, 1, 2, 3, 4, 5, 6], out=[8, 9])],
+                "outputs": [8], "registers": 10}
+
+    scene = ppm_core.Scene()
+    points = np.array([[0.1, 0.2, 0.3], [1e3, -1e3, 5.0]])
+    values = scene.run_program(wave(detail), points)
+    assert np.isfinite(values).all()
+    np.testing.assert_array_equal(values, scene.run_program(wave(octaves), points))

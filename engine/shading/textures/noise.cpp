@@ -317,6 +317,9 @@ float fractal_noise_legacy(const Vec3f& p, float detail, float roughness) {
   return fbm_legacy(3, glm::vec4(p, 0.0f), detail, roughness);
 }
 float fractal_noise_fbm(const Vec3f& p, float detail, float roughness, float lacunarity, bool normalize) {
+  // Detail counts octaves: Blender's sockets stop at 15, a script's value may not (10^30 octaves
+  // would never end).
+  detail = std::isfinite(detail) ? std::clamp(detail, 0.0f, 15.0f) : 0.0f;
   return fbm(3, glm::vec4(p, 0.0f), detail, roughness, lacunarity, normalize);
 }
 
