@@ -10,8 +10,9 @@ bands of rows done so far), and `view_draw` shows the newest image.
 An edit (`update`) or a new view (`set_view`) cancels the pass in progress (the core notices
 within its 0.1 s poll), waits for the thread, and starts again from the new scene or view: an image
 never mixes photons of two scenes. An edit of lights alone (a lamp moved, its power or colour) replaces
-the core scene's lights and keeps its objects and BVH, so lighting a heavy scene stays interactive;
-any other edit exports the scene again. Everything that reads Blender data (the export) runs on the main
+the core scene's lights, and an edit of materials' values writes them into their core slots; both keep
+the scene's objects and BVH, so lighting and shading a heavy scene stay interactive. Any other edit
+exports the scene again. Everything that reads Blender data (the export) runs on the main
 thread, in view_update and view_draw; the render thread touches only the core scene, which the main
 thread leaves alone while a thread runs.
 """
@@ -30,6 +31,8 @@ PREVIEW_LEVELS = ((4, 10_000), (2, 25_000))
 # Seconds between images within a full-resolution pass: the core pauses at the next band of rows,
 # the image shows the bands done, and the pass goes on (a pass of a large view takes longer).
 IMAGE_INTERVAL = 0.075
+# The data blocks of the objects whose shading a material edit tags.
+GEOMETRY_DATA = {"Mesh", "Curve", "SurfaceCurve", "TextCurve", "MetaBall", "Curves", "PointCloud", "Volume"}
 # The live sessions, for scripts that measure the viewport (tests/gui, bench): engines are not reachable.
 SESSIONS = weakref.WeakSet()
 
@@ -61,18 +64,23 @@ class ViewportSession:
         self.generation = 0  # counts restarts; an image from an older one is dropped
         self.error = None
         self.done = False
+        self.materials = None  # the last whole export's MaterialExporter: its core material slots
         self.object_warnings = []  # of the last whole export (objects, materials, world)
         self.light_warnings = []  # of the last export of the lights
+        self.material_warnings = []  # of the last update of materials in place
         SESSIONS.add(self)
 
     @property
     def warnings(self):
-        return self.object_warnings + self.light_warnings
+        return self.object_warnings + self.light_warnings + self.material_warnings
 
     def update(self, depsgraph):
-        """Brings the core scene up to the depsgraph's updates (main thread): what changed_part says.
-        Returns that part (None: nothing that is rendered changed)."""
+        """Brings the core scene up to the depsgraph's updates (main thread): what changed_part says,
+        or the whole scene where materials cannot be updated in place. Returns the part updated
+        (None: nothing that is rendered changed)."""
         part = changed_part(depsgraph, self)
+        if part == "materials" and not self.update_materials(depsgraph):
+            part = "scene"
         if part == "lights":
             self.export_lights(depsgraph)
         elif part == "scene":
@@ -83,10 +91,10 @@ class ViewportSession:
         """(Re)exports the whole scene from the evaluated depsgraph, stopping the thread."""
         self.stop()
         self.core_scene = None  # until the export succeeds: a failed one renders nothing and shows its error
-        self.object_warnings, self.light_warnings = [], []
-        core_scene = export.export_scene(self.ppm_core, depsgraph, self.object_warnings.append, lights=False)
-        export.export_lights(core_scene, depsgraph, self.light_warnings.append)
-        self.core_scene = core_scene
+        self.object_warnings, self.light_warnings, self.material_warnings = [], [], []
+        exporter = export.scene_exporter(self.ppm_core, depsgraph, self.object_warnings.append, lights=False)
+        export.export_lights(exporter.scene, depsgraph, self.light_warnings.append)
+        self.core_scene, self.materials = exporter.scene, exporter.materials
         scene = depsgraph.scene
         self.settings = renderer_settings(scene)
         self.limits = (scene.ppm.viewport_passes, scene.ppm.viewport_time_limit)
@@ -100,6 +108,24 @@ class ViewportSession:
         self.light_warnings = []
         export.export_lights(core_scene, depsgraph, self.light_warnings.append)
         self.core_scene = core_scene
+
+    def update_materials(self, depsgraph):
+        """Writes the edited materials into their core slots, stopping the thread; False (the scene
+        then needs a whole export) where one cannot be updated in place."""
+        self.stop()
+        core_scene, self.core_scene = self.core_scene, None  # as in export: a failure renders nothing
+        table = self.materials.attributes_table  # view-layer attributes: read from this depsgraph's
+        if table is not None:
+            table.view_layer, table.scene = depsgraph.view_layer, depsgraph.scene
+        warnings = []
+        self.materials.warn = warnings.append
+        try:
+            if not all(self.materials.update(material) for material in edited_materials(depsgraph)):
+                return False
+        finally:
+            self.materials.warn = self.object_warnings.append
+        self.core_scene, self.material_warnings = core_scene, warnings
+        return True
 
     def set_view(self, view):
         """Restarts with the camera arguments `view` if they differ from the current ones."""
@@ -220,22 +246,39 @@ def redraw_of(engine):
 
 def changed_part(depsgraph, session):
     """What of the rendered scene the depsgraph's updates change: None (a selection, say), "lights"
-    (light objects and light data alone: moved, or their power, colour or size) or "scene" (anything
-    else, the add-on's settings, or a session without a scene)."""
+    (light objects and light data alone: moved, or their power, colour or size), "materials" (the
+    values of materials: the objects using them are listed too, with only their shading tagged) or
+    "scene" (anything else, the add-on's settings, or a session without a scene)."""
     if session.core_scene is None or session.settings_key != settings_key(depsgraph.scene):
         return "scene"
-    changed = [update.id for update in depsgraph.updates
+    updates = [update for update in depsgraph.updates
                if update.is_updated_geometry or update.is_updated_transform or update.is_updated_shading
                or update.id.bl_rna.identifier not in ("Scene", "ViewLayer")]
-    if not changed:
+    if not updates:
         return None
-    lights = [id for id in changed if is_light(id)]
-    # Blender 5.x lists a light's own node tree with it (its colour and strength edits tag it).
-    light_trees = {id.original.node_tree.as_pointer() for id in lights
-                   if isinstance(id, bpy.types.Light) and getattr(id.original, "node_tree", None) is not None}
-    if all(is_light(id) or id.original.as_pointer() in light_trees for id in changed):
+    changed = [update.id for update in updates]
+    # A light's or a material's own node tree is listed with it (Blender 5.x lists a light's too).
+    trees = {id.original.node_tree.as_pointer() for id in changed
+             if isinstance(id, (bpy.types.Light, bpy.types.Material)) and getattr(id.original, "node_tree", None)}
+    if all(is_light(id) or id.original.as_pointer() in trees for id in changed):
         return "lights"
+    if any(isinstance(id, bpy.types.Material) for id in changed) and all(
+            isinstance(update.id, bpy.types.Material) or update.id.original.as_pointer() in trees
+            or (is_object_or_geometry(update.id) and not is_light(update.id)
+                and not (update.is_updated_geometry or update.is_updated_transform))
+            for update in updates):
+        return "materials"
     return "scene"
+
+
+def is_object_or_geometry(id):
+    """An object, or the data of a geometry object (a mesh, curve, ...)."""
+    return isinstance(id, bpy.types.Object) or id.bl_rna.identifier in GEOMETRY_DATA
+
+
+def edited_materials(depsgraph):
+    """The materials among the depsgraph's updates."""
+    return [update.id for update in depsgraph.updates if isinstance(update.id, bpy.types.Material)]
 
 
 def is_light(id):

@@ -153,7 +153,8 @@ NormalMap normal_map_from(const py::object& value, const std::string& what) {
 uint32_t add_material(Scene& s, const std::string& name, const std::string& kind, const py::object& base_color,
                       int texture, double roughness, double ior, const py::object& specular_tint,
                       const py::object& emission, const py::object& lobes, double holdout, const py::object& inputs,
-                      const py::object& normal_map, int emission_input, const py::object& program) {
+                      const py::object& normal_map, int emission_input, const py::object& program,
+                      const py::object& replace) {
   const std::string what = "material '" + checked_name(name, "material") + "'";
   Material m;
   m.name = name;
@@ -201,7 +202,10 @@ uint32_t add_material(Scene& s, const std::string& name, const std::string& kind
   if (holdout != 0.0 && m.kind != MaterialKind::Mixture) fail(what, "holdout is for kind 'mixture' only");
   if (!(holdout >= 0.0 && holdout <= 1.0)) fail(what, "holdout must be in [0, 1]");
   m.holdout = holdout;
-  return s.add_material(std::move(m));
+  if (replace.is_none()) return s.add_material(std::move(m));
+  const uint32_t index = replace.cast<uint32_t>();
+  s.replace_material(index, std::move(m));
+  return index;
 }
 
 const std::initializer_list<std::pair<const char*, uint8_t>> kRayKindNames = {
@@ -638,8 +642,10 @@ void bind_scene(py::module_& m) {
            py::arg("ior") = 1.45, py::arg("specular_tint") = py::make_tuple(1.0, 1.0, 1.0),
            py::arg("emission") = py::make_tuple(0.0, 0.0, 0.0), py::arg("lobes") = py::none(), py::arg("holdout") = 0.0,
            py::arg("inputs") = py::none(), py::arg("normal_map") = py::none(), py::arg("emission_input") = -1,
-           py::arg("program") = py::none(),
-           "Adds a material; returns its index. kind: diffuse, mirror, metal, glass, emission, holdout "
+           py::arg("program") = py::none(), py::arg("replace") = py::none(),
+           "Adds a material; returns its index (with `replace`, an index: that material becomes this one, "
+           "and the surfaces using it keep the BVH; an emissive material cannot replace one a sphere or "
+           "revolve uses). kind: diffuse, mirror, metal, glass, emission, holdout "
            "(a hole in the image: alpha 0 where camera rays reach it), mixture (`lobes`: a list of dicts "
            "with kind diffuse, translucent, transparent, conductor, glossy or dielectric, weight, color, tint, "
            "roughness, ior, parts ('both', 'reflection', 'refraction'), layer (a dielectric reflection "

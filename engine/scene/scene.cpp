@@ -163,6 +163,29 @@ void Scene::check_lobes(Material& m, const std::string& what) const {
 
 uint32_t Scene::add_material(Material m) {
   ensure_mutable();
+  check_new_material(m);
+  materials_.push_back(std::move(m));
+  invalidate();
+  return static_cast<uint32_t>(materials_.size() - 1);
+}
+
+// The surfaces keep their BVH; what the material's emission lights is prepared again.
+void Scene::replace_material(uint32_t index, Material m) {
+  ensure_mutable();
+  const std::string what = quoted("material", m.name);
+  check_material(index, what);
+  check_new_material(m);
+  if (m.emits()) {
+    for (const SphereInfo& s : spheres_)
+      if (s.material == index) fail(what, "a sphere uses it, and spheres cannot emit");
+    for (const RevolveSegment& r : revolve_segments_)
+      if (r.material == index) fail(what, "a Bezier revolve uses it, and revolves cannot emit");
+  }
+  materials_[index] = std::move(m);
+  invalidate_lights();
+}
+
+void Scene::check_new_material(Material& m) const {
   const std::string what = quoted("material", m.name);
   if (m.kind == MaterialKind::Mixture)
     check_lobes(m, what);
@@ -176,9 +199,6 @@ uint32_t Scene::add_material(Material m) {
     fail(what, "roughness must be in [0, 1]");
   if (!std::isfinite(m.ior) || m.ior <= 0.0) fail(what, "ior must be a positive number");
   if (m.texture >= static_cast<int>(textures_.size())) fail(what, "texture index out of range");
-  materials_.push_back(std::move(m));
-  invalidate();
-  return static_cast<uint32_t>(materials_.size() - 1);
 }
 
 uint32_t Scene::add_texture(const std::string& name, Texture texture, bool clear_unusable) {

@@ -84,6 +84,8 @@ class Scene {
   Scene(Scene&&) noexcept;
 
   uint32_t add_material(Material m);
+  // Material `index` becomes `m` (an edit of its values): the surfaces using it keep their BVH.
+  void replace_material(uint32_t index, Material m);
   // Texels that cannot be an albedo (see UnusableTexel) are an error naming the
   // first one, or, with clear_unusable, stay black (Texture::unusable_texels).
   uint32_t add_texture(const std::string& name, Texture texture, bool clear_unusable = false);
@@ -205,6 +207,7 @@ class Scene {
   };
 
   void check_material(uint32_t material, const std::string& what) const;
+  void check_new_material(Material& m) const;  // validates and completes a material to be stored
   void check_not_emissive(uint32_t material, const std::string& what) const;
   void check_lobes(Material& m, const std::string& what) const;
   std::vector<double> check_inputs(const Material& m, const std::string& what) const;

@@ -170,13 +170,14 @@ def test_an_edit_restarts_from_the_new_scene_and_no_image_mixes_the_two():
     s = Session()
     s.session.start()
     before = s.images_until_done()[-1]
-    assert updated_after(s.session, lambda: bsdf_colour("matte", (0.1, 0.1, 0.9))) == {"scene"}
+    ball = s.scene.objects["matte_ball"]
+    assert updated_after(s.session, lambda: setattr(ball.location, "x", ball.location.x + 0.3)) == {"scene"}
     s.session.start()
     after = s.images_until_done()
     s.session.stop()
     assert all(image.generation == after[-1].generation for image in after[1:])
     assert after[-1].generation > before.generation
-    assert np.abs(after[-1].rgba[..., :3] - before.rgba[..., :3]).mean() > 0.005  # the ball's new colour
+    assert np.abs(after[-1].rgba[..., :3] - before.rgba[..., :3]).mean() > 0.002  # the ball moved
 
 
 def test_a_lamp_edit_replaces_the_lights_alone_and_renders_as_a_new_export_would():
@@ -198,8 +199,39 @@ def test_a_lamp_edit_replaces_the_lights_alone_and_renders_as_a_new_export_would
     expected = fresh.images_until_done()[-1]
     fresh.session.stop()
     np.testing.assert_array_equal(edited.rgba, expected.rgba)
-    assert updated_after(fresh.session, lambda: bsdf_colour("matte", (0.1, 0.1, 0.9))) == {"scene"}
-    assert fresh.session.core_scene is not expected
+
+
+def test_a_material_edit_writes_its_values_in_place_and_renders_as_a_new_export_would():
+    """A colour and an emission edited in the node tree keep the exported objects (and their BVH); the
+    image is the one of a session exporting the edited scene afresh, to the last bit."""
+    s = Session()
+    s.session.start()
+    before = s.images_until_done()[-1]
+    kept = s.session.core_scene
+    assert updated_after(s.session, lambda: bsdf_colour("matte", (0.1, 0.1, 0.9))) == {"materials"}
+
+    def glow():
+        tree = bpy.data.materials["white"].node_tree
+        emission = tree.nodes.new("ShaderNodeEmission")
+        emission.inputs["Strength"].default_value = 0.5
+        add = tree.nodes.new("ShaderNodeAddShader")
+        output = next(n for n in tree.nodes if n.type == "OUTPUT_MATERIAL")
+        bsdf = output.inputs["Surface"].links[0].from_node
+        tree.links.new(bsdf.outputs[0], add.inputs[0])
+        tree.links.new(emission.outputs[0], add.inputs[1])
+        tree.links.new(add.outputs[0], output.inputs["Surface"])
+
+    assert updated_after(s.session, glow) == {"materials"}  # the walls glow: lights from their triangles
+    assert s.session.core_scene is kept
+    s.session.start()
+    edited = s.images_until_done()[-1]
+    s.session.stop()
+    fresh = Session(open_file=False)
+    fresh.session.start()
+    expected = fresh.images_until_done()[-1]
+    fresh.session.stop()
+    np.testing.assert_array_equal(edited.rgba, expected.rgba)
+    assert edited.rgba[..., :3].mean() > 1.2 * before.rgba[..., :3].mean()  # glowing walls
 
 
 def test_within_a_full_resolution_pass_the_viewport_shows_the_bands_done(monkeypatch):
@@ -256,7 +288,7 @@ def test_a_selection_alone_needs_no_export_but_a_setting_or_a_material_does():
         bpy.data.materials["blue"].diffuse_color = (1.0, 0.0, 0.0, 1.0)
 
     assert part_changed_by(s.session, select_all) is None
-    assert part_changed_by(s.session, redder) == "scene"
+    assert part_changed_by(s.session, redder) == "materials"
     # A setting of the add-on's own tags no update (Python-defined properties do not): view_draw, which
     # every change in a panel triggers, compares the settings instead.
     assert viewport.settings_key(s.scene) == s.session.settings_key

@@ -181,12 +181,12 @@ def test_glowing_closed_room_is_emission_over_one_minus_albedo(mode):
     assert image.mean() == pytest.approx(0.3 / (1 - RHO), rel=0.02)
 
 
-def lit_cornell(lamp_position, background=(0.0, 0.0, 0.0)):
-    """The Cornell box of core_scenes without its lamp, plus an emissive quad under the ceiling, one
-    sphere lamp at `lamp_position` and a constant world."""
+def lit_cornell(lamp_position, background=(0.0, 0.0, 0.0), glow=(4.0, 3.0, 2.0)):
+    """The Cornell box of core_scenes without its lamp, plus a quad under the ceiling glowing `glow`
+    (its material the scene's last), one sphere lamp at `lamp_position` and a constant world."""
     scene = cornell_3spheres(24, 18)
     scene.remove_lights()
-    glow = scene.add_material("glow", "diffuse", base_color=(0.5, 0.5, 0.5), emission=(4.0, 3.0, 2.0))
+    glow = scene.add_material("glow", "diffuse", base_color=(0.5, 0.5, 0.5), emission=glow)
     quad = np.array([[-0.2, -0.2, 1.9], [0.2, -0.2, 1.9], [0.2, 0.2, 1.9], [-0.2, 0.2, 1.9]], dtype=float)
     scene.add_mesh("glow", quad, np.array([[0, 2, 1], [0, 3, 2]]), materials=glow)
     scene.add_light("sphere", name="lamp", power=25.0, position=lamp_position, radius=0.05)
@@ -226,3 +226,34 @@ def test_removing_the_lights_keeps_the_emissive_surfaces():
     with pytest.raises(RuntimeError):
         scene.remove_lights()  # a renderer holds the scene: the builders refuse to change it
     del held
+
+
+def test_a_material_replaced_after_a_build_renders_as_a_scene_built_with_it():
+    # The viewport's material edit: the material's slot gets the new values, the BVH is kept, and
+    # what its emission lights is prepared again.
+    settings = {"photons_per_pass": 5_000, "threads": 2, "seed": 5, "hit_points": "stochastic"}
+    edited = lit_cornell((0.0, 0.0, 1.3))
+    ppm_core.Renderer(edited, **settings).run(passes=1)
+    glow = edited.add_material("probe") - 1  # the last material before it
+    assert edited.add_material("glow", "diffuse", base_color=(0.2, 0.6, 0.2), emission=(1.0, 6.0, 1.0),
+                               replace=glow) == glow
+    fresh = lit_cornell((0.0, 0.0, 1.3), glow=(1.0, 6.0, 1.0))
+    fresh.add_material("probe")
+    fresh.add_material("glow", "diffuse", base_color=(0.2, 0.6, 0.2), emission=(1.0, 6.0, 1.0), replace=glow)
+    images = []
+    for scene in (edited, fresh):
+        renderer = ppm_core.Renderer(scene, **settings)
+        renderer.run(passes=3)
+        images.append(renderer.image())
+    np.testing.assert_array_equal(images[0], images[1])
+    with pytest.raises(ValueError, match="out of range"):
+        edited.add_material("glow", replace=99)
+
+
+def test_a_material_that_spheres_use_cannot_become_emissive():
+    scene = ppm_core.Scene()
+    matte = scene.add_material("matte")
+    scene.add_sphere("ball", (0.0, 0.0, 0.0), 1.0, matte, 0)
+    with pytest.raises(ValueError, match="spheres cannot emit"):
+        scene.add_material("matte", emission=(1.0, 1.0, 1.0), replace=matte)
+    scene.add_material("matte", base_color=(0.1, 0.2, 0.3), replace=matte)  # a colour edit is fine

@@ -174,12 +174,18 @@ def build_scene(core_module, depsgraph, frame, warn, cancelled=lambda: False):
 def export_scene(core_module, depsgraph, warn, cancelled=lambda: False, lights=True):
     """The ppm_core.Scene of the evaluated depsgraph's objects, world and (with `lights`) lights,
     without a camera."""
+    return scene_exporter(core_module, depsgraph, warn, cancelled, lights).scene
+
+
+def scene_exporter(core_module, depsgraph, warn, cancelled=lambda: False, lights=True):
+    """The Exporter once it has exported the scene (export_scene): its `scene`, and its `materials`
+    for updates in place."""
     exporter = Exporter(core_module.Scene(), warn, depsgraph.view_layer, depsgraph.scene, lights=lights)
     visit_instances(exporter, depsgraph, cancelled)
     exporter.finish_curves()
     exporter.report_skips()
     world.add_world(exporter.scene, depsgraph.scene.world, warn, exporter.attributes)
-    return exporter.scene
+    return exporter
 
 
 def export_lights(core_scene, depsgraph, warn, cancelled=lambda: False):

@@ -37,6 +37,7 @@ class MaterialExporter:
         self.with_program = set()  # core materials with a node program (their objects need object info)
         self.attributes = {}  # core material -> the mesh attribute its program reads
         self.needed_attribute = None  # that of the material describe() read last
+        self.copied = set()  # core materials with a copy without emission (without_emission)
 
     def index(self, material):
         """Core material index for a Blender material (None = default grey)."""
@@ -44,7 +45,7 @@ class MaterialExporter:
             if self.default is None:
                 self.default = self.scene.add_material("default", "diffuse", base_color=DEFAULT_GREY)
             return self.default
-        key = material.name_full if hasattr(material, "name_full") else material.name
+        key = material_key(material)
         if key not in self.indices:
             params = self.in_range(self.describe(material), material.name)
             self.indices[key] = self.scene.add_material(material.name, **params)
@@ -76,9 +77,36 @@ class MaterialExporter:
         """A copy of material `index` without emission, for surfaces the core cannot make emissive."""
         if index not in self.emissive:
             return index
+        self.copied.add(index)
         self.warn(f"{what}: emission is not supported on Bezier revolve surfaces; rendered without it")
         params = self.non_emissive[index]
         return self.scene.add_material(f"{what} (no emission)", **params)
+
+    def update(self, material):
+        """Writes an edited `material` into its core slot (the surfaces keep their BVH). False where
+        that is not enough: a material not added before, one copied for revolves, one a revolve cannot
+        take, or one whose meshes or objects must now carry other data (tangents, an attribute,
+        object info for a node program, an object attribute no material read before)."""
+        index = self.indices.get(material_key(material))
+        if index is None or index in self.copied:
+            return False
+        slots = len(self.attributes_table.slots) if self.attributes_table is not None else 0
+        params = self.in_range(self.describe(material), material.name)
+        program = "program" in params
+        if ((self.needed_tangents or None) != self.tangents.get(index) or program != (index in self.with_program)
+                or (self.needed_attribute if program else None) != self.attributes.get(index)
+                or slots != (len(self.attributes_table.slots) if self.attributes_table is not None else 0)):
+            return False
+        try:
+            self.scene.add_material(material.name, **params, replace=index)
+        except ValueError:  # a revolve's material made emissive: the whole export copies it
+            return False
+        self.emissive.discard(index)
+        self.non_emissive.pop(index, None)
+        if any(c > 0.0 for c in params.get("emission", (0, 0, 0))):
+            self.emissive.add(index)
+            self.non_emissive[index] = {**params, "emission": (0.0, 0.0, 0.0)}
+        return True
 
     def describe(self, material):
         """Keyword arguments for Scene.add_material."""
@@ -119,6 +147,11 @@ class MaterialExporter:
             if repaired:
                 self.warn(f"image '{image.name}': {repaired}")
         return self.textures[key]
+
+
+def material_key(material):
+    """What names a Blender material among those of all libraries."""
+    return material.name_full if hasattr(material, "name_full") else material.name
 
 
 def _diffuse_texture(lobes, images):
