@@ -12,8 +12,9 @@ per second while refining at full resolution (each image asks Blender for a redr
 comes every viewport.IMAGE_INTERVAL seconds), and the process's resident memory after the edits in
 `memory_marks` (each cancelling the last one's refinement after its first image, as dragging a lamp
 does), as it is and after glibc's malloc_trim (what is still allocated). Last, the same scene with a
-dense ball of about `heavy_triangles` triangles added: lamp edits (lights replaced, the BVH kept)
-against material edits (the whole scene exported and its BVH built again)."""
+dense ball of about `heavy_triangles` triangles added: lamp edits (lights replaced) and colour edits (a
+material replaced), which keep the BVH, against moving a ball (the whole scene exported and its BVH
+built again)."""
 
 from __future__ import annotations
 
@@ -106,8 +107,10 @@ class Edits:
     def change(self, what):
         if what == "lamp":
             self.lamp.location.x = 0.2 * ((self.step % 5) - 2)
-        else:  # the matte ball's colour: the whole scene is exported again
+        elif what == "material":  # the matte ball's colour: written into its core material
             self.matte.inputs["Color"].default_value = (0.8, 0.7, 0.1 + 0.1 * (self.step % 5), 1.0)
+        else:  # the matte ball moved: the whole scene is exported again
+            self.scene.objects["matte_ball"].location.x = -0.3 + 0.02 * (self.step % 5)
 
     def edit(self, what="lamp", wait_full=True):
         """Changes the lamp or a material and does what view_update (session.update, in a depsgraph
@@ -178,7 +181,7 @@ def measure(params):
         heavy = {}
         if params["heavy_triangles"]:
             edits = Edits(params, params["heavy_triangles"])
-            for what in ("lamp", "material"):
+            for what in ("lamp", "material", "object"):
                 heavy[what] = [edits.edit(what) for _ in range(params["heavy_edits_timed"])]
             heavy["triangles"] = edits.triangles
             edits.session.stop()
@@ -215,7 +218,8 @@ def run(experiment, results):
                   [[k, f"{rss:.0f}", f"{trimmed:.0f}"] for k, (rss, trimmed) in m["rss_mb"].items()])
     if m["heavy"]:
         rows = []
-        for what, label in (("lamp", "lamp moved (lights replaced)"), ("material", "material edited (all exported)")):
+        for what, label in (("lamp", "lamp moved (lights replaced)"), ("material", "colour edited (material replaced)"),
+                            ("object", "ball moved (all exported)")):
             for i, name in enumerate(("edit -> first image", "edit -> first full-resolution image",
                                       "session.update alone")):
                 median, p90 = quantiles([t[i] for t in m["heavy"][what]])
