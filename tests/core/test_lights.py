@@ -181,12 +181,12 @@ def test_glowing_closed_room_is_emission_over_one_minus_albedo(mode):
     assert image.mean() == pytest.approx(0.3 / (1 - RHO), rel=0.02)
 
 
-def lit_cornell(lamp_position, background=(0.0, 0.0, 0.0), glow=(4.0, 3.0, 2.0)):
+def lit_cornell(lamp_position, background=(0.0, 0.0, 0.0), glow=(4.0, 3.0, 2.0), glow_color=(0.5, 0.5, 0.5)):
     """The Cornell box of core_scenes without its lamp, plus a quad under the ceiling glowing `glow`
     (its material the scene's last), one sphere lamp at `lamp_position` and a constant world."""
     scene = cornell_3spheres(24, 18)
     scene.remove_lights()
-    glow = scene.add_material("glow", "diffuse", base_color=(0.5, 0.5, 0.5), emission=glow)
+    glow = scene.add_material("glow", "diffuse", base_color=glow_color, emission=glow)
     quad = np.array([[-0.2, -0.2, 1.9], [0.2, -0.2, 1.9], [0.2, 0.2, 1.9], [-0.2, 0.2, 1.9]], dtype=float)
     scene.add_mesh("glow", quad, np.array([[0, 2, 1], [0, 3, 2]]), materials=glow)
     scene.add_light("sphere", name="lamp", power=25.0, position=lamp_position, radius=0.05)
@@ -205,15 +205,19 @@ def test_lights_replaced_after_a_build_render_as_a_scene_built_with_them(hit_poi
     edited.add_light("sphere", name="lamp", power=25.0, position=(0.4, 0.3, 1.0), radius=0.05)
     edited.set_background((0.05, 0.05, 0.1))
     fresh = lit_cornell((0.4, 0.3, 1.0), background=(0.05, 0.05, 0.1))
+    edited_image, fresh_image, before = images_of([edited, fresh, lit_cornell((0.0, 0.0, 1.3))], settings)
+    np.testing.assert_array_equal(edited_image, fresh_image)
+    assert not np.array_equal(before, edited_image)  # the edit did change the image
+
+
+def images_of(scenes, settings, passes=3):
+    """Each scene's image after `passes` passes with `settings`."""
     images = []
-    for scene in (edited, fresh):
+    for scene in scenes:
         renderer = ppm_core.Renderer(scene, **settings)
-        renderer.run(passes=3)
+        renderer.run(passes=passes)
         images.append(renderer.image())
-    np.testing.assert_array_equal(images[0], images[1])
-    before = ppm_core.Renderer(lit_cornell((0.0, 0.0, 1.3)), **settings)
-    before.run(passes=3)
-    assert not np.array_equal(before.image(), images[0])  # the edit did change the image
+    return images
 
 
 def test_removing_the_lights_keeps_the_emissive_surfaces():
@@ -234,18 +238,13 @@ def test_a_material_replaced_after_a_build_renders_as_a_scene_built_with_it():
     settings = {"photons_per_pass": 5_000, "threads": 2, "seed": 5, "hit_points": "stochastic"}
     edited = lit_cornell((0.0, 0.0, 1.3))
     ppm_core.Renderer(edited, **settings).run(passes=1)
-    glow = edited.add_material("probe") - 1  # the last material before it
+    glow = edited.add_material("probe") - 1  # the glow, the material before it
     assert edited.add_material("glow", "diffuse", base_color=(0.2, 0.6, 0.2), emission=(1.0, 6.0, 1.0),
                                replace=glow) == glow
-    fresh = lit_cornell((0.0, 0.0, 1.3), glow=(1.0, 6.0, 1.0))
-    fresh.add_material("probe")
-    fresh.add_material("glow", "diffuse", base_color=(0.2, 0.6, 0.2), emission=(1.0, 6.0, 1.0), replace=glow)
-    images = []
-    for scene in (edited, fresh):
-        renderer = ppm_core.Renderer(scene, **settings)
-        renderer.run(passes=3)
-        images.append(renderer.image())
-    np.testing.assert_array_equal(images[0], images[1])
+    fresh = lit_cornell((0.0, 0.0, 1.3), glow=(1.0, 6.0, 1.0), glow_color=(0.2, 0.6, 0.2))
+    edited_image, fresh_image, before = images_of([edited, fresh, lit_cornell((0.0, 0.0, 1.3))], settings)
+    np.testing.assert_array_equal(edited_image, fresh_image)
+    assert not np.array_equal(before, edited_image)
     with pytest.raises(ValueError, match="out of range"):
         edited.add_material("glow", replace=99)
 
