@@ -68,7 +68,8 @@ ParsedLobe lobe_from(const py::handle& item, const std::string& what) {
                              {"glossy", LobeKind::Glossy},
                              {"dielectric", LobeKind::Dielectric},
                              {"velvet", LobeKind::Velvet},
-                             {"schlick_sheen", LobeKind::SchlickSheen}},
+                             {"schlick_sheen", LobeKind::SchlickSheen},
+                             {"microfiber_sheen", LobeKind::MicrofiberSheen}},
                             what, "lobe kind");
   if (d.contains("weight")) l.weight = color(d["weight"], what, "lobe weight");
   if (d.contains("color")) l.color = color(d["color"], what, "lobe color");

@@ -141,10 +141,10 @@ void Scene::check_lobes(Material& m, const std::string& what) const {
     if (!std::isfinite(l.rotation)) fail(what, lobe + " rotation must be a finite number");
     if (l.anisotropic() && l.kind != LobeKind::Conductor && l.kind != LobeKind::Glossy)
       fail(what, lobe + ": only conductor and glossy lobes can be anisotropic");
-    if (l.layer && !(l.kind == LobeKind::Dielectric && l.parts == kReflection))
-      fail(what, lobe + ": only a dielectric reflection can be a layer");
-    if (l.multiscatter && l.kind == LobeKind::Dielectric && l.parts != kReflection)
-      fail(what, lobe + ": multiscatter is for reflection lobes (conductor, glossy, dielectric reflection)");
+    if (l.layer && !((l.kind == LobeKind::Dielectric && l.parts == kReflection) || l.kind == LobeKind::MicrofiberSheen))
+      fail(what, lobe + ": only a dielectric reflection or a microfiber sheen can be a layer");
+    if (l.multiscatter && l.kind == LobeKind::Dielectric && l.parts == kRefraction)
+      fail(what, lobe + ": multiscatter is for conductor, glossy and dielectric lobes with reflection");
     prepare_lobe(l);
     double color_gain = 1.0;
     if (l.color_input.used()) {  // a colour the program cannot bound is kept within [0, 1]

@@ -21,6 +21,7 @@ enum class LobeKind : uint8_t {
                 // `tint`, refraction by `color`; refraction alone has no Fresnel (Cycles' Refraction BSDF)
   Velvet,       // Ashikhmin's velvet sheen of `color`, sigma = `roughness` (lobes.h)
   SchlickSheen, // the 3.x Principled BSDF's sheen, `color` (1 - l.h)^5
+  MicrofiberSheen,  // 4.0 and later's sheen of `color`, `roughness` (microfiber_sheen.h)
 };
 
 constexpr int kMaxLobes = 8;
@@ -31,6 +32,7 @@ constexpr int kMaxLobes = 8;
 constexpr double kFollowedRoughness = 0.25;
 constexpr int kLayerAlbedoSteps = 32;      // a layer's directional albedo, tabulated by cos(theta)
 constexpr int kLayerRoughnessSteps = 17;   // ... and by roughness, when a texture drives it
+constexpr int kGlassEnergySteps = 32;      // a multiscatter glass's albedo, by cos(theta)
 
 // A lobe parameter driven by one of its material's inputs (an image texture's value at the shading
 // point, SurfacePoint::inputs). A colour or roughness is the parameter's constant times the input
@@ -62,6 +64,7 @@ struct Lobe {
   uint8_t parts = kReflectionAndRefraction;  // Dielectric only
   bool layer = false;  // attenuates every lobe after it by 1 - (its directional albedo towards the viewer)
   bool multiscatter = false;  // GGX energy lost to single scattering restored, as Cycles' Multiscatter GGX
+                              // (for glass, reflection and refraction together: glass_energy)
   bool tint_f0 = false;       // Dielectric: `tint` scales F0 only (see DielectricParams)
   Color weight{1.0};
   Color color{0.8};
@@ -77,6 +80,10 @@ struct Lobe {
   // A layer's directional albedo, multiple scattering included (prepare_lobe): by cos(theta), and
   // with a textured roughness by roughness too (kLayerRoughnessSteps rows).
   std::vector<float> albedo;
+  // Multiscatter glass: its single-scattering albedo E (reflection plus refraction, white), by side
+  // (outside, inside), roughness row as `albedo`, then cos(theta) in kGlassEnergySteps entries
+  // followed by their cosine-weighted average E_avg (prepare_lobe).
+  std::vector<float> glass_energy;
 
   double roughness_at(const SurfacePoint& sp) const {
     return roughness_input.used() ? glm::clamp(roughness * roughness_input.apply(sp).x, 0.0, 1.0) : roughness;
@@ -91,7 +98,10 @@ struct Lobe {
   }
 
   bool diffuse() const { return kind == LobeKind::Diffuse || kind == LobeKind::Translucent; }
-  bool sheen() const { return kind == LobeKind::Velvet || kind == LobeKind::SchlickSheen; }
+  bool sheen() const {
+    return kind == LobeKind::Velvet || kind == LobeKind::SchlickSheen || kind == LobeKind::MicrofiberSheen;
+  }
+  bool glass() const { return kind == LobeKind::Dielectric && parts == kReflectionAndRefraction; }
   bool microfacet() const {
     return kind == LobeKind::Conductor || kind == LobeKind::Glossy || kind == LobeKind::Dielectric;
   }

@@ -184,6 +184,10 @@ def test_the_principled_bsdf_becomes_its_layers():
     assert glow["emission"] == pytest.approx((4.0, 2.0, 0.0))
     half = principled(Alpha=0.25)
     assert lobes_by_kind(half)["transparent"]["weight"] == pytest.approx((0.75,) * 3)
+    dusty = principled(**{"Sheen Weight": 0.5, "Sheen Tint": (1.0, 0.5, 0.2, 1.0), "Sheen Roughness": 0.3})["lobes"]
+    assert [lobe["kind"] for lobe in dusty] == ["microfiber_sheen", "dielectric", "diffuse"]
+    assert dusty[0]["layer"] and dusty[0]["color"] == pytest.approx((0.5, 0.25, 0.1))
+    assert dusty[0]["roughness"] == pytest.approx(0.3)
 
 
 def test_a_value_driven_by_an_unsupported_node_warns_once_and_uses_its_own():
@@ -486,7 +490,7 @@ def test_a_physical_conductor_becomes_the_f82_model_through_its_fresnel():
     assert f0 == pytest.approx((0.944, 0.776, 0.373), abs=0.01)  # gold's familiar colour
 
 
-def test_the_sheen_bsdf_in_ashikhmin_mode_is_velvet_and_microfiber_is_left_out_with_a_warning():
+def test_the_sheen_bsdf_is_velvet_in_ashikhmin_mode_and_a_microfiber_sheen_in_its_default():
     mat, tree, out = node_material("cloth")
     sheen = add(tree, "ShaderNodeBsdfSheen", Color=(0.8, 0.3, 0.5, 1.0), Roughness=0.4)
     sheen.distribution = "ASHIKHMIN"
@@ -498,7 +502,9 @@ def test_the_sheen_bsdf_in_ashikhmin_mode_is_velvet_and_microfiber_is_left_out_w
     assert added(mat) == []
     sheen.distribution = "MICROFIBER"
     params, warnings = describe(mat)
-    assert len(warnings) == 1 and "microfiber" in warnings[0] and not params.get("lobes")
+    (microfiber,) = params["lobes"]
+    assert warnings == [] and microfiber["kind"] == "microfiber_sheen" and not microfiber.get("layer")
+    assert microfiber["roughness"] == pytest.approx(0.4) and microfiber["color"] == pytest.approx((0.8, 0.3, 0.5))
 
 
 def test_an_image_on_an_emission_colour_textures_the_emission():

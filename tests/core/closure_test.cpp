@@ -242,6 +242,30 @@ TEST(Closure, MultiscatterRestoresWhatSingleScatteringLoses) {
   }
 }
 
+TEST(Closure, MultiscatterGlassLosesNothingFromEitherSide) {
+  // Reflection plus refraction of white rough glass keep all the light with Multiscatter GGX
+  // (single scattering alone loses up to half, from inside), seen from outside and from inside; a tinted
+  // Glass BSDF keeps less than white and more than single scattering.
+  for (double roughness : {0.3, 0.6, 1.0}) {
+    for (double cos_o : {0.9, 0.4, -0.9, -0.4}) {
+      Lobe glass = lobe(LobeKind::Dielectric, Color(1.0), Color(1.0), roughness);
+      glass.ior = 1.45;
+      prepare_lobe(glass);
+      const double single = mean_albedo({glass}, direction(cos_o), false);
+      glass.multiscatter = true;
+      prepare_lobe(glass);
+      EXPECT_NEAR(mean_albedo({glass}, direction(cos_o), false), 1.0, 0.01) << roughness << " " << cos_o;
+      EXPECT_LT(single, roughness >= 0.6 ? 0.98 : 0.9995) << roughness << " " << cos_o;
+      Lobe tinted = glass;
+      tinted.color = tinted.tint = Color(0.7);
+      const double tinted_multi = mean_albedo({tinted}, direction(cos_o), false);
+      tinted.multiscatter = false;
+      EXPECT_GT(tinted_multi, mean_albedo({tinted}, direction(cos_o), false));
+      EXPECT_LT(tinted_multi, 0.7 + 1e-3);
+    }
+  }
+}
+
 TEST(Closure, ASmoothLayerAttenuatesWhatLiesBelowByItsFresnel) {
   const std::vector<Lobe> lobes = {specular_layer(0.0), lobe(LobeKind::Diffuse, Color(1.0), Color(0.5))};
   for (double cos_o : {1.0, 0.5, 0.1}) {

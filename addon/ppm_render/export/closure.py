@@ -461,16 +461,19 @@ def _glass(reader, node, ctx, w, parts="both"):
     if index is not None:
         reader.warn(node, "a textured glass colour tints refraction only (reflection stays white)")
     reader.out.add(w, kind="dielectric", parts=parts, color=tuple(color), tint=tuple(color) if index is None else None,
-                   color_input=index, ior=ior, roughness=roughness, roughness_input=roughness_input)
+                   color_input=index, ior=ior, roughness=roughness, roughness_input=roughness_input,
+                   multiscatter=parts == "both" and _multiscatter(node))
 
 
-def _velvet(reader, node, ctx, w):
-    """The Velvet BSDF (3.x) and the Sheen BSDF in its Ashikhmin mode: Ashikhmin's velvet. The Sheen
-    BSDF's default Microfiber mode (Zeltner et al. 2022, a fitted table) is not supported yet."""
-    if getattr(node, "distribution", "ASHIKHMIN") != "ASHIKHMIN":
-        reader.warn(node, "the Sheen BSDF's microfiber model is not supported yet; left out")
-        return
+def _sheen(reader, node, ctx, w):
+    """The Velvet BSDF (3.x) and the Sheen BSDF: Ashikhmin's velvet in its Ashikhmin mode, Cycles'
+    microfiber sheen (Zeltner et al. 2022; the core's microfiber_sheen.h) in its default mode."""
     color, index = reader.color(node, "Color", ctx)
+    if getattr(node, "distribution", "ASHIKHMIN") == "MICROFIBER":
+        roughness, roughness_input = _roughness(reader, node, ctx)
+        reader.out.add(w, kind="microfiber_sheen", color=tuple(color), color_input=index, roughness=roughness,
+                       roughness_input=roughness_input)
+        return
     sigma = reader.value(node, "Sigma" if "Sigma" in node.inputs else "Roughness", ctx, 0.5)
     reader.out.add(w, kind="velvet", color=tuple(color), color_input=index, roughness=min(max(sigma, 0.0), 1.0))
 
@@ -542,9 +545,22 @@ def _alpha(reader, node, ctx, w):
     return w
 
 
+def _principled_sheen(reader, node, ctx, w):
+    """The Principled BSDF's sheen (4.0 and later), a microfiber sheen of Sheen Weight times Sheen
+    Tint on top of the rest, a layer: the core attenuates what lies below by its albedo towards the
+    viewer, as Cycles does."""
+    sheen = max(reader.value(node, "Sheen Weight", ctx, 0.0), 0.0)
+    if sheen <= CUTOFF:
+        return
+    tint = np.clip(reader.value(node, "Sheen Tint", ctx, 1.0, color=True), 0.0, None)
+    roughness, roughness_input = _roughness(reader, node, ctx, "Sheen Roughness", 0.5)
+    reader.out.add(w, kind="microfiber_sheen", layer=True, color=tuple(sheen * tint), roughness=roughness,
+                   roughness_input=roughness_input)
+
+
 def principled_v2(reader, node, ctx, w):
     """Cycles' Principled BSDF of Blender 4.0 and later, top to bottom: alpha (transparency), sheen
-    (not yet: warned), coat (a dielectric layer, its tint at normal incidence), emission, metal (F82
+    (microfiber), coat (a dielectric layer, its tint at normal incidence), emission, metal (F82
     tint conductor), transmission (glass, tinted by the square root of the base colour at each
     crossing), the dielectric specular layer (IOR scaled by IOR Level, tinted by Specular Tint), and
     diffuse (subsurface as diffuse). Each layer takes its share of the weight below it as Cycles does.
@@ -554,8 +570,7 @@ def principled_v2(reader, node, ctx, w):
     roughness, roughness_input = _roughness(reader, node, ctx)
     rough = {"roughness": roughness, "roughness_input": roughness_input}
     w = _alpha(reader, node, ctx, w)
-    if v("Sheen Weight") > CUTOFF:
-        reader.warn(node, "sheen (Cycles' microfiber model) is not supported yet; left out")
+    _principled_sheen(reader, node, ctx, w)
     anisotropic = reader.anisotropy(node, ctx, "Anisotropic", "Anisotropic Rotation", metal_stretch)
     coat = max(v("Coat Weight"), 0.0)
     if coat > CUTOFF:
@@ -582,7 +597,8 @@ def principled_v2(reader, node, ctx, w):
     if w_transmission.peak() > CUTOFF:
         color_input = None if base_input is None else (base_input, "sqrt")
         reader.out.add(w_transmission, kind="dielectric", color=tuple(np.sqrt(np.clip(base, 0.0, 1.0))),
-                       tint=tuple(specular_tint), tint_f0=True, color_input=color_input, ior=ior, **rough)
+                       tint=tuple(specular_tint), tint_f0=True, color_input=color_input, ior=ior,
+                       multiscatter=_multiscatter(node), **rough)
     w = w_opaque
     level = max(v("Specular IOR Level", 0.5), 0.0)
     eta = ior if level == 0.5 else ior_from_f0(f0_from_ior(ior) * 2.0 * level)
@@ -629,7 +645,8 @@ def principled_v1(reader, node, ctx, w):
                    multiscatter=_multiscatter(node), **specular)
     if transmission > CUTOFF:
         reader.out.add(w * transmission, kind="dielectric", color=tuple(base), tint=(1.0, 1.0, 1.0),
-                       color_input=base_input, ior=max(v("IOR", 1.45), 1e-5), **rough)
+                       color_input=base_input, ior=max(v("IOR", 1.45), 1e-5), multiscatter=_multiscatter(node),
+                       **rough)
     _principled_v1_clearcoat(reader, node, ctx, w)
 
 
@@ -701,8 +718,8 @@ SHADERS = {
     "ShaderNodeEmission": _emission,
     "ShaderNodeHoldout": _holdout,
     "ShaderNodeSubsurfaceScattering": _as_diffuse("subsurface scattering"),
-    "ShaderNodeBsdfSheen": _velvet,
-    "ShaderNodeBsdfVelvet": _velvet,
+    "ShaderNodeBsdfSheen": _sheen,
+    "ShaderNodeBsdfVelvet": _sheen,
     "ShaderNodeBsdfToon": _as_diffuse("the Toon BSDF"),
     "ShaderNodeBsdfHair": _left_out("a hair BSDF"),
     "ShaderNodeBsdfHairPrincipled": _left_out("a hair BSDF"),
