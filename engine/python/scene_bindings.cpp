@@ -51,7 +51,7 @@ ParsedLobe lobe_from(const py::handle& item, const std::string& what) {
   const py::dict d = py::reinterpret_borrow<py::dict>(item);
   static const char* const kKeys[] = {"kind",         "weight",  "color",       "tint",
                                       "roughness",    "ior",     "parts",       "layer",
-                                      "textured",     "multiscatter", "tint_f0", "color_input",
+                                      "textured",     "multiscatter", "beckmann", "tint_f0", "color_input",
                                       "roughness_input", "weight_inputs", "stretch", "rotation"};
   for (const auto& [key, value] : d) {
     const std::string k = py::str(key);
@@ -83,6 +83,7 @@ ParsedLobe lobe_from(const py::handle& item, const std::string& what) {
   if (d.contains("layer")) l.layer = py::cast<bool>(d["layer"]);
   if (d.contains("textured")) parsed.textured = py::cast<bool>(d["textured"]);
   if (d.contains("multiscatter")) l.multiscatter = py::cast<bool>(d["multiscatter"]);
+  if (d.contains("beckmann")) l.beckmann = py::cast<bool>(d["beckmann"]);
   if (d.contains("tint_f0")) l.tint_f0 = py::cast<bool>(d["tint_f0"]);
   if (d.contains("color_input")) l.color_input = input_ref(d["color_input"], InputRef::Value, what, "color_input");
   if (d.contains("roughness_input"))
@@ -648,10 +649,12 @@ void bind_scene(py::module_& m) {
            "and the surfaces using it keep the BVH; an emissive material cannot replace one a sphere or "
            "revolve uses). kind: diffuse, mirror, metal, glass, emission, holdout "
            "(a hole in the image: alpha 0 where camera rays reach it), mixture (`lobes`: a list of dicts "
-           "with kind diffuse, translucent, transparent, conductor, glossy or dielectric, weight, color, tint, "
-           "roughness, ior, parts ('both', 'reflection', 'refraction'), layer (a dielectric reflection "
-           "that attenuates the lobes after it, as a Principled BSDF's specular layer or coat), textured "
-           "(its colour times the material's `texture`), multiscatter (Cycles' Multiscatter GGX energy), "
+           "with kind diffuse, translucent, transparent, conductor, glossy, dielectric, velvet, schlick_sheen "
+           "or microfiber_sheen, weight, color, tint, "
+           "roughness, ior, parts ('both', 'reflection', 'refraction'), layer (a dielectric reflection or a "
+           "microfiber sheen that attenuates the lobes after it, as a Principled BSDF's specular layer, coat "
+           "or sheen), textured (its colour times the material's `texture`), multiscatter (Cycles' "
+           "Multiscatter GGX energy), beckmann (Beckmann's distribution rather than GGX), "
            "tint_f0 (a dielectric's tint scales F0 only, as the Principled BSDF's Specular Tint), and "
            "color_input, roughness_input (an input index, or (index, 'value' | 'sqrt')) and weight_inputs "
            "(up to 2 of (index, 'fraction' | 'complement')): parameters times a textured input), stretch "

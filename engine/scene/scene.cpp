@@ -143,6 +143,8 @@ void Scene::check_lobes(Material& m, const std::string& what) const {
       fail(what, lobe + ": only conductor and glossy lobes can be anisotropic");
     if (l.layer && !((l.kind == LobeKind::Dielectric && l.parts == kReflection) || l.kind == LobeKind::MicrofiberSheen))
       fail(what, lobe + ": only a dielectric reflection or a microfiber sheen can be a layer");
+    if (l.beckmann && !l.microfacet()) fail(what, lobe + ": only conductor, glossy and dielectric lobes are Beckmann");
+    if (l.multiscatter && l.beckmann) fail(what, lobe + ": multiscatter is GGX's, not Beckmann's");
     if (l.multiscatter && l.kind == LobeKind::Dielectric && l.parts == kRefraction)
       fail(what, lobe + ": multiscatter is for conductor, glossy and dielectric lobes with reflection");
     prepare_lobe(l);

@@ -141,6 +141,7 @@ int pick(const std::vector<Lobe>& lobes, const double prob[], double u) {
 // shading normal (as Cycles turns it, about the unflipped normal).
 ConductorParams conductor_at(const Lobe& l, const SurfacePoint& sp, const Color& color) {
   ConductorParams p{color, l.tint, l.roughness_at(sp), l.kind == LobeKind::Glossy};
+  p.beckmann = l.beckmann;
   if (!l.anisotropic() || sp.tangent == Vec3(0.0)) return p;
   p.stretch_x = l.stretch_x;
   p.stretch_y = l.stretch_y;

@@ -24,6 +24,11 @@ DielectricSide dielectric_side(const DielectricParams& p, const SurfacePoint& sp
 
 double alpha_of(double roughness) { return roughness * roughness; }
 
+Microfacet dielectric_microfacet(const DielectricParams& p) {
+  const double a = std::fmax(alpha_of(p.roughness), 1e-4);
+  return {a, a, p.beckmann};
+}
+
 Color reflectance(const ConductorParams& p, double mu) { return p.constant ? p.f0 : conductor_fresnel(p.f0, p.f82, mu); }
 
 }  // namespace
@@ -136,12 +141,12 @@ bool schlick_sheen_sample(const Color& color, const SurfacePoint& sp, const Vec3
   return max_component(out.weight) > 0.0;
 }
 
-// A conductor's alphas along and across its tangent.
-void conductor_alphas(const ConductorParams& p, double& ax, double& ay) {
+// A conductor's distribution: its alphas along and across its tangent.
+Microfacet conductor_microfacet(const ConductorParams& p) {
   const double a = alpha_of(p.roughness);
   const bool anisotropic = p.tangent != Vec3(0.0);
-  ax = std::fmax(a * (anisotropic ? p.stretch_x : 1.0), 1e-4);
-  ay = std::fmax(a * (anisotropic ? p.stretch_y : 1.0), 1e-4);
+  return {std::fmax(a * (anisotropic ? p.stretch_x : 1.0), 1e-4), std::fmax(a * (anisotropic ? p.stretch_y : 1.0), 1e-4),
+          p.beckmann};
 }
 
 Color conductor_eval(const ConductorParams& p, const SurfacePoint& sp, const Vec3& wo, const Vec3& wi) {
@@ -149,10 +154,9 @@ Color conductor_eval(const ConductorParams& p, const SurfacePoint& sp, const Vec
   const LocalFrame f(facing_normal(sp, wo), p.tangent);
   const Vec3 lo = f.to_local(wo), li = f.to_local(wi);
   if (lo.z <= 0.0 || li.z <= 0.0) return Color(0.0);
-  double ax, ay;
-  conductor_alphas(p, ax, ay);
+  const Microfacet m = conductor_microfacet(p);
   const Vec3 h = glm::normalize(lo + li);
-  return reflectance(p, glm::dot(lo, h)) * ggx_d(h, ax, ay) * ggx_g2(lo, li, ax, ay) / (4.0 * lo.z * li.z);
+  return reflectance(p, glm::dot(lo, h)) * m.d(h) * m.g2(lo, li) / (4.0 * lo.z * li.z);
 }
 
 bool conductor_sample(const ConductorParams& p, const SurfacePoint& sp, const Vec3& wo, double u1, double u2,
@@ -170,15 +174,14 @@ bool conductor_sample(const ConductorParams& p, const SurfacePoint& sp, const Ve
   const LocalFrame f(n, p.tangent);
   const Vec3 lo = f.to_local(wo);
   if (lo.z <= 0.0) return false;
-  double ax, ay;
-  conductor_alphas(p, ax, ay);
-  const Vec3 h = ggx_sample_vndf(lo, ax, ay, u1, u2);
+  const Microfacet m = conductor_microfacet(p);
+  const Vec3 h = m.sample(lo, u1, u2);
   const double oh = glm::dot(lo, h);
   if (oh <= 0.0) return false;
   const Vec3 li = reflect(lo, h);
   if (li.z <= 0.0) return false;
   out.wi = f.to_world(li);
-  out.weight = reflectance(p, oh) * (ggx_g2(lo, li, ax, ay) / ggx_g1(lo, ax, ay));
+  out.weight = reflectance(p, oh) * m.sample_weight(lo, li, h);
   out.specular = false;
   return true;
 }
@@ -200,12 +203,12 @@ Color dielectric_eval(const DielectricParams& p, const SurfacePoint& sp, const V
   const LocalFrame f(s.n);
   const Vec3 lo = f.to_local(wo), li = f.to_local(wi);
   if (lo.z <= 0.0 || li.z == 0.0) return Color(0.0);
-  const double a2 = alpha_of(p.roughness) * alpha_of(p.roughness);
+  const Microfacet m = dielectric_microfacet(p);
   if (li.z > 0.0) {
     if (!(p.parts & kReflection)) return Color(0.0);
     const Vec3 h = glm::normalize(lo + li);
     const double F = fresnel_dielectric(glm::dot(lo, h), s.eta_o, s.eta_i);
-    return fresnel_split(p, F).reflected * (ggx_d(h, a2) * ggx_g2(lo, li, a2) / (4.0 * lo.z * li.z));
+    return fresnel_split(p, F).reflected * (m.d(h) * m.g2(lo, li) / (4.0 * lo.z * li.z));
   }
   if (!(p.parts & kRefraction)) return Color(0.0);
   // Walter 2007, eq. 21, with wi the light side, times (eta_i / eta_o)^2: Cycles' rule, radiance
@@ -219,7 +222,7 @@ Color dielectric_eval(const DielectricParams& p, const SurfacePoint& sp, const V
   const double F = fresnel_dielectric(oh, s.eta_o, s.eta_i);
   const double denom = s.eta_i * ih + s.eta_o * oh;
   const Vec3 li_up(li.x, li.y, -li.z);
-  const double value = std::fabs(ih) * oh * s.eta_i * s.eta_i * ggx_d(h, a2) * ggx_g2(lo, li_up, a2) /
+  const double value = std::fabs(ih) * oh * s.eta_i * s.eta_i * m.d(h) * m.g2(lo, li_up) /
                        (lo.z * std::fabs(li.z) * denom * denom);
   return fresnel_split(p, F).refracted * value;
 }
@@ -263,8 +266,8 @@ bool dielectric_sample(const DielectricParams& p, const SurfacePoint& sp, const 
   const LocalFrame f(s.n);
   const Vec3 lo = f.to_local(wo);
   if (lo.z <= 0.0) return false;
-  const double a = std::fmax(alpha_of(p.roughness), 1e-4), a2 = a * a;
-  const Vec3 h = ggx_sample_vndf(lo, a, u1, u2);
+  const Microfacet m = dielectric_microfacet(p);
+  const Vec3 h = m.sample(lo, u1, u2);
   const double oh = glm::dot(lo, h);
   if (oh <= 0.0) return false;
   const double F = fresnel_dielectric(oh, s.eta_o, s.eta_i);
@@ -279,12 +282,12 @@ bool dielectric_sample(const DielectricParams& p, const SurfacePoint& sp, const 
   if (reflects) {
     li = reflect(lo, h);
     if (li.z <= 0.0) return false;
-    out.weight = split.reflected * ((both ? 1.0 / F_eff : 1.0) * ggx_g2(lo, li, a2) / ggx_g1(lo, a2));
+    out.weight = split.reflected * ((both ? 1.0 / F_eff : 1.0) * m.sample_weight(lo, li, h));
     out.ray_kind = kGlossyRay;
   } else {
     if (!refracts || li.z >= 0.0) return false;
     const double scale = photon ? (s.eta_o / s.eta_i) * (s.eta_o / s.eta_i) : 1.0;  // Cycles' rule (lobes.h)
-    const double g = ggx_g2(lo, Vec3(li.x, li.y, -li.z), a2) / ggx_g1(lo, a2);
+    const double g = m.sample_weight(lo, Vec3(li.x, li.y, -li.z), h);
     out.weight = split.refracted * ((both ? 1.0 / (1.0 - F_eff) : 1.0) * scale * g);
     out.ray_kind = kTransmissionRay;
   }

@@ -1,6 +1,6 @@
 // The scattering functions of the lobe families, on plain parameters, so that the single-kind
 // materials (scene/bsdf.h) and mixtures (shading/closure.h) share one implementation of each.
-// Rough lobes use GGX (microfacet.h); rough refraction follows Walter et al. 2007.
+// Rough lobes use GGX or Beckmann (microfacet.h); rough refraction follows Walter et al. 2007.
 #pragma once
 
 #include "shading/scatter.h"
@@ -46,6 +46,7 @@ struct ConductorParams {
   // and stretch_y across it; a zero tangent leaves the lobe isotropic.
   Vec3 tangent{0.0};
   double stretch_x = 1.0, stretch_y = 1.0;
+  bool beckmann = false;  // Beckmann's distribution rather than GGX
 };
 Color conductor_eval(const ConductorParams& p, const SurfacePoint& sp, const Vec3& wo, const Vec3& wi);
 bool conductor_sample(const ConductorParams& p, const SurfacePoint& sp, const Vec3& wo, double u1, double u2,
@@ -60,6 +61,7 @@ struct DielectricParams {
   uint8_t parts = kReflectionAndRefraction;
   bool tint_f0 = false;  // the reflection tint scales F0 only, as Cycles' generalized Schlick Fresnel
                          // of the Principled BSDF; else it scales the whole reflection
+  bool beckmann = false;  // Beckmann's distribution rather than GGX
 };
 
 // The reflected and refracted shares of light at a (micro)surface of real Fresnel reflectance F.

@@ -1,6 +1,6 @@
 // The GGX microfacet distribution with Smith height-correlated masking, visible-normal sampling
-// (Heitz 2018), and the Fresnel terms of dielectrics and conductors. Local frames have the normal
-// along +Z.
+// (Heitz 2018), Beckmann's (Blender's other), and the Fresnel terms of dielectrics and conductors.
+// Local frames have the normal along +Z.
 #pragma once
 
 #include "math/types.h"
@@ -99,6 +99,47 @@ inline Vec3 ggx_sample_vndf(const Vec3& wo, double ax, double ay, double u1, dou
 inline Vec3 ggx_sample_vndf(const Vec3& wo, double alpha, double u1, double u2) {
   return ggx_sample_vndf(wo, alpha, alpha, u1, u2);
 }
+
+// Beckmann's distribution, anisotropic as GGX above, with Smith's masking through Walter et al.'s
+// rational approximation of Lambda (as Cycles: zero for a >= 1.6).
+inline double beckmann_d(const Vec3& h, double ax, double ay) {
+  if (h.z <= 0.0) return 0.0;
+  const double c2 = h.z * h.z, x = h.x / ax, y = h.y / ay;
+  return std::exp(-(x * x + y * y) / c2) / (kPi * ax * ay * c2 * c2);
+}
+inline double beckmann_lambda(const Vec3& w, double ax, double ay) {
+  const double c2 = w.z * w.z;
+  if (c2 <= 0.0) return kInf;
+  const double t2 = (ax * ax * w.x * w.x + ay * ay * w.y * w.y) / c2;  // (alpha tan(theta))^2
+  if (t2 < 0.39) return 0.0;                                             // a = 1 / sqrt(t2) > 1.6
+  const double a = 1.0 / std::sqrt(t2);
+  return ((0.396 * a - 1.259) * a + 1.0) / ((2.181 * a + 3.535) * a);
+}
+// A Beckmann normal drawn with density D(h) h.z: Gaussian slopes.
+inline Vec3 beckmann_sample_d_cos(double ax, double ay, double u1, double u2) {
+  const double r = std::sqrt(-std::log(std::fmax(1.0 - u1, 1e-300))), phi = 2.0 * kPi * u2;
+  return glm::normalize(Vec3(-ax * r * std::cos(phi), -ay * r * std::sin(phi), 1.0));
+}
+
+// One of the two distributions with its alphas along the local x (tangent) and y axes.
+struct Microfacet {
+  double ax, ay;
+  bool beckmann = false;
+
+  double d(const Vec3& h) const { return beckmann ? beckmann_d(h, ax, ay) : ggx_d(h, ax, ay); }
+  double lambda(const Vec3& w) const { return beckmann ? beckmann_lambda(w, ax, ay) : ggx_lambda(w, ax, ay); }
+  double g2(const Vec3& wo, const Vec3& wi) const { return 1.0 / (1.0 + lambda(wo) + lambda(wi)); }
+  // A normal to scatter wo (wo.z > 0) by: GGX's visible normals, Beckmann's by D cos.
+  Vec3 sample(const Vec3& wo, double u1, double u2) const {
+    return beckmann ? beckmann_sample_d_cos(ax, ay, u1, u2) : ggx_sample_vndf(wo, ax, ay, u1, u2);
+  }
+  // f |cos| / pdf of a direction scattered through a sampled h, Fresnel aside; wi_up is the
+  // direction mirrored into wo's hemisphere (for refraction).
+  double sample_weight(const Vec3& wo, const Vec3& wi_up, const Vec3& h) const {
+    const double g = g2(wo, wi_up);
+    return beckmann ? g * std::fabs(glm::dot(wo, h)) / (wo.z * h.z) : g * (1.0 + lambda(wo));
+  }
+};
 
 struct LocalFrame {
   Vec3 t, b, n;

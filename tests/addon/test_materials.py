@@ -84,6 +84,29 @@ def test_mix_and_add_fold_into_weights():
     assert lobes["dielectric"]["ior"] == pytest.approx(1.33)
 
 
+def test_microfacet_distributions_map_to_the_core():
+    """Beckmann is Beckmann's; Multiscatter GGX restores energy, for glass too (not for Refraction,
+    which has no such mode)."""
+    mat, tree, out = node_material()
+    glass = add(tree, "ShaderNodeBsdfGlass", IOR=1.5, Roughness=0.4)
+    tree.links.new(glass.outputs[0], out.inputs["Surface"])
+    for distribution, beckmann, multiscatter in (("BECKMANN", True, False), ("GGX", False, False),
+                                                 ("MULTI_GGX", False, True)):
+        glass.distribution = distribution
+        (lobe,) = describe(mat)[0]["lobes"]
+        assert (lobe["beckmann"], lobe["multiscatter"]) == (beckmann, multiscatter), distribution
+    glossy = add(tree, "ShaderNodeBsdfGlossy", Roughness=0.4)
+    glossy.distribution = "BECKMANN"
+    tree.links.new(glossy.outputs[0], out.inputs["Surface"])
+    (lobe,) = describe(mat)[0]["lobes"]
+    assert lobe["kind"] == "glossy" and lobe["beckmann"] and lobe["roughness"] == pytest.approx(0.4)
+    refraction = add(tree, "ShaderNodeBsdfRefraction", Roughness=0.4)
+    refraction.distribution = "GGX"
+    tree.links.new(refraction.outputs[0], out.inputs["Surface"])
+    (lobe,) = describe(mat)[0]["lobes"]
+    assert lobe["parts"] == "refraction" and not lobe["multiscatter"]
+
+
 def test_zero_weight_branches_and_unconnected_inputs_are_dropped():
     mat, tree, out = node_material()
     diffuse = add(tree, "ShaderNodeBsdfDiffuse", Color=(0.5, 0.5, 0.5, 1.0))

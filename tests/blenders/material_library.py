@@ -179,8 +179,9 @@ def normal_mapped(tree, out):
 
 
 def frosted(kind, distribution, **inputs):
-    """A rough glass (Glass or Principled BSDF) in `distribution` (Multiscatter GGX: the default
-    from Blender 4.0, where single scattering alone loses up to half the light inside glass)."""
+    """A BSDF node (Principled or another) in microfacet `distribution`: Beckmann, or Multiscatter
+    GGX for rough glass (the default from Blender 4.0; single scattering alone loses up to half the
+    light inside glass)."""
     def build(tree, out):
         if kind == "ShaderNodeBsdfPrincipled":
             principled(**inputs)(tree, out)
@@ -284,6 +285,8 @@ MATERIALS = {
     "metallic_physical_gold": lambda tree, out: physical_gold(tree, out),
     "velvet": lambda tree, out: sheen_bsdf(tree, out, "ASHIKHMIN"),
     "sheen_microfiber": lambda tree, out: sheen_bsdf(tree, out, "MICROFIBER"),
+    "glossy_beckmann": frosted(GLOSSY, "BECKMANN", Color=rgba(0.8, 0.7, 0.5), Roughness=0.4),
+    "glass_beckmann": frosted("ShaderNodeBsdfGlass", "BECKMANN", IOR=1.45, Roughness=0.4),
     "glass_frosted": frosted("ShaderNodeBsdfGlass", "MULTI_GGX", Color=rgba(0.6, 0.9, 0.7), IOR=1.45, Roughness=0.8),
     "principled_glass_frosted": frosted("ShaderNodeBsdfPrincipled", "MULTI_GGX",
                                         **{"Transmission Weight": 1.0, "Roughness": 0.8, "IOR": 1.45}),

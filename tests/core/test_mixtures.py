@@ -56,7 +56,7 @@ def furnace(lobes, size=24, passes=30):
     renderer = ppm_core.Renderer(scene, photons_per_pass=50_000, threads=2, seed=1, max_bounces=64,
                                  hit_points="stochastic")
     renderer.run(passes=passes)
-    return finite_rgb(renderer)
+    return finite_rgb(renderer, hit_points=False)  # (glass is followed to the world)
 
 
 @pytest.mark.parametrize("lobes", [
@@ -66,7 +66,10 @@ def furnace(lobes, size=24, passes=30):
      {"kind": "diffuse", "color": 1.0}],
     [{"kind": "diffuse", "weight": 0.5, "color": 1.0}, {"kind": "dielectric", "weight": 0.3, "color": 1.0},
      {"kind": "transparent", "weight": 0.2, "color": 1.0}],
-], ids=["smooth layer over diffuse", "rough layer over diffuse", "diffuse, glass and transparent"])
+    [{"kind": "microfiber_sheen", "layer": True, "roughness": 0.5, "color": 1.0}, {"kind": "diffuse", "color": 1.0}],
+    [{"kind": "dielectric", "roughness": 0.7, "ior": 1.5, "color": 1.0, "tint": 1.0, "multiscatter": True}],
+], ids=["smooth layer over diffuse", "rough layer over diffuse", "diffuse, glass and transparent",
+        "sheen layer over diffuse", "multiscatter rough glass"])
 def test_white_lossless_mixtures_stay_white_in_a_white_furnace(lobes):
     image = furnace(lobes)
     centre = image[6:18, 6:18]  # well inside the ball's silhouette
@@ -81,6 +84,9 @@ def test_white_lossless_mixtures_stay_white_in_a_white_furnace(lobes):
     ([{"kind": "diffuse", "roughness": 2.0}], "roughness"),
     ([{"kind": "diffuse", "layer": True}], "layer"),
     ([{"kind": "diffuse", "colour": 1.0}], "unknown lobe key 'colour'"),
+    ([{"kind": "diffuse", "beckmann": True}], "Beckmann"),
+    ([{"kind": "glossy", "roughness": 0.5, "beckmann": True, "multiscatter": True}], "GGX's"),
+    ([{"kind": "dielectric", "parts": "refraction", "multiscatter": True}], "multiscatter"),
     (["diffuse"], "dict"),
 ])
 def test_bad_lobes_are_refused_with_a_message(lobes, message):

@@ -358,9 +358,23 @@ def _add(reader, node, ctx, w):
 
 
 def _roughness(reader, node, ctx, name="Roughness", default=0.5):
-    """(roughness in [0, 1], input or None): a textured roughness is the image's value (the core clamps it)."""
+    """(roughness in [0, 1], input or None): a textured roughness is the image's value (the core clamps it);
+    0 for 3.x's Sharp distribution."""
+    if name == "Roughness" and _sharp(node):
+        return 0.0, None
     value, index = reader.scalar(node, name, ctx, default)
     return min(max(value, 0.0), 1.0), index
+
+
+def _beckmann(node):
+    """Whether the node's microfacet distribution is Beckmann's (the Glossy, Anisotropic, Metallic,
+    Glass and Refraction BSDFs offer it); Ashikhmin-Shirley (3.x to 4.x's Glossy) renders as GGX."""
+    return getattr(node, "distribution", "GGX") == "BECKMANN"
+
+
+def _sharp(node):
+    """3.x's Sharp distribution: a perfect mirror or smooth glass, whatever the roughness."""
+    return getattr(node, "distribution", "GGX") == "SHARP"
 
 
 def _multiscatter(node):
@@ -412,7 +426,7 @@ def _glossy(reader, node, ctx, w):
     color, index = reader.color(node, "Color", ctx, (1.0, 1.0, 1.0))
     roughness, roughness_input = _roughness(reader, node, ctx)
     reader.out.add(w, kind="glossy", color=tuple(color), color_input=index, multiscatter=_multiscatter(node),
-                   roughness=roughness, roughness_input=roughness_input,
+                   beckmann=_beckmann(node), roughness=roughness, roughness_input=roughness_input,
                    **reader.anisotropy(node, ctx, "Anisotropy", "Rotation", glossy_stretch))
 
 
@@ -449,7 +463,7 @@ def _metallic(reader, node, ctx, w):
         tint = reader.value(node, "Edge Tint", ctx, 1.0, color=True)
     roughness, roughness_input = _roughness(reader, node, ctx)
     reader.out.add(w, kind="conductor", color=tuple(np.clip(color, 0.0, 1.0)), tint=tuple(np.clip(tint, 0.0, 1.0)),
-                   color_input=index, multiscatter=_multiscatter(node), roughness=roughness,
+                   color_input=index, multiscatter=_multiscatter(node), beckmann=_beckmann(node), roughness=roughness,
                    roughness_input=roughness_input,
                    **reader.anisotropy(node, ctx, "Anisotropy", "Rotation", metal_stretch))
 
@@ -462,7 +476,7 @@ def _glass(reader, node, ctx, w, parts="both"):
         reader.warn(node, "a textured glass colour tints refraction only (reflection stays white)")
     reader.out.add(w, kind="dielectric", parts=parts, color=tuple(color), tint=tuple(color) if index is None else None,
                    color_input=index, ior=ior, roughness=roughness, roughness_input=roughness_input,
-                   multiscatter=parts == "both" and _multiscatter(node))
+                   multiscatter=parts == "both" and _multiscatter(node), beckmann=_beckmann(node))
 
 
 def _sheen(reader, node, ctx, w):
