@@ -132,7 +132,7 @@ NormalMap normal_map_from(const py::object& value, const std::string& what) {
   const py::dict d = py::reinterpret_borrow<py::dict>(value);
   for (const auto& [key, item] : d) {
     const std::string k = py::str(key);
-    if (k != "input" && k != "strength" && k != "space" && k != "softening")
+    if (k != "input" && k != "strength" && k != "space" && k != "softening" && k != "valid_reflection")
       fail(what, "unknown normal_map key '" + printable(k) + "'");
   }
   if (!d.contains("input")) fail(what, "normal_map needs an input");
@@ -149,6 +149,7 @@ NormalMap normal_map_from(const py::object& value, const std::string& what) {
                                            {"chiang", BumpSoftening::Chiang},
                                            {"conty_estevez", BumpSoftening::ContyEstevez}},
                                           what, "normal_map softening");
+  if (d.contains("valid_reflection")) map.valid_reflection = py::cast<bool>(d["valid_reflection"]);
   return map;
 }
 
@@ -668,7 +669,8 @@ void bind_scene(py::module_& m) {
            "'chiang' | 'none'), the input's colour c as the normal 2c - 1 in the tangent space of the mesh's "
            "tangents (add_mesh) or in world space, as Blender's Normal Map node, or (direct) the input itself as "
            "the normal; softening: Cycles' bump shadowing at the terminator, of "
-           "Blender 4.3+ or of 3.x-4.2), and emission_input (an input whose value multiplies `emission`: a "
+           "Blender 4.3+ or of 3.x-4.2; valid_reflection=True: the normal turned so that the view's mirror "
+           "direction stays above the surface, as Blender 3.x), and emission_input (an input whose value multiplies `emission`: a "
            "textured emission; a mixture's or an emission material's). "
            "emission is radiance in W/(m^2 sr) (Blender colour * strength).")
       .def("set_object_info", &set_object_info, py::arg("object"), py::arg("matrix"),

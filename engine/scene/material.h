@@ -38,6 +38,9 @@ struct NormalMap {
   Space space = Tangent;
   BumpSoftening softening = BumpSoftening::ContyEstevez;
   double strength = 1.0;
+  // Blender 3.x's Cycles: the normal is turned, towards the geometric one, until the viewer's mirror
+  // direction lies at least a little above the surface (shading/valid_reflection.h).
+  bool valid_reflection = false;
 };
 
 struct Material {

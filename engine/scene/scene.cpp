@@ -3,6 +3,7 @@
 
 #include "geometry/bezier_revolve.h"
 #include "math/sampling.h"
+#include "shading/valid_reflection.h"
 
 #include <cmath>
 #include <sstream>
@@ -943,6 +944,10 @@ SurfacePoint Scene::surface_point(const Hit& hit, const Vec3& wo, double footpri
   if (m.normal_map.input >= 0) {
     sp.smooth_normal = sp.ns;
     sp.ns = mapped_normal(m.normal_map, sp, hit.tangent, c.backfacing);
+    if (m.normal_map.valid_reflection) {
+      const double side = c.backfacing ? -1.0 : 1.0;
+      sp.ns = side * valid_reflection(side * sp.ng, wo, side * sp.ns);
+    }
   }
   return sp;
 }

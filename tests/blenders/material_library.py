@@ -297,13 +297,10 @@ MATERIALS = {
 MATERIALS.update(procedural_library.MATERIALS)  # texture and utility nodes (Materials II)
 
 # Documented approximations: measured and reported, not held to the tolerance.
-# In 3.x Cycles makes every closure's normal a valid reflection of the view (ensure_valid_reflection),
-# which the add-on does not: strongly tilted normals (a noise read as a normal map) differ by 12%.
-# And in 3.x Multiscatter GGX glass is a random walk over the microsurface (Heitz et al. 2016), which the
-# add-on approximates by 4.x's energy compensation: rough tinted glass differs by 5%, rough
-# Principled glass by 22% (too dark).
-APPROXIMATED = {"principled_subsurface", "toon"} | (
-    set() if V4 else {"proc_noise_normal_map", "glass_frosted", "principled_glass_frosted"})
+# In 3.x Multiscatter GGX glass is a random walk over the microsurface (Heitz et al. 2016), which the
+# add-on approximates by 4.x's energy compensation: rough tinted glass differs by 5-8%, rough
+# Principled glass by 20-22% (too dark).
+APPROXIMATED = {"principled_subsurface", "toon"} | (set() if V4 else {"glass_frosted", "principled_glass_frosted"})
 
 
 def make_material(name):
