@@ -67,7 +67,7 @@ class ViewportSession:
         self.materials = None  # the last whole export's MaterialExporter: its core material slots
         self.object_warnings = []  # of the last whole export (objects, materials, world)
         self.light_warnings = []  # of the last export of the lights
-        self.material_warnings = []  # of the last update of materials in place
+        self.material_warnings = []  # of the materials updated in place since the last export
         SESSIONS.add(self)
 
     @property
@@ -117,14 +117,18 @@ class ViewportSession:
         table = self.materials.attributes_table  # view-layer attributes: read from this depsgraph's
         if table is not None:
             table.view_layer, table.scene = depsgraph.view_layer, depsgraph.scene
-        warnings = []
+        warnings, edited = [], edited_materials(depsgraph)
         self.materials.warn = warnings.append
         try:
-            if not all(self.materials.update(material) for material in edited_materials(depsgraph)):
+            if not all(self.materials.update(material) for material in edited):
                 return False
         finally:
             self.materials.warn = self.object_warnings.append
-        self.core_scene, self.material_warnings = core_scene, warnings
+        # The edited materials' warnings from before are replaced by the new ones; the others stay.
+        stale = tuple(f"material '{material.name}':" for material in edited)
+        self.object_warnings = [w for w in self.object_warnings if not w.startswith(stale)]
+        self.material_warnings = [w for w in self.material_warnings if not w.startswith(stale)] + warnings
+        self.core_scene = core_scene
         return True
 
     def set_view(self, view):

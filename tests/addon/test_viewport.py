@@ -234,6 +234,27 @@ def test_a_material_edit_writes_its_values_in_place_and_renders_as_a_new_export_
     assert edited.rgba[..., :3].mean() > 1.2 * before.rgba[..., :3].mean()  # glowing walls
 
 
+def test_a_material_edited_in_place_keeps_only_its_new_warnings():
+    """A warning about a material goes when an edit in place removes its cause, and comes back with
+    it; warnings about other materials stay."""
+    s = Session()
+    tree = bpy.data.materials["matte"].node_tree
+    toon = tree.nodes.new("ShaderNodeBsdfToon")  # rendered as diffuse, with a warning
+    output = next(n for n in tree.nodes if n.type == "OUTPUT_MATERIAL")
+    bsdf = output.inputs["Surface"].links[0].from_node
+    tree.links.new(toon.outputs[0], output.inputs["Surface"])
+    s.session.export(bpy.context.evaluated_depsgraph_get())
+    about = lambda name: [w for w in s.session.warnings if f"material '{name}'" in w]  # noqa: E731
+    assert len(about("matte")) == 1
+    others = [w for w in s.session.warnings if "material 'matte'" not in w]
+    assert updated_after(s.session, lambda: tree.links.new(bsdf.outputs[0], output.inputs["Surface"])) == {"materials"}
+    assert about("matte") == [] and [w for w in s.session.warnings if w not in others] == []
+    assert updated_after(s.session, lambda: tree.links.new(toon.outputs[0], output.inputs["Surface"])) == {"materials"}
+    assert len(about("matte")) == 1
+    assert updated_after(s.session, lambda: bsdf_colour("white", (0.9, 0.9, 0.8))) == {"materials"}
+    assert len(about("matte")) == 1  # another material's edit leaves it
+
+
 def test_within_a_full_resolution_pass_the_viewport_shows_the_bands_done(monkeypatch):
     """A view of more pixels than a band of rows gets images between a pass's bands too (here after
     every band), and ends on the image of whole passes."""
