@@ -65,21 +65,25 @@ class ViewportSession:
         self.error = None
         self.done = False
         self.materials = None  # the last whole export's MaterialExporter: its core material slots
-        self.object_warnings = []  # of the last whole export (objects, materials, world)
+        self.world_textures = 0  # the core's texture count before the world's (export_world)
+        self.object_warnings = []  # of the last whole export (objects, materials)
         self.light_warnings = []  # of the last export of the lights
         self.material_warnings = []  # of the materials updated in place since the last export
+        self.world_warnings = []  # of the last export of the world
         SESSIONS.add(self)
 
     @property
     def warnings(self):
-        return self.object_warnings + self.light_warnings + self.material_warnings
+        return self.object_warnings + self.light_warnings + self.material_warnings + self.world_warnings
 
     def update(self, depsgraph):
         """Brings the core scene up to the depsgraph's updates (main thread): what changed_part says,
-        or the whole scene where materials cannot be updated in place. Returns the part updated
+        or the whole scene where materials or the world cannot be updated in place. Returns the part updated
         (None: nothing that is rendered changed)."""
         part = changed_part(depsgraph, self)
         if part == "materials" and not self.update_materials(depsgraph):
+            part = "scene"
+        if part == "world" and not self.update_world(depsgraph):
             part = "scene"
         if part == "lights":
             self.export_lights(depsgraph)
@@ -91,10 +95,12 @@ class ViewportSession:
         """(Re)exports the whole scene from the evaluated depsgraph, stopping the thread."""
         self.stop()
         self.core_scene = None  # until the export succeeds: a failed one renders nothing and shows its error
-        self.object_warnings, self.light_warnings, self.material_warnings = [], [], []
-        exporter = export.scene_exporter(self.ppm_core, depsgraph, self.object_warnings.append, lights=False)
+        self.object_warnings, self.light_warnings, self.material_warnings, self.world_warnings = [], [], [], []
+        exporter = export.scene_exporter(self.ppm_core, depsgraph, self.object_warnings.append, lights=False,
+                                         world_warn=self.world_warnings.append)
         export.export_lights(exporter.scene, depsgraph, self.light_warnings.append)
         self.core_scene, self.materials = exporter.scene, exporter.materials
+        self.world_textures = exporter.world_textures
         scene = depsgraph.scene
         self.settings = renderer_settings(scene)
         self.limits = (scene.ppm.viewport_passes, scene.ppm.viewport_time_limit)
@@ -129,6 +135,22 @@ class ViewportSession:
         self.object_warnings = [w for w in self.object_warnings if not w.startswith(stale)]
         self.material_warnings = [w for w in self.material_warnings if not w.startswith(stale)] + warnings
         self.core_scene = core_scene
+        return True
+
+    def update_world(self, depsgraph):
+        """Replaces the world alone, stopping the thread; False (a whole export then) where the core
+        refuses. Its warnings replace the last world's."""
+        self.stop()
+        core_scene, self.core_scene = self.core_scene, None  # as in export: a failure renders nothing
+        table = self.materials.attributes_table
+        if table is not None:
+            table.view_layer, table.scene = depsgraph.view_layer, depsgraph.scene
+        warnings = []
+        try:
+            export.export_world(core_scene, depsgraph, warnings.append, self.world_textures, table)
+        except ValueError:
+            return False
+        self.core_scene, self.world_warnings = core_scene, warnings
         return True
 
     def set_view(self, view):
@@ -251,8 +273,9 @@ def redraw_of(engine):
 def changed_part(depsgraph, session):
     """What of the rendered scene the depsgraph's updates change: None (a selection, say), "lights"
     (light objects and light data alone: moved, or their power, colour or size), "materials" (the
-    values of materials: the objects using them are listed too, with only their shading tagged) or
-    "scene" (anything else, the add-on's settings, or a session without a scene)."""
+    values of materials: the objects using them are listed too, with only their shading tagged),
+    "world" (a world and its node tree alone) or "scene" (anything else, the add-on's settings, or a
+    session without a scene)."""
     if session.core_scene is None or session.settings_key != settings_key(depsgraph.scene):
         return "scene"
     updates = [update for update in depsgraph.updates
@@ -266,6 +289,11 @@ def changed_part(depsgraph, session):
              if isinstance(id, (bpy.types.Light, bpy.types.Material)) and getattr(id.original, "node_tree", None)}
     if all(is_light(id) or id.original.as_pointer() in trees for id in changed):
         return "lights"
+    world_trees = {id.original.node_tree.as_pointer() for id in changed
+                   if isinstance(id, bpy.types.World) and getattr(id.original, "node_tree", None)}
+    if any(isinstance(id, bpy.types.World) for id in changed) and all(
+            isinstance(id, bpy.types.World) or id.original.as_pointer() in world_trees for id in changed):
+        return "world"
     if any(isinstance(id, bpy.types.Material) for id in changed) and all(
             isinstance(update.id, bpy.types.Material) or update.id.original.as_pointer() in trees
             or (is_object_or_geometry(update.id) and not is_light(update.id)

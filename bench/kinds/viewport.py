@@ -12,9 +12,9 @@ per second while refining at full resolution (each image asks Blender for a redr
 comes every viewport.IMAGE_INTERVAL seconds), and the process's resident memory after the edits in
 `memory_marks` (each cancelling the last one's refinement after its first image, as dragging a lamp
 does), as it is and after glibc's malloc_trim (what is still allocated). Last, the same scene with a
-dense ball of about `heavy_triangles` triangles added: lamp edits (lights replaced) and colour edits (a
-material replaced), which keep the BVH, against moving a ball (the whole scene exported and its BVH
-built again)."""
+dense ball of about `heavy_triangles` triangles added: lamp edits (lights replaced), colour edits (a
+material replaced) and world edits (the world replaced), which keep the BVH, against moving a ball (the
+whole scene exported and its BVH built again)."""
 
 from __future__ import annotations
 
@@ -102,6 +102,7 @@ class Edits:
         self.session.start()
         self.lamp = next(o for o in self.scene.objects if o.type == "LIGHT")
         self.matte = next(n for n in self.bpy.data.materials["matte"].node_tree.nodes if n.type.startswith("BSDF"))
+        self.background = next(n for n in self.scene.world.node_tree.nodes if n.type == "BACKGROUND")
         self.step = 0
 
     def change(self, what):
@@ -109,6 +110,8 @@ class Edits:
             self.lamp.location.x = 0.2 * ((self.step % 5) - 2)
         elif what == "material":  # the matte ball's colour: written into its core material
             self.matte.inputs["Color"].default_value = (0.8, 0.7, 0.1 + 0.1 * (self.step % 5), 1.0)
+        elif what == "world":  # the (black) world's colour: the world alone exported again
+            self.background.inputs["Color"].default_value = (0.01 * (self.step % 5),) * 3 + (1.0,)
         else:  # the matte ball moved: the whole scene is exported again
             self.scene.objects["matte_ball"].location.x = -0.3 + 0.02 * (self.step % 5)
 
@@ -181,7 +184,7 @@ def measure(params):
         heavy = {}
         if params["heavy_triangles"]:
             edits = Edits(params, params["heavy_triangles"])
-            for what in ("lamp", "material", "object"):
+            for what in ("lamp", "material", "world", "object"):
                 heavy[what] = [edits.edit(what) for _ in range(params["heavy_edits_timed"])]
             heavy["triangles"] = edits.triangles
             edits.session.stop()
@@ -219,7 +222,7 @@ def run(experiment, results):
     if m["heavy"]:
         rows = []
         for what, label in (("lamp", "lamp moved (lights replaced)"), ("material", "colour edited (material replaced)"),
-                            ("object", "ball moved (all exported)")):
+                            ("world", "world colour edited (world replaced)"), ("object", "ball moved (all exported)")):
             for i, name in enumerate(("edit -> first image", "edit -> first full-resolution image",
                                       "session.update alone")):
                 median, p90 = quantiles([t[i] for t in m["heavy"][what]])

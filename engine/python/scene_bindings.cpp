@@ -753,6 +753,12 @@ void bind_scene(py::module_& m) {
            "reach it (as for add_mesh; Blender lights leave out 'camera'); cast_shadow: False lights through "
            "everything in the way. max_bounces: Cycles' per-light Max Bounces, the longest path (in "
            "scatterings) the light reaches; 1024 is no limit.")
+      .def("remove_textures_from", &Scene::remove_textures_from, py::arg("count"),
+           "Removes the textures from index `count` on (a world's, to be exported again); refused "
+           "(ValueError) while a material uses one. The world is black until set again; a built scene keeps "
+           "its BVH.")
+      .def_property_readonly("texture_count", [](const Scene& s) { return s.textures().size(); },
+                             "How many textures the scene holds.")
       .def("remove_lights", &Scene::remove_lights,
            "Removes every light add_light added; the world and emissive surfaces stay. A built scene keeps "
            "its BVH: replacing the lights of a large scene costs the lights alone.")

@@ -95,6 +95,28 @@ void Scene::remove_lights() {
   invalidate_lights();
 }
 
+void Scene::remove_textures_from(size_t count) {
+  ensure_mutable();
+  if (count >= textures_.size()) return;
+  for (const Material& m : materials_) {
+    const std::string what = quoted("material", m.name);
+    if (m.texture >= 0 && static_cast<size_t>(m.texture) >= count)
+      fail(what, "uses texture " + std::to_string(m.texture) + ", which would be removed");
+    try {
+      m.program.validate(count, what);
+    } catch (const std::invalid_argument&) {
+      fail(what, "reads a texture from " + std::to_string(count) + " on, which would be removed");
+    }
+  }
+  textures_.erase(textures_.begin() + static_cast<std::ptrdiff_t>(count), textures_.end());
+  background_ = Color(0.0);
+  environment_input_.reset();
+  environment_.reset();
+  camera_environment_input_.reset();
+  camera_environment_.reset();
+  invalidate_lights();
+}
+
 Scene::Scene() = default;
 Scene::~Scene() = default;
 Scene::Scene(Scene&&) noexcept = default;
@@ -214,6 +236,7 @@ uint32_t Scene::add_texture(const std::string& name, Texture texture, bool clear
     fail(what, where + " has a negative colour component " + number(t.value) + " (an albedo cannot be negative)");
   }
   textures_.push_back(std::move(texture));
+  invalidate_lights();  // the world's environment points into textures_, which may have moved
   return static_cast<uint32_t>(textures_.size() - 1);
 }
 

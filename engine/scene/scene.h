@@ -101,6 +101,9 @@ class Scene {
   // Removes the lights add_light added (the world and emissive surfaces stay). The BVH is kept:
   // a scene whose lights alone change is built again in the time its lights take.
   void remove_lights();
+  // Drops the textures from index `count` on (a world's, exported again after it): refused while a
+  // material uses one. The world goes black until set again; the BVH is kept.
+  void remove_textures_from(size_t count);
   void set_camera(const Camera& camera);
   // The world: a constant radiance, or an image (`texture`, an index from
   // add_texture) seen through the rotation `world_to_texture` and scaled by

@@ -255,6 +255,44 @@ def test_a_material_edited_in_place_keeps_only_its_new_warnings():
     assert len(about("matte")) == 1  # another material's edit leaves it
 
 
+def hdri_world(scene):
+    """The scene's world made an environment image (one of Blender's studio-light HDRIs); its Background node."""
+    world = scene.world or bpy.data.worlds.new("world")
+    scene.world = world
+    if world.node_tree is None or bpy.app.version < (5, 0, 0):
+        world.use_nodes = True
+    tree = world.node_tree
+    background = next(n for n in tree.nodes if n.type == "BACKGROUND")
+    folder = bpy.utils.system_resource("DATAFILES", path=os.path.join("studiolights", "world"))
+    environment = tree.nodes.new("ShaderNodeTexEnvironment")
+    environment.image = bpy.data.images.load(os.path.join(folder, sorted(f for f in os.listdir(folder)
+                                                                          if f.endswith(".exr"))[0]))
+    tree.links.new(environment.outputs["Color"], background.inputs["Color"])
+    return background
+
+
+def test_a_world_edit_replaces_the_world_alone_and_leaves_no_texture_behind():
+    """Edits of an HDRI world's strength keep the exported objects, lights and BVH and the count of
+    textures (each edit's image replaces the last); the image is a fresh export's, to the last bit."""
+    s = Session()
+    background = hdri_world(s.scene)
+    s.session.export(bpy.context.evaluated_depsgraph_get())
+    kept = s.session.core_scene
+    textures = kept.texture_count
+    for strength in (0.3, 0.6, 0.45, 0.5):
+        change = lambda value=strength: setattr(background.inputs["Strength"], "default_value", value)  # noqa: E731
+        assert updated_after(s.session, change) == {"world"}
+    assert s.session.core_scene is kept and kept.texture_count == textures
+    s.session.start()
+    edited = s.images_until_done()[-1]
+    s.session.stop()
+    fresh = Session(open_file=False)
+    fresh.session.start()
+    expected = fresh.images_until_done()[-1]
+    fresh.session.stop()
+    np.testing.assert_array_equal(edited.rgba, expected.rgba)
+
+
 def test_within_a_full_resolution_pass_the_viewport_shows_the_bands_done(monkeypatch):
     """A view of more pixels than a band of rows gets images between a pass's bands too (here after
     every band), and ends on the image of whole passes."""

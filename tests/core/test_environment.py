@@ -61,6 +61,29 @@ def test_a_uniform_image_lights_like_the_constant_background():
     np.testing.assert_allclose(b.mean(axis=(0, 1)), a.mean(axis=(0, 1)), rtol=0.01)
 
 
+def test_a_worlds_textures_are_replaced_without_piling_up_and_a_materials_are_kept():
+    """remove_textures_from drops the world's textures (the world goes black until set again; a
+    rendered scene renders again as a fresh one would) and refuses to drop a material's."""
+    scene = box_scene()
+    scene.add_material("printed", texture=scene.add_texture("label", np.full((4, 4, 4), 0.5, np.float32)))
+    count = scene.texture_count
+    for strength in (1.0, 3.0, 2.0):
+        scene.remove_textures_from(count)
+        sky = scene.add_texture("sky", np.full((16, 32, 4), 0.35, np.float32))
+        scene.set_environment(sky, strength=(strength,) * 3)
+        first = render(scene, passes=4)
+    assert scene.texture_count == count + 1
+    fresh = box_scene()
+    fresh.add_material("printed", texture=fresh.add_texture("label", np.full((4, 4, 4), 0.5, np.float32)))
+    fresh.set_environment(fresh.add_texture("sky", np.full((16, 32, 4), 0.35, np.float32)), strength=(2.0,) * 3)
+    np.testing.assert_array_equal(first, render(fresh, passes=4))
+    scene.remove_textures_from(count)
+    assert render(scene, passes=4).max() == 0.0  # no world: no light
+    with pytest.raises(ValueError, match="printed"):
+        scene.remove_textures_from(0)
+    assert scene.texture_count == count
+
+
 def test_a_small_disc_in_the_image_lights_like_a_sun():
     """Direct light (the environment's density finds the disc) and photons (emitted by it) together:
     the image of a 3-degree disc of radiance L equals that of a sun of irradiance L * solid angle."""

@@ -177,15 +177,25 @@ def export_scene(core_module, depsgraph, warn, cancelled=lambda: False, lights=T
     return scene_exporter(core_module, depsgraph, warn, cancelled, lights).scene
 
 
-def scene_exporter(core_module, depsgraph, warn, cancelled=lambda: False, lights=True):
-    """The Exporter once it has exported the scene (export_scene): its `scene`, and its `materials`
-    for updates in place."""
+def scene_exporter(core_module, depsgraph, warn, cancelled=lambda: False, lights=True, world_warn=None):
+    """The Exporter once it has exported the scene (export_scene): its `scene`, its `materials` for
+    updates in place and the count of textures before the world's (export_world). `world_warn`: where
+    the world's warnings go (`warn` by default)."""
     exporter = Exporter(core_module.Scene(), warn, depsgraph.view_layer, depsgraph.scene, lights=lights)
     visit_instances(exporter, depsgraph, cancelled)
     exporter.finish_curves()
     exporter.report_skips()
-    world.add_world(exporter.scene, depsgraph.scene.world, warn, exporter.attributes)
+    exporter.world_textures = exporter.scene.texture_count  # the world's textures come after this
+    world.add_world(exporter.scene, depsgraph.scene.world, world_warn or warn, exporter.attributes)
     return exporter
+
+
+def export_world(core_scene, depsgraph, warn, world_textures, attributes=None):
+    """Replaces `core_scene`'s world with the evaluated depsgraph's: the textures from `world_textures`
+    on (the last world's) are removed first, so edits leave no textures behind. Its objects, lights
+    and BVH stay: the viewport's update when only the world changed."""
+    core_scene.remove_textures_from(world_textures)
+    world.add_world(core_scene, depsgraph.scene.world, warn, attributes)
 
 
 def export_lights(core_scene, depsgraph, warn, cancelled=lambda: False):
