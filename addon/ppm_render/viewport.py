@@ -78,8 +78,8 @@ class ViewportSession:
 
     def update(self, depsgraph):
         """Brings the core scene up to the depsgraph's updates (main thread): what changed_part says,
-        or the whole scene where materials or the world cannot be updated in place. Returns the part updated
-        (None: nothing that is rendered changed)."""
+        or the whole scene where materials or the world cannot be updated in place. Returns the part
+        updated (None: nothing that is rendered changed)."""
         part = changed_part(depsgraph, self)
         if part == "materials" and not self.update_materials(depsgraph):
             part = "scene"

@@ -670,7 +670,8 @@ void bind_scene(py::module_& m) {
            "tangents (add_mesh) or in world space, as Blender's Normal Map node, or (direct) the input itself as "
            "the normal; softening: Cycles' bump shadowing at the terminator, of "
            "Blender 4.3+ or of 3.x-4.2; valid_reflection=True: the normal turned so that the view's mirror "
-           "direction stays above the surface, as Blender 3.x), and emission_input (an input whose value multiplies `emission`: a "
+           "direction stays above the surface, as Blender 3.x), and emission_input (an input whose value "
+           "multiplies `emission`: a "
            "textured emission; a mixture's or an emission material's). "
            "emission is radiance in W/(m^2 sr) (Blender colour * strength).")
       .def("set_object_info", &set_object_info, py::arg("object"), py::arg("matrix"),

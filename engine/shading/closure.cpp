@@ -58,7 +58,8 @@ void glass_energy(const Lobe& l, const SurfacePoint& sp, const Vec3& view, doubl
   const bool inside = glm::dot(view, sp.ng) < 0.0;  // as the dielectric's own side
   const float* side = l.glass_energy.data() + (inside ? roughness_rows(l) * kStride : 0);
   e = by_roughness(l, sp, side, kStride, [mu](const float* row) { return lerp_table(row, kGlassEnergySteps, mu); });
-  e_avg = by_roughness(l, sp, side, kStride, [](const float* row) { return static_cast<double>(row[kGlassEnergySteps]); });
+  e_avg = by_roughness(l, sp, side, kStride,
+                       [](const float* row) { return static_cast<double>(row[kGlassEnergySteps]); });
 }
 
 // Multiscatter GGX (Cycles, after Kulla and Conty): single scattering times 1 + Fms (1 - E) / E,

@@ -145,8 +145,8 @@ bool schlick_sheen_sample(const Color& color, const SurfacePoint& sp, const Vec3
 Microfacet conductor_microfacet(const ConductorParams& p) {
   const double a = alpha_of(p.roughness);
   const bool anisotropic = p.tangent != Vec3(0.0);
-  return {std::fmax(a * (anisotropic ? p.stretch_x : 1.0), 1e-4), std::fmax(a * (anisotropic ? p.stretch_y : 1.0), 1e-4),
-          p.beckmann};
+  const double sx = anisotropic ? p.stretch_x : 1.0, sy = anisotropic ? p.stretch_y : 1.0;
+  return {std::fmax(a * sx, 1e-4), std::fmax(a * sy, 1e-4), p.beckmann};
 }
 
 Color conductor_eval(const ConductorParams& p, const SurfacePoint& sp, const Vec3& wo, const Vec3& wi) {

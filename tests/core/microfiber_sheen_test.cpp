@@ -63,7 +63,9 @@ TEST(MicrofiberSheen, TheTableAgreesWithRandomWalksThroughTheFibreLayer) {
     const int walks = 200000;
     double walked[6] = {}, fitted[6] = {};
     int up = 0;
-    auto bin = [](const Vec3& w) { return std::min(static_cast<int>(std::acos(w.z) / (kPi / 6.0)), 2) * 2 + (w.x > 0.0); };
+    auto bin = [](const Vec3& w) {
+      return std::min(static_cast<int>(std::acos(w.z) / (kPi / 6.0)), 2) * 2 + (w.x > 0.0);
+    };
     for (int i = 0; i < walks; ++i) {
       const Vec3 out = layer.walk(view, rng);
       if (out.z > 0.0) {
@@ -79,7 +81,8 @@ TEST(MicrofiberSheen, TheTableAgreesWithRandomWalksThroughTheFibreLayer) {
         fitted[bin(s.wi)] += s.weight.x / walks;
     }
     // The fit approximates the layer's shape: within 5% of the albedo in each bin (3.6% measured).
-    for (int b = 0; b < 6; ++b) EXPECT_NEAR(fitted[b], walked[b], 0.05 * albedo + 0.003) << mu << " " << roughness << " bin " << b;
+    for (int b = 0; b < 6; ++b)
+      EXPECT_NEAR(fitted[b], walked[b], 0.05 * albedo + 0.003) << mu << " " << roughness << " bin " << b;
   }
 }
 
