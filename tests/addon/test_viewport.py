@@ -153,6 +153,20 @@ def bsdf_colour(material_name, rgb):
     node.inputs["Color"].default_value = (*rgb, 1.0)
 
 
+def edited_image_is_a_fresh_exports(s):
+    """Refines the edited session `s` and asserts its image is, to the last bit, the one a session
+    exporting the edited scene afresh renders; returns that image."""
+    s.session.start()
+    edited = s.images_until_done()[-1]
+    s.session.stop()
+    fresh = Session(open_file=False)
+    fresh.session.start()
+    expected = fresh.images_until_done()[-1]
+    fresh.session.stop()
+    np.testing.assert_array_equal(edited.rgba, expected.rgba)
+    return edited
+
+
 def test_the_viewport_refines_from_a_coarse_preview_to_full_resolution_and_stops_at_its_passes():
     s = Session()
     s.session.start()
@@ -191,14 +205,7 @@ def test_a_lamp_edit_replaces_the_lights_alone_and_renders_as_a_new_export_would
     assert updated_after(s.session, lambda: setattr(lamp.location, "x", lamp.location.x + 0.6)) == {"lights"}
     assert updated_after(s.session, lambda: setattr(lamp.data, "energy", 2.0 * lamp.data.energy)) == {"lights"}
     assert s.session.core_scene is kept
-    s.session.start()
-    edited = s.images_until_done()[-1]
-    s.session.stop()
-    fresh = Session(open_file=False)  # the edited scene, exported afresh
-    fresh.session.start()
-    expected = fresh.images_until_done()[-1]
-    fresh.session.stop()
-    np.testing.assert_array_equal(edited.rgba, expected.rgba)
+    edited_image_is_a_fresh_exports(s)
 
 
 def test_a_material_edit_writes_its_values_in_place_and_renders_as_a_new_export_would():
@@ -223,14 +230,7 @@ def test_a_material_edit_writes_its_values_in_place_and_renders_as_a_new_export_
 
     assert updated_after(s.session, glow) == {"materials"}  # the walls glow: lights from their triangles
     assert s.session.core_scene is kept
-    s.session.start()
-    edited = s.images_until_done()[-1]
-    s.session.stop()
-    fresh = Session(open_file=False)
-    fresh.session.start()
-    expected = fresh.images_until_done()[-1]
-    fresh.session.stop()
-    np.testing.assert_array_equal(edited.rgba, expected.rgba)
+    edited = edited_image_is_a_fresh_exports(s)
     assert edited.rgba[..., :3].mean() > 1.2 * before.rgba[..., :3].mean()  # glowing walls
 
 
@@ -283,14 +283,7 @@ def test_a_world_edit_replaces_the_world_alone_and_leaves_no_texture_behind():
         change = lambda value=strength: setattr(background.inputs["Strength"], "default_value", value)  # noqa: E731
         assert updated_after(s.session, change) == {"world"}
     assert s.session.core_scene is kept and kept.texture_count == textures
-    s.session.start()
-    edited = s.images_until_done()[-1]
-    s.session.stop()
-    fresh = Session(open_file=False)
-    fresh.session.start()
-    expected = fresh.images_until_done()[-1]
-    fresh.session.stop()
-    np.testing.assert_array_equal(edited.rgba, expected.rgba)
+    edited_image_is_a_fresh_exports(s)
 
 
 def test_within_a_full_resolution_pass_the_viewport_shows_the_bands_done(monkeypatch):

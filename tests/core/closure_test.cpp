@@ -1,6 +1,7 @@
 // Mixtures of lobes (shading/closure.h): sampling agrees with evaluation, for eye paths and for
 // photons (the adjoint); a white mixture of lossless lobes loses nothing, also under a layer;
 // layers attenuate what lies below by their tabulated albedo; the eye pass's delta split is whole.
+#include "lobe_test_helpers.h"
 #include "math/rng.h"
 #include "math/sampling.h"
 #include "shading/closure.h"
@@ -10,13 +11,6 @@
 
 namespace ppm {
 namespace {
-
-const SurfacePoint kFlat{Vec3(0, 0, 1), Vec3(0, 0, 1), Color(1.0)};
-
-Vec3 direction(double cos_theta, double phi = 0.0) {
-  const double s = std::sqrt(std::fmax(0.0, 1.0 - cos_theta * cos_theta));
-  return Vec3(s * std::cos(phi), s * std::sin(phi), cos_theta);
-}
 
 Lobe lobe(LobeKind kind, Color weight, Color color, double roughness = 0.0) {
   Lobe l;

@@ -3,6 +3,7 @@
 // drawn by rejection from the SGGX distribution rather than by the script's ellipsoid mapping);
 // the lobe samples as it evaluates, for eye paths and photons; it creates no energy and, as a
 // layer, a white one over white diffuse loses nothing.
+#include "lobe_test_helpers.h"
 #include "math/rng.h"
 #include "math/sampling.h"
 #include "shading/closure.h"
@@ -13,13 +14,6 @@
 
 namespace ppm {
 namespace {
-
-const SurfacePoint kFlat{Vec3(0, 0, 1), Vec3(0, 0, 1), Color(1.0)};
-
-Vec3 direction(double cos_theta, double phi = 0.0) {
-  const double s = std::sqrt(std::fmax(0.0, 1.0 - cos_theta * cos_theta));
-  return Vec3(s * std::cos(phi), s * std::sin(phi), cos_theta);
-}
 
 // The fibre layer (tools/sheen_ltc/fit_sheen_ltc.py): unit thickness and density, no absorption,
 // SGGX S = diag(1, 1, roughness^4), a specular microflake phase function, at most 16 scatterings.
