@@ -13,9 +13,6 @@ namespace {
 
 constexpr float kFloatInf = std::numeric_limits<float>::infinity();
 
-// Leaves of the binary tree become leaf children of the 4-wide nodes.
-constexpr uint32_t kMaxLeaf = 4;
-
 class Collapser {
  public:
   Collapser(const BinaryBvh& tree, HugePageVector<BvhNode>& nodes) : tree_(tree), nodes_(nodes) {}
@@ -108,11 +105,12 @@ BvhRay::BvhRay(const Vec3& origin, const Vec3& dir) {
   }
 }
 
-void Bvh::build(const std::vector<Aabb>& boxes) {
+void Bvh::build(const std::vector<Aabb>& boxes) { build_from_tree(build_binary_bvh(boxes, kBinaryLeafSize)); }
+
+void Bvh::build_from_tree(BinaryBvh tree) {
   nodes_.clear();
   bounds_ = Aabb{};
   in_float_range_ = true;
-  BinaryBvh tree = build_binary_bvh(boxes, kMaxLeaf);
   prim_order_ = std::move(tree.order);
   if (tree.nodes.empty()) return;
   bounds_ = tree.nodes[0].box;

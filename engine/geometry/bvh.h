@@ -14,6 +14,7 @@
 // data in leaf order, where a leaf's primitives are contiguous in memory.
 #pragma once
 
+#include "geometry/bvh_build.h"
 #include "geometry/bvh_slab.h"
 #include "geometry/huge_pages.h"
 #include "geometry/ray.h"
@@ -53,6 +54,8 @@ class Bvh {
  public:
   // Builds over `boxes` (one per primitive). Boxes must be finite.
   void build(const std::vector<Aabb>& boxes);
+  // Collapses a binary tree built elsewhere (an ObjectBvh's, at most kMaxBvhDepth deep).
+  void build_from_tree(BinaryBvh tree);
 
   const HugePageVector<BvhNode>& nodes() const { return nodes_; }
   // prim_order()[slot] is the primitive at a leaf slot.
@@ -100,7 +103,7 @@ class Bvh {
     float tmax_f = 0.0f;     // tmax rounded up to float, for the slab test
     int top = 0;
     Entry cur{0, 0, 0.0f};   // starts at the root
-    Entry stack[3 * 64 + 1];  // the binary tree is at most 60 deep; each level adds at most 3
+    Entry stack[3 * kMaxBvhDepth + 1];  // each level of the binary tree adds at most 3
   };
 
   // Visits w.cur (a node's child boxes, or a leaf's primitives) and moves to
@@ -231,7 +234,7 @@ bool Bvh::any(const Vec3& origin, const Vec3& dir, double tmax, Test&& test) con
     return false;
   }
   const float tmax_f = float_up(tmax);
-  uint32_t stack[3 * 64 + 4];  // each level pops one node and pushes at most four
+  uint32_t stack[3 * kMaxBvhDepth + 4];  // each level pops one node and pushes at most four
   int top = 0;
   stack[top++] = 0;
   while (top > 0) {

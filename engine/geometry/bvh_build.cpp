@@ -12,7 +12,6 @@ namespace ppm {
 namespace {
 
 constexpr int kBins = 16;
-constexpr int kMaxDepth = 60;  // keeps traversal stacks small and bounded
 // Right subtrees this large, near the root, are built on a thread of their own (2 levels: up to 4
 // threads).
 constexpr uint32_t kParallelPrims = 1u << 16;
@@ -25,8 +24,8 @@ struct Bin {
 
 class Builder {
  public:
-  Builder(const std::vector<Aabb>& boxes, uint32_t max_leaf, BinaryBvh& out)
-      : boxes_(boxes), max_leaf_(max_leaf), out_(out), centers_(boxes.size()) {}
+  Builder(const std::vector<Aabb>& boxes, uint32_t max_leaf, int max_depth, BinaryBvh& out)
+      : boxes_(boxes), max_leaf_(max_leaf), max_depth_(max_depth), out_(out), centers_(boxes.size()) {}
 
   void run() {
     Aabb box, cbox;
@@ -56,7 +55,7 @@ class Builder {
     const uint32_t index = static_cast<uint32_t>(nodes.size());
     nodes.push_back(BinaryBvhNode{box, begin, end - begin});
     const uint32_t count = end - begin;
-    if (count <= max_leaf_ || depth >= kMaxDepth) return index;
+    if (count <= max_leaf_ || depth >= max_depth_) return index;
     const Split s = split(begin, end, cbox);
     nodes[index].count = 0;
     if (count >= kParallelPrims && depth < kParallelDepth) {
@@ -181,16 +180,18 @@ class Builder {
 
   const std::vector<Aabb>& boxes_;
   const uint32_t max_leaf_;
+  const int max_depth_;
   BinaryBvh& out_;
   std::vector<Vec3> centers_;
 };
 
 }  // namespace
 
-BinaryBvh build_binary_bvh(const std::vector<Aabb>& boxes, uint32_t max_leaf) {
+BinaryBvh build_binary_bvh(const std::vector<Aabb>& boxes, uint32_t max_leaf, int max_depth) {
   BinaryBvh out;
   if (boxes.empty()) return out;
-  Builder(boxes, std::max(1u, max_leaf), out).run();
+  if (max_depth < 0 || max_depth > kMaxBuildDepth) throw std::invalid_argument("BVH: depth limit out of range");
+  Builder(boxes, std::max(1u, max_leaf), max_depth, out).run();
   return out;
 }
 

@@ -22,9 +22,18 @@ struct BinaryBvh {
   std::vector<uint32_t> order;       // primitive indices, each leaf's contiguous
 };
 
+// Leaves of the binary tree become leaf children of the 4-wide nodes (Bvh).
+constexpr uint32_t kBinaryLeafSize = 4;
+// A whole-scene build's depth limit (it keeps traversal stacks small and bounded).
+constexpr int kMaxBuildDepth = 60;
+// The deepest tree a Bvh is given: a whole-scene build, or an ObjectBvh's joined tree (a top tree of
+// at most 24 levels, a chain of at most 24 over the objects a top leaf holds, then an object's
+// subtree). Traversal stacks are sized by it.
+constexpr int kMaxBvhDepth = 24 + 24 + kMaxBuildDepth;
+
 // Boxes must be finite (throws std::invalid_argument otherwise); an empty
 // input gives an empty tree. Leaves hold at most `max_leaf` primitives unless
-// the depth limit forces more.
-BinaryBvh build_binary_bvh(const std::vector<Aabb>& boxes, uint32_t max_leaf);
+// the depth limit (edges from the root) forces more.
+BinaryBvh build_binary_bvh(const std::vector<Aabb>& boxes, uint32_t max_leaf, int max_depth = kMaxBuildDepth);
 
 }  // namespace ppm

@@ -319,9 +319,10 @@ std::vector<uint32_t> index_list(const py::handle& obj, const std::string& what,
   return out;
 }
 
-void add_mesh(Scene& s, const std::string& name, const py::object& positions, const py::object& triangles,
-              const py::object& normals, const py::object& uvs, const py::object& materials, uint32_t object_id,
-              const py::object& visible_to, bool holdout, const py::object& tangents, const py::object& colors) {
+MeshInput mesh_input(const std::string& name, const py::object& positions, const py::object& triangles,
+                     const py::object& normals, const py::object& uvs, const py::object& materials,
+                     uint32_t object_id, const py::object& visible_to, bool holdout, const py::object& tangents,
+                     const py::object& colors) {
   const std::string what = "mesh '" + checked_name(name, "mesh") + "'";
   MeshInput m;
   m.name = name;
@@ -365,7 +366,16 @@ void add_mesh(Scene& s, const std::string& name, const py::object& positions, co
     for (py::ssize_t i = 0; i < r.shape(0); ++i) m.colors.emplace_back(r(i, 0), r(i, 1), r(i, 2), r(i, 3));
   }
   m.materials = index_list(materials, what, "materials");
-  s.add_mesh(std::move(m));
+  return m;
+}
+
+// add_mesh and replace_mesh: the same arguments into a MeshInput for the scene's method.
+template <void (Scene::*method)(MeshInput)>
+void mesh_call(Scene& s, const std::string& name, const py::object& positions, const py::object& triangles,
+               const py::object& normals, const py::object& uvs, const py::object& materials, uint32_t object_id,
+               const py::object& visible_to, bool holdout, const py::object& tangents, const py::object& colors) {
+  (s.*method)(mesh_input(name, positions, triangles, normals, uvs, materials, object_id, visible_to, holdout,
+                         tangents, colors));
 }
 
 void add_light(Scene& s, const std::string& kind, const std::string& name, const py::object& power,
@@ -701,7 +711,7 @@ void bind_scene(py::module_& m) {
       .def("texture_info", &texture_info, py::arg("index"),
            "width, height, storage, bytes, max_rgb, not_finite_texels, negative_texels and most_negative "
            "of texture `index`.")
-      .def("add_mesh", &add_mesh, py::arg("name"), py::arg("positions"), py::arg("triangles"),
+      .def("add_mesh", &mesh_call<&Scene::add_mesh>, py::arg("name"), py::arg("positions"), py::arg("triangles"),
            py::arg("normals") = py::none(), py::arg("uvs") = py::none(), py::arg("materials") = 0,
            py::arg("object_id") = 0, py::arg("visibility") = py::none(), py::arg("holdout") = false,
            py::arg("tangents") = py::none(), py::arg("colors") = py::none(),
@@ -711,6 +721,17 @@ void bind_scene(py::module_& m) {
            "Attribute nodes). materials: one index or one per triangle. visibility: the ray kinds that see it "
            "('camera', 'diffuse', 'glossy', 'transmission', 'shadow'; None: all), as Cycles' ray visibility. "
            "holdout: a hole in the image (alpha 0) where camera rays reach it; other rays see it as it is.")
+      .def("replace_mesh", &mesh_call<&Scene::replace_mesh>, py::arg("name"), py::arg("positions"),
+           py::arg("triangles"), py::arg("normals") = py::none(), py::arg("uvs") = py::none(),
+           py::arg("materials") = 0, py::arg("object_id") = 0, py::arg("visibility") = py::none(),
+           py::arg("holdout") = false, py::arg("tangents") = py::none(), py::arg("colors") = py::none(),
+           "Object `object_id`'s mesh (one add_mesh's, the only primitives of that id) becomes this one, "
+           "arguments as for add_mesh: moved, or reshaped with as many triangles and the same attributes. In a "
+           "built dynamic scene its BVH subtree alone is refitted; elsewhere the BVH is built afresh. ValueError "
+           "where it cannot, the scene unchanged (the caller then builds a new Scene).")
+      .def_property("dynamic", &Scene::dynamic, &Scene::set_dynamic,
+                    "Build the BVH object by object (False by default), so that replace_mesh can move or reshape "
+                    "an object in place (the viewport); a whole-scene BVH traces faster where objects overlap.")
       .def("add_sphere",
            [](Scene& s, const std::string& name, const py::object& center, double radius, uint32_t material,
               uint32_t object_id, const py::object& visible_to, bool holdout) {

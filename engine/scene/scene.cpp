@@ -2,11 +2,13 @@
 #include "scene/scene.h"
 
 #include "geometry/bezier_revolve.h"
+#include "geometry/object_bvh.h"
 #include "math/sampling.h"
+#include "scene/input_checks.h"
 #include "shading/valid_reflection.h"
 
+#include <algorithm>
 #include <cmath>
-#include <sstream>
 #include <stdexcept>
 
 #if defined(__GLIBC__)
@@ -14,65 +16,7 @@
 #endif
 
 namespace ppm {
-namespace {
-
-[[noreturn]] void fail(const std::string& what, const std::string& message) {
-  throw std::invalid_argument(what + ": " + message);
-}
-
-std::string quoted(const std::string& kind, const std::string& name) {
-  return kind + " '" + name + "'";
-}
-
-std::string number(double x) {
-  std::ostringstream s;
-  s << x;
-  return s.str();
-}
-
-void check_finite(const Vec3& v, const std::string& what, const std::string& field) {
-  if (!is_finite(v)) fail(what, field + " is not finite (NaN or Inf)");
-}
-void check_finite(const Color& c, double lo, const std::string& what, const std::string& field) {
-  check_finite(Vec3(c), what, field);
-  if (c.x < lo || c.y < lo || c.z < lo) fail(what, field + " has a negative component");
-}
-// A point or offset in metres: finite and within kMaxCoordinate.
-void check_coordinates(const Vec3& v, const std::string& what, const std::string& field) {
-  check_finite(v, what, field);
-  if (max_abs(v) > kMaxCoordinate)
-    fail(what, field + " has a component of magnitude " + number(max_abs(v)) + ", above the supported " +
-                   number(kMaxCoordinate) + " m");
-}
-// Light power, irradiance or radiance: finite, >= 0 and at most kMaxPower.
-// Cycles' range for a light's Max Bounces.
-void check_max_bounces(int max_bounces, const std::string& what) {
-  if (max_bounces < 0 || max_bounces > 1024) fail(what, "max_bounces must be in [0, 1024]");
-}
-
-void check_power(const Color& c, const std::string& what, const std::string& field) {
-  check_finite(c, 0.0, what, field);
-  if (max_component(c) > kMaxPower)
-    fail(what, field + " " + number(max_component(c)) + " is above the supported " + number(kMaxPower));
-}
-// A radius or size in metres: in [kMinSize, kMaxCoordinate].
-void check_size(double x, const std::string& what, const std::string& field) {
-  if (!std::isfinite(x) || x <= 0.0) fail(what, field + " must be a positive number");
-  if (x < kMinSize || x > kMaxCoordinate)
-    fail(what, field + " " + number(x) + " is outside the supported range [" + number(kMinSize) + ", " +
-                   number(kMaxCoordinate) + "] m");
-}
-
-// v / |v| without overflow or underflow in |v|^2; false for a zero or non-finite v.
-bool safe_normalize(const Vec3& v, Vec3& out) {
-  const double m = max_abs(v);
-  if (!(m > 0.0) || !std::isfinite(m)) return false;
-  const Vec3 s = v / m;
-  out = s / glm::length(s);
-  return true;
-}
-
-}  // namespace
+using namespace scene_input;
 
 void Scene::ensure_mutable() const {
   if (leases_.count.load() > 0)
@@ -252,83 +196,6 @@ void Scene::check_not_emissive(uint32_t material, const std::string& what) const
   if (materials_[material].emits())
     fail(what, "emissive material '" + materials_[material].name +
                    "' is supported on meshes only (use a sphere light, or tessellate)");
-}
-
-void Scene::add_mesh(MeshInput mesh) {
-  ensure_mutable();
-  restore_triangles();
-  const std::string what = quoted("mesh", mesh.name);
-  const size_t nv = mesh.positions.size(), nt = mesh.triangles.size() / 3;
-  if (nt == 0 || mesh.triangles.size() % 3 != 0) fail(what, "has no triangles");
-  for (size_t i = 0; i < nv; ++i) {
-    if (!is_finite(mesh.positions[i])) fail(what, "position " + std::to_string(i) + " is not finite");
-    check_coordinates(mesh.positions[i], what, "position " + std::to_string(i));
-  }
-  for (size_t i = 0; i < mesh.triangles.size(); ++i)
-    if (mesh.triangles[i] >= nv)
-      fail(what, "triangle " + std::to_string(i / 3) + " uses vertex " + std::to_string(mesh.triangles[i]) +
-                     " but the mesh has " + std::to_string(nv) + " vertices");
-  const bool normals_per_vertex = mesh.normals.size() == nv && nv != 3 * nt;
-  if (!mesh.normals.empty() && mesh.normals.size() != nv && mesh.normals.size() != 3 * nt)
-    fail(what, "normals must be given per vertex or per triangle corner");
-  const bool uvs_per_vertex = mesh.uvs.size() == nv && nv != 3 * nt;
-  if (!mesh.uvs.empty() && mesh.uvs.size() != nv && mesh.uvs.size() != 3 * nt)
-    fail(what, "uvs must be given per vertex or per triangle corner");
-  const bool tangents_per_vertex = mesh.tangents.size() == nv && nv != 3 * nt;
-  if (!mesh.tangents.empty() && mesh.tangents.size() != nv && mesh.tangents.size() != 3 * nt)
-    fail(what, "tangents must be given per vertex or per triangle corner");
-  for (const glm::dvec4& t : mesh.tangents)
-    if (!std::isfinite(t.x) || !std::isfinite(t.y) || !std::isfinite(t.z) || !std::isfinite(t.w))
-      fail(what, "tangents contain NaN or Inf");
-  const bool colors_per_vertex = mesh.colors.size() == nv && nv != 3 * nt;
-  if (!mesh.colors.empty() && mesh.colors.size() != nv && mesh.colors.size() != 3 * nt)
-    fail(what, "colors must be given per vertex or per triangle corner");
-  for (const glm::dvec4& c : mesh.colors)
-    if (!(std::fabs(c.x) < 1e30 && std::fabs(c.y) < 1e30 && std::fabs(c.z) < 1e30 && std::fabs(c.w) < 1e30))
-      fail(what, "colors contain NaN, Inf or values beyond 1e30");
-  if (mesh.materials.size() != 1 && mesh.materials.size() != nt)
-    fail(what, "materials must be one index or one per triangle");
-  for (uint32_t m : mesh.materials) check_material(m, what);
-  for (const Vec3& n : mesh.normals)
-    if (!is_finite(n)) fail(what, "normals contain NaN or Inf");
-  for (const Vec2& uv : mesh.uvs)
-    if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) fail(what, "uvs contain NaN or Inf");
-
-  for (size_t t = 0; t < nt; ++t) {
-    const uint32_t* idx = &mesh.triangles[3 * t];
-    const Vec3 &a = mesh.positions[idx[0]], &b = mesh.positions[idx[1]], &c = mesh.positions[idx[2]];
-    triangles_.push_back(TrianglePrim{a, b - a, c - a});
-    TriangleInfo info{mesh.materials.size() == 1 ? mesh.materials[0] : mesh.materials[t], mesh.object_id, -1, -1,
-                      -1, -1, mesh.visibility};
-    if (!mesh.normals.empty()) {
-      info.corners = static_cast<int32_t>(corner_normals_.size());
-      for (int k = 0; k < 3; ++k) {
-        Vec3 n;
-        if (!safe_normalize(normals_per_vertex ? mesh.normals[idx[k]] : mesh.normals[3 * t + k], n))
-          n = triangle_normal(triangles_.back());
-        corner_normals_.push_back(Vec3f(n));
-      }
-    }
-    if (!mesh.uvs.empty()) {
-      info.uvs = static_cast<int32_t>(corner_uvs_.size());
-      for (int k = 0; k < 3; ++k)
-        corner_uvs_.push_back(glm::vec2(uvs_per_vertex ? mesh.uvs[idx[k]] : mesh.uvs[3 * t + k]));
-    }
-    if (!mesh.tangents.empty()) {
-      info.tangents = static_cast<int32_t>(corner_tangents_.size());
-      for (int k = 0; k < 3; ++k) {
-        const glm::dvec4 tangent = tangents_per_vertex ? mesh.tangents[idx[k]] : mesh.tangents[3 * t + k];
-        corner_tangents_.push_back(glm::vec4(tangent.x, tangent.y, tangent.z, tangent.w < 0.0 ? -1.0f : 1.0f));
-      }
-    }
-    if (!mesh.colors.empty()) {
-      info.colors = static_cast<int32_t>(corner_colors_.size());
-      for (int k = 0; k < 3; ++k)
-        corner_colors_.push_back(glm::vec4(colors_per_vertex ? mesh.colors[idx[k]] : mesh.colors[3 * t + k]));
-    }
-    triangle_info_.push_back(info);
-  }
-  invalidate();
 }
 
 void Scene::add_sphere(const std::string& name, const Vec3& center, double radius, uint32_t material,
@@ -530,6 +397,9 @@ void Scene::build() {
   if (!geometry_built_) {
     build_geometry();
     lights_built_ = false;
+  } else if (!moved_groups_.empty()) {
+    refit_moved_objects();
+    lights_built_ = false;
   }
   if (!lights_built_) prepare_lights();
 }
@@ -558,7 +428,13 @@ void Scene::build_geometry() {
     boxes.push_back(revolves_[r.revolve]->segment_bounds(r.segment));
     prims_.push_back({PrimitiveKind::BezierRevolve, i});
   }
-  bvh_.build(boxes);
+  if (dynamic_) {
+    build_object_bvh(boxes);
+  } else {
+    object_bvh_.reset();
+    bvh_.build(boxes);
+  }
+  moved_groups_.clear();
   const std::vector<uint32_t>& order = bvh_.prim_order();
   leaf_prims_.resize(order.size());
   for (size_t slot = 0; slot < order.size(); ++slot) {
@@ -569,11 +445,60 @@ void Scene::build_geometry() {
     p.visibility = visibility_of(ref);
     p.tri = ref.kind == PrimitiveKind::Triangle ? triangles_[ref.index] : TrianglePrim{};
   }
+  finish_geometry();
+  release_triangles();
+  geometry_built_ = true;
+}
+
+// Groups the primitives by object id and builds their BVH object by object.
+void Scene::build_object_bvh(const std::vector<Aabb>& boxes) {
+  object_group_.clear();
+  std::vector<uint32_t> group(prims_.size());
+  for (size_t i = 0; i < prims_.size(); ++i) {
+    const PrimRef ref = prims_[i];
+    const uint32_t object = ref.kind == PrimitiveKind::Triangle ? triangle_info_[ref.index].object
+                            : ref.kind == PrimitiveKind::Sphere ? spheres_[ref.index].object
+                                                                : revolve_segments_[ref.index].object;
+    group[i] = object_group_.emplace(object, static_cast<uint32_t>(object_group_.size())).first->second;
+  }
+  object_bvh_ = std::make_unique<ObjectBvh>();
+  object_bvh_->build(boxes, group, static_cast<uint32_t>(object_group_.size()));
+  bvh_.build_from_tree(object_bvh_->joined());
+}
+
+// The objects replace_mesh changed: their subtrees refit, the tree over them built again.
+void Scene::refit_moved_objects() {
+  std::sort(moved_groups_.begin(), moved_groups_.end());
+  moved_groups_.erase(std::unique(moved_groups_.begin(), moved_groups_.end()), moved_groups_.end());
+  std::vector<Aabb> boxes;
+  for (uint32_t g : moved_groups_) {
+    const uint32_t first = object_bvh_->first_slot(g);
+    boxes.assign(object_bvh_->slot_count(g), Aabb{});
+    for (size_t k = 0; k < boxes.size(); ++k) {
+      const TrianglePrim& t = leaf_prims_[first + k].tri;
+      boxes[k].grow(t.v0);
+      boxes[k].grow(t.v0 + t.e1);
+      boxes[k].grow(t.v0 + t.e2);
+    }
+    object_bvh_->refit(g, boxes);
+  }
+  bvh_.build_from_tree(object_bvh_->joined());
+  finish_geometry();
+  moved_groups_.clear();
+}
+
+void Scene::finish_geometry() {
   interleave_ = bvh_.nodes().size() * sizeof(BvhNode) + leaf_prims_.size() * sizeof(LeafPrim) > kInterleaveBytes;
   const Aabb bounds = bvh_.bounds();
   offset_floor_ = bounds.empty() ? 1e-12 : 1e-10 * max_abs(bounds.extent()) + 1e-300;
-  release_triangles();
-  geometry_built_ = true;
+}
+
+void Scene::set_dynamic(bool dynamic) {
+  ensure_mutable();
+  if (dynamic == dynamic_) return;
+  restore_triangles();
+  dynamic_ = dynamic;
+  invalidate();
 }
 
 // The user lights, the world and the emissive triangles (read from their leaf records).
@@ -745,6 +670,7 @@ size_t Scene::memory_bytes() const {
              bytes(prims_) + bytes(slot_of_triangle_) + bytes(leaf_prims_) + bytes(bvh_.nodes()) +
              bytes(bvh_.prim_order()) +
              bytes(materials_) + bytes(lights_) + bytes(user_lights_) + bytes(objects_);
+  if (object_bvh_) b += object_bvh_->memory_bytes();
   for (const Texture& t : textures_) b += sizeof(Texture) + t.memory_bytes();
   return b;
 }
@@ -897,7 +823,7 @@ void Scene::set_object_info(uint32_t object, const ObjectInfo& info) {
   ensure_mutable();
   if (object >= kMaxObjectId) fail("object " + std::to_string(object), "object ids for node programs go up to " +
                                                                             std::to_string(kMaxObjectId - 1));
-  invalidate();
+  invalidate_lights();  // a textured emission's light points into objects_; the BVH does not read it
   if (object == kWorldObject) {
     world_object_ = info;
     return;

@@ -17,11 +17,13 @@
 #include <atomic>
 #include <memory>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 namespace ppm {
 
 class BezierRevolve;
+class ObjectBvh;
 
 // Ranges the builders accept (std::invalid_argument outside them). They keep
 // every square, product and float32 sum of the render finite:
@@ -90,6 +92,15 @@ class Scene {
   // first one, or, with clear_unusable, stay black (Texture::unusable_texels).
   uint32_t add_texture(const std::string& name, Texture texture, bool clear_unusable = false);
   void add_mesh(MeshInput mesh);
+  // A dynamic scene builds its BVH object by object (geometry/object_bvh.h): slower to trace where
+  // objects overlap, but an object's mesh can then be replaced in place. Set before build().
+  void set_dynamic(bool dynamic);
+  bool dynamic() const { return dynamic_; }
+  // The mesh of object `mesh.object_id` (added by one add_mesh, the only primitives of that id)
+  // becomes `mesh`: moved, or reshaped with as many triangles and the same attributes. In a built
+  // dynamic scene build() then refits its BVH subtree alone, elsewhere it builds the BVH afresh.
+  // Throws std::invalid_argument naming the mesh where it cannot, the scene unchanged.
+  void replace_mesh(MeshInput mesh);
   // `visibility`: the RayKinds that see the object (others pass through it), and
   // kHoldoutFlag for a Holdout object (a hole for camera rays, itself for others).
   void add_sphere(const std::string& name, const Vec3& center, double radius, uint32_t material,
@@ -141,7 +152,7 @@ class Scene {
   // flux overflows a double, or the material whose colour above 1 could grow a
   // photon's share of the flux beyond kMaxPhotonGain over `max_bounces` scatterings.
   void check_energy_range(int max_bounces) const;
-  bool built() const { return geometry_built_ && lights_built_; }
+  bool built() const { return geometry_built_ && moved_groups_.empty() && lights_built_; }
 
   // Closest hit with 0 < t < tmax; fills the hit record.
   bool intersect(const Ray& ray, Hit& hit, double tmax = kInf) const;
@@ -210,6 +221,7 @@ class Scene {
   };
 
   void check_material(uint32_t material, const std::string& what) const;
+  uint32_t object_triangles(uint32_t object, size_t count, const std::string& what) const;
   void check_new_material(Material& m) const;  // validates and completes a material to be stored
   void check_not_emissive(uint32_t material, const std::string& what) const;
   void check_lobes(Material& m, const std::string& what) const;
@@ -222,6 +234,9 @@ class Scene {
   void invalidate();
   void invalidate_lights();
   void build_geometry();
+  void build_object_bvh(const std::vector<Aabb>& boxes);
+  void refit_moved_objects();
+  void finish_geometry();  // after the BVH changed: its derived figures
   void prepare_lights();
   void restore_triangles();
   void release_triangles();
@@ -279,6 +294,10 @@ class Scene {
   std::vector<uint32_t> slot_of_triangle_;  // once built: each triangle's leaf slot (triangles_ is then empty)
   Bvh bvh_;
   HugePageVector<LeafPrim> leaf_prims_;
+  bool dynamic_ = false;
+  std::unique_ptr<ObjectBvh> object_bvh_;                // a dynamic scene's, once built
+  std::unordered_map<uint32_t, uint32_t> object_group_;  // object id -> its index in object_bvh_
+  std::vector<uint32_t> moved_groups_;                   // replaced since the BVH was last made
   double offset_floor_ = 1e-12;
   bool interleave_ = false;  // BVH larger than kInterleaveBytes
   bool geometry_built_ = false;  // the BVH and its leaf records

@@ -62,32 +62,7 @@ TEST(Bvh, SubtreesBuiltInParallelJoinIntoOneDepthFirstTree) {
     b.grow(c);
     b.grow(c + Vec3(rng.uniform(), rng.uniform(), rng.uniform()));
   }
-  const BinaryBvh tree = build_binary_bvh(boxes, 4);
-  std::vector<int> seen(boxes.size(), 0);
-  // Returns the subtree's end (the index after its last node) and checks it on the way.
-  std::function<uint32_t(uint32_t)> check = [&](uint32_t i) -> uint32_t {
-    const BinaryBvhNode& n = tree.nodes[i];
-    Aabb expected;
-    if (n.is_leaf()) {
-      for (uint32_t k = n.first; k < n.first + n.count; ++k) {
-        ++seen[tree.order[k]];
-        expected.grow(boxes[tree.order[k]]);
-      }
-      EXPECT_EQ(expected.lo, n.box.lo);
-      EXPECT_EQ(expected.hi, n.box.hi);
-      return i + 1;
-    }
-    const uint32_t left_end = check(i + 1);
-    EXPECT_EQ(left_end, n.first) << "the right child follows the left subtree";
-    const uint32_t end = check(n.first);
-    expected.grow(tree.nodes[i + 1].box);
-    expected.grow(tree.nodes[n.first].box);
-    EXPECT_EQ(expected.lo, n.box.lo);
-    EXPECT_EQ(expected.hi, n.box.hi);
-    return end;
-  };
-  EXPECT_EQ(check(0), tree.nodes.size());
-  EXPECT_TRUE(std::all_of(seen.begin(), seen.end(), [](int k) { return k == 1; }));
+  expect_valid_binary_tree(build_binary_bvh(boxes, 4), boxes);
 }
 
 TEST(Bvh, CoincidentCentroidsAndFlatSheet) {

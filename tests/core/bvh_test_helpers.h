@@ -3,9 +3,14 @@
 #pragma once
 
 #include "geometry/bvh.h"
+#include "geometry/bvh_build.h"
 #include "geometry/triangle.h"
 #include "math/aabb.h"
 
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <functional>
 #include <utility>
 #include <vector>
 
@@ -22,6 +27,39 @@ inline std::vector<Aabb> triangle_boxes(const std::vector<TrianglePrim>& tris) {
     boxes.push_back(b);
   }
   return boxes;
+}
+
+// A binary tree is depth-first (left child next), every box is the union of its children's (leaves:
+// of their primitives' `boxes`), and every primitive is in exactly one leaf. Returns its depth.
+inline int expect_valid_binary_tree(const BinaryBvh& tree, const std::vector<Aabb>& boxes) {
+  std::vector<int> seen(boxes.size(), 0);
+  int depth = 0;
+  // Returns the subtree's end (the index after its last node) and checks it on the way.
+  std::function<uint32_t(uint32_t, int)> check = [&](uint32_t i, int level) -> uint32_t {
+    depth = std::max(depth, level);
+    const BinaryBvhNode& n = tree.nodes[i];
+    Aabb expected;
+    if (n.is_leaf()) {
+      for (uint32_t k = n.first; k < n.first + n.count; ++k) {
+        ++seen[tree.order[k]];
+        expected.grow(boxes[tree.order[k]]);
+      }
+      EXPECT_EQ(expected.lo, n.box.lo);
+      EXPECT_EQ(expected.hi, n.box.hi);
+      return i + 1;
+    }
+    const uint32_t left_end = check(i + 1, level + 1);
+    EXPECT_EQ(left_end, n.first) << "the right child follows the left subtree";
+    const uint32_t end = check(n.first, level + 1);
+    expected.grow(tree.nodes[i + 1].box);
+    expected.grow(tree.nodes[n.first].box);
+    EXPECT_EQ(expected.lo, n.box.lo);
+    EXPECT_EQ(expected.hi, n.box.hi);
+    return end;
+  };
+  EXPECT_EQ(check(0, 0), tree.nodes.size());
+  EXPECT_TRUE(std::all_of(seen.begin(), seen.end(), [](int k) { return k == 1; }));
+  return depth;
 }
 
 struct TriangleSoup {

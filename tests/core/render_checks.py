@@ -36,12 +36,18 @@ def closed_sphere(radius, offset=(0.0, 0.0, 0.0), power=100.0, albedo=0.5, width
 
 
 
-def cube_mesh(scene, half=1.0, center=(0.0, 0.0, 0.0), material=0, name="cube", object_id=0):
-    """A closed cube of 12 triangles sharing 8 vertices (every edge shared by two triangles)."""
+def cube_arrays(half=1.0, center=(0.0, 0.0, 0.0)):
+    """(vertices, triangles) of a closed cube: 12 triangles sharing 8 vertices (every edge shared by two
+    triangles), facing out."""
     v = np.array(list(itertools.product([-half, half], repeat=3)), dtype=float) + np.asarray(center, dtype=float)
     quads = [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)]
-    tris = [t for a, b, c, d in quads for t in ((a, b, c), (a, c, d))]
-    scene.add_mesh(name, v, np.array(tris), materials=material, object_id=object_id)
+    return v, np.array([t for a, b, c, d in quads for t in ((a, b, c), (a, c, d))])
+
+
+def cube_mesh(scene, half=1.0, center=(0.0, 0.0, 0.0), material=0, name="cube", object_id=0):
+    """Adds cube_arrays' cube; returns its vertices."""
+    v, triangles = cube_arrays(half, center)
+    scene.add_mesh(name, v, triangles, materials=material, object_id=object_id)
     return v
 
 
