@@ -10,11 +10,12 @@ bands of rows done so far), and `view_draw` shows the newest image.
 An edit (`update`) or a new view (`set_view`) cancels the pass in progress (the core notices
 within its 0.1 s poll), waits for the thread, and starts again from the new scene or view: an image
 never mixes photons of two scenes. An edit of lights alone (a lamp moved, its power or colour) replaces
-the core scene's lights, and an edit of materials' values writes them into their core slots; both keep
-the scene's objects and BVH, so lighting and shading a heavy scene stay interactive. Any other edit
-exports the scene again. Everything that reads Blender data (the export) runs on the main
-thread, in view_update and view_draw; the render thread touches only the core scene, which the main
-thread leaves alone while a thread runs.
+the core scene's lights, an edit of materials' values writes them into their core slots, and a world
+edit replaces the world; these keep the scene's objects and BVH, so lighting and shading a heavy scene
+stay interactive. A mesh object moved or its mesh edited is replaced in place (the core scene is
+dynamic: that object's BVH subtree is refitted). Any other edit exports the scene again. Everything
+that reads Blender data (the export) runs on the main thread, in view_update and view_draw; the render
+thread touches only the core scene, which the main thread leaves alone while a thread runs.
 """
 
 import threading
@@ -64,7 +65,8 @@ class ViewportSession:
         self.generation = 0  # counts restarts; an image from an older one is dropped
         self.error = None
         self.done = False
-        self.materials = None  # the last whole export's MaterialExporter: its core material slots
+        self.exporter = None  # the last whole export's Exporter: where its objects are (replace_object)
+        self.materials = None  # its MaterialExporter: its core material slots
         self.world_textures = 0  # the core's texture count before the world's (export_world)
         self.object_warnings = []  # of the last whole export (objects, materials)
         self.light_warnings = []  # of the last export of the lights
@@ -85,6 +87,8 @@ class ViewportSession:
             part = "scene"
         if part == "world" and not self.update_world(depsgraph):
             part = "scene"
+        if part == "objects" and not self.update_objects(depsgraph):
+            part = "scene"
         if part == "lights":
             self.export_lights(depsgraph)
         elif part == "scene":
@@ -97,9 +101,9 @@ class ViewportSession:
         self.core_scene = None  # until the export succeeds: a failed one renders nothing and shows its error
         self.object_warnings, self.light_warnings, self.material_warnings, self.world_warnings = [], [], [], []
         exporter = export.scene_exporter(self.ppm_core, depsgraph, self.object_warnings.append, lights=False,
-                                         world_warn=self.world_warnings.append)
+                                         world_warn=self.world_warnings.append, dynamic=True)
         export.export_lights(exporter.scene, depsgraph, self.light_warnings.append)
-        self.core_scene, self.materials = exporter.scene, exporter.materials
+        self.core_scene, self.exporter, self.materials = exporter.scene, exporter, exporter.materials
         self.world_textures = exporter.world_textures
         scene = depsgraph.scene
         self.settings = renderer_settings(scene)
@@ -120,9 +124,7 @@ class ViewportSession:
         then needs a whole export) where one cannot be updated in place."""
         self.stop()
         core_scene, self.core_scene = self.core_scene, None  # as in export: a failure renders nothing
-        table = self.materials.attributes_table  # view-layer attributes: read from this depsgraph's
-        if table is not None:
-            table.view_layer, table.scene = depsgraph.view_layer, depsgraph.scene
+        self.use_attributes_of(depsgraph)
         warnings, edited = [], edited_materials(depsgraph)
         self.materials.warn = warnings.append
         try:
@@ -137,14 +139,35 @@ class ViewportSession:
         self.core_scene = core_scene
         return True
 
+    def update_objects(self, depsgraph):
+        """Moves (and where their geometry changed, reshapes) the edited mesh objects in place,
+        stopping the thread; False (the scene then needs a whole export) where one cannot be."""
+        self.stop()
+        core_scene, self.core_scene = self.core_scene, None  # as in export: a failure renders nothing
+        self.use_attributes_of(depsgraph)
+        try:
+            for update in depsgraph.updates:
+                if isinstance(update.id, bpy.types.Object) and not self.exporter.replace_object(
+                        update.id, update.is_updated_geometry):
+                    return False
+        except ValueError:
+            return False
+        self.core_scene = core_scene
+        return True
+
+    def use_attributes_of(self, depsgraph):
+        """View-layer attributes, for what is exported in place: read from this depsgraph's."""
+        table = self.materials.attributes_table
+        if table is not None:
+            table.view_layer, table.scene = depsgraph.view_layer, depsgraph.scene
+
     def update_world(self, depsgraph):
         """Replaces the world alone, stopping the thread; False (a whole export then) where the core
         refuses. Its warnings replace the last world's."""
         self.stop()
         core_scene, self.core_scene = self.core_scene, None  # as in export: a failure renders nothing
+        self.use_attributes_of(depsgraph)
         table = self.materials.attributes_table
-        if table is not None:
-            table.view_layer, table.scene = depsgraph.view_layer, depsgraph.scene
         warnings = []
         try:
             export.export_world(core_scene, depsgraph, warnings.append, self.world_textures, table)
@@ -274,8 +297,8 @@ def changed_part(depsgraph, session):
     """What of the rendered scene the depsgraph's updates change: None (a selection, say), "lights"
     (light objects and light data alone: moved, or their power, colour or size), "materials" (the
     values of materials: the objects using them are listed too, with only their shading tagged),
-    "world" (a world and its node tree alone) or "scene" (anything else, the add-on's settings, or a
-    session without a scene)."""
+    "world" (a world and its node tree alone), "objects" (mesh objects moved or their meshes edited)
+    or "scene" (anything else, the add-on's settings, or a session without a scene)."""
     if session.core_scene is None or session.settings_key != settings_key(depsgraph.scene):
         return "scene"
     updates = [update for update in depsgraph.updates
@@ -294,6 +317,9 @@ def changed_part(depsgraph, session):
     if any(isinstance(id, bpy.types.World) for id in changed) and all(
             isinstance(id, bpy.types.World) or id.original.as_pointer() in world_trees for id in changed):
         return "world"
+    if all(is_mesh_object_or_mesh(id) for id in changed) and any(
+            update.is_updated_transform or update.is_updated_geometry for update in updates):
+        return "objects"
     if any(isinstance(id, bpy.types.Material) for id in changed) and all(
             isinstance(update.id, bpy.types.Material) or update.id.original.as_pointer() in trees
             or (is_object_or_geometry(update.id) and not is_light(update.id)
@@ -306,6 +332,11 @@ def changed_part(depsgraph, session):
 def is_object_or_geometry(id):
     """An object, or the data of a geometry object (a mesh, curve, ...)."""
     return isinstance(id, bpy.types.Object) or id.bl_rna.identifier in GEOMETRY_DATA
+
+
+def is_mesh_object_or_mesh(id):
+    """A mesh object, or a mesh (listed with the objects using it when it is edited)."""
+    return isinstance(id, bpy.types.Mesh) or (isinstance(id, bpy.types.Object) and id.type == "MESH")
 
 
 def edited_materials(depsgraph):

@@ -6,6 +6,7 @@ import os
 import threading
 import time
 
+import bmesh
 import bpy
 import numpy as np
 import pytest
@@ -123,7 +124,7 @@ class Session:
 
 
 def updated_after(session, change, update=True):
-    """The parts changed_part names after `change()` (None, "lights" or "scene"), as view_update sees
+    """The parts changed_part names after `change()` (None, "lights", "objects", ...), as view_update sees
     them; with `update`, session.update then brings the session up to them, as view_update does. The
     updates a depsgraph lists exist only while it reports them (here in a depsgraph_update_post
     handler)."""
@@ -185,13 +186,55 @@ def test_an_edit_restarts_from_the_new_scene_and_no_image_mixes_the_two():
     s.session.start()
     before = s.images_until_done()[-1]
     ball = s.scene.objects["matte_ball"]
-    assert updated_after(s.session, lambda: setattr(ball.location, "x", ball.location.x + 0.3)) == {"scene"}
+    assert updated_after(s.session, lambda: setattr(ball.location, "x", ball.location.x + 0.3)) == {"objects"}
     s.session.start()
     after = s.images_until_done()
     s.session.stop()
     assert all(image.generation == after[-1].generation for image in after[1:])
     assert after[-1].generation > before.generation
     assert np.abs(after[-1].rgba[..., :3] - before.rgba[..., :3]).mean() > 0.002  # the ball moved
+
+
+def test_a_moved_or_reshaped_mesh_object_is_replaced_in_place_and_renders_as_a_new_export_would():
+    """Moving, turning and scaling a mesh object and moving its vertices keep the exported scene (the
+    object's BVH subtree is refitted); the image is a fresh export's, to the last bit."""
+    s = Session()
+    kept = s.session.core_scene
+    ball = s.scene.objects["matte_ball"]
+
+    def reshape():
+        for vertex in ball.data.vertices[:40]:
+            vertex.co.z += 0.05
+        ball.data.update()
+
+    assert updated_after(s.session, lambda: setattr(ball.location, "x", ball.location.x + 0.3)) == {"objects"}
+    assert updated_after(s.session, lambda: setattr(ball.rotation_euler, "z", 0.7)) == {"objects"}
+    assert updated_after(s.session, lambda: setattr(ball, "scale", (1.2, 0.8, 1.0))) == {"objects"}
+    assert updated_after(s.session, reshape) == {"objects"}
+    assert s.session.core_scene is kept
+    edited_image_is_a_fresh_exports(s)
+
+
+def test_an_object_added_or_given_other_triangles_is_exported_afresh():
+    s = Session()
+    kept = s.session.core_scene
+    ball = s.scene.objects["matte_ball"]
+
+    def drop_a_face():
+        mesh = bmesh.new()
+        mesh.from_mesh(ball.data)
+        bmesh.ops.delete(mesh, geom=[next(iter(mesh.faces))], context="FACES_ONLY")
+        mesh.to_mesh(ball.data)
+        mesh.free()
+        ball.data.update()
+
+    assert updated_after(s.session, drop_a_face) == {"scene"}
+    assert s.session.core_scene is not kept
+    kept = s.session.core_scene
+    add_cube = lambda: bpy.ops.mesh.primitive_cube_add(size=0.3, location=(0.0, 0.0, 0.5))  # noqa: E731
+    assert updated_after(s.session, add_cube) == {"scene"}
+    assert s.session.core_scene is not kept
+    edited_image_is_a_fresh_exports(s)
 
 
 def test_a_lamp_edit_replaces_the_lights_alone_and_renders_as_a_new_export_would():

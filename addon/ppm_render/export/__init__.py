@@ -16,6 +16,7 @@ with a corner that is not finite; each such object gets one warning, however
 many instances it has. Only a scene without a camera object fails.
 """
 
+import dataclasses
 import re
 
 import numpy as np
@@ -48,6 +49,7 @@ class Exporter:
         self.curves_with_mesh = set()
         self.plain_curves = []
         self.skipped = {}  # warning -> number of instances it applies to
+        self.placed = {}  # original object name -> (Instance, material names, MeshData); None: an instance
 
     def describe_object(self, item, slots):
         """Object info for the node programs of the object's materials, if any has one."""
@@ -62,27 +64,35 @@ class Exporter:
         slots = [self.materials.index(slot.material) for slot in obj.material_slots]
         return slots or [self.materials.index(None)]
 
+    def mesh_key(self, obj):
+        """What instances sharing one MeshData have in common: the evaluated data and the materials."""
+        return (obj.data.as_pointer() if obj.data is not None else obj.as_pointer(),
+                tuple(s.material.name if s.material else "" for s in obj.material_slots))
+
+    def read_mesh(self, obj, slots):
+        """Reads `obj`'s evaluated mesh with the tangents and attribute its materials need, warning
+        where they cannot be had."""
+        kinds = sorted({self.materials.tangents[i] for i in slots if i in self.materials.tangents})
+        if len(kinds) > 1:
+            self.skip(obj, f"its materials need different tangents ({', '.join(kinds)}); using {kinds[-1]}")
+        names = sorted({self.materials.attributes[i] for i in slots if i in self.materials.attributes})
+        if len(names) > 1:
+            self.skip(obj, f"its materials read different attributes ({', '.join(names)}); all read "
+                           f"'{names[0] or 'the render colour attribute'}'")
+        data = mesh.MeshData.from_object(obj, kinds[-1] if kinds else None, names[0] if names else None)
+        if data is not None and data.tangents_missing:
+            self.skip(obj, "its normal map or anisotropy needs UV tangents, but it has no UV map; "
+                           "rendered without them")
+        if data is not None and data.attribute_missing:
+            self.skip(obj, f"it has no attribute '{names[0]}' that its materials read; they read black")
+        return data
+
     def add_geometry(self, item):
         obj = item.obj
-        key = (obj.data.as_pointer() if obj.data is not None else obj.as_pointer(),
-               tuple(s.material.name if s.material else "" for s in obj.material_slots))
+        key = self.mesh_key(obj)
         slots = self.slot_materials(obj)
         if key not in self.meshes:
-            kinds = sorted({self.materials.tangents[i] for i in slots if i in self.materials.tangents})
-            if len(kinds) > 1:
-                self.skip(obj, f"its materials need different tangents ({', '.join(kinds)}); using {kinds[-1]}")
-            names = sorted({self.materials.attributes[i] for i in slots if i in self.materials.attributes})
-            if len(names) > 1:
-                self.skip(obj, f"its materials read different attributes ({', '.join(names)}); all read "
-                               f"'{names[0] or 'the render colour attribute'}'")
-            self.meshes[key] = mesh.MeshData.from_object(obj, kinds[-1] if kinds else None,
-                                                         names[0] if names else None)
-            data = self.meshes[key]
-            if data is not None and data.tangents_missing:
-                self.skip(obj, "its normal map or anisotropy needs UV tangents, but it has no UV map; "
-                               "rendered without them")
-            if data is not None and data.attribute_missing:
-                self.skip(obj, f"it has no attribute '{names[0]}' that its materials read; they read black")
+            self.meshes[key] = self.read_mesh(obj, slots)
         data = self.meshes[key]
         self.describe_object(item, slots)
         if data is not None:
@@ -91,6 +101,30 @@ class Exporter:
             if dropped:
                 self.skip(obj, f"{dropped} of its {len(data.triangles)} triangles have a corner that is not "
                                "finite (NaN or Inf); left out")
+        name = obj.original.name
+        if item.instancer is not None or name in self.placed:
+            self.placed[name] = None  # an instance (or one of several): moved by a whole export
+        else:
+            self.placed[name] = (item, key[1], data)
+
+    def replace_object(self, obj, reshaped):
+        """Moves the evaluated mesh object `obj` to its new matrix in the exported (dynamic) core scene,
+        reading its mesh again if `reshaped`, with its object info. False where it cannot (an instance,
+        not a mesh, other materials, another triangle count): the scene then needs a whole export.
+        Raises ValueError where the core refuses. (The evaluated objects and meshes of earlier
+        depsgraphs may be freed: only the object's local mesh arrays are kept, not their addresses.)"""
+        placed = self.placed.get(obj.original.name)
+        materials = self.mesh_key(obj)[1]
+        if placed is None or obj.type != "MESH" or materials != placed[1]:
+            return False
+        slots = self.slot_materials(obj)
+        data = self.read_mesh(obj, slots) if reshaped else placed[2]
+        item = dataclasses.replace(placed[0], obj=obj, matrix=np.array(obj.matrix_world, dtype=float))
+        if data is None or not data.replace_in_scene(self.scene, item, slots):
+            return False
+        self.describe_object(item, slots)
+        self.placed[obj.original.name] = (item, materials, data)
+        return True
 
     def add_revolve(self, item):
         slots = self.slot_materials(item.obj)
@@ -177,11 +211,15 @@ def export_scene(core_module, depsgraph, warn, cancelled=lambda: False, lights=T
     return scene_exporter(core_module, depsgraph, warn, cancelled, lights).scene
 
 
-def scene_exporter(core_module, depsgraph, warn, cancelled=lambda: False, lights=True, world_warn=None):
+def scene_exporter(core_module, depsgraph, warn, cancelled=lambda: False, lights=True, world_warn=None,
+                   dynamic=False):
     """The Exporter once it has exported the scene (export_scene): its `scene`, its `materials` for
     updates in place and the count of textures before the world's (export_world). `world_warn`: where
-    the world's warnings go (`warn` by default)."""
-    exporter = Exporter(core_module.Scene(), warn, depsgraph.view_layer, depsgraph.scene, lights=lights)
+    the world's warnings go (`warn` by default). `dynamic`: a core scene whose objects can be moved in
+    place afterwards (Exporter.replace_object; its BVH is built object by object)."""
+    core_scene = core_module.Scene()
+    core_scene.dynamic = dynamic
+    exporter = Exporter(core_scene, warn, depsgraph.view_layer, depsgraph.scene, lights=lights)
     visit_instances(exporter, depsgraph, cancelled)
     exporter.finish_curves()
     exporter.report_skips()

@@ -166,15 +166,32 @@ class MeshData:
         mesh or the matrix). A matrix that flattens the mesh to a line or a point (a zero scale, the
         usual way to hide an object in an animation) adds nothing, as in Cycles; one zero axis
         leaves a flat mesh that is rendered."""
+        arguments, dropped = self.scene_arguments(item, material_indices)
+        if arguments is not None:
+            core_scene.add_mesh(**arguments)
+        return dropped
+
+    def replace_in_scene(self, core_scene, item, material_indices):
+        """Puts the mesh in place of the one add_to_scene added for the same object (Scene.replace_mesh,
+        in a dynamic scene), at the Instance's matrix. False where that cannot be, and the scene then
+        needs a whole export: the matrix now flattens the mesh or makes a corner not finite."""
+        arguments, dropped = self.scene_arguments(item, material_indices)
+        if arguments is None or dropped:
+            return False
+        core_scene.replace_mesh(**arguments)
+        return True
+
+    def scene_arguments(self, item, material_indices):
+        """(Scene.add_mesh's keyword arguments, or None where nothing is added; triangles left out)."""
         m = item.matrix
         if np.isfinite(m).all() and np.linalg.matrix_rank(m[:3, :3]) < 2:
-            return 0
+            return None, 0
         with np.errstate(invalid="ignore", over="ignore"):
             positions = self.positions @ m[:3, :3].T + m[:3, 3]
         finite = np.isfinite(positions).all(axis=1)[self.triangles].all(axis=1)
         kept = int(finite.sum())
         if kept == 0:
-            return len(self.triangles)
+            return None, len(self.triangles)
         triangles, normals, uvs, slots, tangents = self.triangles, self.normals, self.uvs, self.slots, self.tangents
         colors = self.colors
         if kept < len(triangles):
@@ -187,12 +204,12 @@ class MeshData:
         normals = normals.astype(np.float64)  # what the core reads (its own conversion is slower)
         slots = np.clip(slots, 0, len(material_indices) - 1)
         materials = np.asarray(material_indices, dtype=np.int64)[slots]
-        core_scene.add_mesh(item.name, positions, triangles, normals=normals.reshape(-1, 3, 3),
-                            uvs=uvs, materials=materials, object_id=item.object_id,
-                            tangents=None if tangents is None else world_tangents(
-                                tangents, normal_matrix(m[:3, :3]) if self.tangents_radial else m[:3, :3]),
-                            colors=colors, **visibility.object_flags(item.obj))
-        return len(self.triangles) - kept
+        if tangents is not None:
+            tangents = world_tangents(tangents, normal_matrix(m[:3, :3]) if self.tangents_radial else m[:3, :3])
+        arguments = dict(name=item.name, positions=positions, triangles=triangles, normals=normals.reshape(-1, 3, 3),
+                         uvs=uvs, materials=materials, object_id=item.object_id, tangents=tangents, colors=colors,
+                         **visibility.object_flags(item.obj))
+        return arguments, len(self.triangles) - kept
 
 
 def radial_tangents(mesh, positions, triangles, axis):
