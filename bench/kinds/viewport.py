@@ -13,8 +13,9 @@ comes every viewport.IMAGE_INTERVAL seconds), and the process's resident memory 
 `memory_marks` (each cancelling the last one's refinement after its first image, as dragging a lamp
 does), as it is and after glibc's malloc_trim (what is still allocated). Last, the same scene with a
 dense ball of about `heavy_triangles` triangles added: lamp edits (lights replaced), colour edits (a
-material replaced) and world edits (the world replaced), which keep the BVH, against moving a ball (the
-whole scene exported and its BVH built again)."""
+material replaced) and world edits (the world replaced), which keep the BVH; moving the small ball or
+the dense one (the object's mesh replaced in place and its BVH subtree refitted); and adding a cube
+(the whole scene exported and its BVH built again)."""
 
 from __future__ import annotations
 
@@ -28,6 +29,11 @@ import numpy as np
 from harness import blenders
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+
+
+# What session.update must do for each edit (viewport.changed_part's parts; "scene": a whole export).
+EXPECTED_PART = {"lamp": "lights", "material": "materials", "world": "world", "object": "objects",
+                 "dense": "objects", "cube": "scene"}
 
 
 def rss_mb():
@@ -112,11 +118,20 @@ class Edits:
             self.matte.inputs["Color"].default_value = (0.8, 0.7, 0.1 + 0.1 * (self.step % 5), 1.0)
         elif what == "world":  # the (black) world's colour: the world alone exported again
             self.background.inputs["Color"].default_value = (0.01 * (self.step % 5),) * 3 + (1.0,)
-        else:  # the matte ball moved: the whole scene is exported again
+        elif what == "object":  # the matte ball moved: its mesh replaced in place
             self.scene.objects["matte_ball"].location.x = -0.3 + 0.02 * (self.step % 5)
+        elif what == "dense":  # the dense ball moved: its mesh replaced in place
+            self.scene.objects["dense_ball"].location.x = 0.45 - 0.02 * (self.step % 5)
+        else:  # a small cube added: the whole scene exported again
+            mesh = self.bpy.data.meshes.new("cube")
+            mesh.from_pydata([(x, y, z) for x in (0, 0.1) for y in (0, 0.1) for z in (0, 0.1)], [],
+                             [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)])
+            cube = self.bpy.data.objects.new("cube", mesh)
+            cube.location = (-0.4, 0.3 - 0.05 * self.step, 0.0)
+            self.scene.collection.objects.link(cube)
 
     def edit(self, what="lamp", wait_full=True):
-        """Changes the lamp or a material and does what view_update (session.update, in a depsgraph
+        """Makes the edit `what` (see EXPECTED_PART) and does what view_update (session.update, in a depsgraph
         handler as Blender calls it) and view_draw (start) do; (seconds to the first image, to the first
         full-resolution image (None without `wait_full`), of session.update)."""
         self.step += 1
@@ -124,8 +139,9 @@ class Edits:
 
         def handler(_scene, depsgraph):
             update_start = time.perf_counter()
-            if self.session.update(depsgraph) is not None:
-                updated.append(time.perf_counter() - update_start)
+            part = self.session.update(depsgraph)
+            if part is not None:
+                updated.append((time.perf_counter() - update_start, part))
 
         self.bpy.context.evaluated_depsgraph_get()
         self.bpy.app.handlers.depsgraph_update_post.append(handler)
@@ -137,6 +153,8 @@ class Edits:
             self.bpy.app.handlers.depsgraph_update_post.remove(handler)
         if len(updated) != 1:
             raise RuntimeError(f"the edit updated the session {len(updated)} times")
+        if updated[0][1] != EXPECTED_PART[what]:  # (a handler's exceptions are only printed)
+            raise RuntimeError(f"a {what} edit updated '{updated[0][1]}', not '{EXPECTED_PART[what]}'")
         self.session.start()
         generation, first, full = self.session.generation, None, None
         while full is None and (wait_full or first is None):
@@ -148,7 +166,7 @@ class Edits:
             if self.session.error:
                 raise RuntimeError(self.session.error)
             time.sleep(0.0005)
-        return first, full, updated[0]
+        return first, full, updated[0][0]
 
     def images_per_second(self, seconds):
         """(full-resolution images, completed passes) per second while refining: an image comes after
@@ -184,7 +202,7 @@ def measure(params):
         heavy = {}
         if params["heavy_triangles"]:
             edits = Edits(params, params["heavy_triangles"])
-            for what in ("lamp", "material", "world", "object"):
+            for what in HEAVY_EDITS:
                 heavy[what] = [edits.edit(what) for _ in range(params["heavy_edits_timed"])]
             heavy["triangles"] = edits.triangles
             edits.session.stop()
@@ -192,6 +210,12 @@ def measure(params):
         ppm_render.unregister()  # bpy 4.2 and 4.5 crash or hang at exit otherwise
     return {"version": bpy.app.version_string, "timed": timed, "images_per_s": rate, "rss_mb": memory,
             "heavy": heavy}
+
+
+HEAVY_EDITS = {"lamp": "lamp moved (lights replaced)", "material": "colour edited (material replaced)",
+               "world": "world colour edited (world replaced)",
+               "object": "matte ball moved (its mesh replaced)",
+               "dense": "dense ball moved (its mesh replaced)", "cube": "a cube added (all exported)"}
 
 
 def quantiles(values):
@@ -221,8 +245,7 @@ def run(experiment, results):
                   [[k, f"{rss:.0f}", f"{trimmed:.0f}"] for k, (rss, trimmed) in m["rss_mb"].items()])
     if m["heavy"]:
         rows = []
-        for what, label in (("lamp", "lamp moved (lights replaced)"), ("material", "colour edited (material replaced)"),
-                            ("world", "world colour edited (world replaced)"), ("object", "ball moved (all exported)")):
+        for what, label in HEAVY_EDITS.items():
             for i, name in enumerate(("edit -> first image", "edit -> first full-resolution image",
                                       "session.update alone")):
                 median, p90 = quantiles([t[i] for t in m["heavy"][what]])
