@@ -36,6 +36,17 @@ def shading(kind):
     area.spaces.active.shading.type = kind
 
 
+def move_ball():
+    bpy.data.objects["matte_ball"].location.x += 0.1
+
+
+def reshape_ball():
+    mesh = bpy.data.objects["matte_ball"].data
+    for vertex in mesh.vertices[:30]:
+        vertex.co.z += 0.03
+    mesh.update()
+
+
 def delete_ball():
     bpy.data.objects.remove(bpy.data.objects["matte_ball"])
 
@@ -101,8 +112,11 @@ STEPS = [
     ("rendered", lambda: shading("RENDERED")),
     ("solid", lambda: shading("SOLID")),
     ("rendered again", lambda: shading("RENDERED")),
+    ("move the object (in place)", move_ball),
+    ("reshape it (in place)", reshape_ball),
     ("delete the object", delete_ball),
     ("undo", undo),
+    ("move it after the undo", move_ball),
     ("frame 10", lambda: bpy.context.scene.frame_set(10)),
     ("stronger lamp", lambda: setattr(bpy.data.lights[0], "energy", bpy.data.lights[0].energy * 2.0)),
     ("fewer viewport photons", lambda: setattr(bpy.context.scene.ppm, "viewport_photons_per_pass", 10_000)),

@@ -95,9 +95,9 @@ def test_the_viewport_in_rendered_shading_refines_and_follows_an_edit():
 
 
 def test_a_viewport_survives_what_users_do_to_it_while_it_renders():
-    """Solid/Rendered toggles, deleting the object rendered, undo, frames, render regions, another
-    editor, another file and quitting mid-render: Blender exits normally, with one viewport session
-    and render thread left (the others were stopped with their engines)."""
+    """Solid/Rendered toggles, moving, reshaping and deleting the object rendered, undo, frames, render
+    regions, another editor, another file and quitting mid-render: Blender exits normally, with one
+    viewport session and render thread left (the others were stopped with their engines)."""
     run, status = run_in_gui("gui_viewport_abuse.py", os.path.join(OUT, "viewport_abuse"))
     assert status is not None, run.stdout[-3000:] + run.stderr[-3000:]  # it writes one before each step
     assert status["complete"], status["steps"][-1]
