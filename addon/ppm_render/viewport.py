@@ -72,6 +72,7 @@ class ViewportSession:
         self.light_warnings = []  # of the last export of the lights
         self.material_warnings = []  # of the materials updated in place since the last export
         self.world_warnings = []  # of the last export of the world
+        self.last_part = None  # what the last update brought up to date
         SESSIONS.add(self)
 
     @property
@@ -93,6 +94,8 @@ class ViewportSession:
             self.export_lights(depsgraph)
         elif part == "scene":
             self.export(depsgraph)
+        if part is not None:
+            self.last_part = part  # for scripts that check what an edit did (tests/gui)
         return part
 
     def export(self, depsgraph):

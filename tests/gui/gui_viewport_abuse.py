@@ -23,6 +23,7 @@ import render
 OUT = sys.argv[sys.argv.index("--out") + 1] if "--out" in sys.argv else "/tmp"
 DONE = []
 WINDOWS = {}
+PARTS = {}  # what the viewport updated after an edit: changed_part of its sessions
 
 
 def context():
@@ -102,6 +103,12 @@ def note_window(name):
                      "rendered": [views[0]["width"], views[0]["height"]] if views else None}
 
 
+def note_part(name):
+    from ppm_render import viewport
+
+    PARTS[name] = sorted({s.last_part or "" for s in viewport.SESSIONS})
+
+
 def errors():
     from ppm_render import viewport
 
@@ -113,7 +120,9 @@ STEPS = [
     ("solid", lambda: shading("SOLID")),
     ("rendered again", lambda: shading("RENDERED")),
     ("move the object (in place)", move_ball),
+    ("note what it updated", lambda: note_part("moved")),
     ("reshape it (in place)", reshape_ball),
+    ("note what that updated", lambda: note_part("reshaped")),
     ("delete the object", delete_ball),
     ("undo", undo),
     ("move it after the undo", move_ball),
@@ -147,7 +156,7 @@ def step():
 
         running = [t for t in threading.enumerate() if t.name == "PPM viewport" and t.is_alive()]
         write({"steps": DONE, "complete": True, "errors": errors(), "render_threads": len(running),
-               "sessions": len(viewport.SESSIONS), "windows": WINDOWS})
+               "sessions": len(viewport.SESSIONS), "windows": WINDOWS, "parts": PARTS})
         bpy.ops.wm.quit_blender()  # while the viewport refines
         return None
     name, action = STEPS[len(DONE)]

@@ -103,6 +103,7 @@ def test_a_viewport_survives_what_users_do_to_it_while_it_renders():
     assert status["complete"], status["steps"][-1]
     assert run.returncode == 0 and "Traceback" not in run.stderr, run.stderr[-3000:]
     assert status["errors"] == [] and status["render_threads"] <= 1 and status["sessions"] <= 1, status
+    assert status["parts"] == {"moved": ["objects"], "reshaped": ["objects"]}  # both replaced the ball in place
     # A render region renders only its part: the viewport's own (x 0.1-0.4, y 0.5-0.9 of the region),
     # and the scene's border (x 0.25-0.75, y 0.2-0.6) inside the camera's frame in the camera view.
     (width, height), rendered = status["windows"]["viewport region"].values()
