@@ -12,10 +12,11 @@ within its 0.1 s poll), waits for the thread, and starts again from the new scen
 never mixes photons of two scenes. An edit of lights alone (a lamp moved, its power or colour) replaces
 the core scene's lights, an edit of materials' values writes them into their core slots, and a world
 edit replaces the world; these keep the scene's objects and BVH, so lighting and shading a heavy scene
-stay interactive. A mesh object moved or its mesh edited is replaced in place (the core scene is
-dynamic: that object's BVH subtree is refitted). Any other edit exports the scene again. Everything
-that reads Blender data (the export) runs on the main thread, in view_update and view_draw; the render
-thread touches only the core scene, which the main thread leaves alone while a thread runs.
+stay interactive. A mesh object moved or its mesh edited, and the instances of an instancer moved,
+are replaced in place (the core scene is dynamic: their BVH subtrees are refitted). Any other edit
+exports the scene again. Everything that reads Blender data (the export) runs on the main thread, in
+view_update and view_draw; the render thread touches only the core scene, which the main thread leaves
+alone while a thread runs.
 """
 
 import threading
@@ -143,16 +144,29 @@ class ViewportSession:
         return True
 
     def update_objects(self, depsgraph):
-        """Moves (and where their geometry changed, reshapes) the edited mesh objects in place,
-        stopping the thread; False (the scene then needs a whole export) where one cannot be."""
+        """Moves (and where their geometry changed, reshapes) the edited mesh objects and the instances
+        of edited instancers in place, stopping the thread; False (the scene then needs a whole export)
+        where one cannot be. A camera object is the view's business (view_draw)."""
         self.stop()
         core_scene, self.core_scene = self.core_scene, None  # as in export: a failure renders nothing
         self.use_attributes_of(depsgraph)
+        objects = [update for update in depsgraph.updates
+                   if isinstance(update.id, bpy.types.Object) and update.id.type != "CAMERA"]
+        exporter = self.exporter
         try:
-            for update in depsgraph.updates:
-                if isinstance(update.id, bpy.types.Object) and not self.exporter.replace_object(
-                        update.id, update.is_updated_geometry):
+            for update in objects:
+                obj = update.id
+                if exporter.is_placed(obj):
+                    if not exporter.replace_object(obj, update.is_updated_geometry):
+                        return False
+                elif not exporter.is_instancer(obj):
                     return False
+            if any(exporter.is_instancer(update.id) for update in objects):
+                reshaped = {update.id.original.name for update in objects if update.is_updated_geometry}
+                if not exporter.replace_instances(depsgraph, reshaped):
+                    return False
+                self.light_warnings = []  # lights may be instances too
+                export.export_lights(core_scene, depsgraph, self.light_warnings.append)
         except ValueError:
             return False
         self.core_scene = core_scene
@@ -300,8 +314,8 @@ def changed_part(depsgraph, session):
     """What of the rendered scene the depsgraph's updates change: None (a selection, say), "lights"
     (light objects and light data alone: moved, or their power, colour or size), "materials" (the
     values of materials: the objects using them are listed too, with only their shading tagged),
-    "world" (a world and its node tree alone), "objects" (mesh objects moved or their meshes edited)
-    or "scene" (anything else, the add-on's settings, or a session without a scene)."""
+    "world" (a world and its node tree alone), "objects" (objects moved or their geometry edited, with
+    their data) or "scene" (anything else, the add-on's settings, or a session without a scene)."""
     if session.core_scene is None or session.settings_key != settings_key(depsgraph.scene):
         return "scene"
     updates = [update for update in depsgraph.updates
@@ -320,7 +334,7 @@ def changed_part(depsgraph, session):
     if any(isinstance(id, bpy.types.World) for id in changed) and all(
             isinstance(id, bpy.types.World) or id.original.as_pointer() in world_trees for id in changed):
         return "world"
-    if all(is_mesh_object_or_mesh(id) for id in changed) and any(
+    if all(is_object_or_geometry(id) and not is_light(id) for id in changed) and any(
             update.is_updated_transform or update.is_updated_geometry for update in updates):
         return "objects"
     if any(isinstance(id, bpy.types.Material) for id in changed) and all(
@@ -335,11 +349,6 @@ def changed_part(depsgraph, session):
 def is_object_or_geometry(id):
     """An object, or the data of a geometry object (a mesh, curve, ...)."""
     return isinstance(id, bpy.types.Object) or id.bl_rna.identifier in GEOMETRY_DATA
-
-
-def is_mesh_object_or_mesh(id):
-    """A mesh object, or a mesh (listed with the objects using it when it is edited)."""
-    return isinstance(id, bpy.types.Mesh) or (isinstance(id, bpy.types.Object) and id.type == "MESH")
 
 
 def edited_materials(depsgraph):

@@ -215,6 +215,39 @@ def test_a_moved_or_reshaped_mesh_object_is_replaced_in_place_and_renders_as_a_n
     edited_image_is_a_fresh_exports(s)
 
 
+def collection_instance(scene):
+    """An empty instancing a collection of a small cube and a point lamp; the empty."""
+    collection = bpy.data.collections.new("props")
+    mesh = bpy.data.meshes.new("prop")
+    mesh.from_pydata([(x, y, z) for x in (0, 0.1) for y in (0, 0.1) for z in (0, 0.1)], [],
+                     [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)])
+    collection.objects.link(bpy.data.objects.new("prop", mesh))
+    lamp = bpy.data.objects.new("prop_lamp", bpy.data.lights.new("prop_lamp", "POINT"))
+    lamp.data.energy, lamp.location = 5.0, (0.05, 0.05, 0.3)
+    collection.objects.link(lamp)
+    empty = bpy.data.objects.new("props", None)
+    empty.instance_type, empty.instance_collection = "COLLECTION", collection
+    empty.location = (-0.3, 0.2, 0.0)
+    scene.collection.objects.link(empty)
+    return empty
+
+
+def test_instances_and_the_camera_moved_keep_the_scene_and_render_as_a_new_export_would():
+    """Moving an empty that instances a collection (a mesh and a lamp) moves its instances in place;
+    moving the camera object changes no core object (the view follows in view_draw)."""
+    s = Session()
+    empty = collection_instance(s.scene)
+    s.session.export(bpy.context.evaluated_depsgraph_get())
+    kept = s.session.core_scene
+    assert updated_after(s.session, lambda: setattr(empty.location, "y", -0.2)) == {"objects"}
+    assert updated_after(s.session, lambda: setattr(empty.rotation_euler, "z", 0.5)) == {"objects"}
+    camera_z = s.scene.camera.location.z
+    for z in (camera_z + 0.5, camera_z):  # (and back: the fresh export's view is read from the camera)
+        assert updated_after(s.session, lambda value=z: setattr(s.scene.camera.location, "z", value)) == {"objects"}
+    assert s.session.core_scene is kept
+    edited_image_is_a_fresh_exports(s)
+
+
 def test_an_object_added_or_given_other_triangles_is_exported_afresh():
     s = Session()
     kept = s.session.core_scene

@@ -50,6 +50,8 @@ class Exporter:
         self.plain_curves = []
         self.skipped = {}  # warning -> number of instances it applies to
         self.placed = {}  # original object name -> (Instance, material names, MeshData); None: an instance
+        self.instances = {}  # instance_identity -> the same for an instance's mesh (None: not unique)
+        self.instancers = set()  # original names of the objects that made them
 
     def describe_object(self, item, slots):
         """Object info for the node programs of the object's materials, if any has one."""
@@ -103,9 +105,13 @@ class Exporter:
                                "finite (NaN or Inf); left out")
         name = obj.original.name
         if item.instancer is not None or name in self.placed:
-            self.placed[name] = None  # an instance (or one of several): moved by a whole export
+            self.placed[name] = None  # an instance (or one of several): see `instances`
         else:
             self.placed[name] = (item, key[1], data)
+        if item.instancer is not None:
+            self.instancers.add(item.instancer.original.name)
+            identity = instance_identity(item.instancer, obj, item.persistent_id)
+            self.instances[identity] = None if identity in self.instances else (item, key[1], data)
 
     def replace_object(self, obj, reshaped):
         """Moves the evaluated mesh object `obj` to its new matrix in the exported (dynamic) core scene,
@@ -125,6 +131,46 @@ class Exporter:
         self.describe_object(item, slots)
         self.placed[obj.original.name] = (item, materials, data)
         return True
+
+    def is_instancer(self, obj):
+        """Does the evaluated object `obj` make instances of exported meshes?"""
+        return obj.original.name in self.instancers
+
+    def is_placed(self, obj):
+        """Is the evaluated object `obj` exported as one mesh of its own (replace_object)?"""
+        return self.placed.get(obj.original.name) is not None
+
+    def replace_instances(self, depsgraph, reshaped):
+        """Puts every exported mesh instance whose matrix changed at its new one (reading the mesh again
+        where its object's or its instancer's original name is in `reshaped`); False where the instances
+        are not the exported ones (added, gone, or not unique): the scene then needs a whole export."""
+        seen, meshes = set(), {}
+        for instance in depsgraph.object_instances:
+            if not instance.is_instance or instance.object.type not in GEOMETRY_TYPES:
+                continue
+            obj, instancer = instance.object, instance.parent
+            identity = instance_identity(instancer, obj, tuple(instance.persistent_id))
+            placed = self.instances.get(identity)
+            if placed is None or identity in seen:
+                return False
+            seen.add(identity)
+            item, materials, data = placed
+            matrix = np.array(instance.matrix_world, dtype=float)
+            fresh = obj.original.name in reshaped or instancer.original.name in reshaped
+            if not fresh and (data is None or np.array_equal(matrix, item.matrix)):
+                continue  # unmoved, or without triangles to move
+            key, slots = self.mesh_key(obj), self.slot_materials(obj)
+            if key[1] != materials:
+                return False
+            if fresh:
+                data = meshes[key] if key in meshes else meshes.setdefault(key, self.read_mesh(obj, slots))
+            item = dataclasses.replace(item, obj=obj, matrix=matrix, instancer=instancer,
+                                       particle_settings=getattr(instance.particle_system, "settings", None))
+            if data is None or not data.replace_in_scene(self.scene, item, slots):
+                return False
+            self.describe_object(item, slots)
+            self.instances[identity] = (item, materials, data)
+        return len(seen) == len(self.instances)
 
     def add_revolve(self, item):
         slots = self.slot_materials(item.obj)
@@ -163,7 +209,8 @@ class Exporter:
         name = obj.name if instanced is None else f"{instanced.name}/{obj.name}.{object_id}"
         particles = getattr(instance.particle_system, "settings", None) if instance.is_instance else None
         item = Instance(obj, name, np.array(instance.matrix_world, dtype=float), object_id,
-                        object_info.random_of(instance), instancer, particles)
+                        object_info.random_of(instance), instancer, particles,
+                        tuple(instance.persistent_id) if instance.is_instance else ())
         if obj.type == "LIGHT":
             if self.lights:
                 light.add_light(self.scene, item, self.warn)
@@ -187,6 +234,12 @@ class Exporter:
         for item in self.plain_curves:
             if item.obj.original.name not in self.curves_with_mesh:
                 self.guarded(item.obj, self.add_geometry, item)
+
+
+def instance_identity(instancer, obj, persistent_id):
+    """What names a depsgraph instance from one evaluation to the next: its instancer's and its object's
+    original names and its persistent id."""
+    return instancer.original.name, obj.original.name, persistent_id
 
 
 def build_scene(core_module, depsgraph, frame, warn, cancelled=lambda: False):

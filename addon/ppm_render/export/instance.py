@@ -18,3 +18,4 @@ class Instance:
     random: float = 0.0  # Object Info's Random (object_info.py)
     instancer: object = None  # the object whose collection, particles or geometry nodes made it
     particle_settings: object = None  # of the particle system that made it
+    persistent_id: tuple = ()  # the depsgraph's id of an instance, the same from one evaluation to the next
