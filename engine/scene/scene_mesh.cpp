@@ -4,6 +4,7 @@
 #include "geometry/object_bvh.h"
 #include "scene/input_checks.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace ppm {
@@ -129,10 +130,12 @@ void Scene::replace_mesh(MeshInput mesh) {
   const MeshLayout layout = check_arrays(mesh, what);
   for (uint32_t m : mesh.materials) check_material(m, what);
   const uint32_t first = object_triangles(mesh.object_id, mesh.triangles.size() / 3, what);
-  const TriangleInfo& before = triangle_info_[first];
-  if ((before.corners >= 0) != !mesh.normals.empty() || (before.uvs >= 0) != !mesh.uvs.empty() ||
-      (before.tangents >= 0) != !mesh.tangents.empty() || (before.colors >= 0) != !mesh.colors.empty())
-    fail(what, "has other attributes (normals, uvs, tangents, colors) than the mesh it replaces");
+  for (size_t t = first; t < first + mesh.triangles.size() / 3; ++t) {
+    const TriangleInfo& before = triangle_info_[t];
+    if ((before.corners >= 0) != !mesh.normals.empty() || (before.uvs >= 0) != !mesh.uvs.empty() ||
+        (before.tangents >= 0) != !mesh.tangents.empty() || (before.colors >= 0) != !mesh.colors.empty())
+      fail(what, "has other attributes (normals, uvs, tangents, colors) than the mesh it replaces");
+  }
   const bool in_leaves = triangles_.size() != triangle_info_.size();  // built: see release_triangles
   for (size_t t = 0; t < mesh.triangles.size() / 3; ++t) {
     const MeshTriangle m = mesh_triangle(mesh, layout, t);
@@ -159,20 +162,38 @@ void Scene::replace_mesh(MeshInput mesh) {
   }
 }
 
-// The first of object `object`'s triangles, checked to be one add_mesh's `count` triangles (a
-// contiguous range) and all of the object.
+// The first of object `object`'s triangles, checked to be a contiguous range of `count` triangles,
+// all of the object. A built dynamic scene finds them through the object's BVH slots, in time
+// proportional to the object (an instancer moved replaces each of thousands of instances); other
+// scenes scan every triangle.
 uint32_t Scene::object_triangles(uint32_t object, size_t count, const std::string& what) const {
   size_t first = 0, found = 0;
-  for (size_t i = 0; i < triangle_info_.size(); ++i) {
-    if (triangle_info_[i].object != object) continue;
-    if (found == 0) first = i;
-    if (i != first + found++) fail(what, "its object's triangles were added by more than one add_mesh");
+  bool contiguous = true;
+  if (dynamic_ && geometry_built_) {
+    const auto group = object_group_.find(object);
+    const uint32_t slot = group == object_group_.end() ? 0 : object_bvh_->first_slot(group->second);
+    const uint32_t slots = group == object_group_.end() ? 0 : object_bvh_->slot_count(group->second);
+    size_t last = 0;
+    for (uint32_t s = slot; s < slot + slots; ++s) {
+      if (leaf_prims_[s].kind != PrimitiveKind::Triangle) fail(what, "its object is not a triangle mesh alone");
+      first = found == 0 ? leaf_prims_[s].index : std::min<size_t>(first, leaf_prims_[s].index);
+      last = std::max<size_t>(last, leaf_prims_[s].index);
+      ++found;
+    }
+    contiguous = found == 0 || last - first + 1 == found;
+  } else {
+    for (size_t i = 0; i < triangle_info_.size(); ++i) {
+      if (triangle_info_[i].object != object) continue;
+      if (found == 0) first = i;
+      contiguous = contiguous && i == first + found++;
+    }
+    for (const SphereInfo& s : spheres_)
+      if (s.object == object) fail(what, "its object is not a triangle mesh alone");
+    for (const RevolveSegment& r : revolve_segments_)
+      if (r.object == object) fail(what, "its object is not a triangle mesh alone");
   }
   if (found == 0) fail(what, "object " + std::to_string(object) + " has no mesh in the scene");
-  for (const SphereInfo& s : spheres_)
-    if (s.object == object) fail(what, "its object is not a triangle mesh alone");
-  for (const RevolveSegment& r : revolve_segments_)
-    if (r.object == object) fail(what, "its object is not a triangle mesh alone");
+  if (!contiguous) fail(what, "its object's triangles were added by more than one add_mesh");
   if (found != count)
     fail(what, "has " + std::to_string(count) + " triangles where its object has " + std::to_string(found));
   return static_cast<uint32_t>(first);

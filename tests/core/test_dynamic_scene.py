@@ -112,12 +112,20 @@ def test_what_cannot_be_replaced_is_refused_naming_the_mesh_and_the_scene_is_kep
     spheres.add_sphere("ball", (0.0, 0.0, 0.0), 1.0, grey, object_id=3)
     spheres.build()
     spheres.add_mesh("ball's lid", vertices, triangles, materials=grey, object_id=3)
-    with pytest.raises(ValueError, match="not a triangle mesh alone"):
-        spheres.replace_mesh("ball", vertices, triangles, materials=grey, object_id=3)
+    for built in (False, True):  # (found by scanning, or through the object's BVH slots)
+        if built:
+            spheres.build()
+        with pytest.raises(ValueError, match="not a triangle mesh alone"):
+            spheres.replace_mesh("ball", vertices, triangles, materials=grey, object_id=3)
     spheres.add_mesh("another lid", vertices, triangles, materials=grey, object_id=4)
-    spheres.add_mesh("a lid in two parts", vertices, triangles, materials=grey, object_id=3)
-    with pytest.raises(ValueError, match="added by more than one add_mesh"):
-        spheres.replace_mesh("ball", vertices, triangles, materials=grey, object_id=3)
+    spheres.add_mesh("a lid in two parts", vertices, triangles, materials=grey, object_id=4)
+    spheres.add_mesh("something else", vertices, triangles, materials=grey, object_id=5)
+    spheres.add_mesh("a lid in three parts", vertices, triangles, materials=grey, object_id=4)
+    for built in (False, True):
+        if built:
+            spheres.build()
+        with pytest.raises(ValueError, match="added by more than one add_mesh"):
+            spheres.replace_mesh("lid", vertices, np.vstack([triangles] * 3), materials=grey, object_id=4)
 
 
 @pytest.mark.parametrize("dynamic", [True, False])

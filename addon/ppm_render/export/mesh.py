@@ -184,7 +184,7 @@ class MeshData:
     def scene_arguments(self, item, material_indices):
         """(Scene.add_mesh's keyword arguments, or None where nothing is added; triangles left out)."""
         m = item.matrix
-        if np.isfinite(m).all() and np.linalg.matrix_rank(m[:3, :3]) < 2:
+        if np.isfinite(m).all() and flattens_to_a_line(m[:3, :3]):
             return None, 0
         with np.errstate(invalid="ignore", over="ignore"):
             positions = self.positions @ m[:3, :3].T + m[:3, 3]
@@ -292,5 +292,17 @@ def normal_matrix(m):
     """The matrix that carries normals through `m`: the inverse transpose, scaled by |det m| so that
     it exists for a singular `m` too (its cofactor matrix; normals are normalised afterwards)."""
     a, b, c = m[:, 0], m[:, 1], m[:, 2]
-    cofactor = np.stack([np.cross(b, c), np.cross(c, a), np.cross(a, b)], axis=1)
+    cofactor = np.array([_cross(b, c), _cross(c, a), _cross(a, b)]).T
     return cofactor if np.linalg.det(m) >= 0.0 else -cofactor
+
+
+def flattens_to_a_line(m):
+    """Is the finite 3x3 `m` of rank 0 or 1 (up to rounding)? Its 2x2 minors (the cofactors) then
+    vanish against its largest entry squared; np.linalg.matrix_rank's SVD takes 60 us a call."""
+    largest = np.abs(m).max()
+    return largest == 0.0 or np.abs(normal_matrix(m)).max() <= 1e-15 * largest * largest
+
+
+def _cross(u, v):
+    """u x v of two 3-vectors (np.cross costs 50 us a call: an instance moved in the viewport pays it)."""
+    return (u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0])
