@@ -15,7 +15,8 @@ does), as it is and after glibc's malloc_trim (what is still allocated). Last, t
 dense ball of about `heavy_triangles` triangles added: lamp edits (lights replaced), colour edits (a
 material replaced) and world edits (the world replaced), which keep the BVH; moving the small ball or
 the dense one (the object's mesh replaced in place and its BVH subtree refitted); and adding a cube
-(the whole scene exported and its BVH built again)."""
+(the whole scene exported and its BVH built again). Last, the box with `instances` particle instances
+of a small cube: moving their host (each instance replaced in place) against adding a cube."""
 
 from __future__ import annotations
 
@@ -33,7 +34,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 
 # What session.update must do for each edit (viewport.changed_part's parts; "scene": a whole export).
 EXPECTED_PART = {"lamp": "lights", "material": "materials", "world": "world", "object": "objects",
-                 "dense": "objects", "cube": "scene"}
+                 "dense": "objects", "scatter": "objects", "cube": "scene"}
 
 
 def rss_mb():
@@ -81,10 +82,30 @@ def add_dense_ball(bpy, triangles, radius, location):
     return obj
 
 
+def add_scattered_cubes(bpy, count):
+    """A plane on the floor whose hair particles instance `count` small cubes (12 triangles each); the
+    plane, whose moves move them all."""
+    mesh = bpy.data.meshes.new("pebble")
+    mesh.from_pydata([(x, y, z) for x in (0, 0.01) for y in (0, 0.01) for z in (0, 0.01)], [],
+                     [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)])
+    pebble = bpy.data.objects.new("pebble", mesh)
+    bpy.context.scene.collection.objects.link(pebble)
+    pebble.location = (0.0, 0.0, -5.0)  # the original out of sight, under the floor
+    plane = bpy.data.meshes.new("scatter")
+    plane.from_pydata([(-0.3, -0.3, 0.0), (0.3, -0.3, 0.0), (0.3, 0.3, 0.0), (-0.3, 0.3, 0.0)], [], [(0, 1, 2, 3)])
+    host = bpy.data.objects.new("scatter", plane)
+    host.location = (0.0, 0.0, 0.05)
+    bpy.context.scene.collection.objects.link(host)
+    host.modifiers.new("particles", "PARTICLE_SYSTEM")
+    settings = host.particle_systems[0].settings
+    settings.type, settings.count, settings.render_type, settings.instance_object = "HAIR", count, "OBJECT", pebble
+    return host
+
+
 class Edits:
     """The session on the scene, and edits of its lamp or a material, timed."""
 
-    def __init__(self, params, extra_triangles=0):
+    def __init__(self, params, extra_triangles=0, instances=0):
         import bpy
 
         from ppm_render import core, viewport
@@ -94,6 +115,8 @@ class Edits:
         self.bpy, self.scene = bpy, bpy.context.scene
         if extra_triangles:  # a dense ball on the floor: a heavy scene that still looks like the box
             add_dense_ball(bpy, extra_triangles, 0.15, (0.45, 0.45, 0.15))
+        if instances:
+            add_scattered_cubes(bpy, instances)
         self.scene.ppm.viewport_photons_per_pass = params["photons"]
         self.scene.ppm.viewport_passes = 0
         self.session = viewport.ViewportSession(core.load(), lambda: None)
@@ -122,6 +145,8 @@ class Edits:
             self.scene.objects["matte_ball"].location.x = -0.3 + 0.02 * (self.step % 5)
         elif what == "dense":  # the dense ball moved: its mesh replaced in place
             self.scene.objects["dense_ball"].location.x = 0.45 - 0.02 * (self.step % 5)
+        elif what == "scatter":  # the particle host moved: every instance replaced in place
+            self.scene.objects["scatter"].location.x = 0.02 * (self.step % 5)
         else:  # a small cube added: the whole scene exported again
             mesh = self.bpy.data.meshes.new("cube")
             mesh.from_pydata([(x, y, z) for x in (0, 0.1) for y in (0, 0.1) for z in (0, 0.1)], [],
@@ -206,16 +231,25 @@ def measure(params):
                 heavy[what] = [edits.edit(what) for _ in range(params["heavy_edits_timed"])]
             heavy["triangles"] = edits.triangles
             edits.session.stop()
+        scattered = {}
+        if params["instances"]:
+            edits = Edits(params, instances=params["instances"])
+            for what in SCATTER_EDITS:
+                scattered[what] = [edits.edit(what) for _ in range(params["heavy_edits_timed"])]
+            edits.session.stop()
     finally:
         ppm_render.unregister()  # bpy 4.2 and 4.5 crash or hang at exit otherwise
     return {"version": bpy.app.version_string, "timed": timed, "images_per_s": rate, "rss_mb": memory,
-            "heavy": heavy}
+            "heavy": heavy, "scattered": scattered}
 
 
 HEAVY_EDITS = {"lamp": "lamp moved (lights replaced)", "material": "colour edited (material replaced)",
                "world": "world colour edited (world replaced)",
                "object": "matte ball moved (its mesh replaced)",
                "dense": "dense ball moved (its mesh replaced)", "cube": "a cube added (all exported)"}
+
+
+SCATTER_EDITS = {"scatter": "particle host moved (its instances replaced)", "cube": "a cube added (all exported)"}
 
 
 def quantiles(values):
@@ -225,7 +259,8 @@ def quantiles(values):
 
 def run(experiment, results):
     params = {k: experiment[k] for k in ("scene", "width", "height", "photons", "edits_timed", "refine_seconds",
-                                         "edits", "memory_marks", "heavy_triangles", "heavy_edits_timed")}
+                                         "edits", "memory_marks", "heavy_triangles", "heavy_edits_timed",
+                                         "instances")}
     m = blenders.result_of(experiment["blender"], "kinds.viewport:measure", params)
     rows = []
     for i, name in enumerate(("edit -> first image (1/4 preview)", "edit -> first full-resolution image",
@@ -244,12 +279,19 @@ def run(experiment, results):
     results.table(["edits", "resident memory (MB)", "after malloc_trim"],
                   [[k, f"{rss:.0f}", f"{trimmed:.0f}"] for k, (rss, trimmed) in m["rss_mb"].items()])
     if m["heavy"]:
-        rows = []
-        for what, label in HEAVY_EDITS.items():
-            for i, name in enumerate(("edit -> first image", "edit -> first full-resolution image",
-                                      "session.update alone")):
-                median, p90 = quantiles([t[i] for t in m["heavy"][what]])
-                results.row(part="heavy", edit=what, measure=name, median_s=median, p90_s=p90)
-                rows.append([label, name, f"{median:.3f}", f"{p90:.3f}"])
-        results.table(["edit", "seconds", "median", "90th percentile"], rows,
-                      title=f"the same with a dense ball added: {m['heavy']['triangles']:,} triangles")
+        edits_table(results, "heavy", HEAVY_EDITS, m["heavy"],
+                    f"the same with a dense ball added: {m['heavy']['triangles']:,} triangles")
+    if m["scattered"]:
+        edits_table(results, "scattered", SCATTER_EDITS, m["scattered"],
+                    f"the Cornell box with {experiment['instances']:,} particle instances of a 12-triangle cube")
+
+
+def edits_table(results, part, labels, timings, title):
+    rows = []
+    for what, label in labels.items():
+        for i, name in enumerate(("edit -> first image", "edit -> first full-resolution image",
+                                  "session.update alone")):
+            median, p90 = quantiles([t[i] for t in timings[what]])
+            results.row(part=part, edit=what, measure=name, median_s=median, p90_s=p90)
+            rows.append([label, name, f"{median:.3f}", f"{p90:.3f}"])
+    results.table(["edit", "seconds", "median", "90th percentile"], rows, title=title)
