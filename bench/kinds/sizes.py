@@ -4,7 +4,8 @@
 
 Images: cornell_3spheres through ppm_core at each of `sizes`, for each of `hit_points` (fixed:
 `samples_per_pixel` eye samples per pixel, kept for the render; stochastic: one per pixel and pass,
-made in bands), `photons` photons per pass, 2 threads, one untimed pass and then `passes` timed
+made in bands) and each of `gathers` (the set the grid indexes: "photons", the default, or
+"hit_points"), `photons` photons per pass, 2 threads, one untimed pass and then `passes` timed
 ones. Reported: the process's peak resident memory grown over the render (bytes per pixel, image
 read back included), the core's own figures by part (stats()["memory"]), seconds per pass and per
 stage, photon paths per second (trace, index, gather).
@@ -37,13 +38,13 @@ def status_bytes(field):
         return next(int(line.split()[1]) * 1024 for line in f if line.startswith(field + ":"))
 
 
-def image_child(width, height, hit_points, photons, passes, spp):
+def image_child(width, height, hit_points, photons, passes, spp, gather):
     import core_scenes
     import ppm_core
 
     before = status_bytes("VmRSS")
     r = ppm_core.Renderer(core_scenes.cornell_3spheres(width, height), threads=2, photons_per_pass=photons,
-                          hit_points=hit_points, samples_per_pixel=spp, seed=1)
+                          hit_points=hit_points, samples_per_pixel=spp, seed=1, gather=gather)
     r.run(passes=1)
     s0 = r.stats()
     start = time.perf_counter()
@@ -53,7 +54,8 @@ def image_child(width, height, hit_points, photons, passes, spp):
     r.image()
     step = {k: (s1["seconds"][k] - s0["seconds"][k]) / passes for k in STAGES}
     photon_s = step["photon_trace"] + step["index_build"] + step["gather"]
-    return {"width": width, "height": height, "hit_points": hit_points, "grown_bytes": status_bytes("VmHWM") - before,
+    return {"width": width, "height": height, "hit_points": hit_points, "gather": gather,
+            "grown_bytes": status_bytes("VmHWM") - before,
             "memory": s1.get("memory", {}), "seconds_per_pass": wall / passes, "step": step,
             "paths_per_s": photons / photon_s if photon_s > 0 else 0.0, "first_pass": s0["seconds"]["total"]}
 
@@ -84,8 +86,8 @@ def mesh_child(triangles):
 
 def child(args):
     if args[0] == "image":
-        w, h, mode, photons, passes, spp = args[1:]
-        row = image_child(int(w), int(h), mode, int(photons), int(passes), int(spp))
+        w, h, mode, photons, passes, spp, gather = args[1:]
+        row = image_child(int(w), int(h), mode, int(photons), int(passes), int(spp), gather)
     else:
         row = mesh_child(int(args[1]))
     print(json.dumps(row), flush=True)
@@ -104,14 +106,16 @@ def share(memory, parts, scale):
 
 def images_part(experiment, results):
     rows = []
+    gathers = experiment.get("gathers", ["photons"])
     for width, height in experiment["sizes"]:
-        for mode in experiment["hit_points"]:
+        for mode, gather in ((m, g) for m in experiment["hit_points"] for g in gathers):
             r = fresh("image", width, height, mode, experiment["photons"], experiment["passes"],
-                      experiment["samples_per_pixel"])
+                      experiment["samples_per_pixel"], gather)
             results.row(part="images", **r)
             pixels = width * height
             mem = r["memory"]
-            rows.append([f"{width}x{height}", mode, f"{r['grown_bytes'] / 2**20:.0f}",
+            rows.append([f"{width}x{height}", mode + ("" if gathers == ["photons"] else f", {gather} indexed"),
+                         f"{r['grown_bytes'] / 2**20:.0f}",
                          f"{r['grown_bytes'] / pixels:.0f}", share(mem, ("pixels",), pixels),
                          share(mem, ("hit_points",), 2**20), share(mem, ("photons", "index"), 2**20),
                          f"{r['seconds_per_pass']:.2f}", f"{r['step']['eye_pass']:.2f}",
@@ -123,6 +127,8 @@ def images_part(experiment, results):
 
 
 def meshes_part(experiment, results):
+    if not experiment["triangles"]:
+        return
     rows = []
     for triangles in experiment["triangles"]:
         r = fresh("mesh", triangles)
