@@ -162,8 +162,10 @@ class Exporter:
             key, slots = self.mesh_key(obj), self.slot_materials(obj)
             if key[1] != materials:
                 return False
-            if fresh:
-                data = meshes[key] if key in meshes else meshes.setdefault(key, self.read_mesh(obj, slots))
+            if fresh:  # read once for the instances sharing it
+                if key not in meshes:
+                    meshes[key] = self.read_mesh(obj, slots)
+                data = meshes[key]
             item = dataclasses.replace(item, obj=obj, matrix=matrix, instancer=instancer,
                                        particle_settings=getattr(instance.particle_system, "settings", None))
             if data is None or not data.replace_in_scene(self.scene, item, slots):
