@@ -3,6 +3,7 @@
 #pragma once
 
 #include "geometry/ray.h"
+#include "math/aabb.h"
 
 namespace ppm {
 
@@ -41,6 +42,15 @@ inline Vec3 triangle_normal(const TrianglePrim& tri) {
   const Vec3 n = glm::cross(tri.e1, tri.e2);
   const double len = glm::length(n);
   return len > 0.0 ? n / len : Vec3(0.0, 0.0, 1.0);
+}
+
+// The triangle's bounding box (its corners as the intersection test computes them).
+inline Aabb triangle_box(const TrianglePrim& tri) {
+  Aabb b;
+  b.grow(tri.v0);
+  b.grow(tri.v0 + tri.e1);
+  b.grow(tri.v0 + tri.e2);
+  return b;
 }
 
 inline double triangle_area(const TrianglePrim& tri) {

@@ -410,12 +410,7 @@ void Scene::build_geometry() {
   std::vector<Aabb> boxes;
   boxes.reserve(triangles_.size() + spheres_.size() + revolve_segments_.size());
   for (uint32_t i = 0; i < triangles_.size(); ++i) {
-    const TrianglePrim& t = triangles_[i];
-    Aabb b;
-    b.grow(t.v0);
-    b.grow(t.v0 + t.e1);
-    b.grow(t.v0 + t.e2);
-    boxes.push_back(b);
+    boxes.push_back(triangle_box(triangles_[i]));
     prims_.push_back({PrimitiveKind::Triangle, i});
   }
   for (uint32_t i = 0; i < spheres_.size(); ++i) {
@@ -473,13 +468,8 @@ void Scene::refit_moved_objects() {
   std::vector<Aabb> boxes;
   for (uint32_t g : moved_groups_) {
     const uint32_t first = object_bvh_->first_slot(g);
-    boxes.assign(object_bvh_->slot_count(g), Aabb{});
-    for (size_t k = 0; k < boxes.size(); ++k) {
-      const TrianglePrim& t = leaf_prims_[first + k].tri;
-      boxes[k].grow(t.v0);
-      boxes[k].grow(t.v0 + t.e1);
-      boxes[k].grow(t.v0 + t.e2);
-    }
+    boxes.resize(object_bvh_->slot_count(g));
+    for (size_t k = 0; k < boxes.size(); ++k) boxes[k] = triangle_box(leaf_prims_[first + k].tri);
     object_bvh_->refit(g, boxes);
   }
   bvh_.build_from_tree(object_bvh_->joined());

@@ -19,13 +19,7 @@ namespace ppm {
 inline std::vector<Aabb> triangle_boxes(const std::vector<TrianglePrim>& tris) {
   std::vector<Aabb> boxes;
   boxes.reserve(tris.size());
-  for (const auto& t : tris) {
-    Aabb b;
-    b.grow(t.v0);
-    b.grow(t.v0 + t.e1);
-    b.grow(t.v0 + t.e2);
-    boxes.push_back(b);
-  }
+  for (const auto& t : tris) boxes.push_back(triangle_box(t));
   return boxes;
 }
 
