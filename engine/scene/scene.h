@@ -145,7 +145,7 @@ class Scene {
   };
 
   // Builds the BVH and prepares the lights. Idempotent; builders called after it rebuild what they
-  // change (the lights and the world alone keep the BVH).
+  // change (the lights and the world alone keep the BVH; a dynamic scene's replaced meshes refit it).
   void build();
 
   // For a built scene: throws std::invalid_argument naming the light whose
