@@ -107,11 +107,11 @@ class Exporter:
         if item.instancer is not None or name in self.placed:
             self.placed[name] = None  # an instance (or one of several): see `instances`
         else:
-            self.placed[name] = (item, key[1], data)
+            self.placed[name] = (detached(item), key[1], data)
         if item.instancer is not None:
             self.instancers.add(item.instancer.original.name)
             identity = instance_identity(item.instancer, obj, item.persistent_id)
-            self.instances[identity] = None if identity in self.instances else (item, key[1], data)
+            self.instances[identity] = None if identity in self.instances else (detached(item), key[1], data)
 
     def replace_object(self, obj, reshaped):
         """Moves the evaluated mesh object `obj` to its new matrix in the exported (dynamic) core scene,
@@ -129,7 +129,7 @@ class Exporter:
         if data is None or not data.replace_in_scene(self.scene, item, slots):
             return False
         self.describe_object(item, slots)
-        self.placed[obj.original.name] = (item, materials, data)
+        self.placed[obj.original.name] = (detached(item), materials, data)
         return True
 
     def is_instancer(self, obj):
@@ -171,7 +171,7 @@ class Exporter:
             if data is None or not data.replace_in_scene(self.scene, item, slots):
                 return False
             self.describe_object(item, slots)
-            self.instances[identity] = (item, materials, data)
+            self.instances[identity] = (detached(item), materials, data)
         return len(seen) == len(self.instances)
 
     def add_revolve(self, item):
@@ -238,6 +238,14 @@ class Exporter:
                 self.guarded(item.obj, self.add_geometry, item)
 
 
+def detached(item):
+    """`item` without its Blender objects, to be kept past this depsgraph: Blender frees evaluated
+    objects at its next evaluation, and Python references kept to them are not safe. While the
+    viewport's session kept them, Blender 3.4 crashed in about 1 of 8 runs of tests/gui's viewport
+    script on a loaded machine (in Python's allocator, on the main thread); without them, in none of 14."""
+    return dataclasses.replace(item, obj=None, instancer=None, particle_settings=None)
+
+
 def instance_identity(instancer, obj, persistent_id):
     """What names a depsgraph instance from one evaluation to the next: its instancer's and its object's
     original names and its persistent id."""
@@ -277,6 +285,7 @@ def scene_exporter(core_module, depsgraph, warn, cancelled=lambda: False, lights
     exporter = Exporter(core_scene, warn, depsgraph.view_layer, depsgraph.scene, lights=lights)
     visit_instances(exporter, depsgraph, cancelled)
     exporter.finish_curves()
+    exporter.plain_curves = []  # evaluated objects: not to be kept (see detached)
     exporter.report_skips()
     exporter.world_textures = exporter.scene.texture_count  # the world's textures come after this
     world.add_world(exporter.scene, depsgraph.scene.world, world_warn or warn, exporter.attributes)
