@@ -10,22 +10,33 @@ constexpr int kTopDepth = 24;  // see kMaxBvhDepth
 
 }  // namespace
 
-void ObjectBvh::build(const std::vector<Aabb>& boxes, const std::vector<uint32_t>& object_of, uint32_t objects) {
+uint32_t ObjectBvh::build(const std::vector<Aabb>& boxes, const std::vector<uint32_t>& object_of, uint32_t objects,
+                          const std::vector<int32_t>& reuse) {
+  if (!reuse.empty() && reuse.size() != objects) throw std::invalid_argument("BVH: one reuse entry per object expected");
   std::vector<std::vector<uint32_t>> members(objects);
   for (uint32_t i = 0; i < object_of.size(); ++i) members.at(object_of[i]).push_back(i);
+  std::vector<Object> previous = std::move(objects_);
   objects_.assign(objects, Object{});
   order_.clear();
   order_.reserve(boxes.size());
   std::vector<Aabb> own;
+  uint32_t built = 0;
   for (uint32_t o = 0; o < objects; ++o) {
     if (members[o].empty()) throw std::invalid_argument("BVH: an object without primitives");
-    own.clear();
-    for (uint32_t i : members[o]) own.push_back(boxes[i]);
     Object& object = objects_[o];
-    object.tree = build_binary_bvh(own, kBinaryLeafSize);
+    const int32_t old = reuse.empty() ? -1 : reuse[o];
+    if (old >= 0 && static_cast<size_t>(old) < previous.size() && previous[old].tree.order.size() == members[o].size()) {
+      object.tree = std::move(previous[old].tree);
+    } else {
+      own.clear();
+      for (uint32_t i : members[o]) own.push_back(boxes[i]);
+      object.tree = build_binary_bvh(own, kBinaryLeafSize);
+      ++built;
+    }
     object.first_slot = static_cast<uint32_t>(order_.size());
     for (uint32_t k : object.tree.order) order_.push_back(members[o][k]);
   }
+  return built;
 }
 
 // Depth-first layout: both children of node i come after it, so a backward sweep sees them first.

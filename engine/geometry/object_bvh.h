@@ -2,8 +2,9 @@
 // Cycles' "dynamic BVH" there): each object's primitives get a binary subtree of their own, and a
 // tree over the objects' boxes joins them. An object moved or reshaped in place refits its own
 // subtree, and the top is built again (objects are few), so an edit costs a pass over one object's
-// nodes and a collapse (Bvh::build_from_tree) instead of a build of the whole scene. A whole-scene build
-// (Bvh::build(boxes)) traces faster where objects overlap; final renders use that one.
+// nodes and a collapse (Bvh::build_from_tree) instead of a build of the whole scene. Objects added,
+// removed or given other primitives are built again with the others' subtrees kept (build's `reuse`).
+// A whole-scene build (Bvh::build(boxes)) traces faster where objects overlap; final renders use that one.
 #pragma once
 
 #include "geometry/bvh_build.h"
@@ -17,8 +18,11 @@ namespace ppm {
 class ObjectBvh {
  public:
   // `object_of[i]`: the object (0 .. objects - 1) of primitive i, whose box is boxes[i]. Every object
-  // must have a primitive.
-  void build(const std::vector<Aabb>& boxes, const std::vector<uint32_t>& object_of, uint32_t objects);
+  // must have a primitive. `reuse[o]` (empty: none): the object of the previous build whose subtree
+  // object o takes over, its primitives the same and in the same order, or -1 to build its own. A
+  // subtree over another number of primitives is built again. Returns how many subtrees were built.
+  uint32_t build(const std::vector<Aabb>& boxes, const std::vector<uint32_t>& object_of, uint32_t objects,
+                 const std::vector<int32_t>& reuse = {});
 
   // The primitive at each leaf slot: an object's primitives take contiguous slots, objects in order.
   const std::vector<uint32_t>& order() const { return order_; }

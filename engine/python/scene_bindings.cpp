@@ -725,13 +725,24 @@ void bind_scene(py::module_& m) {
            py::arg("triangles"), py::arg("normals") = py::none(), py::arg("uvs") = py::none(),
            py::arg("materials") = 0, py::arg("object_id") = 0, py::arg("visibility") = py::none(),
            py::arg("holdout") = false, py::arg("tangents") = py::none(), py::arg("colors") = py::none(),
-           "Object `object_id`'s mesh (one add_mesh's, the only primitives of that id) becomes this one, "
-           "arguments as for add_mesh: moved, or reshaped with as many triangles and the same attributes. In a "
-           "built dynamic scene its BVH subtree alone is refitted; elsewhere the BVH is built afresh. ValueError "
-           "where it cannot, the scene unchanged (the caller then builds a new Scene).")
+           "Object `object_id`'s triangles (it has no other primitives) become this mesh's, arguments as for "
+           "add_mesh: moved, or reshaped with any number of triangles and attributes, in the place of the "
+           "object's first triangle. In a built dynamic scene, a mesh moved or reshaped with as many triangles "
+           "and the same attributes refits the object's BVH subtree at build(); any other builds that subtree "
+           "again and keeps the other objects'. Elsewhere the BVH is built afresh. ValueError where it cannot, "
+           "the scene unchanged (the caller then builds a new Scene).")
+      .def("remove_object", &Scene::remove_object, py::arg("object_id"),
+           "Removes every primitive of object `object_id` (meshes, spheres, revolves) and returns how many "
+           "there were (0: none, the scene unchanged). In a built dynamic scene build() then drops the "
+           "object's BVH subtree and keeps the other objects'.")
+      .def_property_readonly("subtrees_built", &Scene::subtrees_built,
+                             "How many objects' BVH subtrees the last build() of a dynamic scene built; the "
+                             "others were kept (objects added or given other primitives are built, moved ones "
+                             "refitted).")
       .def_property("dynamic", &Scene::dynamic, &Scene::set_dynamic,
-                    "Build the BVH object by object (False by default), so that replace_mesh can move or reshape "
-                    "an object in place (the viewport); a whole-scene BVH traces faster where objects overlap.")
+                    "Build the BVH object by object (False by default), so that objects can be added, moved, "
+                    "reshaped and removed in a built scene at the cost of their own subtrees (the viewport); a "
+                    "whole-scene BVH traces faster where objects overlap.")
       .def("add_sphere",
            [](Scene& s, const std::string& name, const py::object& center, double radius, uint32_t material,
               uint32_t object_id, const py::object& visible_to, bool holdout) {

@@ -134,7 +134,7 @@ uint32_t Scene::add_material(Material m) {
   ensure_mutable();
   check_new_material(m);
   materials_.push_back(std::move(m));
-  invalidate();
+  invalidate_lights();  // lights point into materials_ (textured emission); the BVH does not read them
   return static_cast<uint32_t>(materials_.size() - 1);
 }
 
@@ -208,7 +208,7 @@ void Scene::add_sphere(const std::string& name, const Vec3& center, double radiu
   check_material(material, what);
   check_not_emissive(material, what);
   spheres_.push_back(SphereInfo{SpherePrim{center, radius}, material, object_id, visibility});
-  invalidate();
+  geometry_changed(object_id);
 }
 
 void Scene::add_bezier_revolve(const std::string& name, const std::vector<Vec2>& points, bool cubic_chain,
@@ -237,7 +237,7 @@ void Scene::add_bezier_revolve(const std::string& name, const std::vector<Vec2>&
   const uint32_t index = static_cast<uint32_t>(revolves_.size() - 1);
   for (size_t s = 0; s < revolves_.back()->segment_count(); ++s)
     revolve_segments_.push_back(RevolveSegment{index, static_cast<uint32_t>(s), material, object_id, visibility});
-  invalidate();
+  geometry_changed(object_id);
 }
 
 void Scene::add_light(Light light) {
@@ -394,10 +394,10 @@ void Scene::release_triangles() {
 }
 
 void Scene::build() {
-  if (!geometry_built_) {
+  if (!geometry_built_ || !changed_objects_.empty()) {
     build_geometry();
     lights_built_ = false;
-  } else if (!moved_groups_.empty()) {
+  } else if (!moved_objects_.empty()) {
     refit_moved_objects();
     lights_built_ = false;
   }
@@ -424,12 +424,13 @@ void Scene::build_geometry() {
     prims_.push_back({PrimitiveKind::BezierRevolve, i});
   }
   if (dynamic_) {
-    build_object_bvh(boxes);
+    build_object_bvh(boxes, geometry_built_);
   } else {
     object_bvh_.reset();
     bvh_.build(boxes);
   }
-  moved_groups_.clear();
+  moved_objects_.clear();
+  changed_objects_.clear();
   const std::vector<uint32_t>& order = bvh_.prim_order();
   leaf_prims_.resize(order.size());
   for (size_t slot = 0; slot < order.size(); ++slot) {
@@ -445,9 +446,11 @@ void Scene::build_geometry() {
   geometry_built_ = true;
 }
 
-// Groups the primitives by object id and builds their BVH object by object.
-void Scene::build_object_bvh(const std::vector<Aabb>& boxes) {
-  object_group_.clear();
+// Groups the primitives by object id and builds their BVH object by object; with `reuse_unchanged`
+// (the BVH was built and only some objects changed since) the others keep their subtrees.
+void Scene::build_object_bvh(const std::vector<Aabb>& boxes, bool reuse_unchanged) {
+  std::unordered_map<uint32_t, uint32_t> previous;
+  previous.swap(object_group_);
   std::vector<uint32_t> group(prims_.size());
   for (size_t i = 0; i < prims_.size(); ++i) {
     const PrimRef ref = prims_[i];
@@ -456,17 +459,31 @@ void Scene::build_object_bvh(const std::vector<Aabb>& boxes) {
                                                                 : revolve_segments_[ref.index].object;
     group[i] = object_group_.emplace(object, static_cast<uint32_t>(object_group_.size())).first->second;
   }
-  object_bvh_ = std::make_unique<ObjectBvh>();
-  object_bvh_->build(boxes, group, static_cast<uint32_t>(object_group_.size()));
+  std::vector<int32_t> reuse;
+  if (reuse_unchanged && object_bvh_) {
+    std::vector<uint32_t> edited = moved_objects_;
+    edited.insert(edited.end(), changed_objects_.begin(), changed_objects_.end());
+    std::sort(edited.begin(), edited.end());
+    reuse.assign(object_group_.size(), -1);
+    for (const auto& [object, g] : object_group_) {
+      const auto old = previous.find(object);
+      if (old != previous.end() && !std::binary_search(edited.begin(), edited.end(), object))
+        reuse[g] = static_cast<int32_t>(old->second);
+    }
+  } else {
+    object_bvh_ = std::make_unique<ObjectBvh>();
+  }
+  subtrees_built_ = object_bvh_->build(boxes, group, static_cast<uint32_t>(object_group_.size()), reuse);
   bvh_.build_from_tree(object_bvh_->joined());
 }
 
-// The objects replace_mesh changed: their subtrees refit, the tree over them built again.
+// The objects replace_mesh moved: their subtrees refit, the tree over them built again.
 void Scene::refit_moved_objects() {
-  std::sort(moved_groups_.begin(), moved_groups_.end());
-  moved_groups_.erase(std::unique(moved_groups_.begin(), moved_groups_.end()), moved_groups_.end());
+  std::sort(moved_objects_.begin(), moved_objects_.end());
+  moved_objects_.erase(std::unique(moved_objects_.begin(), moved_objects_.end()), moved_objects_.end());
   std::vector<Aabb> boxes;
-  for (uint32_t g : moved_groups_) {
+  for (uint32_t object : moved_objects_) {
+    const uint32_t g = object_group_.at(object);
     const uint32_t first = object_bvh_->first_slot(g);
     boxes.resize(object_bvh_->slot_count(g));
     for (size_t k = 0; k < boxes.size(); ++k) boxes[k] = triangle_box(leaf_prims_[first + k].tri);
@@ -474,7 +491,8 @@ void Scene::refit_moved_objects() {
   }
   bvh_.build_from_tree(object_bvh_->joined());
   finish_geometry();
-  moved_groups_.clear();
+  moved_objects_.clear();
+  subtrees_built_ = 0;
 }
 
 void Scene::finish_geometry() {

@@ -96,11 +96,18 @@ class Scene {
   // objects overlap, but an object's mesh can then be replaced in place. Set before build().
   void set_dynamic(bool dynamic);
   bool dynamic() const { return dynamic_; }
-  // The mesh of object `mesh.object_id` (added by one add_mesh, the only primitives of that id)
-  // becomes `mesh`: moved, or reshaped with as many triangles and the same attributes. In a built
-  // dynamic scene build() then refits its BVH subtree alone, elsewhere it builds the BVH afresh.
-  // Throws std::invalid_argument naming the mesh where it cannot, the scene unchanged.
+  // The triangles of object `mesh.object_id` (it has no other primitives) become `mesh`'s: moved, or
+  // reshaped with any number of triangles and attributes, in the place of the object's first triangle.
+  // Moved or reshaped with as many triangles and the same attributes, a built dynamic scene's build()
+  // then refits the object's BVH subtree; otherwise it builds that subtree again and keeps the other
+  // objects'. Other scenes build their BVH afresh. Throws std::invalid_argument naming the mesh where
+  // it cannot, the scene unchanged.
   void replace_mesh(MeshInput mesh);
+  // Removes every primitive of object `object` (meshes, spheres, revolves); returns how many there were.
+  // A built dynamic scene's build() then drops the object's subtree and keeps the others.
+  size_t remove_object(uint32_t object);
+  // How many objects' subtrees the last build() of a dynamic scene built (the others were kept).
+  uint32_t subtrees_built() const { return subtrees_built_; }
   // `visibility`: the RayKinds that see the object (others pass through it), and
   // kHoldoutFlag for a Holdout object (a hole for camera rays, itself for others).
   void add_sphere(const std::string& name, const Vec3& center, double radius, uint32_t material,
@@ -152,7 +159,7 @@ class Scene {
   // flux overflows a double, or the material whose colour above 1 could grow a
   // photon's share of the flux beyond kMaxPhotonGain over `max_bounces` scatterings.
   void check_energy_range(int max_bounces) const;
-  bool built() const { return geometry_built_ && moved_groups_.empty() && lights_built_; }
+  bool built() const { return geometry_built_ && moved_objects_.empty() && changed_objects_.empty() && lights_built_; }
 
   // Closest hit with 0 < t < tmax; fills the hit record.
   bool intersect(const Ray& ray, Hit& hit, double tmax = kInf) const;
@@ -221,7 +228,18 @@ class Scene {
   };
 
   void check_material(uint32_t material, const std::string& what) const;
-  uint32_t object_triangles(uint32_t object, size_t count, const std::string& what) const;
+  struct ObjectTriangles {
+    size_t first = 0, count = 0;
+    bool contiguous = true;  // one range, as one add_mesh adds them
+  };
+  ObjectTriangles object_triangles(uint32_t object, const std::string& what) const;
+  void append_triangles(const MeshInput& mesh);
+  bool same_attributes(size_t first, const MeshInput& mesh) const;
+  void rewrite_triangles(const MeshInput& mesh, size_t first);
+  void splice_triangles(const MeshInput& mesh, size_t first);
+  size_t remove_triangles_of(uint32_t object, size_t room);
+  void drop_unused_revolves();
+  void geometry_changed(uint32_t object);
   void check_new_material(Material& m) const;  // validates and completes a material to be stored
   void check_not_emissive(uint32_t material, const std::string& what) const;
   void check_lobes(Material& m, const std::string& what) const;
@@ -234,7 +252,7 @@ class Scene {
   void invalidate();
   void invalidate_lights();
   void build_geometry();
-  void build_object_bvh(const std::vector<Aabb>& boxes);
+  void build_object_bvh(const std::vector<Aabb>& boxes, bool reuse_unchanged);
   void refit_moved_objects();
   void finish_geometry();  // after the BVH changed: its derived figures
   void prepare_lights();
@@ -297,7 +315,10 @@ class Scene {
   bool dynamic_ = false;
   std::unique_ptr<ObjectBvh> object_bvh_;                // a dynamic scene's, once built
   std::unordered_map<uint32_t, uint32_t> object_group_;  // object id -> its index in object_bvh_
-  std::vector<uint32_t> moved_groups_;                   // replaced since the BVH was last made
+  // Object ids since the BVH was last made: moved or reshaped in place (their subtrees refitted), and
+  // with primitives added, removed or replaced (their subtrees built again, the others kept).
+  std::vector<uint32_t> moved_objects_, changed_objects_;
+  uint32_t subtrees_built_ = 0;
   double offset_floor_ = 1e-12;
   bool interleave_ = false;  // BVH larger than kInterleaveBytes
   bool geometry_built_ = false;  // the BVH and its leaf records

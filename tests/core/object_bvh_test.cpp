@@ -1,6 +1,7 @@
 // The object-by-object BVH (geometry/object_bvh.h): its joined tree is a valid depth-first tree over
 // every primitive, each object's primitives take contiguous slots, a refitted object's tree is as
-// valid as a fresh one, and the 4-wide BVH collapsed from it finds exactly the hits brute force does.
+// valid as a fresh one, a rebuild keeps the subtrees it is told to reuse, and the 4-wide BVH collapsed
+// from it finds exactly the hits brute force does.
 #include "geometry/object_bvh.h"
 
 #include "geometry/bvh.h"
@@ -110,6 +111,45 @@ TEST(ObjectBvh, ManyObjectsStayWithinTheTraversalDepth) {
   bvh.build(boxes, object_of, 3000);
   const BinaryBvh tree = bvh.joined();
   EXPECT_LE(expect_valid_binary_tree(tree, boxes), kMaxBvhDepth);
+}
+
+// Objects 1 and 3 of five dropped and a new one added after them: a rebuild told to reuse the three kept
+// objects' subtrees builds only the new one's, and the tree is as valid and exact as a fresh build's.
+// A subtree offered for another number of primitives is built again.
+TEST(ObjectBvh, ARebuildReusesTheSubtreesOfUnchangedObjects) {
+  Rng rng(7, 2, 9);
+  const Clusters before(rng, 5, 300);
+  ObjectBvh bvh;
+  EXPECT_EQ(bvh.build(triangle_boxes(before.tris), before.object_of, before.objects), 5u);
+  const Clusters fresh(rng, 1, 200);
+  std::vector<TrianglePrim> tris;
+  std::vector<uint32_t> object_of;
+  const uint32_t renumbered[] = {0, 9, 1, 9, 2};  // 9: dropped
+  for (size_t i = 0; i < before.tris.size(); ++i)
+    if (renumbered[before.object_of[i]] != 9) {
+      tris.push_back(before.tris[i]);
+      object_of.push_back(renumbered[before.object_of[i]]);
+    }
+  for (const TrianglePrim& t : fresh.tris) {
+    tris.push_back(t);
+    object_of.push_back(3);
+  }
+  const std::vector<Aabb> boxes = triangle_boxes(tris);
+  EXPECT_EQ(bvh.build(boxes, object_of, 4, {0, 2, 4, -1}), 1u);
+  const BinaryBvh tree = bvh.joined();
+  expect_valid_binary_tree(tree, boxes);
+  for (uint32_t k = 0; k < 4; ++k)
+    for (uint32_t s = bvh.first_slot(k); s < bvh.first_slot(k) + bvh.slot_count(k); ++s)
+      ASSERT_EQ(object_of[bvh.order()[s]], k) << "slot " << s;
+  expect_hits_match_brute_force(tree, tris, rng);
+
+  ObjectBvh other;
+  other.build(boxes, object_of, 4);
+  std::vector<uint32_t> fewer = object_of;
+  fewer.back() = 2;  // object 2 gains a primitive: its old subtree does not fit
+  EXPECT_EQ(other.build(boxes, fewer, 4, {0, 1, 2, 3}), 2u);
+  expect_valid_binary_tree(other.joined(), boxes);
+  EXPECT_THROW(other.build(boxes, fewer, 4, {0, 1}), std::invalid_argument);
 }
 
 TEST(ObjectBvh, RefusesAnObjectWithoutPrimitivesAndAWrongBoxCount) {

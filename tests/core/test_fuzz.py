@@ -338,7 +338,8 @@ def calls():
     return st.one_of(
         material_call(), material_call(), mesh_call(), mesh_call(), mesh_call(), sphere_call(), sphere_call(),
         revolve_call(), light_call(), light_call(), light_call(), camera_call(), camera_call(), texture_call(),
-        background_call(), intersect_call(), st.just(("build", (), {})),
+        background_call(), intersect_call(), st.just(("build", (), {})), st.just(("build", (), {})),
+        replace_mesh_call(), remove_call(),
     )
 
 
@@ -346,6 +347,19 @@ def calls():
 def mesh_call(draw):
     args, kw = draw(mesh_args())
     return "add_mesh", args, kw
+
+
+@st.composite
+def replace_mesh_call(draw):
+    """A mesh in place of an object's, of the few ids the other calls mostly use."""
+    args, kw = draw(mesh_args())
+    kw["object_id"] = draw(maybe(st.integers(0, 3)))
+    return "replace_mesh", args, kw
+
+
+@st.composite
+def remove_call(draw):
+    return "remove_object", (draw(maybe(st.integers(0, 3))),), {}
 
 
 SETTING_VALUES = {
@@ -455,11 +469,12 @@ def check_image(renderer, scene_w_h=None):
     return image
 
 
-def exercise(ops, camera, settings_kw, run, threads, log=None, materials=0):
+def exercise(ops, camera, settings_kw, run, threads, log=None, materials=0, dynamic=False):
     if log:
         with open(log, "w") as f:
-            f.write(repr((ops, camera, settings_kw, run, threads, materials)) + "\n")
+            f.write(repr((ops, camera, settings_kw, run, threads, materials, dynamic)) + "\n")
     scene = ppm_core.Scene()
+    scene.dynamic = dynamic  # (built ones take edits object by object)
     for i in range(materials):  # so that calls naming material 0, 1... can succeed
         scene.add_material(f"base{i}", base_color=(0.5, 0.6, 0.7))
     for name, args, kwargs in ops:
@@ -521,27 +536,33 @@ def cameras(draw):
     run=run_args(),
     threads=st.sampled_from([1, 2]),
     materials=st.integers(0, 3),
+    dynamic=st.booleans(),
 )
-def test_fuzz_scene_api_and_render(ops, camera, settings_kw, run, threads, materials):
-    exercise(ops, camera, settings_kw, run, threads, log=os.environ.get("PPM_FUZZ_LOG"), materials=materials)
+def test_fuzz_scene_api_and_render(ops, camera, settings_kw, run, threads, materials, dynamic):
+    exercise(ops, camera, settings_kw, run, threads, log=os.environ.get("PPM_FUZZ_LOG"), materials=materials,
+             dynamic=dynamic)
 
 
 @st.composite
 def plausible_scene_ops(draw):
-    """Mostly valid calls (so that most scenes render): random boxes, spheres, lights."""
+    """Mostly valid calls (so that most scenes render): random boxes, spheres, lights, revolves, and in
+    half of them edits after a build (meshes replaced with other triangles, objects removed), in a
+    dynamic scene or not."""
     ops = [("add_material", ("m0",), {"base_color": draw(colour().filter(lambda c: isinstance(c, tuple)))}),
            ("add_material", ("m1",), {"kind": draw(st.sampled_from(["mirror", "glass", "metal", "diffuse"])),
                                       "roughness": draw(st.floats(0, 1))}),
            ("add_material", ("m2",), {"emission": draw(st.floats(0, 10))})]
     scale = draw(st.sampled_from([1e-4, 1e-2, 1.0, 1e3, 1e5]))
-    for i in range(draw(st.integers(1, 5))):
+    meshes = draw(st.integers(1, 5))
+    for i in range(meshes):
         pos = draw(arrays(shape=(4, 3), dtype=np.float64, elements=st.floats(-1, 1))) * scale
         tris = np.array([[0, 1, 2], [0, 2, 3], [1, 2, 3]])
-        ops.append(("add_mesh", (f"mesh{i}", pos, tris), {"materials": draw(st.integers(0, 2))}))
+        ops.append(("add_mesh", (f"mesh{i}", pos, tris), {"materials": draw(st.integers(0, 2)), "object_id": i}))
     for i in range(draw(st.integers(0, 3))):
         c = draw(st.tuples(st.floats(-1, 1), st.floats(-1, 1), st.floats(-1, 1)))
         radius = draw(st.floats(1e-3, 1)) * scale
-        ops.append(("add_sphere", (f"s{i}", np.multiply(c, scale), radius, draw(st.integers(0, 1))), {}))
+        ops.append(("add_sphere", (f"s{i}", np.multiply(c, scale), radius, draw(st.integers(0, 1))),
+                    {"object_id": 10 + i}))
     for _ in range(draw(st.integers(0, 3))):
         kind = draw(st.sampled_from(["point", "sphere", "spot", "rectangle", "disk", "sun"]))
         c = draw(st.tuples(st.floats(-1, 1), st.floats(-1, 1), st.floats(-1, 1)))
@@ -556,15 +577,28 @@ def plausible_scene_ops(draw):
         matrix = np.eye(4)
         matrix[:3, 3] = np.multiply(draw(st.tuples(st.floats(-1, 1), st.floats(-1, 1), st.floats(-1, 1))), scale)
         ops.append(("add_bezier_revolve", (f"vase{i}", profile), {"kind": kind, "matrix": matrix,
-                                                                    "material": draw(st.integers(0, 1))}))
+                                                                    "material": draw(st.integers(0, 1)),
+                                                                    "object_id": 20 + i}))
     if draw(st.booleans()):
         ops.append(("set_background", (draw(st.floats(0, 2)),), {}))
+    if draw(st.booleans()):  # what the viewport does to its scene once built
+        ops.append(("build", (), {}))
+        for _ in range(draw(st.integers(1, 4))):
+            if draw(st.booleans()):
+                n = draw(st.integers(3, 6))
+                pos = draw(arrays(shape=(n, 3), dtype=np.float64, elements=st.floats(-1, 1))) * scale
+                tris = draw(arrays(shape=(draw(st.integers(1, 6)), 3), dtype=np.int64, elements=st.integers(0, n - 1)))
+                ops.append(("replace_mesh", (f"mesh{draw(st.integers(0, meshes - 1))}", pos, tris),
+                            {"materials": draw(st.integers(0, 2)), "object_id": draw(st.integers(0, meshes - 1))}))
+            else:
+                ops.append(("remove_object", (draw(st.sampled_from([0, 1, 2, 10, 11, 20])),), {}))
     camera = core_scenes.look_at(np.array([0.3, -3.0, 0.7]) * scale, (0, 0, 0))
-    return ops, (camera, draw(st.integers(1, 8)), draw(st.integers(1, 6)))
+    return ops, (camera, draw(st.integers(1, 8)), draw(st.integers(1, 6))), draw(st.booleans())
 
 
 @FUZZ_SETTINGS
 @given(scene=plausible_scene_ops(), settings_kw=render_settings(), threads=st.sampled_from([1, 2]))
 def test_fuzz_random_scenes_render_finite(scene, settings_kw, threads):
-    ops, camera = scene
-    exercise(ops, camera, settings_kw, (2, 0.0, "none"), threads, log=os.environ.get("PPM_FUZZ_LOG"))
+    ops, camera, dynamic = scene
+    exercise(ops, camera, settings_kw, (2, 0.0, "none"), threads, log=os.environ.get("PPM_FUZZ_LOG"),
+             dynamic=dynamic)
