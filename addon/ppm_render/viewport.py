@@ -12,9 +12,10 @@ within its 0.1 s poll), waits for the thread, and starts again from the new scen
 never mixes photons of two scenes. An edit of lights alone (a lamp moved, its power or colour) replaces
 the core scene's lights, an edit of materials' values writes them into their core slots, and a world
 edit replaces the world; these keep the scene's objects and BVH, so lighting and shading a heavy scene
-stay interactive. A mesh object moved or its mesh edited, and the instances of an instancer moved,
-are replaced in place (the core scene is dynamic: their BVH subtrees are refitted). Any other edit
-exports the scene again. Everything that reads Blender data (the export) runs on the main thread, in
+stay interactive. Objects moved, reshaped (with any number of triangles), given other materials, added
+or removed, and the instances of an instancer moved, are updated in place (the core scene is dynamic:
+the edited objects' BVH subtrees are refitted or built again, the others kept). Any other edit exports
+the scene again. Everything that reads Blender data (the export) runs on the main thread, in
 view_update and view_draw; the render thread touches only the core scene, which the main thread leaves
 alone while a thread runs.
 """
@@ -66,7 +67,7 @@ class ViewportSession:
         self.generation = 0  # counts restarts; an image from an older one is dropped
         self.error = None
         self.done = False
-        self.exporter = None  # the last whole export's Exporter: where its objects are (replace_object)
+        self.exporter = None  # the last whole export's Exporter: what it made of each object (sync)
         self.materials = None  # its MaterialExporter: its core material slots
         self.world_textures = 0  # the core's texture count before the world's (export_world)
         self.object_warnings = []  # of the last whole export (objects, materials)
@@ -144,31 +145,33 @@ class ViewportSession:
         return True
 
     def update_objects(self, depsgraph):
-        """Moves (and where their geometry changed, reshapes) the edited mesh objects and the instances
-        of edited instancers in place, stopping the thread; False (the scene then needs a whole export)
-        where one cannot be. A camera object is the view's business (view_draw)."""
+        """Brings the objects up to the depsgraph in place, stopping the thread: mesh objects neither
+        instanced nor instancing that moved or were reshaped alone (Exporter.update_placed), anything else
+        (objects added or removed, instancers moved, collections changed) through a walk over every
+        instance (Exporter.sync), with the lights exported again. False (the scene then needs a whole
+        export) where that cannot be. A camera object is the view's business (view_draw)."""
         self.stop()
         core_scene, self.core_scene = self.core_scene, None  # as in export: a failure renders nothing
         self.use_attributes_of(depsgraph)
-        objects = [update for update in depsgraph.updates
-                   if isinstance(update.id, bpy.types.Object) and update.id.type != "CAMERA"]
-        exporter = self.exporter
+        updates = [update for update in depsgraph.updates
+                   if not (isinstance(update.id, bpy.types.Object) and update.id.type == "CAMERA")]
+        moved = [update for update in updates if isinstance(update.id, bpy.types.Object)
+                 and (update.is_updated_transform or update.is_updated_geometry)]
+        reshaped = {update.id.original.name for update in moved if update.is_updated_geometry}
+        exporter, warnings = self.exporter, []
         try:
-            for update in objects:
-                obj = update.id
-                if exporter.is_placed(obj):
-                    if not exporter.replace_object(obj, update.is_updated_geometry):
-                        return False
-                elif not exporter.is_instancer(obj):
+            if all(is_object_or_geometry(update.id) for update in updates) and all(
+                    exporter.is_placed(update.id) for update in moved):
+                exporter.update_placed([update.id for update in moved], reshaped, warnings.append)
+            else:
+                if not exporter.sync(depsgraph, reshaped, warnings.append):
                     return False
-            if any(exporter.is_instancer(update.id) for update in objects):
-                reshaped = {update.id.original.name for update in objects if update.is_updated_geometry}
-                if not exporter.replace_instances(depsgraph, reshaped):
-                    return False
-                self.light_warnings = []  # lights may be instances too
+                self.light_warnings = []  # lights may have come, gone or moved with what instances them
                 export.export_lights(core_scene, depsgraph, self.light_warnings.append)
         except ValueError:
             return False
+        stale = tuple(f"object '{name}':" for name in exporter.touched)
+        self.object_warnings = [w for w in self.object_warnings if not w.startswith(stale)] + warnings
         self.core_scene = core_scene
         return True
 
@@ -314,8 +317,9 @@ def changed_part(depsgraph, session):
     """What of the rendered scene the depsgraph's updates change: None (a selection, say), "lights"
     (light objects and light data alone: moved, or their power, colour or size), "materials" (the
     values of materials: the objects using them are listed too, with only their shading tagged),
-    "world" (a world and its node tree alone), "objects" (objects moved or their geometry edited, with
-    their data) or "scene" (anything else, the add-on's settings, or a session without a scene)."""
+    "world" (a world and its node tree alone), "objects" (objects moved, reshaped, added or removed, with
+    their data, lights' data and the collections and scene their relations tag) or "scene" (anything
+    else, the add-on's settings, or a session without a scene)."""
     if session.core_scene is None or session.settings_key != settings_key(depsgraph.scene):
         return "scene"
     updates = [update for update in depsgraph.updates
@@ -334,7 +338,9 @@ def changed_part(depsgraph, session):
     if any(isinstance(id, bpy.types.World) for id in changed) and all(
             isinstance(id, bpy.types.World) or id.original.as_pointer() in world_trees for id in changed):
         return "world"
-    if all(is_object_or_geometry(id) and not is_light(id) for id in changed) and any(
+    # Objects moved, reshaped, added or removed, and collections changed (relations tag the Scene too).
+    if all(is_object_or_geometry(id) or isinstance(id, (bpy.types.Light, bpy.types.Collection, bpy.types.Scene))
+           or id.original.as_pointer() in trees for id in changed) and any(
             update.is_updated_transform or update.is_updated_geometry for update in updates):
         return "objects"
     if any(isinstance(id, bpy.types.Material) for id in changed) and all(

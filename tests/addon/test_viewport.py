@@ -248,26 +248,93 @@ def test_instances_and_the_camera_moved_keep_the_scene_and_render_as_a_new_expor
     edited_image_is_a_fresh_exports(s)
 
 
-def test_an_object_added_or_given_other_triangles_is_exported_afresh():
+def drop_a_face(obj):
+    mesh = bmesh.new()
+    mesh.from_mesh(obj.data)
+    bmesh.ops.delete(mesh, geom=[next(iter(mesh.faces))], context="FACES_ONLY")
+    mesh.to_mesh(obj.data)
+    mesh.free()
+    obj.data.update()
+
+
+def test_objects_reshaped_added_given_materials_and_removed_are_updated_in_place():
+    """A face dropped (another triangle count), a cube added, another material in a slot, an object
+    deleted and a collection hidden from the render keep the exported scene; the image is a fresh
+    export's, to the last bit."""
     s = Session()
     kept = s.session.core_scene
     ball = s.scene.objects["matte_ball"]
-
-    def drop_a_face():
-        mesh = bmesh.new()
-        mesh.from_mesh(ball.data)
-        bmesh.ops.delete(mesh, geom=[next(iter(mesh.faces))], context="FACES_ONLY")
-        mesh.to_mesh(ball.data)
-        mesh.free()
-        ball.data.update()
-
-    assert updated_after(s.session, drop_a_face) == {"scene"}
-    assert s.session.core_scene is not kept
-    kept = s.session.core_scene
+    assert updated_after(s.session, lambda: drop_a_face(ball)) == {"objects"}
     add_cube = lambda: bpy.ops.mesh.primitive_cube_add(size=0.3, location=(0.0, 0.0, 0.5))  # noqa: E731
-    assert updated_after(s.session, add_cube) == {"scene"}
-    assert s.session.core_scene is not kept
+    assert updated_after(s.session, add_cube) == {"objects"}
+    cube = bpy.context.object
+    assert updated_after(s.session, lambda: drop_a_face(cube)) == {"objects"}
+    assert updated_after(s.session, lambda: cube.data.materials.append(bpy.data.materials["red"])) == {"objects"}
+    assert updated_after(s.session, lambda: setattr(ball.material_slots[0], "material", bpy.data.materials["blue"])
+                         ) == {"objects"}
+    assert updated_after(s.session, lambda: bpy.data.objects.remove(s.scene.objects["mirror_ball"])) == {"objects"}
+    hidden = bpy.data.collections.new("hidden")
+    s.scene.collection.children.link(hidden)
+    hidden.objects.link(s.scene.objects["glass_ball"])
+    s.scene.collection.objects.unlink(s.scene.objects["glass_ball"])
+    s.session.update(bpy.context.evaluated_depsgraph_get())
+    assert updated_after(s.session, lambda: setattr(hidden, "hide_render", True)) == {"objects"}
+    assert s.session.core_scene is kept
     edited_image_is_a_fresh_exports(s)
+
+
+def test_instances_added_and_removed_are_updated_in_place_lights_among_them():
+    """A collection instance (a cube and a point lamp) added, a linked duplicate of a ball, then the
+    instancer deleted: the exported scene is kept, and renders as a fresh export."""
+    s = Session()
+    kept = s.session.core_scene
+    lights = kept.light_count
+    assert updated_after(s.session, lambda: collection_instance(s.scene)) == {"objects"}
+    assert kept.light_count == lights + 1  # the instanced lamp
+
+    def duplicate():
+        copy = s.scene.objects["matte_ball"].copy()
+        copy.location.x -= 0.35
+        s.scene.collection.objects.link(copy)
+
+    assert updated_after(s.session, duplicate) == {"objects"}
+    edited_image_is_a_fresh_exports(s)
+    assert updated_after(s.session, lambda: bpy.data.objects.remove(s.scene.objects["props"])) == {"objects"}
+    assert s.session.core_scene is kept and kept.light_count == lights
+    edited_image_is_a_fresh_exports(s)
+
+
+def test_warnings_about_objects_follow_them_when_they_are_edited_in_place():
+    """An object added with a corner that is not finite gets its warning; mending it or deleting it
+    takes the warning away, and warnings about other objects stay."""
+    s = Session()
+    s.scene.objects["floor"].data.vertices[0].co.x = float("nan")
+    s.session.export(bpy.context.evaluated_depsgraph_get())
+    floor = [w for w in s.session.warnings if "object 'floor'" in w]
+    assert len(floor) == 1
+
+    def add_spoiled():
+        mesh = bpy.data.meshes.new("spoiled")
+        mesh.from_pydata([(0, 0, 0.2), (0.2, 0, 0.2), (0, 0.2, 0.2), (float("inf"), 0, 0.2)], [],
+                         [(0, 1, 2), (0, 1, 3)])
+        s.scene.collection.objects.link(bpy.data.objects.new("spoiled", mesh))
+
+    about = lambda: [w for w in s.session.warnings if "object 'spoiled'" in w]  # noqa: E731
+    assert updated_after(s.session, add_spoiled) == {"objects"}
+    assert len(about()) == 1 and "1 of its 2 triangles" in about()[0]
+    spoiled = s.scene.objects["spoiled"]
+
+    def mend():
+        spoiled.data.vertices[3].co.x = 0.2
+        spoiled.data.update()
+
+    assert updated_after(s.session, mend) == {"objects"}
+    assert about() == []
+    assert updated_after(s.session, lambda: setattr(spoiled.data.vertices[3].co, "x", float("nan"))
+                         or spoiled.data.update()) == {"objects"}
+    assert len(about()) == 1
+    assert updated_after(s.session, lambda: bpy.data.objects.remove(spoiled)) == {"objects"}
+    assert about() == [] and [w for w in s.session.warnings if "object 'floor'" in w] == floor
 
 
 def test_a_lamp_edit_replaces_the_lights_alone_and_renders_as_a_new_export_would():

@@ -1,5 +1,6 @@
 """Runs inside a real Blender GUI (Xvfb): what users do to a viewport while it renders with PPM, one
-step every 0.4 s: toggle Solid and Rendered, delete the object being rendered, undo, change frames,
+step every 0.4 s: toggle Solid and Rendered, move and reshape an object, add a cube and subdivide it
+in Edit Mode, delete the object being rendered, undo, change frames,
 turn on a render border in the camera view and a viewport render region, turn the 3D viewport
 into another editor and back, open another file, and quit mid-render.
 
@@ -50,6 +51,26 @@ def reshape_ball():
 
 def delete_ball():
     bpy.data.objects.remove(bpy.data.objects["matte_ball"])
+
+
+def add_cube():
+    window, area = context()
+    with bpy.context.temp_override(window=window, screen=window.screen, area=area):
+        bpy.ops.mesh.primitive_cube_add(size=0.3, location=(0.2, 0.0, 0.4))
+
+
+def mode(kind):
+    window, area = context()
+    with bpy.context.temp_override(window=window, screen=window.screen, area=area):
+        bpy.ops.object.mode_set(mode=kind)
+
+
+def subdivide():
+    """In Edit Mode: every edge of the cube cut once (more triangles)."""
+    window, area = context()
+    with bpy.context.temp_override(window=window, screen=window.screen, area=area):
+        bpy.ops.mesh.select_all(action="SELECT")
+        bpy.ops.mesh.subdivide(number_cuts=1)
 
 
 def undo():
@@ -123,7 +144,14 @@ STEPS = [
     ("note what it updated", lambda: note_part("moved")),
     ("reshape it (in place)", reshape_ball),
     ("note what that updated", lambda: note_part("reshaped")),
+    ("add a cube (in place)", add_cube),
+    ("note what adding updated", lambda: note_part("added")),
+    ("edit mode", lambda: mode("EDIT")),
+    ("subdivide the cube in edit mode (in place)", subdivide),
+    ("note what subdividing updated", lambda: note_part("subdivided")),
+    ("object mode", lambda: mode("OBJECT")),
     ("delete the object", delete_ball),
+    ("note what deleting updated", lambda: note_part("deleted")),
     ("undo", undo),
     ("move it after the undo", move_ball),
     ("frame 10", lambda: bpy.context.scene.frame_set(10)),

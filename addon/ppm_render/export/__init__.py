@@ -32,10 +32,24 @@ class Cancelled(Exception):
     """The user pressed Esc during the export."""
 
 
+@dataclasses.dataclass
+class Exported:
+    """What the export made of one depsgraph instance, kept to update it in place (the viewport): the
+    Instance without its Blender objects (see detached), its material slots' names, what it is ("mesh",
+    "revolve", or "none": nothing of its own, such as a revolve's Screw preview), its local mesh for a
+    "mesh", and whether the core scene has primitives of it (its object id's)."""
+    item: Instance
+    materials: tuple
+    kind: str
+    data: object = None
+    added: bool = False
+
+
 class Exporter:
     """State of one export: the core scene, materials, mesh cache, warnings and object ids. `lights`
     and `objects` choose what of the depsgraph's instances it adds; either way every instance gets
-    its object id, so that names are the same whatever is exported."""
+    its object id, so that names are the same whatever is exported. `exported` records what it made
+    of every instance, so that a dynamic core scene can follow later depsgraphs in place (sync)."""
 
     def __init__(self, core_scene, warn, view_layer=None, scene=None, lights=True, objects=True):
         self.scene = core_scene
@@ -43,15 +57,15 @@ class Exporter:
         self.lights, self.objects = lights, objects
         self.attributes = object_info.AttributeTable(view_layer, scene)
         self.materials = material.MaterialExporter(self.scene, warn, self.attributes)
-        self.meshes = {}
+        self.meshes = {}  # mesh_key -> MeshData, for this depsgraph's instances sharing one
         self.next_id = 0
         self.triangles = 0
         self.curves_with_mesh = set()
         self.plain_curves = []
         self.skipped = {}  # warning -> number of instances it applies to
-        self.placed = {}  # original object name -> (Instance, material names, MeshData); None: an instance
-        self.instances = {}  # instance_identity -> the same for an instance's mesh (None: not unique)
-        self.instancers = set()  # original names of the objects that made them
+        self.exported = {}  # identity_of(instance) -> Exported; None where two instances had one identity
+        self.instanced = set()  # original names of the objects instanced, and of those instancing them
+        self.touched = set()  # original names of the objects the last update in place exported again
 
     def describe_object(self, item, slots):
         """Object info for the node programs of the object's materials, if any has one."""
@@ -89,96 +103,43 @@ class Exporter:
             self.skip(obj, f"it has no attribute '{names[0]}' that its materials read; they read black")
         return data
 
-    def add_geometry(self, item):
-        obj = item.obj
+    def mesh_of(self, obj, slots):
+        """The MeshData of `obj` (read once for the instances sharing its data and materials)."""
         key = self.mesh_key(obj)
-        slots = self.slot_materials(obj)
         if key not in self.meshes:
             self.meshes[key] = self.read_mesh(obj, slots)
-        data = self.meshes[key]
-        self.describe_object(item, slots)
-        if data is not None:
-            dropped = data.add_to_scene(self.scene, item, slots)
-            self.triangles += len(data.triangles) - dropped
-            if dropped:
-                self.skip(obj, f"{dropped} of its {len(data.triangles)} triangles have a corner that is not "
-                               "finite (NaN or Inf); left out")
-        name = obj.original.name
-        if item.instancer is not None or name in self.placed:
-            self.placed[name] = None  # an instance (or one of several): see `instances`
-        else:
-            self.placed[name] = (detached(item), key[1], data)
-        if item.instancer is not None:
-            self.instancers.add(item.instancer.original.name)
-            identity = instance_identity(item.instancer, obj, item.persistent_id)
-            self.instances[identity] = None if identity in self.instances else (detached(item), key[1], data)
+        return self.meshes[key]
 
-    def replace_object(self, obj, reshaped):
-        """Moves the evaluated mesh object `obj` to its new matrix in the exported (dynamic) core scene,
-        reading its mesh again if `reshaped`, with its object info. False where it cannot (an instance,
-        not a mesh, other materials, another triangle count): the scene then needs a whole export.
-        Raises ValueError where the core refuses. (The evaluated objects and meshes of earlier
-        depsgraphs may be freed: only the object's local mesh arrays are kept, not their addresses.)"""
-        placed = self.placed.get(obj.original.name)
-        materials = self.mesh_key(obj)[1]
-        if placed is None or obj.type != "MESH" or materials != placed[1]:
-            return False
+    def add_geometry(self, item):
+        """Adds a mesh instance; returns its record."""
+        obj = item.obj
         slots = self.slot_materials(obj)
-        data = self.read_mesh(obj, slots) if reshaped else placed[2]
-        item = dataclasses.replace(placed[0], obj=obj, matrix=np.array(obj.matrix_world, dtype=float))
-        if data is None or not data.replace_in_scene(self.scene, item, slots):
-            return False
+        data = self.mesh_of(obj, slots)
         self.describe_object(item, slots)
-        self.placed[obj.original.name] = (detached(item), materials, data)
+        added = self.put_mesh(data, item, slots, False)
+        return Exported(detached(item), self.mesh_key(obj)[1], "mesh", data, added)
+
+    def put_mesh(self, data, item, slots, replacing):
+        """Adds `data` at `item`'s matrix, or `replacing`, in place of the object's triangles in the core
+        scene (removing them where none are left); returns whether the object has triangles now."""
+        arguments, dropped = (None, 0) if data is None else data.scene_arguments(item, slots)
+        if dropped:
+            self.skip(item.obj, f"{dropped} of its {len(data.triangles)} triangles have a corner that is not "
+                                "finite (NaN or Inf); left out")
+        if arguments is None:
+            if replacing:
+                self.scene.remove_object(item.object_id)
+            return False
+        (self.scene.replace_mesh if replacing else self.scene.add_mesh)(**arguments)
+        self.triangles += len(arguments["triangles"])
         return True
-
-    def is_instancer(self, obj):
-        """Does the evaluated object `obj` make instances of exported meshes?"""
-        return obj.original.name in self.instancers
-
-    def is_placed(self, obj):
-        """Is the evaluated object `obj` exported as one mesh of its own (replace_object)?"""
-        return self.placed.get(obj.original.name) is not None
-
-    def replace_instances(self, depsgraph, reshaped):
-        """Puts every exported mesh instance whose matrix changed at its new one (reading the mesh again
-        where its object's or its instancer's original name is in `reshaped`); False where the instances
-        are not the exported ones (added, gone, or not unique): the scene then needs a whole export."""
-        seen, meshes = set(), {}
-        for instance in depsgraph.object_instances:
-            if not instance.is_instance or instance.object.type not in GEOMETRY_TYPES:
-                continue
-            obj, instancer = instance.object, instance.parent
-            identity = instance_identity(instancer, obj, tuple(instance.persistent_id))
-            placed = self.instances.get(identity)
-            if placed is None or identity in seen:
-                return False
-            seen.add(identity)
-            item, materials, data = placed
-            matrix = np.array(instance.matrix_world, dtype=float)
-            fresh = obj.original.name in reshaped or instancer.original.name in reshaped
-            if not fresh and (data is None or np.array_equal(matrix, item.matrix)):
-                continue  # unmoved, or without triangles to move
-            key, slots = self.mesh_key(obj), self.slot_materials(obj)
-            if key[1] != materials:
-                return False
-            if fresh:  # read once for the instances sharing it
-                if key not in meshes:
-                    meshes[key] = self.read_mesh(obj, slots)
-                data = meshes[key]
-            item = dataclasses.replace(item, obj=obj, matrix=matrix, instancer=instancer,
-                                       particle_settings=getattr(instance.particle_system, "settings", None))
-            if data is None or not data.replace_in_scene(self.scene, item, slots):
-                return False
-            self.describe_object(item, slots)
-            self.instances[identity] = (detached(item), materials, data)
-        return len(seen) == len(self.instances)
 
     def add_revolve(self, item):
         slots = self.slot_materials(item.obj)
         index = self.materials.without_emission(slots[0], f"'{item.name}'")
         self.describe_object(item, slots)
-        bezier.add_revolve(self.scene, item, index, self.warn)
+        added = bezier.add_revolve(self.scene, item, index, self.warn) > 0
+        return Exported(detached(item), self.mesh_key(item.obj)[1], "revolve", added=added)
 
     def skip(self, obj, what):
         """Notes a warning about `obj` (once per object, counting its instances)."""
@@ -191,51 +152,168 @@ class Exporter:
             self.warn(message + (f" (in {count} instances)" if count > 1 else ""))
 
     def guarded(self, obj, export, *args):
-        """Runs export(*args); what the core refuses about `obj` is left out with a warning."""
+        """Returns export(*args); what the core refuses about `obj` is left out with a warning (None)."""
         try:
-            export(*args)
+            return export(*args)
         except ValueError as error:  # the core's message starts with the name this module gave it
             self.skip(obj, "not rendered: " + re.sub(r"^[a-z ]+ '[^']*': ", "", str(error), count=1))
+            return None
 
-    def visit(self, instance):
-        """Exports one depsgraph instance."""
-        self.guarded(instance.object, self.visit_unchecked, instance)
-
-    def visit_unchecked(self, instance):
+    def role(self, instance):
+        """What a depsgraph instance is to the export: "light", "mesh", "revolve", "curve" (a curve whose
+        geometry may come as a MESH instance of its own: finish_curves), "none" (a revolve's Screw
+        preview) or None (nothing: a camera, an empty, an object not shown)."""
         obj = instance.object
         # For an instance: the object instanced (a curve lists its own evaluated mesh so) and the
         # object instancing it (an empty with a collection, a particle or Geometry Nodes host).
         instanced = instance.instance_object if instance.is_instance else None
-        instancer = instance.parent if instance.is_instance else None
+        if obj.type == "LIGHT":
+            return "light"
+        if instanced is not None and instanced.type in CURVE_TYPES and instanced.original == obj.original:
+            # The evaluated geometry of a curve, listed as a MESH instance of the curve itself.
+            self.curves_with_mesh.add(instanced.original.name)
+            return "none" if bezier.is_revolve(instanced) else "mesh"
+        if bezier.is_revolve(obj):
+            return "revolve"
+        if obj.type in CURVE_TYPES and instanced is None:
+            return "curve"
+        if obj.type in GEOMETRY_TYPES and (instanced is not None or getattr(instance, "show_self", True)):
+            return "mesh"
+        return None
+
+    def instance_item(self, instance):
+        """The Instance of a depsgraph instance, with a new object id."""
+        obj = instance.object
+        instanced = instance.instance_object if instance.is_instance else None
         object_id = self.object_id()
         name = obj.name if instanced is None else f"{instanced.name}/{obj.name}.{object_id}"
         particles = getattr(instance.particle_system, "settings", None) if instance.is_instance else None
-        item = Instance(obj, name, np.array(instance.matrix_world, dtype=float), object_id,
-                        object_info.random_of(instance), instancer, particles,
-                        tuple(instance.persistent_id) if instance.is_instance else ())
-        if obj.type == "LIGHT":
+        if instance.is_instance:
+            self.instanced.update((obj.original.name, instance.parent.original.name))
+        return Instance(obj, name, np.array(instance.matrix_world, dtype=float), object_id,
+                        object_info.random_of(instance), instance.parent if instance.is_instance else None,
+                        particles, tuple(instance.persistent_id) if instance.is_instance else ())
+
+    def visit(self, instance, role=None):
+        """Exports one depsgraph instance (`role`: role(instance), if known). Every instance takes an
+        object id, so that the ids are those of an export of everything."""
+        role = role or self.role(instance)
+        item = self.instance_item(instance)
+        obj, identity = instance.object, identity_of(instance)
+        if role == "light":
             if self.lights:
-                light.add_light(self.scene, item, self.warn)
-        elif not self.objects:
+                self.guarded(obj, light.add_light, self.scene, item, self.warn)
+        elif role is None or not self.objects:
             return
-        elif instanced is not None and instanced.type in CURVE_TYPES and instanced.original == obj.original:
-            # The evaluated geometry of a curve, listed as a MESH instance of the curve itself.
-            self.curves_with_mesh.add(instanced.original.name)
-            if not bezier.is_revolve(instanced):
-                self.add_geometry(item)
-        elif bezier.is_revolve(obj):
-            self.add_revolve(item)
-        elif obj.type in CURVE_TYPES and instanced is None:
-            self.plain_curves.append(item)  # exported later unless a MESH instance shows up
-        elif obj.type in GEOMETRY_TYPES:
-            if instanced is None and not getattr(instance, "show_self", True):
-                return
-            self.add_geometry(item)
+        elif role == "curve":
+            self.plain_curves.append((identity, item))  # exported later unless a MESH instance shows up
+        elif role == "none":
+            self.record(identity, Exported(detached(item), (), "none"))
+        else:
+            export = self.add_geometry if role == "mesh" else self.add_revolve
+            self.record(identity, self.guarded(obj, export, item) or Exported(detached(item), (), role))
+
+    def record(self, identity, exported):
+        self.exported[identity] = None if identity in self.exported else exported
 
     def finish_curves(self):
-        for item in self.plain_curves:
-            if item.obj.original.name not in self.curves_with_mesh:
-                self.guarded(item.obj, self.add_geometry, item)
+        for identity, item in self.plain_curves:
+            if item.obj.original.name in self.curves_with_mesh:
+                self.record(identity, Exported(detached(item), (), "none"))
+            else:
+                self.record(identity, self.guarded(item.obj, self.add_geometry, item)
+                            or Exported(detached(item), (), "mesh"))
+        self.plain_curves = []  # evaluated objects: not to be kept (see detached)
+
+    def is_placed(self, obj):
+        """Is the evaluated object `obj` exported on its own, neither instanced nor instancing (so that
+        moving or reshaping it changes nothing else: update_placed)?"""
+        record = self.exported.get(("", obj.original.name, ()))
+        return record is not None and record.kind == "mesh" and obj.original.name not in self.instanced
+
+    def update_placed(self, objects, reshaped, warn):
+        """Moves the evaluated mesh objects `objects` (each is_placed) to their new matrices in the exported
+        dynamic core scene, reading a mesh again where its object's original name is in `reshaped` or its
+        materials changed; warnings about them go to `warn`. Raises ValueError where the core refuses.
+        (The evaluated objects and meshes of earlier depsgraphs may be freed: only the objects' local mesh
+        arrays are kept, not their addresses.)"""
+        self.begin_update(warn)
+        for obj in objects:
+            identity = ("", obj.original.name, ())
+            self.touched.add(obj.original.name)
+            self.update(identity, self.exported[identity], obj, np.array(obj.matrix_world, dtype=float), None, None,
+                        obj.original.name in reshaped)
+        self.report_skips()
+
+    def begin_update(self, warn):
+        """Before an update in place: this depsgraph's meshes and warnings, which go to `warn`."""
+        self.warn = self.materials.warn = warn
+        self.meshes, self.skipped, self.touched = {}, {}, set()
+
+    def update(self, identity, record, obj, matrix, instancer, particles, fresh):
+        """Brings an exported instance to `matrix`, its mesh read again if `fresh` or its materials changed;
+        returns whether it changed anything. Raises ValueError where the core refuses."""
+        item = dataclasses.replace(record.item, obj=obj, matrix=matrix, instancer=instancer,
+                                   particle_settings=particles)
+        materials = self.mesh_key(obj)[1]
+        unchanged = not fresh and materials == record.materials
+        if record.kind == "none" or (unchanged and np.array_equal(matrix, record.item.matrix)):
+            return False
+        if record.kind == "revolve":
+            self.scene.remove_object(item.object_id)
+            self.exported[identity] = self.add_revolve(item)
+            return True
+        slots = self.slot_materials(obj)
+        data = record.data if unchanged else self.mesh_of(obj, slots)
+        self.describe_object(item, slots)
+        added = self.put_mesh(data, item, slots, record.added)
+        self.exported[identity] = Exported(detached(item), materials, "mesh", data, added)
+        return True
+
+    def sync(self, depsgraph, reshaped, warn):
+        """Brings the exported dynamic core scene's objects up to the evaluated depsgraph in place: what is
+        new is exported, what is gone removed, what moved put at its matrix, with its mesh read again
+        where its object's or its instancer's original name is in `reshaped` or its materials changed.
+        Warnings about them go to `warn`, and `touched` names the objects whose earlier warnings are stale.
+        Lights are left to export_lights. False where an instance's identity is not unique, a new material
+        reads an object attribute none read before, or the core refuses: the scene then needs a whole
+        export."""
+        self.begin_update(warn)
+        self.curves_with_mesh, self.instanced = set(), set()
+        attribute_slots = len(self.attributes.slots)
+        seen = set()
+        try:
+            for instance in depsgraph.object_instances:
+                role = self.role(instance)
+                if role in (None, "light"):
+                    continue
+                identity = identity_of(instance)
+                if identity in seen or (identity in self.exported and self.exported[identity] is None):
+                    return False
+                seen.add(identity)
+                record = self.exported.get(identity)
+                if record is None or (record.kind != role and role != "curve"):
+                    self.touched.add(instance.object.original.name)
+                    if record is not None:  # another kind of object now (a curve made a revolve, say)
+                        self.scene.remove_object(self.exported.pop(identity).item.object_id)
+                    self.visit(instance, role)
+                    continue
+                obj, instancer = instance.object, instance.parent if instance.is_instance else None
+                names = {obj.original.name} | ({instancer.original.name} if instancer is not None else set())
+                if instancer is not None:
+                    self.instanced |= names
+                particles = getattr(instance.particle_system, "settings", None) if instancer is not None else None
+                if self.update(identity, record, obj, np.array(instance.matrix_world, dtype=float), instancer,
+                               particles, bool(names & reshaped)):
+                    self.touched.add(obj.original.name)
+            self.finish_curves()
+            for identity in set(self.exported) - seen:
+                self.touched.add(identity[1])
+                self.scene.remove_object(self.exported.pop(identity).item.object_id)
+        except ValueError:
+            return False
+        self.report_skips()
+        return len(self.attributes.slots) == attribute_slots
 
 
 def detached(item):
@@ -246,10 +324,12 @@ def detached(item):
     return dataclasses.replace(item, obj=None, instancer=None, particle_settings=None)
 
 
-def instance_identity(instancer, obj, persistent_id):
+def identity_of(instance):
     """What names a depsgraph instance from one evaluation to the next: its instancer's and its object's
-    original names and its persistent id."""
-    return instancer.original.name, obj.original.name, persistent_id
+    original names and its persistent id (an object itself: no instancer, no id)."""
+    if not instance.is_instance:
+        return "", instance.object.original.name, ()
+    return instance.parent.original.name, instance.object.original.name, tuple(instance.persistent_id)
 
 
 def build_scene(core_module, depsgraph, frame, warn, cancelled=lambda: False):
@@ -285,7 +365,6 @@ def scene_exporter(core_module, depsgraph, warn, cancelled=lambda: False, lights
     exporter = Exporter(core_scene, warn, depsgraph.view_layer, depsgraph.scene, lights=lights)
     visit_instances(exporter, depsgraph, cancelled)
     exporter.finish_curves()
-    exporter.plain_curves = []  # evaluated objects: not to be kept (see detached)
     exporter.report_skips()
     exporter.world_textures = exporter.scene.texture_count  # the world's textures come after this
     world.add_world(exporter.scene, depsgraph.scene.world, world_warn or warn, exporter.attributes)
