@@ -14,9 +14,13 @@ comes every viewport.IMAGE_INTERVAL seconds), and the process's resident memory 
 does), as it is and after glibc's malloc_trim (what is still allocated). Last, the same scene with a
 dense ball of about `heavy_triangles` triangles added: lamp edits (lights replaced), colour edits (a
 material replaced) and world edits (the world replaced), which keep the BVH; moving the small ball or
-the dense one (the object's mesh replaced in place and its BVH subtree refitted); and adding a cube
-(the whole scene exported and its BVH built again). Last, the box with `instances` particle instances
-of a small cube: moving their host (each instance replaced in place) against adding a cube."""
+the dense one (the object's mesh replaced in place and its BVH subtree refitted); a face of the small
+ball or of the dense one deleted (another triangle count: the mesh read again and its subtree built
+again); a cube added and deleted (its subtree built, then dropped); and, as what every edit cost before
+edits in place, a viewport setting changed (the whole scene exported and its BVH built again). Then
+resident memory over `object_edits` edits of the objects in the box alone (a cube added, a face of the
+ball deleted, the cube deleted, in turn). Last, the box with `instances` particle instances of a small
+cube: moving their host (each instance replaced in place), adding a cube, and a whole export."""
 
 from __future__ import annotations
 
@@ -34,7 +38,8 @@ ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 
 # What session.update must do for each edit (viewport.changed_part's parts; "scene": a whole export).
 EXPECTED_PART = {"lamp": "lights", "material": "materials", "world": "world", "object": "objects",
-                 "dense": "objects", "scatter": "objects", "cube": "scene"}
+                 "dense": "objects", "scatter": "objects", "faces": "objects", "dense_faces": "objects",
+                 "cube": "objects", "delete": "objects", "setting": "scene"}
 
 
 def rss_mb():
@@ -117,8 +122,9 @@ class Edits:
             add_dense_ball(bpy, extra_triangles, 0.15, (0.45, 0.45, 0.15))
         if instances:
             add_scattered_cubes(bpy, instances)
-        self.scene.ppm.viewport_photons_per_pass = params["photons"]
+        self.scene.ppm.viewport_photons_per_pass = self.photons = params["photons"]
         self.scene.ppm.viewport_passes = 0
+        self.cubes = []  # the names of the cubes added, the newest last
         self.session = viewport.ViewportSession(core.load(), lambda: None)
         depsgraph = bpy.context.evaluated_depsgraph_get()
         self.triangles = sum(len(p.vertices) - 2 for o in self.scene.objects if o.type == "MESH"
@@ -147,13 +153,22 @@ class Edits:
             self.scene.objects["dense_ball"].location.x = 0.45 - 0.02 * (self.step % 5)
         elif what == "scatter":  # the particle host moved: every instance replaced in place
             self.scene.objects["scatter"].location.x = 0.02 * (self.step % 5)
-        else:  # a small cube added: the whole scene exported again
+        elif what == "faces":  # a face of the matte ball deleted: its mesh read again, its subtree built again
+            delete_a_face(self.bpy, self.scene.objects["matte_ball"])
+        elif what == "dense_faces":  # the same for the dense ball
+            delete_a_face(self.bpy, self.scene.objects["dense_ball"])
+        elif what == "cube":  # a small cube added: its subtree built
             mesh = self.bpy.data.meshes.new("cube")
             mesh.from_pydata([(x, y, z) for x in (0, 0.1) for y in (0, 0.1) for z in (0, 0.1)], [],
                              [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)])
             cube = self.bpy.data.objects.new("cube", mesh)
-            cube.location = (-0.4, 0.3 - 0.05 * self.step, 0.0)
+            cube.location = (-0.4, 0.3 - 0.05 * (self.step % 8), 0.0)
             self.scene.collection.objects.link(cube)
+            self.cubes.append(cube.name)
+        elif what == "delete":  # the last cube added deleted: its subtree dropped
+            self.bpy.data.objects.remove(self.bpy.data.objects[self.cubes.pop()])
+        else:  # a viewport setting changed: the whole scene exported again (what every edit cost once)
+            self.scene.ppm.viewport_photons_per_pass = self.photons + self.step % 2
 
     def edit(self, what="lamp", wait_full=True):
         """Makes the edit `what` (see EXPECTED_PART) and does what view_update (session.update, in a depsgraph
@@ -173,7 +188,9 @@ class Edits:
         try:
             start = time.perf_counter()
             self.change(what)
-            self.bpy.context.evaluated_depsgraph_get()
+            depsgraph = self.bpy.context.evaluated_depsgraph_get()
+            if what == "setting":  # settings tag no update: view_draw sees them and calls view_update
+                handler(self.scene, depsgraph)
         finally:
             self.bpy.app.handlers.depsgraph_update_post.remove(handler)
         if len(updated) != 1:
@@ -206,6 +223,17 @@ class Edits:
         return seen / seconds, (last.passes - first.passes) / seconds
 
 
+def delete_a_face(bpy, obj):
+    import bmesh
+
+    mesh = bmesh.new()
+    mesh.from_mesh(obj.data)
+    bmesh.ops.delete(mesh, geom=[next(iter(mesh.faces))], context="FACES_ONLY")
+    mesh.to_mesh(obj.data)
+    mesh.free()
+    obj.data.update()
+
+
 def measure(params):
     sys.path.insert(0, os.path.join(ROOT, "addon"))
     import bpy
@@ -223,6 +251,11 @@ def measure(params):
             edits.edit(wait_full=False)  # the next edit cancels the refinement, as a dragged lamp does
             if count in params["memory_marks"]:
                 memory[count] = (rss_mb(), trimmed_rss_mb())
+        object_memory = {}
+        for count in range(1, params["object_edits"] + 1):
+            edits.edit(OBJECT_CYCLE[count % len(OBJECT_CYCLE)], wait_full=False)
+            if count in params["memory_marks"]:
+                object_memory[count] = (rss_mb(), trimmed_rss_mb())
         edits.session.stop()
         heavy = {}
         if params["heavy_triangles"]:
@@ -240,16 +273,24 @@ def measure(params):
     finally:
         ppm_render.unregister()  # bpy 4.2 and 4.5 crash or hang at exit otherwise
     return {"version": bpy.app.version_string, "timed": timed, "images_per_s": rate, "rss_mb": memory,
-            "heavy": heavy, "scattered": scattered}
+            "object_rss_mb": object_memory, "heavy": heavy, "scattered": scattered}
+
+
+OBJECT_CYCLE = ("delete", "cube", "faces")  # edit k of the object series is OBJECT_CYCLE[k % 3]
 
 
 HEAVY_EDITS = {"lamp": "lamp moved (lights replaced)", "material": "colour edited (material replaced)",
                "world": "world colour edited (world replaced)",
                "object": "matte ball moved (its mesh replaced)",
-               "dense": "dense ball moved (its mesh replaced)", "cube": "a cube added (all exported)"}
+               "dense": "dense ball moved (its mesh replaced)",
+               "faces": "a face of the matte ball deleted (its subtree built again)",
+               "dense_faces": "a face of the dense ball deleted (its subtree built again)",
+               "cube": "a cube added (its subtree built)", "delete": "that cube deleted (its subtree dropped)",
+               "setting": "a viewport setting changed (all exported)"}
 
 
-SCATTER_EDITS = {"scatter": "particle host moved (its instances replaced)", "cube": "a cube added (all exported)"}
+SCATTER_EDITS = {"scatter": "particle host moved (its instances replaced)", "cube": "a cube added (its subtree built)",
+                 "setting": "a viewport setting changed (all exported)"}
 
 
 def quantiles(values):
@@ -260,7 +301,7 @@ def quantiles(values):
 def run(experiment, results):
     params = {k: experiment[k] for k in ("scene", "width", "height", "photons", "edits_timed", "refine_seconds",
                                          "edits", "memory_marks", "heavy_triangles", "heavy_edits_timed",
-                                         "instances")}
+                                         "instances", "object_edits")}
     m = blenders.result_of(experiment["blender"], "kinds.viewport:measure", params)
     rows = []
     for i, name in enumerate(("edit -> first image (1/4 preview)", "edit -> first full-resolution image",
@@ -278,6 +319,10 @@ def run(experiment, results):
     results.row(part="memory", rss_mb=m["rss_mb"])
     results.table(["edits", "resident memory (MB)", "after malloc_trim"],
                   [[k, f"{rss:.0f}", f"{trimmed:.0f}"] for k, (rss, trimmed) in m["rss_mb"].items()])
+    results.row(part="object memory", rss_mb=m["object_rss_mb"])
+    results.table(["object edits (a cube added, a face deleted, the cube deleted)", "resident memory (MB)",
+                   "after malloc_trim"],
+                  [[k, f"{rss:.0f}", f"{trimmed:.0f}"] for k, (rss, trimmed) in m["object_rss_mb"].items()])
     if m["heavy"]:
         edits_table(results, "heavy", HEAVY_EDITS, m["heavy"],
                     f"the same with a dense ball added: {m['heavy']['triangles']:,} triangles")
