@@ -168,7 +168,7 @@ class Edits:
         elif what == "delete":  # the last cube added deleted: its subtree dropped
             self.bpy.data.objects.remove(self.bpy.data.objects[self.cubes.pop()])
         else:  # a viewport setting changed: the whole scene exported again (what every edit cost once)
-            self.scene.ppm.viewport_photons_per_pass = self.photons + self.step % 2
+            self.scene.ppm.viewport_photons_per_pass = self.photons + 1 + self.step % 2  # never the last value
 
     def edit(self, what="lamp", wait_full=True):
         """Makes the edit `what` (see EXPECTED_PART) and does what view_update (session.update, in a depsgraph
@@ -194,7 +194,7 @@ class Edits:
         finally:
             self.bpy.app.handlers.depsgraph_update_post.remove(handler)
         if len(updated) != 1:
-            raise RuntimeError(f"the edit updated the session {len(updated)} times")
+            raise RuntimeError(f"a {what} edit (step {self.step}) updated the session {len(updated)} times")
         if updated[0][1] != EXPECTED_PART[what]:  # (a handler's exceptions are only printed)
             raise RuntimeError(f"a {what} edit updated '{updated[0][1]}', not '{EXPECTED_PART[what]}'")
         self.session.start()
