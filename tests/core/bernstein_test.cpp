@@ -4,6 +4,7 @@
 #include "math/bernstein.h"
 
 #include "math/rng.h"
+#include "random_test_helpers.h"
 
 #include <gtest/gtest.h>
 
@@ -174,7 +175,8 @@ std::vector<LD> reference_roots(const std::vector<LD>& c, bool& near_double) {
 TEST(Bernstein, RandomPolynomialsMatchLongDoubleScan) {
   Rng rng(3, 1, 0);
   int checked = 0, total_roots = 0;
-  for (int trial = 0; trial < 400; ++trial) {
+  const int trials = test_samples(400);
+  for (int trial = 0; trial < trials; ++trial) {
     const int n = 1 + trial % 16;
     std::vector<double> c(n + 1);
     for (auto& v : c) v = 2 * rng.uniform() - 1;
@@ -187,8 +189,8 @@ TEST(Bernstein, RandomPolynomialsMatchLongDoubleScan) {
     ASSERT_EQ(r.count, int(ref.size())) << "trial " << trial;
     for (int i = 0; i < r.count; ++i) EXPECT_NEAR(r.t[i], double(ref[i]), 1e-10) << "trial " << trial;
   }
-  EXPECT_GT(checked, 370);
-  EXPECT_GT(total_roots, 200);
+  EXPECT_GT(checked, trials * 37 / 40);  // few are too close to a double root to decide
+  EXPECT_GT(total_roots, trials / 2);
 }
 
 TEST(Bernstein, ArithmeticMatchesLongDouble) {

@@ -19,6 +19,7 @@
 #include "bezier_foil.h"
 #include "bezier_reference.h"
 #include "math/rng.h"
+#include "random_test_helpers.h"
 
 #include <gtest/gtest.h>
 #include <glm/gtc/matrix_transform.hpp>
@@ -297,7 +298,7 @@ void check_ray(const Scene& sc, const Vec3& O, const Vec3& D, Stats& st) {
 
 long rays_per_case() {
   const char* s = std::getenv("PPM_STRESS");
-  return s && std::string(s) == "1" ? 6700 : 80;  // x 6 families x 5 transforms x 5 kinds (1.005e6 rays under stress)
+  return s && std::string(s) == "1" ? 6700 : test_samples(80);  // x 6 families x 5 transforms x 5 kinds (1.005e6 rays under stress)
 }
 
 void print_row(const std::string& name, const Stats& s) {

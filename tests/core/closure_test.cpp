@@ -6,6 +6,7 @@
 #include "math/sampling.h"
 #include "shading/closure.h"
 #include "shading/microfacet.h"
+#include "random_test_helpers.h"
 
 #include <gtest/gtest.h>
 
@@ -36,7 +37,7 @@ Lobe specular_layer(double roughness, double ior = 1.5) {
 void expect_sampling_matches_eval(const std::vector<Lobe>& lobes, const Vec3& wo, bool adjoint, double tol,
                                   const SurfacePoint& sp = kFlat) {
   Rng rng(5, 6, 7);
-  const int n = 300000;
+  const int n = test_samples(300000);
   double sampled = 0.0, integrated = 0.0;
   for (int i = 0; i < n; ++i) {
     BsdfSample s;
@@ -65,7 +66,7 @@ TEST(Closure, SamplingMatchesEvaluationForEyePathsAndPhotons) {
 // Energy sent anywhere by one sample, averaged: delta lobes included.
 double mean_albedo(const std::vector<Lobe>& lobes, const Vec3& wo, bool adjoint) {
   Rng rng(11, 12, 13);
-  const int n = 200000;
+  const int n = test_samples(200000);
   double sum = 0.0;
   for (int i = 0; i < n; ++i) {
     BsdfSample s;
@@ -240,7 +241,7 @@ TEST(Closure, BeckmannLobesSampleAsTheyEvaluateAndItsDistributionIsNormalised) {
   for (double a : {0.1, 0.4, 0.9}) {  // the projected area of the normals is the surface's
     Rng rng(8, 8, 8);
     double sum = 0.0;
-    const int n = 400000;
+    const int n = test_samples(400000);
     for (int i = 0; i < n; ++i) {
       const Vec3 h = sample_uniform_hemisphere(rng.uniform(), rng.uniform());
       sum += beckmann_d(h, a, a * 0.5) * h.z * 2.0 * kPi;
@@ -258,7 +259,7 @@ TEST(Closure, BeckmannLobesSampleAsTheyEvaluateAndItsDistributionIsNormalised) {
   for (double cos_o : {0.9, 0.4, -0.6}) {
     const Vec3 wo = direction(cos_o, 0.3);
     Rng rng(5, 6, 7);
-    const int n = 200000;
+    const int n = test_samples(200000);
     double sampled = 0.0, integrated = 0.0;
     for (int i = 0; i < n; ++i) {
       BsdfSample s;

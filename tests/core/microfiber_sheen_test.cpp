@@ -9,6 +9,7 @@
 #include "shading/closure.h"
 #include "shading/microfacet.h"
 #include "shading/microfiber_sheen.h"
+#include "random_test_helpers.h"
 
 #include <gtest/gtest.h>
 
@@ -104,7 +105,7 @@ Lobe sheen_lobe(double roughness, bool layer = false) {
 // Mean sampled weight against the integral of f cos over the hemisphere (adjoint: f(wi, wo) cos wi).
 void expect_sampling_matches_eval(const std::vector<Lobe>& lobes, const Vec3& wo, bool adjoint) {
   Rng rng(5, 6, 7);
-  const int n = 200000;
+  const int n = test_samples(200000);
   double sampled = 0.0, integrated = 0.0;
   for (int i = 0; i < n; ++i) {
     BsdfSample s;
@@ -135,7 +136,7 @@ TEST(MicrofiberSheen, AWhiteSheenLayerOverWhiteDiffuseLosesNothing) {
     const std::vector<Lobe> lobes = {sheen_lobe(roughness, true), diffuse};
     for (double cos_o : {0.9, 0.5, 0.15}) {
       Rng rng(11, 12, 13);
-      const int n = 200000;
+      const int n = test_samples(200000);
       double sum = 0.0;
       for (int i = 0; i < n; ++i) {
         BsdfSample s;

@@ -7,6 +7,7 @@
 #include "shading/lobes.h"
 #include "shading/microfacet.h"
 #include "scene/light.h"
+#include "random_test_helpers.h"
 
 #include <gtest/gtest.h>
 
@@ -207,7 +208,7 @@ TEST(Bsdf, RoughGlassSampleMatchesEvalAndConservesEnergy) {
       Rng rng(9, 9, 9);
       // Split by side: reflection (same side as wo) and transmission.
       double sampled_r = 0.0, sampled_t = 0.0, eval_r = 0.0, eval_t = 0.0;
-      const int n = 300000;
+      const int n = test_samples(300000);
       for (int i = 0; i < n; ++i) {
         BsdfSample s;
         if (bsdf_sample(m, sp, wo, rng.uniform(), rng.uniform(), rng.uniform(), 0.0, true, s))
