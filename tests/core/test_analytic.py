@@ -14,6 +14,8 @@ import pytest
 import core_scenes
 import ppm_core
 
+pytestmark = pytest.mark.accuracy
+
 
 def closed_sphere_mean(passes, **settings):
     scene = core_scenes.closed_sphere_with_point_light(radius=1.0, albedo=0.5, power=100.0)

@@ -10,6 +10,8 @@ import pytest
 import core_scenes
 import ppm_core
 
+pytestmark = pytest.mark.accuracy
+
 EXPECTED = core_scenes.expected_closed_sphere_radiance(1.0, 0.5, 100.0)
 
 

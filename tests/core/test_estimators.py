@@ -8,6 +8,8 @@ import pytest
 import core_scenes
 import ppm_core
 
+pytestmark = pytest.mark.accuracy
+
 RADIUS, ALBEDO, POWER = 1.0, 0.5, 100.0
 EXPECTED = core_scenes.expected_closed_sphere_radiance(RADIUS, ALBEDO, POWER)
 

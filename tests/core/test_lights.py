@@ -12,6 +12,8 @@ import pytest
 import ppm_core
 from core_scenes import cornell_3spheres
 
+pytestmark = pytest.mark.accuracy
+
 RHO = 0.5
 
 

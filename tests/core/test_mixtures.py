@@ -11,6 +11,8 @@ import core_scenes
 import ppm_core
 from render_checks import EXPECTED_R1, finite_rgb
 
+pytestmark = pytest.mark.accuracy
+
 
 def closed_sphere_of(material_args, photons=20_000, passes=60, size=16, **settings):
     """The closed sphere with a point light inside (known answer for a diffuse wall), its wall

@@ -35,6 +35,8 @@ import pytest
 import core_scenes
 import ppm_core
 
+pytestmark = pytest.mark.accuracy
+
 DATA = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "data")
 W, H = 80, 60
 PASSES = 200
