@@ -136,8 +136,10 @@ def best_of(repeats, fn):
     return (wall, cpu), result
 
 
-def run_ppm(vertices, tris, origins, dirs, repeats, threads):
+def run_ppm(vertices, tris, origins, dirs, repeats, threads, layout="auto"):
     scene = ppm_core.Scene()
+    if layout != "auto":  # (a core from before the layouts has no such property: A/B runs)
+        scene.geometry_layout = layout
     mat = scene.add_material("grey")
     t0 = time.perf_counter()
     scene.add_mesh("mesh", vertices.astype(np.float64), tris, materials=mat)
@@ -305,7 +307,7 @@ def run(experiment, results):
         rng = np.random.default_rng(SEED)
         vertices, tris = MESHES[name](rng)
         origins, dirs = make_rays(vertices, rays, rng)
-        p = run_ppm(vertices, tris, origins, dirs, repeats, threads)
+        p = run_ppm(vertices, tris, origins, dirs, repeats, threads, experiment["geometry_layout"])
         e = run_embree(vertices, tris, origins, dirs, repeats, threads) if have_embree else None
         speed += speed_rows(name, len(tris), rays, threads, p, e, results)
         if e:

@@ -112,11 +112,13 @@ void Bvh::build_from_tree(BinaryBvh tree) {
   bounds_ = Aabb{};
   in_float_range_ = true;
   prim_order_ = std::move(tree.order);
+  slots_ = static_cast<uint32_t>(prim_order_.size());
   if (tree.nodes.empty()) return;
   bounds_ = tree.nodes[0].box;
   in_float_range_ = max_abs(bounds_.lo) <= kFloatRange && max_abs(bounds_.hi) <= kFloatRange;
-  nodes_.reserve(tree.nodes.size() / 2 + 1);
+  nodes_.reserve(tree.nodes.size() / 2 + 1);  // at most this many; a third of it is typical
   Collapser(tree, nodes_).emit(0);
+  nodes_.shrink_to_fit();
 }
 
 }  // namespace ppm

@@ -743,6 +743,22 @@ void bind_scene(py::module_& m) {
                     "Build the BVH object by object (False by default), so that objects can be added, moved, "
                     "reshaped and removed in a built scene at the cost of their own subtrees (the viewport); a "
                     "whole-scene BVH traces faster where objects overlap.")
+      .def_property(
+          "geometry_layout",
+          [](const Scene& s) {
+            const GeometryLayout l = s.geometry_layout();
+            return std::string(l == GeometryLayout::Auto ? "auto" : l == GeometryLayout::Copies ? "copies" : "compact");
+          },
+          [](Scene& s, const std::string& layout) {
+            s.set_geometry_layout(choice<GeometryLayout>(
+                layout, {{"auto", GeometryLayout::Auto}, {"copies", GeometryLayout::Copies}, {"compact", GeometryLayout::Compact}},
+                "scene", "geometry_layout"));
+          },
+          "How the built scene keeps its triangles for ray tests: 'copies' (each triangle's corners copied beside "
+          "the BVH, 96 bytes a triangle more, the fastest), 'compact' (only its mesh's shared vertices) or 'auto' "
+          "(copies up to 4,000,000 triangles; the default). The hits are the same, bit for bit.")
+      .def_property_readonly("triangles_copied", &Scene::triangles_copied,
+                             "Whether the built scene keeps copies of its triangles (geometry_layout).")
       .def("add_sphere",
            [](Scene& s, const std::string& name, const py::object& center, double radius, uint32_t material,
               uint32_t object_id, const py::object& visible_to, bool holdout) {

@@ -8,7 +8,9 @@
 #include "shading/valid_reflection.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <type_traits>
 #include <stdexcept>
 
 #if defined(__GLIBC__)
@@ -370,12 +372,18 @@ void Scene::set_camera_background(uint32_t texture, const Color& strength) {
   invalidate_lights();
 }
 
-// A built scene keeps its triangles in the BVH's leaf records only (72 bytes a triangle less);
-// they come back in triangle order before the scene changes or is built again.
+// A built scene keeps its triangles' vertex indices in the BVH's leaf records only (12 bytes a
+// triangle less); they come back in triangle order before the scene changes or is built again.
 void Scene::restore_triangles() {
-  if (triangles_.size() == triangle_info_.size()) return;
-  triangles_.resize(triangle_info_.size());
-  for (size_t i = 0; i < triangles_.size(); ++i) triangles_[i] = leaf_prims_[slot_of_triangle_[i]].tri;
+  std::vector<TriangleVertices>& triangles = meshes_.triangles;
+  if (triangles.size() == meshes_.info.size()) return;
+  triangles.resize(meshes_.info.size());
+  for (size_t i = 0; i < triangles.size(); ++i) triangles[i] = leaf_prims_[slot_of_triangle_[i]].vertices;
+}
+
+const TriangleVertices& Scene::triangle_vertices(uint32_t triangle) const {
+  const std::vector<TriangleVertices>& triangles = meshes_.triangles;
+  return triangles.size() == meshes_.info.size() ? triangles[triangle] : leaf_prims_[slot_of_triangle_[triangle]].vertices;
 }
 
 // After the build: the triangles are found through their leaf slots. What the build freed (the
@@ -383,11 +391,12 @@ void Scene::restore_triangles() {
 // built subtrees) goes back to the system: glibc keeps freed memory resident otherwise, 70 bytes a
 // triangle of a 10^6-triangle mesh.
 void Scene::release_triangles() {
-  slot_of_triangle_.resize(triangles_.size());
+  slot_of_triangle_.resize(meshes_.triangles.size());
   for (uint32_t slot = 0; slot < leaf_prims_.size(); ++slot)
     if (leaf_prims_[slot].kind == PrimitiveKind::Triangle) slot_of_triangle_[leaf_prims_[slot].index] = slot;
-  std::vector<TrianglePrim>().swap(triangles_);
+  std::vector<TriangleVertices>().swap(meshes_.triangles);
   std::vector<PrimRef>().swap(prims_);
+  meshes_.shrink_to_fit();
 #if defined(__GLIBC__)
   malloc_trim(0);
 #endif
@@ -408,9 +417,10 @@ void Scene::build_geometry() {
   restore_triangles();
   prims_.clear();
   std::vector<Aabb> boxes;
-  boxes.reserve(triangles_.size() + spheres_.size() + revolve_segments_.size());
-  for (uint32_t i = 0; i < triangles_.size(); ++i) {
-    boxes.push_back(triangle_box(triangles_[i]));
+  const std::vector<TriangleVertices>& triangles = meshes_.triangles;
+  boxes.reserve(triangles.size() + spheres_.size() + revolve_segments_.size());
+  for (uint32_t i = 0; i < triangles.size(); ++i) {
+    boxes.push_back(triangle_box(meshes_.triangle(triangles[i])));
     prims_.push_back({PrimitiveKind::Triangle, i});
   }
   for (uint32_t i = 0; i < spheres_.size(); ++i) {
@@ -439,11 +449,61 @@ void Scene::build_geometry() {
     p.kind = ref.kind;
     p.index = ref.index;
     p.visibility = visibility_of(ref);
-    p.tri = ref.kind == PrimitiveKind::Triangle ? triangles_[ref.index] : TrianglePrim{};
+    p.vertices = ref.kind == PrimitiveKind::Triangle ? triangles[ref.index] : TriangleVertices{};
   }
+  if (!dynamic_) order_vertices_by_leaf();
+  bvh_.release_prim_order();  // the leaf records are in slot order
+  copy_leaf_triangles();
   finish_geometry();
   release_triangles();
   geometry_built_ = true;
+}
+
+void Scene::copy_leaf_triangles() {
+  const bool copy = layout_ == GeometryLayout::Copies ||
+                    (layout_ == GeometryLayout::Auto && meshes_.triangle_count() <= kCopiedTrianglesMax);
+  if (!copy) {
+    HugePageVector<CopiedLeaf>().swap(copied_leaves_);
+    return;
+  }
+  copied_leaves_.resize(leaf_prims_.size());
+  for (size_t slot = 0; slot < leaf_prims_.size(); ++slot) {
+    const LeafPrim& p = leaf_prims_[slot];
+    copied_leaves_[slot] = CopiedLeaf{p.kind == PrimitiveKind::Triangle ? meshes_.triangle(p.vertices) : TrianglePrim{}, p};
+  }
+}
+
+void Scene::set_geometry_layout(GeometryLayout layout) {
+  ensure_mutable();
+  if (layout == layout_) return;
+  restore_triangles();
+  layout_ = layout;
+  invalidate();
+}
+
+// Each mesh's vertices in the order the BVH leaves first name them, so that a leaf's triangles find
+// their vertices side by side (in the input's order they may lie anywhere in the mesh: random rays
+// through a 1.3 x 10^6-triangle grid and soup traced about 15% slower so, in the Compact layout). A
+// dynamic scene keeps the input's order, which replace_mesh writes in place.
+void Scene::order_vertices_by_leaf() {
+  constexpr uint32_t kUnseen = UINT32_MAX;
+  std::vector<uint32_t> position(meshes_.vertices.size(), kUnseen), next(meshes_.meshes.size());
+  for (size_t m = 0; m < next.size(); ++m) next[m] = meshes_.meshes[m].first_vertex;
+  for (const LeafPrim& p : leaf_prims_) {
+    if (p.kind != PrimitiveKind::Triangle) continue;
+    const uint32_t mesh = meshes_.info[p.index].mesh;
+    for (uint32_t v : p.vertices.v)
+      if (position[v] == kUnseen) position[v] = next[mesh]++;
+  }
+  for (size_t m = 0; m < next.size(); ++m) {  // vertices no triangle uses, at their mesh's end
+    const MeshRecord& r = meshes_.meshes[m];
+    for (uint32_t v = r.first_vertex; v < r.first_vertex + r.vertex_count; ++v)
+      if (position[v] == kUnseen) position[v] = next[m]++;
+  }
+  meshes_.reorder_vertices(position);
+  for (LeafPrim& p : leaf_prims_)
+    if (p.kind == PrimitiveKind::Triangle)
+      for (uint32_t& v : p.vertices.v) v = position[v];
 }
 
 // Groups the primitives by object id and builds their BVH object by object; with `reuse_unchanged`
@@ -454,7 +514,7 @@ void Scene::build_object_bvh(const std::vector<Aabb>& boxes, bool reuse_unchange
   std::vector<uint32_t> group(prims_.size());
   for (size_t i = 0; i < prims_.size(); ++i) {
     const PrimRef ref = prims_[i];
-    const uint32_t object = ref.kind == PrimitiveKind::Triangle ? triangle_info_[ref.index].object
+    const uint32_t object = ref.kind == PrimitiveKind::Triangle ? meshes_.meshes[meshes_.info[ref.index].mesh].object
                             : ref.kind == PrimitiveKind::Sphere ? spheres_[ref.index].object
                                                                 : revolve_segments_[ref.index].object;
     group[i] = object_group_.emplace(object, static_cast<uint32_t>(object_group_.size())).first->second;
@@ -486,17 +546,25 @@ void Scene::refit_moved_objects() {
     const uint32_t g = object_group_.at(object);
     const uint32_t first = object_bvh_->first_slot(g);
     boxes.resize(object_bvh_->slot_count(g));
-    for (size_t k = 0; k < boxes.size(); ++k) boxes[k] = triangle_box(leaf_prims_[first + k].tri);
+    for (size_t k = 0; k < boxes.size(); ++k) {
+      const TrianglePrim t = meshes_.triangle(leaf_prims_[first + k].vertices);
+      if (!copied_leaves_.empty()) copied_leaves_[first + k] = CopiedLeaf{t, leaf_prims_[first + k]};
+      boxes[k] = triangle_box(t);
+    }
     object_bvh_->refit(g, boxes);
   }
   bvh_.build_from_tree(object_bvh_->joined());
+  bvh_.release_prim_order();
   finish_geometry();
   moved_objects_.clear();
   subtrees_built_ = 0;
 }
 
 void Scene::finish_geometry() {
-  interleave_ = bvh_.nodes().size() * sizeof(BvhNode) + leaf_prims_.size() * sizeof(LeafPrim) > kInterleaveBytes;
+  const size_t leaves = copied_leaves_.empty()
+                            ? leaf_prims_.size() * sizeof(LeafPrim) + meshes_.vertices.size() * sizeof(Vec3)
+                            : copied_leaves_.size() * sizeof(CopiedLeaf);
+  interleave_ = bvh_.nodes().size() * sizeof(BvhNode) + leaves > kInterleaveBytes;  // what a walk reads
   const Aabb bounds = bvh_.bounds();
   offset_floor_ = bounds.empty() ? 1e-12 : 1e-10 * max_abs(bounds.extent()) + 1e-300;
 }
@@ -539,17 +607,18 @@ void Scene::prepare_lights() {
     prepare_light(l, light_bounds);
     lights_.push_back(l);
   }
-  for (uint32_t i = 0; i < triangle_info_.size(); ++i) {
-    const Material& m = materials_[triangle_info_[i].material];
-    const TrianglePrim& triangle = leaf_prims_[slot_of_triangle_[i]].tri;
-    if (!m.emits() || triangle_area(triangle) <= 0.0) continue;
+  for (uint32_t i = 0; i < meshes_.triangle_count(); ++i) {
+    const Material& m = materials_[meshes_.info[i].material];
+    if (!m.emits()) continue;
+    const TrianglePrim triangle = this->triangle(i);
+    if (triangle_area(triangle) <= 0.0) continue;
     Light l;
     l.kind = LightKind::Triangle;
     l.name = m.name;
     l.triangle = triangle;
     l.primitive = i;
     l.radiance = m.emission;
-    if (m.emission_input >= 0) textured_emission(m, triangle_info_[i], l);
+    if (m.emission_input >= 0) textured_emission(m, i, l);
     prepare_light(l, light_bounds);
     lights_.push_back(l);
   }
@@ -560,13 +629,16 @@ void Scene::prepare_lights() {
 // power and the light sampler go by) the mean over the triangle of kSide^2 stratified values.
 // Photons and light samples take the emission where they start, so any positive estimate keeps them
 // unbiased; a floor keeps bright detail between the samples from never being chosen.
-void Scene::textured_emission(const Material& m, const TriangleInfo& info, Light& l) const {
+void Scene::textured_emission(const Material& m, uint32_t triangle, Light& l) const {
+  const MeshRecord& mesh = meshes_.meshes[meshes_.info[triangle].mesh];
+  const TriangleVertices& v = triangle_vertices(triangle);
   l.program = &m.program;
   l.program_output = m.emission_input;
   l.textures = &textures_;
-  l.object = &object_info(info.object);
+  l.object = &object_info(mesh.object);
   l.emission = m.emission;
-  for (int k = 0; k < 3; ++k) l.uvs[k] = info.uvs >= 0 ? Vec2(corner_uvs_[info.uvs + k]) : Vec2(0.0);
+  for (int k = 0; k < 3; ++k)
+    l.uvs[k] = mesh.uvs.present() ? Vec2(meshes_.corner(meshes_.uvs, mesh.uvs, mesh, triangle, v.v[k], k)) : Vec2(0.0);
   constexpr int kSide = 4;
   Color sum(0.0), most(0.0);
   for (int i = 0; i < kSide; ++i)
@@ -616,8 +688,8 @@ void Scene::check_energy_range(int max_bounces) const {
 // Triangles, by far the most common, are tested inline; the rest out of line.
 bool Scene::is_holdout(const Hit& hit) const {
   uint32_t id = hit.primitive;
-  if (id < triangle_info_.size()) return triangle_info_[id].visibility & kHoldoutFlag;
-  id -= static_cast<uint32_t>(triangle_info_.size());
+  if (id < meshes_.triangle_count()) return meshes_.meshes[meshes_.info[id].mesh].visibility & kHoldoutFlag;
+  id -= meshes_.triangle_count();
   if (id < spheres_.size()) return spheres_[id].visibility & kHoldoutFlag;
   id -= static_cast<uint32_t>(spheres_.size());
   return id < revolve_segments_.size() && (revolve_segments_[id].visibility & kHoldoutFlag);
@@ -625,19 +697,30 @@ bool Scene::is_holdout(const Hit& hit) const {
 
 uint8_t Scene::visibility_of(const PrimRef& ref) const {
   switch (ref.kind) {
-    case PrimitiveKind::Triangle: return triangle_info_[ref.index].visibility;
+    case PrimitiveKind::Triangle: return meshes_.meshes[meshes_.info[ref.index].mesh].visibility;
     case PrimitiveKind::Sphere: return spheres_[ref.index].visibility;
     default: return revolve_segments_[ref.index].visibility;
   }
 }
 
 inline bool Scene::intersect_slot(uint32_t slot, const Ray& ray, double& tmax, Hit& scratch) const {
+  if (!copied_leaves_.empty()) {
+    const CopiedLeaf& c = copied_leaves_[slot];
+    if (!(c.leaf.visibility & ray.kind)) return false;
+    if (c.leaf.kind != PrimitiveKind::Triangle) return intersect_non_triangle(slot, ray, tmax, scratch);
+    return record_triangle_hit(slot, c.leaf.index, c.tri, ray, tmax, scratch);
+  }
   const LeafPrim& p = leaf_prims_[slot];
   if (!(p.visibility & ray.kind)) return false;
   if (p.kind != PrimitiveKind::Triangle) return intersect_non_triangle(slot, ray, tmax, scratch);
+  return record_triangle_hit(slot, p.index, meshes_.triangle(p.vertices), ray, tmax, scratch);
+}
+
+inline bool Scene::record_triangle_hit(uint32_t slot, uint32_t triangle, const TrianglePrim& tri, const Ray& ray,
+                                       double& tmax, Hit& scratch) const {
   double t, b1, b2;
-  if (!intersect_triangle(p.tri, ray, tmax, t, b1, b2)) return false;
-  prefetch(&triangle_info_[p.index]);  // fill_hit reads it if this hit stays the closest
+  if (!intersect_triangle(tri, ray, tmax, t, b1, b2)) return false;
+  prefetch(&meshes_.info[triangle]);  // fill_hit reads it if this hit stays the closest
   tmax = t;
   scratch.t = t;
   scratch.primitive = slot;
@@ -646,7 +729,7 @@ inline bool Scene::intersect_slot(uint32_t slot, const Ray& ray, double& tmax, H
 }
 
 bool Scene::intersect_non_triangle(uint32_t slot, const Ray& ray, double& tmax, Hit& scratch) const {
-  const LeafPrim& p = leaf_prims_[slot];
+  const LeafPrim& p = leaf(slot);
   if (p.kind == PrimitiveKind::Sphere) {
     double t;
     if (!intersect_sphere(spheres_[p.index].sphere, ray, tmax, t)) return false;
@@ -664,17 +747,9 @@ bool Scene::intersect_non_triangle(uint32_t slot, const Ray& ray, double& tmax, 
   return true;
 }
 
-// Every cache line a leaf's records touch.
-void Scene::prefetch_leaf(uint32_t first, uint32_t count) const {
-  const uintptr_t end = reinterpret_cast<uintptr_t>(&leaf_prims_[first] + count);
-  for (uintptr_t p = reinterpret_cast<uintptr_t>(&leaf_prims_[first]) & ~uintptr_t(63); p < end; p += 64)
-    prefetch(reinterpret_cast<const void*>(p));
-}
-
 size_t Scene::memory_bytes() const {
   auto bytes = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
-  size_t b = bytes(triangles_) + bytes(triangle_info_) + bytes(corner_normals_) + bytes(corner_uvs_) +
-             bytes(corner_colors_) + bytes(corner_tangents_) + bytes(spheres_) + bytes(revolve_segments_) +
+  size_t b = meshes_.memory_bytes() + bytes(copied_leaves_) + bytes(spheres_) + bytes(revolve_segments_) +
              bytes(prims_) + bytes(slot_of_triangle_) + bytes(leaf_prims_) + bytes(bvh_.nodes()) +
              bytes(bvh_.prim_order()) +
              bytes(materials_) + bytes(lights_) + bytes(user_lights_) + bytes(objects_);
@@ -717,21 +792,31 @@ bool Scene::occluded(const Ray& ray, double distance) const {
 
 // `hit.primitive` holds the leaf slot on entry and the primitive id on return.
 void Scene::fill_hit(const Ray& ray, Hit& hit, double b1, double b2) const {
-  const LeafPrim& ref = leaf_prims_[hit.primitive];
+  const uint32_t slot = hit.primitive;
+  const LeafPrim& ref = leaf(slot);
   // Primitive ids number triangles, then spheres, then revolve segments.
   hit.primitive = ref.index;
-  if (ref.kind != PrimitiveKind::Triangle) hit.primitive += static_cast<uint32_t>(triangle_info_.size());
+  if (ref.kind != PrimitiveKind::Triangle) hit.primitive += meshes_.triangle_count();
   if (ref.kind == PrimitiveKind::BezierRevolve) hit.primitive += static_cast<uint32_t>(spheres_.size());
   switch (ref.kind) {
     case PrimitiveKind::Triangle: {
-      const TrianglePrim& t = ref.tri;  // already in cache from the test
-      const TriangleInfo& info = triangle_info_[ref.index];
+      TrianglePrim scratch;
+      const TrianglePrim& t = leaf_triangle(slot, scratch);  // in cache from the test
+      const TriangleInfo& info = meshes_.info[ref.index];
+      const MeshRecord& mesh = meshes_.meshes[info.mesh];
+      const uint32_t* v = ref.vertices.v;
       const double b0 = 1.0 - b1 - b2;
+      auto corners = [&](const auto& values, const AttributeRange& range) {
+        using T = std::decay_t<decltype(values[0])>;
+        std::array<T, 3> out;
+        for (int k = 0; k < 3; ++k) out[k] = meshes_.corner(values, range, mesh, ref.index, v[k], k);
+        return out;
+      };
       hit.position = t.v0 + b1 * t.e1 + b2 * t.e2;
       hit.geometric_normal = triangle_normal(t);
       hit.shading_normal = hit.geometric_normal;
-      if (info.corners >= 0) {
-        const Vec3f* n = &corner_normals_[info.corners];
+      if (mesh.normals.present()) {
+        const auto n = corners(meshes_.normals, mesh.normals);
         const Vec3 ns = b0 * Vec3(n[0]) + b1 * Vec3(n[1]) + b2 * Vec3(n[2]);
         const double len = glm::length(ns);
         if (len > 0.0) hit.shading_normal = ns / len;
@@ -739,19 +824,19 @@ void Scene::fill_hit(const Ray& ray, Hit& hit, double b1, double b2) const {
         if (glm::dot(hit.shading_normal, hit.geometric_normal) < 0.0) hit.geometric_normal = -hit.geometric_normal;
       }
       hit.uv = Vec2(0.0);
-      if (info.uvs >= 0) {
-        const glm::vec2* uv = &corner_uvs_[info.uvs];
+      if (mesh.uvs.present()) {
+        const auto uv = corners(meshes_.uvs, mesh.uvs);
         hit.uv = b0 * Vec2(uv[0]) + b1 * Vec2(uv[1]) + b2 * Vec2(uv[2]);
       }
       hit.tangent = glm::vec4(0.0f);
-      if (info.tangents >= 0) {  // interpolated as Cycles does, not re-orthogonalised
-        const glm::vec4* tangent = &corner_tangents_[info.tangents];
+      if (mesh.tangents.present()) {  // interpolated as Cycles does, not re-orthogonalised
+        const auto tangent = corners(meshes_.tangents, mesh.tangents);
         hit.tangent = static_cast<float>(b0) * tangent[0] + static_cast<float>(b1) * tangent[1] +
                       static_cast<float>(b2) * tangent[2];
         hit.tangent.w = tangent[0].w;
       }
       hit.material = info.material;
-      hit.object = info.object;
+      hit.object = mesh.object;
       break;
     }
     case PrimitiveKind::Sphere: {
@@ -852,21 +937,27 @@ ShadingContext Scene::shading_context(const Hit& hit, const Vec3& wo, double foo
 }
 
 void Scene::add_primitive_data(const Material& m, uint32_t primitive, const Vec3& position, ShadingContext& c) const {
-  if (primitive >= triangle_info_.size()) return;  // primitive ids number the triangles first
+  if (primitive >= meshes_.triangle_count()) return;  // primitive ids number the triangles first
   const NodeProgram::Needs needs = m.program.needs();
   if (!needs.uv_gradients && !needs.attribute) return;
-  const uint32_t index = primitive;
-  const TriangleInfo& info = triangle_info_[index];
-  const TrianglePrim& t = leaf_prims_[slot_of_triangle_[index]].tri;
-  if (needs.uv_gradients && info.uvs >= 0) uv_gradients(t, &corner_uvs_[info.uvs], c.du_dp, c.dv_dp);
-  if (needs.attribute && info.colors >= 0) {
+  const MeshRecord& mesh = meshes_.meshes[meshes_.info[primitive].mesh];
+  const TriangleVertices& v = triangle_vertices(primitive);
+  const TrianglePrim t = meshes_.triangle(v);
+  auto corners = [&](const auto& values, const AttributeRange& range) {
+    using T = std::decay_t<decltype(values[0])>;
+    std::array<T, 3> out;
+    for (int k = 0; k < 3; ++k) out[k] = meshes_.corner(values, range, mesh, primitive, v.v[k], k);
+    return out;
+  };
+  if (needs.uv_gradients && mesh.uvs.present()) uv_gradients(t, corners(meshes_.uvs, mesh.uvs).data(), c.du_dp, c.dv_dp);
+  if (needs.attribute && mesh.colors.present()) {
     // Barycentric coordinates of the point: the dual basis of the edges (as uv_gradients).
     const Vec3 n = glm::cross(t.e1, t.e2);
     const double det = glm::dot(n, n);
     if (!(det > 0.0)) return;
     const Vec3 d = position - t.v0;
     const double b1 = glm::dot(glm::cross(t.e2, n), d) / det, b2 = glm::dot(glm::cross(n, t.e1), d) / det;
-    const glm::vec4* a = &corner_colors_[info.colors];
+    const auto a = corners(meshes_.colors, mesh.colors);
     c.attribute = float(1.0 - b1 - b2) * a[0] + float(b1) * a[1] + float(b2) * a[2];
   }
 }

@@ -12,6 +12,7 @@
 #include "scene/camera.h"
 #include "scene/light.h"
 #include "scene/material.h"
+#include "scene/mesh_store.h"
 #include "scene/texture.h"
 
 #include <atomic>
@@ -42,15 +43,23 @@ constexpr double kMinSize = 1e-100;
 constexpr double kMaxPower = 1e20;
 constexpr double kMaxPhotonGain = 1e25;
 
-// BVH size (nodes and leaf records) above which intersect_many interleaves
-// rays' walks. Below it the BVH stays in a core's cache, there are no misses
-// to overlap, and the bookkeeping only costs. Measured on the 2-core EPYC
-// (2 MB L2 per core), asteroid meshes of bench/run.py raycast: up to 7,500
-// triangles (about 0.7 MB) cast 0-11% faster one ray at a time, 30,000
-// (about 3 MB) broke even, and 99,372 (about 10 MB) gained 18-32%.
+// What a walk reads (BVH nodes and the leaf tests' records, with the vertices they name where the
+// triangles are not copied) above which intersect_many interleaves rays' walks. Below it the BVH
+// stays in a core's cache, there are no misses to overlap, and the bookkeeping only costs. Measured
+// on the 2-core EPYC (2 MB L2 per core), asteroid meshes of bench/run.py raycast, with 80-byte leaf
+// records: up to 7,500 triangles (about 0.7 MB) cast 0-11% faster one ray at a time, 30,000 (about
+// 3 MB) broke even, and 99,372 (about 10 MB) gained 18-32%.
 constexpr double kInterleaveBytes = 2.0 * 1024 * 1024;
 
-// Plain arrays describing one mesh in world space, as the exporter produces them.
+// How a built scene keeps its triangles for the ray tests: beside its leaf records, a copy of each
+// triangle's corners in leaf order with its record (Copies: 96 bytes a triangle more; a leaf's test
+// reads one stretch of memory), or only the indices of its mesh's shared vertices (Compact: a
+// dependent read more a triangle; random rays through bench/run.py raycast's 10^6-triangle terrain
+// measured 30% slower). Auto copies up to kCopiedTrianglesMax triangles. Both find the same hits,
+// bit for bit.
+enum class GeometryLayout { Auto, Copies, Compact };
+constexpr size_t kCopiedTrianglesMax = 4'000'000;
+
 constexpr uint32_t kMaxObjectId = 1u << 24;  // objects a node program can tell apart
 // The object id a world's node program is run for (its coordinates are the direction's): kept
 // apart from the others, so that naming it costs no table of 2^24 objects.
@@ -64,19 +73,6 @@ struct SurfaceRecord {
   glm::vec4 tangent;          // xyz and the bitangent's sign; w = 0: none
   uint32_t material, object, primitive;
   LightPath path;             // the ray that found it
-};
-
-struct MeshInput {
-  std::string name;
-  std::vector<Vec3> positions;
-  std::vector<uint32_t> triangles;       // 3 vertex indices per triangle
-  std::vector<Vec3> normals;             // empty (flat), one per vertex, or 3 per triangle (corners)
-  std::vector<Vec2> uvs;                 // empty, one per vertex, or 3 per triangle (corners)
-  std::vector<glm::dvec4> tangents;      // empty or as uvs: the UV map's tangent (xyz), bitangent sign (w)
-  std::vector<glm::dvec4> colors;        // empty or as uvs: an attribute node programs read (RGBA)
-  std::vector<uint32_t> materials;       // one per triangle, or a single value for all
-  uint32_t object_id = 0;
-  uint8_t visibility = kAllRayKinds;  // the RayKinds that see it, and kHoldoutFlag for a Holdout object
 };
 
 class Scene {
@@ -96,12 +92,16 @@ class Scene {
   // objects overlap, but an object's mesh can then be replaced in place. Set before build().
   void set_dynamic(bool dynamic);
   bool dynamic() const { return dynamic_; }
+  // Set before build() (a built scene builds again).
+  void set_geometry_layout(GeometryLayout layout);
+  GeometryLayout geometry_layout() const { return layout_; }
+  bool triangles_copied() const { return !copied_leaves_.empty(); }  // the built scene's choice
   // The triangles of object `mesh.object_id` (it has no other primitives) become `mesh`'s: moved, or
   // reshaped with any number of triangles and attributes, in the place of the object's first triangle.
-  // Moved or reshaped with as many triangles and the same attributes, a built dynamic scene's build()
-  // then refits the object's BVH subtree; otherwise it builds that subtree again and keeps the other
-  // objects'. Other scenes build their BVH afresh. Throws std::invalid_argument naming the mesh where
-  // it cannot, the scene unchanged.
+  // Moved or reshaped with as many triangles and vertices and the same attributes (the object one
+  // add_mesh's), a built dynamic scene's build() then refits the object's BVH subtree; otherwise it
+  // builds that subtree again and keeps the other objects'. Other scenes build their BVH afresh.
+  // Throws std::invalid_argument naming the mesh where it cannot, the scene unchanged.
   void replace_mesh(MeshInput mesh);
   // Removes every primitive of object `object` (meshes, spheres, revolves); returns how many there were.
   // A built dynamic scene's build() then drops the object's subtree and keeps the others.
@@ -199,23 +199,15 @@ class Scene {
   const Camera& camera() const { return camera_; }
   bool has_camera() const { return has_camera_; }
   Aabb bounds() const { return bvh_.bounds(); }
-  size_t triangle_count() const { return triangle_info_.size(); }
+  size_t triangle_count() const { return meshes_.info.size(); }
   // Geometry (primitives, their attributes, the BVH), textures, materials and lights.
   size_t memory_bytes() const;
-  size_t primitive_count() const { return triangle_info_.size() + spheres_.size() + revolve_segments_.size(); }
+  size_t primitive_count() const { return meshes_.info.size() + spheres_.size() + revolve_segments_.size(); }
 
  private:
   struct PrimRef {
     PrimitiveKind kind;
-    uint32_t index;  // into triangles_, spheres_ or revolve segments
-  };
-  struct TriangleInfo {
-    uint32_t material, object;
-    int32_t corners;  // index of the first of 3 corner normals, -1 = flat
-    int32_t uvs;      // index of the first of 3 corner UVs, -1 = none
-    int32_t tangents; // index of the first of 3 corner tangents, -1 = none
-    int32_t colors;   // index of the first of 3 corner attribute values, -1 = none
-    uint8_t visibility;
+    uint32_t index;  // into meshes_.info, spheres_ or revolve segments
   };
   struct SphereInfo {
     SpherePrim sphere;
@@ -228,18 +220,16 @@ class Scene {
   };
 
   void check_material(uint32_t material, const std::string& what) const;
-  struct ObjectTriangles {
-    size_t first = 0, count = 0;
-    bool contiguous = true;  // one range, as one add_mesh adds them
-  };
-  ObjectTriangles object_triangles(uint32_t object, const std::string& what) const;
-  void append_triangles(const MeshInput& mesh);
-  bool same_attributes(size_t first, const MeshInput& mesh) const;
-  void rewrite_triangles(const MeshInput& mesh, size_t first);
-  void splice_triangles(const MeshInput& mesh, size_t first);
-  size_t remove_triangles_of(uint32_t object, size_t room);
+  // The meshes (indices into meshes_.meshes) of object `object`, refused where it has none or
+  // primitives of other kinds too.
+  std::vector<uint32_t> object_meshes(uint32_t object, const std::string& what) const;
+  void rewrite_mesh(uint32_t index, const MeshInput& mesh);
+  void rebuild_meshes(uint32_t object, const MeshInput* replacement);
   void drop_unused_revolves();
   void geometry_changed(uint32_t object);
+  // A triangle's vertex indices: in meshes_.triangles, or once built in its leaf record.
+  const TriangleVertices& triangle_vertices(uint32_t triangle) const;
+  TrianglePrim triangle(uint32_t triangle) const { return meshes_.triangle(triangle_vertices(triangle)); }
   void check_new_material(Material& m) const;  // validates and completes a material to be stored
   void check_not_emissive(uint32_t material, const std::string& what) const;
   void check_lobes(Material& m, const std::string& what) const;
@@ -248,7 +238,7 @@ class Scene {
   // What a program reads of primitive `primitive` at `position` on it: the UV gradients (a Bump's
   // steps) and the mesh attribute there, where the material's program uses them.
   void add_primitive_data(const Material& m, uint32_t primitive, const Vec3& position, ShadingContext& c) const;
-  void textured_emission(const Material& m, const TriangleInfo& info, Light& l) const;
+  void textured_emission(const Material& m, uint32_t triangle, Light& l) const;
   void invalidate();
   void invalidate_lights();
   void build_geometry();
@@ -258,35 +248,50 @@ class Scene {
   void prepare_lights();
   void restore_triangles();
   void release_triangles();
+  void order_vertices_by_leaf();
+  void copy_leaf_triangles();
+  // The triangle at a leaf slot, from its copy or its vertices (`scratch` holds the latter).
+  const TrianglePrim& leaf_triangle(uint32_t slot, TrianglePrim& scratch) const {
+    if (!copied_leaves_.empty()) return copied_leaves_[slot].tri;
+    scratch = meshes_.triangle(leaf_prims_[slot].vertices);
+    return scratch;
+  }
+  bool record_triangle_hit(uint32_t slot, uint32_t triangle, const TrianglePrim& tri, const Ray& ray, double& tmax,
+                           Hit& scratch) const;
   void ensure_mutable() const;
-  // One record per BVH leaf slot (see Bvh::prim_order), in leaf order: a
-  // leaf's primitives sit side by side and a triangle's kind and vertices
-  // share a record, so testing a leaf reads one stretch of memory.
+  // One record per BVH leaf slot (see Bvh::prim_order), in leaf order: a leaf's primitives sit side
+  // by side, and a triangle's record holds its vertices' indices, so testing a leaf reads its records
+  // and the vertices (shared by the mesh's triangles) they name.
   struct LeafPrim {
-    TrianglePrim tri;  // triangles only
+    TriangleVertices vertices;  // triangles only
+    uint32_t index;             // into meshes_.info, spheres_ or revolve_segments_
     PrimitiveKind kind;
-    uint8_t visibility;  // RayKinds that see it (in the padding after kind)
-    uint32_t index;      // into triangles_, spheres_ or revolve_segments_
+    uint8_t visibility;  // RayKinds that see it
   };
+  // A leaf slot's record where a ray test reads it: beside the triangle's copy, or alone.
+  const LeafPrim& leaf(uint32_t slot) const {
+    return copied_leaves_.empty() ? leaf_prims_[slot] : copied_leaves_[slot].leaf;
+  }
   uint8_t visibility_of(const PrimRef& ref) const;
 
   // Tests the primitive at a leaf slot; on a closer hit lowers tmax and
   // records the slot in scratch.primitive (fill_hit turns it into the id).
   bool intersect_slot(uint32_t slot, const Ray& ray, double& tmax, Hit& scratch) const;
   bool intersect_non_triangle(uint32_t slot, const Ray& ray, double& tmax, Hit& scratch) const;
-  void prefetch_leaf(uint32_t first, uint32_t count) const;
+  // Every cache line of a leaf's records, asked for when its box is hit.
+  void prefetch_leaf(uint32_t first, uint32_t count) const {
+    if (copied_leaves_.empty())
+      prefetch_lines(&leaf_prims_[first], count * sizeof(LeafPrim));
+    else
+      prefetch_lines(&copied_leaves_[first], count * sizeof(CopiedLeaf));
+  }
   void fill_hit(const Ray& ray, Hit& hit, double b1, double b2) const;
 
   std::vector<Material> materials_;
   std::vector<Texture> textures_;
-  std::vector<TrianglePrim> triangles_;
-  std::vector<TriangleInfo> triangle_info_;
-  std::vector<Vec3f> corner_normals_;
-  std::vector<glm::vec2> corner_uvs_;
-  std::vector<glm::vec4> corner_colors_;  // the attribute node programs read (MeshInput::colors)
+  MeshStore meshes_;
   std::vector<ObjectInfo> objects_;  // by object id (set_object_info)
   ObjectInfo world_object_;          // kWorldObject's
-  std::vector<glm::vec4> corner_tangents_;
   std::vector<SphereInfo> spheres_;
   std::vector<std::unique_ptr<BezierRevolve>> revolves_;
   std::vector<RevolveSegment> revolve_segments_;
@@ -309,9 +314,17 @@ class Scene {
   bool has_camera_ = false;
 
   std::vector<PrimRef> prims_;             // during the build
-  std::vector<uint32_t> slot_of_triangle_;  // once built: each triangle's leaf slot (triangles_ is then empty)
+  std::vector<uint32_t> slot_of_triangle_;  // once built: each triangle's leaf slot (meshes_.triangles is then empty)
   Bvh bvh_;
   HugePageVector<LeafPrim> leaf_prims_;
+  // A leaf slot's record with its triangle's corners copied (GeometryLayout::Copies): all the ray
+  // test and fill_hit read, a leaf's in one stretch of memory (leaf_prims_ are kept for the rest).
+  struct CopiedLeaf {
+    TrianglePrim tri;  // triangles only
+    LeafPrim leaf;
+  };
+  HugePageVector<CopiedLeaf> copied_leaves_;  // by slot; empty: the Compact layout
+  GeometryLayout layout_ = GeometryLayout::Auto;
   bool dynamic_ = false;
   std::unique_ptr<ObjectBvh> object_bvh_;                // a dynamic scene's, once built
   std::unordered_map<uint32_t, uint32_t> object_group_;  // object id -> its index in object_bvh_

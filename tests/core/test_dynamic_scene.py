@@ -77,8 +77,10 @@ def render(scene):
     return r.image()
 
 
-def test_a_replaced_mesh_renders_as_a_scene_built_with_it_there():
+@pytest.mark.parametrize("layout", ["copies", "compact"])
+def test_a_replaced_mesh_renders_as_a_scene_built_with_it_there(layout):
     moved, materials = room(BOX_SPOTS[0], LAMP_SPOTS[0])
+    moved.geometry_layout = layout
     before = render(moved)
     moved.replace_mesh("box", *box_arrays(BOX_SPOTS[1]), materials=materials[1], object_id=5)
     moved.replace_mesh("panel", *panel_arrays(LAMP_SPOTS[1]), materials=materials[2], object_id=7)
@@ -278,11 +280,13 @@ def random_edit(rng, live, next_id):
     return ("replace_mesh", dict(name=f"m{object_id}", object_id=object_id, **mesh)), next_id
 
 
-def test_random_edits_of_a_built_dynamic_scene_find_the_hits_of_a_scene_built_afresh():
-    """The same edits applied to a dynamic scene (its BVH kept object by object) and to a static one
-    (built afresh at every build)."""
+@pytest.mark.parametrize("layout", ["copies", "compact"])
+def test_random_edits_of_a_built_dynamic_scene_find_the_hits_of_a_scene_built_afresh(layout):
+    """The same edits applied to a dynamic scene (its BVH kept object by object; its triangles copied
+    beside it or not) and to a static one (built afresh at every build)."""
     rng = np.random.default_rng(11)
     dynamic, static = soup_scene(True, np.random.default_rng(2)), soup_scene(False, np.random.default_rng(2))
+    dynamic.geometry_layout = layout
     live, next_id = {k: "mesh" for k in range(3)}, 100
     live.update({10 + i: "sphere" for i in range(20)})
     o = rng.normal(size=(3000, 3))
