@@ -118,6 +118,7 @@ class MeshData:
         self.tangents_radial = False    # generated-coordinate tangents: carried as normals are
         self.colors = None              # (T, 3, 4) the attribute its materials' programs read, or None
         self.attribute_missing = False  # asked for, but the mesh has no such attribute
+        self._compact = None            # compact(), made once
 
     @classmethod
     def from_object(cls, obj, tangents=None, attribute=None):
@@ -181,6 +182,18 @@ class MeshData:
         core_scene.replace_mesh(**arguments)
         return True
 
+    def compact(self):
+        """The corner attributes (normals, uvs, tangents, colors) as the core stores them most compactly:
+        (V, k) one a vertex where every corner of each vertex carries the same value (a smooth mesh's
+        normals, UVs without seams), else (T, 3, k) one a corner; made once for the instances sharing it."""
+        if self._compact is None:
+            vertices = len(self.positions)
+            self._compact = {name: shared_per_vertex(values, self.triangles, vertices, fill)
+                             for name, values, fill in (("normals", self.normals, (0.0, 0.0, 1.0)),
+                                                        ("uvs", self.uvs, 0.0), ("tangents", self.tangents, 0.0),
+                                                        ("colors", self.colors, 0.0))}
+        return self._compact
+
     def scene_arguments(self, item, material_indices):
         """(Scene.add_mesh's keyword arguments, or None where nothing is added; triangles left out)."""
         m = item.matrix
@@ -192,24 +205,38 @@ class MeshData:
         kept = int(finite.sum())
         if kept == 0:
             return None, len(self.triangles)
-        triangles, normals, uvs, slots, tangents = self.triangles, self.normals, self.uvs, self.slots, self.tangents
-        colors = self.colors
+        triangles, slots, attributes = self.triangles, self.slots, dict(self.compact())
         if kept < len(triangles):
-            triangles, normals, slots = triangles[finite], normals[finite], slots[finite]
-            uvs = None if uvs is None else uvs[finite]
-            tangents = None if tangents is None else tangents[finite]
-            colors = None if colors is None else colors[finite]
+            triangles, slots = triangles[finite], slots[finite]
+            attributes = {name: values if values is None or values.ndim == 2 else values[finite]  # (V, k): kept
+                          for name, values in attributes.items()}
             positions = np.where(np.isfinite(positions), positions, 0.0)  # unused vertices only
+        normals = attributes["normals"]
+        shape = normals.shape
         normals = unit_rows(normals.reshape(-1, 3) @ float32_directions(normal_matrix(m[:3, :3])).T)
-        normals = normals.astype(np.float64)  # what the core reads (its own conversion is slower)
+        normals = normals.astype(np.float64).reshape(shape)  # what the core reads (its own conversion is slower)
         slots = np.clip(slots, 0, len(material_indices) - 1)
         materials = np.asarray(material_indices, dtype=np.int64)[slots]
+        tangents = attributes["tangents"]
         if tangents is not None:
             tangents = world_tangents(tangents, normal_matrix(m[:3, :3]) if self.tangents_radial else m[:3, :3])
-        arguments = dict(name=item.name, positions=positions, triangles=triangles, normals=normals.reshape(-1, 3, 3),
-                         uvs=uvs, materials=materials, object_id=item.object_id, tangents=tangents, colors=colors,
-                         **visibility.object_flags(item.obj))
+        arguments = dict(name=item.name, positions=positions, triangles=triangles, normals=normals,
+                         uvs=attributes["uvs"], materials=materials, object_id=item.object_id, tangents=tangents,
+                         colors=attributes["colors"], **visibility.object_flags(item.obj))
         return arguments, len(self.triangles) - kept
+
+
+def shared_per_vertex(corner_values, triangles, vertex_count, fill):
+    """(T, 3, k) corner values as (V, k) vertex values where every corner of each vertex carries the same
+    (unused vertices `fill`), else unchanged; None stays None. A mesh whose vertex count equals its corner
+    count keeps them per corner (the core reads such an array so)."""
+    if corner_values is None or vertex_count == triangles.size:
+        return corner_values
+    k = corner_values.shape[-1]
+    per_vertex = np.empty((vertex_count, k), dtype=corner_values.dtype)
+    per_vertex[:] = fill
+    per_vertex[triangles.reshape(-1)] = corner_values.reshape(-1, k)
+    return per_vertex if np.array_equal(per_vertex[triangles], corner_values) else corner_values
 
 
 def radial_tangents(mesh, positions, triangles, axis):
