@@ -451,21 +451,24 @@ void Scene::build_geometry() {
     p.visibility = visibility_of(ref);
     p.vertices = ref.kind == PrimitiveKind::Triangle ? triangles[ref.index] : TriangleVertices{};
   }
-  if (!dynamic_) order_vertices_by_leaf();
   bvh_.release_prim_order();  // the leaf records are in slot order
-  copy_leaf_triangles();
+  if (copies_triangles()) {
+    copy_leaf_triangles();
+  } else {
+    HugePageVector<CopiedLeaf>().swap(copied_leaves_);
+    if (!dynamic_) order_vertices_by_leaf();  // only the Compact layout's ray tests read the vertices
+  }
   finish_geometry();
   release_triangles();
   geometry_built_ = true;
 }
 
+bool Scene::copies_triangles() const {
+  return layout_ == GeometryLayout::Copies ||
+         (layout_ == GeometryLayout::Auto && meshes_.triangle_count() <= kCopiedTrianglesMax);
+}
+
 void Scene::copy_leaf_triangles() {
-  const bool copy = layout_ == GeometryLayout::Copies ||
-                    (layout_ == GeometryLayout::Auto && meshes_.triangle_count() <= kCopiedTrianglesMax);
-  if (!copy) {
-    HugePageVector<CopiedLeaf>().swap(copied_leaves_);
-    return;
-  }
   copied_leaves_.resize(leaf_prims_.size());
   for (size_t slot = 0; slot < leaf_prims_.size(); ++slot) {
     const LeafPrim& p = leaf_prims_[slot];

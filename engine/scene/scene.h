@@ -249,6 +249,7 @@ class Scene {
   void restore_triangles();
   void release_triangles();
   void order_vertices_by_leaf();
+  bool copies_triangles() const;  // what the layout asks of the next build
   void copy_leaf_triangles();
   // The triangle at a leaf slot, from its copy or its vertices (`scratch` holds the latter).
   const TrianglePrim& leaf_triangle(uint32_t slot, TrianglePrim& scratch) const {
