@@ -10,7 +10,9 @@ ones. Reported: the process's peak resident memory grown over the render (bytes 
 read back included), the core's own figures by part (stats()["memory"]), seconds per pass and per
 stage, photon paths per second (trace, index, gather).
 
-Meshes: the raycast kind's terrain at about each of `triangles`, added to a scene and built: peak
+Meshes: the raycast kind's terrain at about each of `triangles`, added to a scene and built in
+each of `geometry_layouts` (Scene.geometry_layout) and with each of `mesh_attributes` ("none", or
+"normals+uvs": a normal per vertex and a UV per corner, as a smooth UV-mapped mesh exports): peak
 and resident memory grown per triangle (resident after glibc's malloc_trim, so that memory the
 allocator keeps for later does not count), the core's scene bytes per triangle (stats()["memory"]),
 seconds to add and build.
@@ -60,27 +62,44 @@ def image_child(width, height, hit_points, photons, passes, spp, gather):
             "paths_per_s": photons / photon_s if photon_s > 0 else 0.0, "first_pass": s0["seconds"]["total"]}
 
 
-def mesh_child(triangles):
+def mesh_attribute_arrays(vertices, tris, attributes):
+    """Smooth normals per vertex and a planar UV per corner, or none."""
+    if attributes == "none":
+        return {}
+    normals = np.zeros_like(vertices)
+    n = np.cross(vertices[tris[:, 1]] - vertices[tris[:, 0]], vertices[tris[:, 2]] - vertices[tris[:, 0]])
+    for k in range(3):
+        np.add.at(normals, tris[:, k], n)
+    normals /= np.maximum(np.linalg.norm(normals, axis=1, keepdims=True), 1e-30)
+    normals[np.linalg.norm(normals, axis=1) == 0] = (0.0, 0.0, 1.0)
+    uvs = vertices[tris][:, :, :2].copy()  # (T, 3, 2): per corner
+    return {"normals": normals, "uvs": uvs}
+
+
+def mesh_child(triangles, layout, attributes):
     import ppm_core
     from kinds.raycast import terrain
 
     n = max(2, int((triangles * 0.72 / 2) ** 0.5))  # the terrain's grid; the leaves are the rest
     vertices, tris = terrain(n, max(1, triangles - 2 * n * n), np.random.default_rng(7))
     vertices = vertices.astype(float)
+    extra = mesh_attribute_arrays(vertices, tris, attributes)
     before = status_bytes("VmRSS")
     start = time.perf_counter()
     scene = ppm_core.Scene()
+    scene.geometry_layout = layout
     scene.add_material("ground", base_color=(0.7, 0.7, 0.7))
-    scene.add_mesh("terrain", vertices, tris)
+    scene.add_mesh("terrain", vertices, tris, **extra)
     added = time.perf_counter() - start
     scene.set_camera(np.eye(4), 64, 48)
     scene.build()
     built = time.perf_counter() - start - added
-    del vertices, tris
+    del vertices, tris, extra
     peak = status_bytes("VmHWM") - before
     ctypes.CDLL("libc.so.6").malloc_trim(0)  # what is still in use, not what the allocator keeps for later
     core = ppm_core.Renderer(scene, photons_per_pass=1).stats()["memory"].get("scene", 0)
-    return {"triangles": triangles, "grid": n, "grown_bytes": peak, "resident_bytes": status_bytes("VmRSS") - before,
+    return {"triangles": triangles, "layout": layout, "attributes": attributes, "grid": n, "grown_bytes": peak,
+            "resident_bytes": status_bytes("VmRSS") - before,
             "core_scene_bytes": core, "add_seconds": added, "build_seconds": built}
 
 
@@ -89,7 +108,7 @@ def child(args):
         w, h, mode, photons, passes, spp, gather = args[1:]
         row = image_child(int(w), int(h), mode, int(photons), int(passes), int(spp), gather)
     else:
-        row = mesh_child(int(args[1]))
+        row = mesh_child(int(args[1]), args[2], args[3])
     print(json.dumps(row), flush=True)
 
 
@@ -130,14 +149,16 @@ def meshes_part(experiment, results):
     if not experiment["triangles"]:
         return
     rows = []
-    for triangles in experiment["triangles"]:
-        r = fresh("mesh", triangles)
+    layouts = experiment.get("geometry_layouts", ["auto"])
+    attributes = experiment.get("mesh_attributes", ["none"])
+    for triangles, layout, extra in ((t, g, a) for t in experiment["triangles"] for g in layouts for a in attributes):
+        r = fresh("mesh", triangles, layout, extra)
         results.row(part="meshes", **r)
-        rows.append([f"{triangles:,}", f"{r['grown_bytes'] / triangles:.0f}", f"{r['resident_bytes'] / triangles:.0f}",
-                     f"{r['core_scene_bytes'] / triangles:.0f}", f"{r['add_seconds']:.2f}",
-                     f"{r['build_seconds']:.2f}"])
-    results.table(["triangles", "peak grown B/triangle", "resident B/triangle after the build (trimmed)",
-                   "core scene B/triangle", "add s", "build s"], rows)
+        rows.append([f"{triangles:,}", layout, extra, f"{r['grown_bytes'] / triangles:.0f}",
+                     f"{r['resident_bytes'] / triangles:.0f}", f"{r['core_scene_bytes'] / triangles:.0f}",
+                     f"{r['add_seconds']:.2f}", f"{r['build_seconds']:.2f}"])
+    results.table(["triangles", "layout", "attributes", "peak grown B/triangle",
+                   "resident B/triangle after the build (trimmed)", "core scene B/triangle", "add s", "build s"], rows)
 
 
 def run(experiment, results):

@@ -108,7 +108,7 @@ void MeshStore::append(const MeshInput& mesh) {
     }
   } else {
     append_values(normals, r.normals, mesh.normals, mesh, [](const Vec3& n) {
-      Vec3 unit;
+      Vec3 unit(0.0);
       safe_normalize(n, unit);  // (normals_fit_per_vertex: it can)
       return Vec3f(unit);
     });
