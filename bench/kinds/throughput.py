@@ -5,8 +5,10 @@
 Parts (the list `parts`), each a table:
 - eye: eye rays per second of the eye pass on 1 and 2 threads (median of `eye_repeats`);
 - photons: photon paths per second including the index build and the gather into the hit points,
-  with the default settings, on 1 and 2 threads, and the time per pass of each step (each the
-  median of `repeats` runs of `passes` timed passes of `photons` photons);
+  for each of `hit_points` (fixed: the core's default, 4 eye samples a pixel kept for the render;
+  stochastic: the add-on's AUTO, one new eye sample a pixel each pass), on 1 and 2 threads, and
+  the time per pass of each step (each the median of `repeats` runs of `passes` timed passes of
+  `photons` photons);
 - variants: the other gather organisation and grid, on 2 threads;
 - large: photon tracing alone (no index, no gather) on a scene whose BVH does not fit in the
   caches: the 10^6-triangle terrain of the raycast kind under a point light, 100,000 photons per
@@ -126,24 +128,25 @@ def eye_part(experiment, results):
 
 def photons_part(experiment, results):
     photons, passes = experiment["photons"], experiment["passes"]
-    # Median of `repeats` runs, alternating 1 and 2 threads so that a slow spell of a shared
-    # machine does not land on one thread count only; single runs varied by up to 10%.
-    runs = {1: [], 2: []}
-    for _ in range(experiment["repeats"]):
-        for t in (1, 2):
-            runs[t].append(photon_throughput(t, photons, passes))
-    medians = {t: median_run(rs) for t, rs in runs.items()}
-    results.note(f"\nhit points: {medians[1]['hit_points']}")
     rows = []
-    for t, r in medians.items():
-        results.row(part="photons", threads=t, paths_per_s=r["paths_per_s"], wall_per_pass=r["wall_per_pass"],
-                    hit_points=r["hit_points"], **r["step"])
-        rows.append([str(t), f"{r['paths_per_s'] / 1e6:.3f} M", f"{r['wall_per_pass']:.3f}",
-                     *(f"{r['step'][k]:.3f}" for k in STEPS)])
-    results.table(["threads", "photon paths/s (trace + index + gather)", "s/pass", *STEPS], rows)
-    scaling = medians[2]["paths_per_s"] / medians[1]["paths_per_s"]
-    per_step = ", ".join(f"{k} {medians[1]['step'][k] / max(medians[2]['step'][k], 1e-9):.2f}x" for k in STEPS)
-    results.note(f"\nphoton pass scaling 1 -> 2 threads: {scaling:.2f}x; per step: {per_step}")
+    for mode in experiment.get("hit_points", ["fixed"]):
+        # Median of `repeats` runs, alternating 1 and 2 threads so that a slow spell of a shared
+        # machine does not land on one thread count only; single runs varied by up to 10%.
+        runs = {1: [], 2: []}
+        for _ in range(experiment["repeats"]):
+            for t in (1, 2):
+                runs[t].append(photon_throughput(t, photons, passes, hit_points=mode))
+        medians = {t: median_run(rs) for t, rs in runs.items()}
+        results.note(f"\n{mode} hit points: {medians[1]['hit_points']}")
+        for t, r in medians.items():
+            results.row(part="photons", hit_point_mode=mode, threads=t, paths_per_s=r["paths_per_s"],
+                        wall_per_pass=r["wall_per_pass"], hit_points=r["hit_points"], **r["step"])
+            rows.append([mode, str(t), f"{r['paths_per_s'] / 1e6:.3f} M", f"{r['wall_per_pass']:.3f}",
+                         *(f"{r['step'][k]:.3f}" for k in STEPS)])
+        scaling = medians[2]["paths_per_s"] / medians[1]["paths_per_s"]
+        per_step = ", ".join(f"{k} {medians[1]['step'][k] / max(medians[2]['step'][k], 1e-9):.2f}x" for k in STEPS)
+        results.note(f"{mode}: photon pass scaling 1 -> 2 threads: {scaling:.2f}x; per step: {per_step}")
+    results.table(["hit points", "threads", "photon paths/s (trace + index + gather)", "s/pass", *STEPS], rows)
 
 
 def variants_part(experiment, results):
