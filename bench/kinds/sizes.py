@@ -3,11 +3,11 @@
     .venv/bin/python bench/run.py sizes [--quick]
 
 Images: cornell_3spheres through ppm_core at each of `sizes`, for each of `hit_points` (fixed:
-`samples_per_pixel` eye samples per pixel, kept for the render; stochastic: one per pixel and pass,
-made in bands) and each of `gathers` (the set the grid indexes: "photons", the default, or
+`samples_per_pixel` eye samples per pixel, kept for the render; fixed-streamed: the same, made again
+band by band every pass; stochastic: one per pixel and pass, made in bands) and each of `gathers` (the set the grid indexes: "photons", the default, or
 "hit_points"), `photons` photons per pass, 2 threads, one untimed pass and then `passes` timed
 ones. Reported: the process's peak resident memory grown over the render (bytes per pixel, image
-read back included), the core's own figures by part (stats()["memory"]), seconds per pass and per
+read back included; and per hit point for fixed ones), the core's own figures by part (stats()["memory"]), seconds per pass and per
 stage, photon paths per second (trace, index, gather).
 
 Meshes: the raycast kind's terrain at about each of `triangles`, added to a scene and built in
@@ -44,9 +44,14 @@ def image_child(width, height, hit_points, photons, passes, spp, gather):
     import core_scenes
     import ppm_core
 
+    # Storage named only where streamed: a core from before hit_point_storage still runs the rest (A/B).
+    mode = {"fixed-streamed": {"hit_points": "fixed", "hit_point_storage": "streamed"}}.get(
+        hit_points, {"hit_points": hit_points})
+    if hit_points == "fixed" and "hit_point_storage" in ppm_core.default_settings():
+        mode["hit_point_storage"] = "kept"
     before = status_bytes("VmRSS")
     r = ppm_core.Renderer(core_scenes.cornell_3spheres(width, height), threads=2, photons_per_pass=photons,
-                          hit_points=hit_points, samples_per_pixel=spp, seed=1, gather=gather)
+                          samples_per_pixel=spp, seed=1, gather=gather, **mode)
     r.run(passes=1)
     s0 = r.stats()
     start = time.perf_counter()
@@ -57,7 +62,7 @@ def image_child(width, height, hit_points, photons, passes, spp, gather):
     step = {k: (s1["seconds"][k] - s0["seconds"][k]) / passes for k in STAGES}
     photon_s = step["photon_trace"] + step["index_build"] + step["gather"]
     return {"width": width, "height": height, "hit_points": hit_points, "gather": gather,
-            "grown_bytes": status_bytes("VmHWM") - before,
+            "hit_point_count": s1["hit_points"], "grown_bytes": status_bytes("VmHWM") - before,
             "memory": s1.get("memory", {}), "seconds_per_pass": wall / passes, "step": step,
             "paths_per_s": photons / photon_s if photon_s > 0 else 0.0, "first_pass": s0["seconds"]["total"]}
 
@@ -135,12 +140,14 @@ def images_part(experiment, results):
             mem = r["memory"]
             rows.append([f"{width}x{height}", mode + ("" if gathers == ["photons"] else f", {gather} indexed"),
                          f"{r['grown_bytes'] / 2**20:.0f}",
-                         f"{r['grown_bytes'] / pixels:.0f}", share(mem, ("pixels",), pixels),
+                         f"{r['grown_bytes'] / pixels:.0f}",
+                         f"{r['grown_bytes'] / r['hit_point_count']:.0f}" if mode != "stochastic" else "",
+                         share(mem, ("pixels",), pixels),
                          share(mem, ("hit_points",), 2**20), share(mem, ("photons", "index"), 2**20),
                          f"{r['seconds_per_pass']:.2f}", f"{r['step']['eye_pass']:.2f}",
                          f"{r['step']['gather']:.2f}", f"{r['step']['direct_light']:.2f}",
                          f"{r['paths_per_s'] / 1e6:.2f} M"])
-    results.table(["image", "hit points", "peak grown MB", "peak B/pixel", "core pixels B/pixel",
+    results.table(["image", "hit points", "peak grown MB", "peak B/pixel", "peak B/hit point", "core pixels B/pixel",
                    "core hit points MB", "core photons + index MB", "s/pass", "eye s", "gather s", "direct s",
                    "photon paths/s"], rows)
 

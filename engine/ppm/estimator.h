@@ -1,7 +1,9 @@
-// The two estimators the renderer can run, behind one interface: the render
-// loop (renderer.cpp) is the same for both.
+// The estimators the renderer can run, behind one interface: the render loop
+// (renderer.cpp) is the same for all.
 //   FixedHitPoints (fixed_hit_points.h): progressive photon mapping (Hachisuka
 //     et al. 2008), one eye pass, statistics kept per hit point;
+//   StreamedHitPoints (streamed_hit_points.h): the same fixed hit points made
+//     again band by band each pass, where keeping them would not fit in memory;
 //   StochasticHitPoints (stochastic_hit_points.h): stochastic PPM (Hachisuka &
 //     Jensen 2009), new eye samples every pass, statistics kept per pixel.
 #pragma once
@@ -32,7 +34,7 @@ class Estimator {
   virtual void add_memory(MemoryUse& use) const = 0;
 };
 
-// The estimator `context.settings.hit_points` names; `context` must outlive it.
+// The estimator `context.settings.hit_points` and `hit_point_storage` name; `context` must outlive it.
 std::unique_ptr<Estimator> make_estimator(RenderContext& context);
 
 }  // namespace ppm

@@ -12,16 +12,19 @@
 
 namespace ppm {
 
-// What the eye pass and the passes will hold, checked before any of it is made: per eye sample a
-// hit point twice while the chunks are joined, its statistics and a pass's sums; per pixel the
-// pixel's records and the image read back.
-void FixedHitPoints::check_memory_for_hit_points() const {
-  const Camera& cam = c_.scene->camera();
-  const double pixels = static_cast<double>(cam.width) * cam.height;
+// Per eye sample a hit point twice while the chunks are joined, its statistics and a pass's sums;
+// per pixel the pixel's records and the image read back.
+double kept_hit_point_bytes(const Camera& camera, int samples_per_pixel) {
+  const double pixels = static_cast<double>(camera.width) * camera.height;
   const double per_sample = 2.0 * (sizeof(HitPoint) + sizeof(HitPointShading)) + sizeof(HitPointStats) +
                             sizeof(uint32_t) + 2 * sizeof(Color) + sizeof(Bounces);
   const double per_pixel = 2 * sizeof(uint32_t) + sizeof(Color) + sizeof(double) + 4 * sizeof(float);
-  const double needed = pixels * (per_sample * c_.settings.samples_per_pixel + per_pixel);
+  return pixels * (per_sample * samples_per_pixel + per_pixel);
+}
+
+void FixedHitPoints::check_memory_for_hit_points() const {
+  const Camera& cam = c_.scene->camera();
+  const double needed = kept_hit_point_bytes(cam, c_.settings.samples_per_pixel);
   check_memory(static_cast<size_t>(std::min(needed, 1e18)),
                "fixed hit points at " + std::to_string(cam.width) + "x" + std::to_string(cam.height) + " and " +
                    std::to_string(c_.settings.samples_per_pixel) + " samples per pixel",

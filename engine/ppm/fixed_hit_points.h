@@ -1,15 +1,20 @@
 // Progressive photon mapping with fixed hit points (Hachisuka et al. 2008):
 // one eye pass records the hit points, every photon pass adds to their
-// statistics, and a pixel is the sum of its hit points' estimates.
+// statistics, and a pixel is the sum of its hit points' estimates. The hit
+// points are kept for the whole render; streamed_hit_points.h makes them again
+// every pass instead, where they would not fit in memory.
 #pragma once
 
 #include "ppm/estimator.h"
 
 namespace ppm {
 
+// What kept fixed hit points will hold at their peak, all included (checked before the eye pass).
+double kept_hit_point_bytes(const Camera& camera, int samples_per_pixel);
+
 class FixedHitPoints : public Estimator {
  public:
-  explicit FixedHitPoints(RenderContext& context) : c_(context) {}
+  explicit FixedHitPoints(RenderContext& context) : c_(context) { c_.stats.hit_point_storage = "kept"; }
   bool prepare(const Poll& poll) override;
   bool pass(const Poll& poll) override;
   PixelValue pixel(size_t p) const override;

@@ -3,7 +3,9 @@
 // flux live with the pixel instead of with a hit point. They are the whole of a
 // render's memory that grows with the image (the hit points are made and
 // dropped band by band), so they are floats: 52 bytes a pixel instead of 128 in
-// doubles. The progressive update itself runs in double.
+// doubles. Streamed fixed hit points keep the same float photon statistics per
+// hit point (streamed_hit_points.h). The progressive update itself runs in
+// double.
 #pragma once
 
 #include "ppm/hit_point.h"
@@ -11,12 +13,23 @@
 
 namespace ppm {
 
+// Photon statistics in float, kept across passes per pixel (stochastic hit points) or per
+// streamed fixed hit point (streamed_hit_points.h).
+struct FloatPhotonStats {
+  float r2;          // 0 until the first hit point sets the initial radius
+  float n;           // photons accumulated so far (alpha-weighted)
+  uint32_t m;        // photons gathered at the current radius, not yet applied
+  Vec3f tau, tau_m;  // flux at the current radius; flux of the m pending photons
+
+  HitPointStats in_double() const { return HitPointStats{n, m, Color(tau), Color(tau_m), Color(0.0)}; }
+  // Adds a pass's photons (`found_m`, `found_tau`), then the progressive update with the
+  // cross-generation threshold, in double.
+  void fold(uint32_t found_m, const Vec3f& found_tau, double alpha, uint32_t threshold);
+};
+static_assert(sizeof(FloatPhotonStats) == 36, "FloatPhotonStats grew");
+
 // What a pixel keeps across passes.
-struct PixelStats {
-  float r2;            // 0 until the pixel's first hit point sets the initial radius
-  float n;             // photons accumulated so far (alpha-weighted)
-  uint32_t m;          // photons gathered at the current radius, not yet applied
-  Vec3f tau, tau_m;    // flux at the current radius; flux of the m pending photons
+struct PixelStats : FloatPhotonStats {
   Vec3f light;         // mean over passes of what eye paths saw directly: emission, background, direct light
   float transparency;  // mean over passes
 };
@@ -34,20 +47,24 @@ static_assert(sizeof(PixelPass) == 32, "PixelPass grew");
 // The smallest r^2 a float radius keeps: the update stops shrinking there (see kMinRadius2).
 constexpr double kMinPixelRadius2 = 1e-30;
 
+inline void FloatPhotonStats::fold(uint32_t found_m, const Vec3f& found_tau, double alpha, uint32_t threshold) {
+  HitPointStats s{n, m + found_m, Color(tau), Color(tau_m) + Color(found_tau), Color(0.0)};
+  double r2_double = r2;
+  progressive_update(r2_double, s, alpha, threshold, kMinPixelRadius2);
+  r2 = static_cast<float>(r2_double);
+  n = static_cast<float>(s.n);
+  m = s.m;
+  tau = Vec3f(s.tau);
+  tau_m = Vec3f(s.tau_m);
+}
+
 // Folds pass number `pass` (1 for the first) into `px`: the running means, then the progressive
 // update with the cross-generation threshold, in double.
 inline void fold_pass(PixelStats& px, const PixelPass& p, uint64_t pass, double alpha, uint32_t threshold) {
   const float w = 1.0f / static_cast<float>(pass);  // a running mean keeps float error at sqrt(passes) ulps
   px.light += (p.light - px.light) * w;
   px.transparency += (p.transparency - px.transparency) * w;
-  HitPointStats s{px.n, px.m + p.m, Color(px.tau), Color(px.tau_m) + Color(p.tau_m), Color(0.0)};
-  double r2 = px.r2;
-  progressive_update(r2, s, alpha, threshold, kMinPixelRadius2);
-  px.r2 = static_cast<float>(r2);
-  px.n = static_cast<float>(s.n);
-  px.m = s.m;
-  px.tau = Vec3f(s.tau);
-  px.tau_m = Vec3f(s.tau_m);
+  px.fold(p.m, p.tau_m, alpha, threshold);
 }
 
 }  // namespace ppm

@@ -5,6 +5,7 @@
 #include "ppm/photon_density_radius.h"
 #include "ppm/progressive.h"
 
+#include <algorithm>
 #include <stdexcept>
 #include <thread>
 
@@ -75,14 +76,17 @@ EyePassOptions RenderContext::eye_options(uint64_t generation, int samples_per_p
 }
 
 bool RenderContext::measure_photon_spacing_once(const HitPoints& hp, const Poll& poll) {
+  double sum = 0.0;
+  for (const HitPoint& h : hp.points) sum += std::sqrt(h.r2);
+  return measure_photon_spacing_once(hp.size() ? sum / hp.size() : 0.0, poll);
+}
+
+bool RenderContext::measure_photon_spacing_once(double mean_radius, const Poll& poll) {
   if (spacing_measured || !settings.density_radius || settings.initial_radius > 0.0 || !analysis.trace_photons ||
-      hp.size() == 0)
+      !(mean_radius > 0.0))
     return true;
-  double start = 0.0;  // where the neighbour search begins: the hit points' mean radius
-  for (const HitPoint& h : hp.points) start += std::sqrt(h.r2);
-  PhotonSpacing spacing;
-  if (!measure_photon_spacing(*scene, lights, settings, threads, start / hp.size(), cancel, poll, spacing))
-    return false;
+  PhotonSpacing spacing;  // the neighbour search begins at the hit points' mean radius
+  if (!measure_photon_spacing(*scene, lights, settings, threads, mean_radius, cancel, poll, spacing)) return false;
   spacing_measured = true;
   min_initial_r2 = spacing.radius * spacing.radius;
   stats.photon_spacing = spacing.radius;
@@ -96,6 +100,27 @@ bool RenderContext::run_photon_pass(HitPoints& hp, uint64_t pass, const Poll& po
     return true;
   }
   return photon_pass.run(*scene, lights, pass, hp, cancel, poll, counters);
+}
+
+int RenderContext::band_rows(int samples_per_pixel) const {
+  const Camera& cam = scene->camera();
+  if (!photon_pass.indexes_photons()) return cam.height;
+  return static_cast<int>(std::clamp<size_t>(kBandPixels / (size_t(cam.width) * samples_per_pixel), 1, cam.height));
+}
+
+bool RenderContext::gather_band(HitPoints& band, bool first_band, uint64_t pass, double typical_r2,
+                                const Poll& poll, PhotonPassCounters& counters) {
+  if (!analysis.trace_photons) {  // nothing to trace: the pass's photons are only counted, once
+    if (first_band) counters.emitted += settings.photons_per_pass;
+    return true;
+  }
+  if (!photon_pass.indexes_photons()) {  // one band: the whole pass at once
+    photon_pass.reset_index();
+    return photon_pass.run(*scene, lights, pass, band, cancel, poll, counters);
+  }
+  if (first_band && !photon_pass.trace_and_index(*scene, lights, pass, typical_r2, cancel, poll, counters))
+    return false;
+  return photon_pass.gather(*scene, band, cancel, poll, counters);
 }
 
 Color RenderContext::photon_radiance(double r2, const HitPointStats& s, double photons_emitted) const {

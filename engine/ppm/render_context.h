@@ -28,9 +28,21 @@ struct RenderContext {
   // The photons' spacing, once per render, before any initial radius is set (automatic radii
   // only): `min_initial_r2` is then its square. False if cancelled.
   bool measure_photon_spacing_once(const HitPoints& hp, const Poll& poll);
+  // The same from the hit points' mean radius (0: there are none).
+  bool measure_photon_spacing_once(double mean_radius, const Poll& poll);
   // One pass's photons into the hit points' pending statistics, counted in `counters` (a copy
   // the caller keeps once the pass completes). With nothing to trace, only their number.
   bool run_photon_pass(HitPoints& hp, uint64_t pass, const Poll& poll, PhotonPassCounters& counters);
+  // Hit points made band by band (stochastic, and streamed fixed ones): rows of about kBandPixels
+  // eye samples. The hit-point-indexed gather needs every hit point before the photons fly: the
+  // image is then one band.
+  static constexpr size_t kBandPixels = size_t(1) << 16;
+  int band_rows(int samples_per_pixel = 1) const;
+  // The pass's photons into one band's pending statistics: traced and indexed at the first band
+  // (`typical_r2`, a hit point's radius^2, sizes the hashed grid's cells), then gathered band by
+  // band. False if cancelled.
+  bool gather_band(HitPoints& band, bool first_band, uint64_t pass, double typical_r2, const Poll& poll,
+                   PhotonPassCounters& counters);
   // Radiance of the photons gathered at radius^2 `r2` into `s`, over `photons_emitted`.
   Color photon_radiance(double r2, const HitPointStats& s, double photons_emitted) const;
   void add_memory(MemoryUse& use) const;

@@ -32,6 +32,7 @@ struct RenderStats {
   uint64_t photons_emitted = 0;
   uint64_t photons_deposited = 0;
   uint64_t hit_points = 0;
+  std::string hit_point_storage;  // fixed hit points: "kept" or "streamed"; stochastic: ""
   uint64_t direct_samples = 0;  // direct-light samples per hit point so far
   double eye_seconds = 0, direct_seconds = 0, update_seconds = 0, total_seconds = 0;
   PhotonPassCounters photon;

@@ -21,6 +21,12 @@ enum class HitPointMode : uint8_t {
   Fixed,       // PPM: one eye pass, hit points kept for the whole render
   Stochastic,  // SPPM (Hachisuka & Jensen 2009): new eye samples every pass, statistics kept per pixel
 };
+// Where fixed hit points live between passes (streamed_hit_points.h).
+enum class HitPointStorage : uint8_t {
+  Auto,      // kept where the machine's available memory holds them, streamed otherwise
+  Kept,      // every hit point kept for the whole render (about 360 bytes each)
+  Streamed,  // made again band by band each pass; 48 bytes of statistics kept per hit point
+};
 enum class DofMode : uint8_t { Off, Post, Lens };
 enum class DofPostPreset : uint8_t {
   ThinLens,      // circle of confusion from the thin-lens equation, depth-aware gather
@@ -52,6 +58,7 @@ struct Settings {
   GridKind grid = GridKind::Quantile;
   double progress_interval = 0.1;   // seconds between progress callbacks inside a pass
   HitPointMode hit_points = HitPointMode::Fixed;
+  HitPointStorage hit_point_storage = HitPointStorage::Auto;  // fixed hit points only
   DofMode dof_mode = DofMode::Off;
   DofPostPreset dof_post_preset = DofPostPreset::ThinLens;
   int dof_max_radius = 32;          // POST: largest blur radius in pixels

@@ -24,16 +24,10 @@ bool StochasticHitPoints::prepare(const Poll&) {
   return true;
 }
 
-int StochasticHitPoints::band_rows() const {
-  const Camera& cam = c_.scene->camera();
-  if (!c_.photon_pass.indexes_photons()) return cam.height;
-  return static_cast<int>(std::clamp<size_t>(kBandPixels / cam.width, 1, cam.height));
-}
-
 bool StochasticHitPoints::pass(const Poll& poll) {
   RenderStats& stats = c_.stats;
   const uint64_t pass = stats.passes;
-  const int height = c_.scene->camera().height, rows = band_rows();
+  const int height = c_.scene->camera().height, rows = c_.band_rows();
   EyePassOptions eye = c_.eye_options(pass + 1, 1);
   if (current_.next_row == 0) {
     current_ = PassInProgress{0, stats.photon, 0};
@@ -85,26 +79,13 @@ bool StochasticHitPoints::band(const EyePassOptions& eye, uint64_t pass, const P
   return true;
 }
 
-// The pass's photons into the band's hit points: traced and indexed at the first band.
+// The pass's photons into the band's hit points; the first band's mean radius sizes a hashed grid.
 bool StochasticHitPoints::gather_photons(bool first_band, uint64_t pass, const Poll& poll) {
-  HitPoints& fresh = hit_points_;
-  PhotonPass& photons = c_.photon_pass;
-  PhotonPassCounters& counters = current_.counters;
-  if (!c_.analysis.trace_photons) {  // nothing to trace: the pass's photons are only counted, once
-    if (first_band) counters.emitted += c_.settings.photons_per_pass;
-    return true;
-  }
-  if (!photons.indexes_photons()) {  // one band: the whole pass at once
-    photons.reset_index();
-    return c_.run_photon_pass(fresh, pass, poll, counters);
-  }
-  if (first_band) {
-    double sum_r2 = 0.0;  // sizes the hashed grid's cells
-    for (const HitPoint& h : fresh.points) sum_r2 += h.r2;
-    const double typical_r2 = fresh.size() ? sum_r2 / fresh.size() : 0.0;
-    if (!photons.trace_and_index(*c_.scene, c_.lights, pass, typical_r2, c_.cancel, poll, counters)) return false;
-  }
-  return photons.gather(*c_.scene, fresh, c_.cancel, poll, counters);
+  double sum_r2 = 0.0;
+  if (first_band)
+    for (const HitPoint& h : hit_points_.points) sum_r2 += h.r2;
+  const double typical_r2 = hit_points_.size() ? sum_r2 / hit_points_.size() : 0.0;
+  return c_.gather_band(hit_points_, first_band, pass, typical_r2, poll, current_.counters);
 }
 
 // Every hit point gathers with its pixel's current radius; a pixel's first comes from its first
@@ -149,8 +130,7 @@ PixelValue StochasticHitPoints::pixel(size_t p) const {
   // The rows a cancelled pass completed have its photons too.
   const bool in_pass = p < static_cast<size_t>(current_.next_row) * c_.scene->camera().width;
   const double emitted = static_cast<double>(in_pass ? current_.counters.emitted : c_.stats.photon.emitted);
-  const HitPointStats s{px.n, px.m, Color(px.tau), Color(px.tau_m), Color(0.0)};
-  return PixelValue{Color(px.light) + c_.photon_radiance(px.r2, s, emitted), px.transparency};
+  return PixelValue{Color(px.light) + c_.photon_radiance(px.r2, px.in_double(), emitted), px.transparency};
 }
 
 double StochasticHitPoints::pass_done() const {

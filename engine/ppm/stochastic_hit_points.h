@@ -4,7 +4,7 @@
 // progressive update.
 //
 // A pass traces and indexes its photons once, then makes its hit points band
-// by band (rows of about kBandPixels pixels): each band's eye pass, gather and
+// by band (rows of about RenderContext::kBandPixels pixels): each band's eye pass, gather and
 // direct light, folded into its pixels. Memory for hit points is then one
 // band's, whatever the image size; what grows with the image is the pixels'
 // statistics (pixel_stats.h). The hit-point-indexed gather needs every hit
@@ -32,8 +32,6 @@ class StochasticHitPoints : public Estimator {
   double pass_done() const override;
   void add_memory(MemoryUse& use) const override;
 
-  static constexpr size_t kBandPixels = size_t(1) << 16;
-
  private:
   // The pass in progress: where it resumes after a cancel.
   struct PassInProgress {
@@ -42,7 +40,6 @@ class StochasticHitPoints : public Estimator {
     uint64_t hit_points = 0;         // made so far; numbers the next band's (their random numbers)
   };
 
-  int band_rows() const;
   // One band of rows (eye.row_begin to eye.row_end) of pass `pass`, folded into its pixels.
   bool band(const EyePassOptions& eye, uint64_t pass, const Poll& poll);
   bool gather_photons(bool first_band, uint64_t pass, const Poll& poll);

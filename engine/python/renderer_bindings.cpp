@@ -86,6 +86,13 @@ const std::map<std::string, SettingAccess>& setting_table() {
                                  {{"fixed", HitPointMode::Fixed}, {"stochastic", HitPointMode::Stochastic}},
                                  "'fixed' (PPM: one eye pass) or 'stochastic' (SPPM: new eye samples each pass)",
                                  "hit_points")},
+      {"hit_point_storage",
+       enumeration(&Settings::hit_point_storage,
+                   {{"auto", HitPointStorage::Auto}, {"kept", HitPointStorage::Kept},
+                    {"streamed", HitPointStorage::Streamed}},
+                   "fixed hit points: 'kept' for the render, 'streamed' (made again each pass, 48 bytes each "
+                   "kept) or 'auto' (kept where memory allows)",
+                   "hit_point_storage")},
       {"dof_mode", enumeration(&Settings::dof_mode,
                                {{"off", DofMode::Off}, {"post", DofMode::Post}, {"lens", DofMode::Lens}},
                                "depth of field: 'off', 'post' (blur by depth) or 'lens' (thin-lens sampling)",
@@ -144,6 +151,7 @@ py::dict stats_dict(const RenderStats& s) {
   d["photons_emitted"] = s.photons_emitted;
   d["photons_deposited"] = s.photons_deposited;
   d["hit_points"] = s.hit_points;
+  d["hit_point_storage"] = s.hit_point_storage;
   d["direct_samples"] = s.direct_samples;
   d["threads"] = s.threads;
   d["cancelled"] = s.cancelled;

@@ -145,7 +145,7 @@ def test_stochastic_memory_for_hit_points_does_not_grow_with_the_image():
         return r.stats()["memory"]
 
     small, large = memory(512, 512), memory(2048, 2048)  # 4 bands of 128 rows, and 64 of 32
-    band = 65536  # pixels (StochasticHitPoints::kBandPixels)
+    band = 65536  # pixels (RenderContext::kBandPixels)
     # One band's hit points and what the eye pass, gather and direct light keep for them.
     assert small["hit_points"] <= 1024 * band and large["hit_points"] <= 1024 * band
     assert large["pixels"] <= 52 * 2048 * 2048 * 1.01  # pixel_stats.h: 52 bytes a pixel
