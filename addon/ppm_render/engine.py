@@ -182,6 +182,7 @@ class PPMRenderEngine(bpy.types.RenderEngine):
                                    view=view)
         try:
             self.write_data_passes(depsgraph.view_layer, result, ppm_scene, camera_args)
+            self.warn_if_streamed(renderer)
             try:
                 self.run(renderer, result, scene.ppm)
             except MemoryError as error:  # the core found no memory for them before making them
@@ -198,6 +199,13 @@ class PPMRenderEngine(bpy.types.RenderEngine):
         finally:
             self.end_result(result)
             del renderer  # the scene's camera may change for the next view only once no renderer holds it
+
+    def warn_if_streamed(self, renderer):
+        """Fixed hit points too large to keep are made again every pass (slower passes): said once."""
+        stats = renderer.stats()
+        if stats["hit_point_storage"] == "streamed":
+            why = [line for line in stats["skipped"] if "streamed instead" in line]
+            self.warn(why[0] if why else "fixed hit points are streamed: an eye pass every pass")
 
     def run(self, renderer, result, settings):
         display = ProgressiveDisplay(self, renderer, result, settings)

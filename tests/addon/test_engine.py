@@ -159,6 +159,9 @@ def test_the_header_shows_the_cores_memory(spy, monkeypatch, tmp_path):
 class NoMemoryForFixedHitPoints:
     """A renderer whose first run finds no memory for fixed hit points, as the core's does (memory_budget.h)."""
 
+    def stats(self):
+        return {"hit_point_storage": "kept", "skipped": []}
+
     def run(self, **_):
         raise MemoryError("fixed hit points at 40x30 and 4 samples per pixel needs about 99.0 GB, but 1.0 GB of "
                           "memory are available; use stochastic hit points (52 bytes a pixel) or fewer samples")
@@ -175,6 +178,17 @@ def test_fixed_hit_points_without_memory_fall_back_to_stochastic_with_a_warning(
     assert [r.settings["hit_points"] for r in spy.renderers] == ["stochastic"]
     assert spy.renderers[0].stats()["passes"] == 2 and image[..., :3].mean() > 0.01
     assert any("99.0 GB" in w and "stochastic hit points instead" in w for w in warnings), warnings
+
+
+def test_streamed_fixed_hit_points_are_said_once(spy, monkeypatch, tmp_path):
+    scene = simple_scene()
+    scene.ppm.hit_points = 'FIXED'
+    real, warnings = spy.Renderer, []
+    monkeypatch.setattr(spy, "Renderer", lambda s, **kw: real(s, **kw, hit_point_storage="streamed"))
+    monkeypatch.setattr(engine.PPMRenderEngine, "warn", lambda self, message: warnings.append(message))
+    image = render_file(scene, tmp_path / "s.exr", passes=2, photons_per_pass=20_000)
+    assert spy.renderers[0].stats()["hit_point_storage"] == "streamed" and image[..., :3].mean() > 0.01
+    assert [w for w in warnings if "streamed" in w] == ["fixed hit points are streamed: an eye pass every pass"]
 
 
 def test_border_and_resolution_percentage(tmp_path):
