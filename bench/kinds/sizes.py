@@ -3,12 +3,13 @@
     .venv/bin/python bench/run.py sizes [--quick]
 
 Images: cornell_3spheres through ppm_core at each of `sizes`, for each of `hit_points` (fixed:
-`samples_per_pixel` eye samples per pixel, kept for the render; fixed-streamed: the same, made again
-band by band every pass; stochastic: one per pixel and pass, made in bands) and each of `gathers` (the set the grid indexes: "photons", the default, or
-"hit_points"), `photons` photons per pass, 2 threads, one untimed pass and then `passes` timed
-ones. Reported: the process's peak resident memory grown over the render (bytes per pixel, image
-read back included; and per hit point for fixed ones), the core's own figures by part (stats()["memory"]), seconds per pass and per
-stage, photon paths per second (trace, index, gather).
+`samples_per_pixel` eye samples per pixel, kept for the render; fixed-streamed: the same, made
+again band by band every pass; stochastic: one per pixel and pass, made in bands) and each of
+`gathers` (the set the grid indexes: "photons", the default, or "hit_points"), `photons` photons
+per pass, 2 threads, one untimed pass and then `passes` timed ones. Reported: the process's peak
+resident memory grown over the render (bytes per pixel, image read back included; and per hit
+point for fixed ones), the core's own figures by part (stats()["memory"]), seconds per pass and
+per stage, photon paths per second (trace, index, gather).
 
 Meshes: the raycast kind's terrain at about each of `triangles`, added to a scene and built in
 each of `geometry_layouts` (Scene.geometry_layout) and with each of `mesh_attributes` ("none", or
