@@ -1,9 +1,11 @@
 // Binned SAH build of a binary BVH (see bvh_build.h).
 #include "geometry/bvh_build.h"
 
+#include "ppm/fill_vector.h"
+#include "ppm/parallel.h"
+
 #include <algorithm>
 #include <exception>
-#include <numeric>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -17,29 +19,60 @@ constexpr int kBins = 16;
 constexpr uint32_t kParallelPrims = 1u << 16;
 constexpr int kParallelDepth = 2;
 
+int build_threads() { return std::max(1, static_cast<int>(std::thread::hardware_concurrency())); }
+
 struct Bin {
   Aabb box, cbox;  // of the primitives' boxes, and of their centroids
   uint32_t count = 0;
 };
 
+// A primitive as the build moves it: partitioning these instead of indices into the boxes keeps
+// every pass over a node's primitives sequential in memory (the indices sent each level's binning
+// to random boxes: cache misses once the boxes outgrow the caches).
+struct BuildPrim {
+  Vec3 lo, hi;  // its box (no Aabb: its member initialisers would make resize() write every element)
+  uint32_t id;
+  Aabb box() const { return Aabb{lo, hi}; }
+};
+
 class Builder {
  public:
   Builder(const std::vector<Aabb>& boxes, uint32_t max_leaf, int max_depth, BinaryBvh& out)
-      : boxes_(boxes), max_leaf_(max_leaf), max_depth_(max_depth), out_(out), centers_(boxes.size()) {}
+      : boxes_(boxes), max_leaf_(max_leaf), max_depth_(max_depth), out_(out) {}
 
   void run() {
+    const size_t n = boxes_.size();
+    refs_.resize(n);  // written below, on every thread: the pages' faults too
+    constexpr size_t kBlock = 65536;
+    const size_t blocks = (n + kBlock - 1) / kBlock;
+    std::vector<Aabb> block_box(blocks), block_cbox(blocks);
+    std::vector<size_t> block_bad(blocks, n);  // each block's first non-finite box
+    parallel_each(build_threads(), blocks, [&](size_t b) {
+      for (size_t i = b * kBlock; i < std::min(n, (b + 1) * kBlock); ++i) {
+        const Aabb& box = boxes_[i];
+        if (!is_finite(box.lo) || !is_finite(box.hi)) {
+          block_bad[b] = i;
+          return;
+        }
+        refs_[i] = BuildPrim{box.lo, box.hi, static_cast<uint32_t>(i)};
+        block_box[b].grow(box);
+        block_cbox[b].grow(box.center());
+      }
+    });
     Aabb box, cbox;
-    for (size_t i = 0; i < boxes_.size(); ++i) {
-      if (!is_finite(boxes_[i].lo) || !is_finite(boxes_[i].hi))
-        throw std::invalid_argument("BVH: primitive " + std::to_string(i) + " has a non-finite bounding box");
-      centers_[i] = boxes_[i].center();
-      box.grow(boxes_[i]);
-      cbox.grow(centers_[i]);
+    for (size_t b = 0; b < blocks; ++b) {
+      if (block_bad[b] < n)
+        throw std::invalid_argument("BVH: primitive " + std::to_string(block_bad[b]) +
+                                    " has a non-finite bounding box");
+      box.grow(block_box[b]);
+      cbox.grow(block_cbox[b]);
     }
-    out_.order.resize(boxes_.size());
-    std::iota(out_.order.begin(), out_.order.end(), 0u);
-    out_.nodes.reserve(2 * boxes_.size() / std::max(1u, max_leaf_ / 2) + 2);
-    node(out_.nodes, 0, static_cast<uint32_t>(boxes_.size()), box, cbox, 0);
+    out_.nodes.reserve(2 * n / std::max(1u, max_leaf_ / 2) + 2);
+    node(out_.nodes, 0, static_cast<uint32_t>(n), box, cbox, 0);
+    out_.order.resize(n);
+    parallel_for(build_threads(), n, [&](size_t begin, size_t end) {
+      for (size_t i = begin; i < end; ++i) out_.order[i] = refs_[i].id;
+    });
   }
 
  private:
@@ -99,9 +132,9 @@ class Builder {
     }
   }
 
-  // Partitions order[begin, end) at the binned SAH split and returns the halves' boxes.
+  // Partitions refs[begin, end) at the binned SAH split and returns the halves' boxes.
   Split split(uint32_t begin, uint32_t end, const Aabb& cbox) {
-    uint32_t* prims = out_.order.data();
+    BuildPrim* prims = refs_.data();
     const uint32_t count = end - begin;
     // Bin centroids along all three axes in one pass; sweep each axis for the
     // split with the lowest surface area heuristic cost.
@@ -111,15 +144,16 @@ class Builder {
       const double extent = cbox.hi[a] - cbox.lo[a];
       scale[a] = extent > 0.0 ? kBins * (1.0 - 1e-9) / extent : 0.0;
     }
-    auto bin_of = [&](uint32_t prim, int a) {
-      return std::min(kBins - 1, static_cast<int>((centers_[prim][a] - cbox.lo[a]) * scale[a]));
+    auto bin_of = [&](const Vec3& center, int a) {
+      return std::min(kBins - 1, static_cast<int>((center[a] - cbox.lo[a]) * scale[a]));
     };
     for (uint32_t i = begin; i < end; ++i) {
-      const uint32_t p = prims[i];
+      const Aabb box = prims[i].box();
+      const Vec3 center = box.center();
       for (int a = 0; a < 3; ++a) {
-        Bin& b = bins[a][bin_of(p, a)];
-        b.box.grow(boxes_[p]);
-        b.cbox.grow(centers_[p]);
+        Bin& b = bins[a][bin_of(center, a)];
+        b.box.grow(box);
+        b.cbox.grow(center);
         ++b.count;
       }
     }
@@ -154,7 +188,9 @@ class Builder {
     Split s;
     if (best_axis >= 0) {
       s.at = static_cast<uint32_t>(
-          std::partition(prims + begin, prims + end, [&](uint32_t p) { return bin_of(p, best_axis) < best; }) - prims);
+          std::partition(prims + begin, prims + end,
+                         [&](const BuildPrim& p) { return bin_of(0.5 * (p.lo + p.hi), best_axis) < best; }) -
+          prims);
       // The halves' boxes are their bins' (no second pass over the primitives).
       for (int i = 0; i < kBins; ++i) {
         const Bin& b = bins[best_axis][i];
@@ -168,12 +204,12 @@ class Builder {
     // of making one huge leaf.
     s.at = begin + count / 2;
     for (uint32_t i = begin; i < s.at; ++i) {
-      s.left_box.grow(boxes_[prims[i]]);
-      s.left_cbox.grow(centers_[prims[i]]);
+      s.left_box.grow(prims[i].box());
+      s.left_cbox.grow(prims[i].box().center());
     }
     for (uint32_t i = s.at; i < end; ++i) {
-      s.right_box.grow(boxes_[prims[i]]);
-      s.right_cbox.grow(centers_[prims[i]]);
+      s.right_box.grow(prims[i].box());
+      s.right_cbox.grow(prims[i].box().center());
     }
     return s;
   }
@@ -182,7 +218,7 @@ class Builder {
   const uint32_t max_leaf_;
   const int max_depth_;
   BinaryBvh& out_;
-  std::vector<Vec3> centers_;
+  FillVector<BuildPrim> refs_;
 };
 
 }  // namespace

@@ -324,7 +324,7 @@ class Scene {
     TrianglePrim tri;  // triangles only
     LeafPrim leaf;
   };
-  HugePageVector<CopiedLeaf> copied_leaves_;  // by slot; empty: the Compact layout
+  HugePageFillVector<CopiedLeaf> copied_leaves_;  // by slot; empty: the Compact layout
   GeometryLayout layout_ = GeometryLayout::Auto;
   bool dynamic_ = false;
   std::unique_ptr<ObjectBvh> object_bvh_;                // a dynamic scene's, once built

@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <functional>
+#include <limits>
 #include <vector>
 
 namespace ppm {
@@ -151,6 +152,20 @@ TEST(Bvh, RejectsNonFiniteBoxes) {
   bad.hi.x = std::nan("");
   EXPECT_THROW(bvh.build({bad}), std::invalid_argument);
   EXPECT_NO_THROW(bvh.build({}));
+}
+
+// The build reads the boxes in blocks on several threads; the message names the first bad box
+// whichever thread found which.
+TEST(Bvh, NamesTheFirstNonFiniteBoxAmongMany) {
+  std::vector<Aabb> boxes(300000, Aabb{Vec3(0.0), Vec3(1.0)});
+  boxes[250000].lo.y = std::numeric_limits<double>::infinity();
+  boxes[70001].hi.z = std::nan("");
+  try {
+    build_binary_bvh(boxes, kBinaryLeafSize);
+    FAIL() << "a non-finite box was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(), "BVH: primitive 70001 has a non-finite bounding box");
+  }
 }
 
 }  // namespace
