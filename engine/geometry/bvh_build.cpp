@@ -26,13 +26,12 @@ struct Bin {
   uint32_t count = 0;
 };
 
-// A primitive as the build moves it: partitioning these instead of indices into the boxes keeps
-// every pass over a node's primitives sequential in memory (the indices sent each level's binning
-// to random boxes: cache misses once the boxes outgrow the caches).
+// A primitive as the build moves it: its centroid beside its index, so that the binning and the
+// partition read centroids in sequence (indices alone sent them to random ones: cache misses once
+// the arrays outgrow the caches). The box stays in the input, read once per level.
 struct BuildPrim {
-  Vec3 lo, hi;  // its box (no Aabb: its member initialisers would make resize() write every element)
+  Vec3 center;
   uint32_t id;
-  Aabb box() const { return Aabb{lo, hi}; }
 };
 
 class Builder {
@@ -54,7 +53,7 @@ class Builder {
           block_bad[b] = i;
           return;
         }
-        refs_[i] = BuildPrim{box.lo, box.hi, static_cast<uint32_t>(i)};
+        refs_[i] = BuildPrim{box.center(), static_cast<uint32_t>(i)};
         block_box[b].grow(box);
         block_cbox[b].grow(box.center());
       }
@@ -148,8 +147,8 @@ class Builder {
       return std::min(kBins - 1, static_cast<int>((center[a] - cbox.lo[a]) * scale[a]));
     };
     for (uint32_t i = begin; i < end; ++i) {
-      const Aabb box = prims[i].box();
-      const Vec3 center = box.center();
+      const Aabb& box = boxes_[prims[i].id];
+      const Vec3& center = prims[i].center;
       for (int a = 0; a < 3; ++a) {
         Bin& b = bins[a][bin_of(center, a)];
         b.box.grow(box);
@@ -189,7 +188,7 @@ class Builder {
     if (best_axis >= 0) {
       s.at = static_cast<uint32_t>(
           std::partition(prims + begin, prims + end,
-                         [&](const BuildPrim& p) { return bin_of(0.5 * (p.lo + p.hi), best_axis) < best; }) -
+                         [&](const BuildPrim& p) { return bin_of(p.center, best_axis) < best; }) -
           prims);
       // The halves' boxes are their bins' (no second pass over the primitives).
       for (int i = 0; i < kBins; ++i) {
@@ -204,12 +203,12 @@ class Builder {
     // of making one huge leaf.
     s.at = begin + count / 2;
     for (uint32_t i = begin; i < s.at; ++i) {
-      s.left_box.grow(prims[i].box());
-      s.left_cbox.grow(prims[i].box().center());
+      s.left_box.grow(boxes_[prims[i].id]);
+      s.left_cbox.grow(prims[i].center);
     }
     for (uint32_t i = s.at; i < end; ++i) {
-      s.right_box.grow(prims[i].box());
-      s.right_cbox.grow(prims[i].box().center());
+      s.right_box.grow(boxes_[prims[i].id]);
+      s.right_cbox.grow(prims[i].center);
     }
     return s;
   }
