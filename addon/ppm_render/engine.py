@@ -142,6 +142,13 @@ class PPMRenderEngine(bpy.types.RenderEngine):
             parent()
 
     def render(self, depsgraph):
+        # An exception out of render() crashes Blender 5.0 (bpy, measured): every failure is reported.
+        try:
+            self.render_frame(depsgraph)
+        except Exception as error:  # noqa: BLE001
+            self.fail(error)
+
+    def render_frame(self, depsgraph):
         scene = depsgraph.scene
         frame = Frame.from_render_settings(scene.render)
         try:
@@ -233,17 +240,21 @@ class PPMRenderEngine(bpy.types.RenderEngine):
         session = VIEWPORT_SESSIONS.get(id(self))
         if session is None:
             return
-        if session.settings_key != viewport.settings_key(depsgraph.scene):  # they tag no depsgraph update
-            self.view_update(context, depsgraph)
-        session.set_view(region_view(context, depsgraph))
-        session.start()
-        image = session.newest()
-        if image is not None and (self.drawn is None or self.drawn.image is not image):
-            from .viewport_draw import DrawnImage  # gpu exists only where Blender has a window
-            self.drawn = DrawnImage(image)
-        if self.drawn is not None:
-            self.drawn.draw(self, depsgraph.scene)
-        self.update_stats("", viewport.status_line(session))
+        try:
+            if session.settings_key != viewport.settings_key(depsgraph.scene):  # they tag no depsgraph update
+                self.view_update(context, depsgraph)
+            session.set_view(region_view(context, depsgraph))
+            session.start()
+            image = session.newest()
+            if image is not None and (self.drawn is None or self.drawn.image is not image):
+                from .viewport_draw import DrawnImage  # gpu exists only where Blender has a window
+                self.drawn = DrawnImage(image)
+            if self.drawn is not None:
+                self.drawn.draw(self, depsgraph.scene)
+            self.update_stats("", viewport.status_line(session))
+        except Exception as error:  # noqa: BLE001 - shown in the viewport's header, as view_update's
+            session.error = str(error)
+            self.update_stats("", f"PPM: {error}")
 
     def update_render_passes(self, scene=None, renderlayer=None):
         """Declares the passes this engine writes, so the compositor and the result list them."""

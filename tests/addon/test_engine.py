@@ -191,6 +191,17 @@ def test_streamed_fixed_hit_points_are_said_once(spy, monkeypatch, tmp_path):
     assert [w for w in warnings if "streamed" in w] == ["fixed hit points are streamed: an eye pass every pass"]
 
 
+def test_an_unexpected_failure_is_reported_not_a_crash(monkeypatch, tmp_path):
+    """An exception out of RenderEngine.render crashes Blender 5.0 (the bpy module): the engine
+    reports it as an error instead, which makes the render operator raise in a script."""
+    def broken(scene):
+        raise RuntimeError("no views today")
+
+    monkeypatch.setattr(engine, "render_views", broken)
+    with pytest.raises(RuntimeError, match="PPM: no views today"):
+        render_file(simple_scene(), tmp_path / "x.exr", passes=1)
+
+
 def test_border_and_resolution_percentage(tmp_path):
     scene = simple_scene(80, 60)
     scene.render.resolution_percentage = 50
