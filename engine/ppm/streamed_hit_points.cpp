@@ -31,12 +31,13 @@ bool StreamedHitPoints::prepare(const Poll& poll) {
   const Camera& cam = c_.scene->camera();
   const size_t pixels = static_cast<size_t>(cam.width) * cam.height;
   check_memory_for(static_cast<double>(pixels) * c_.settings.samples_per_pixel);  // about one per eye sample
-  double seconds = 0.0;
+  double seconds = 0.0, mean_radius = 0.0;
   {
     ScopedSeconds timer(seconds);
-    if (!count_hit_points(poll)) return false;
+    if (!count_hit_points(poll, mean_radius)) return false;
   }
   c_.stats.eye_seconds += seconds;
+  if (!c_.measure_photon_spacing_once(mean_radius, poll)) return false;
   const size_t total = first_.back();
   check_memory_for(static_cast<double>(total));
   stats_.resize(total);
@@ -53,8 +54,8 @@ bool StreamedHitPoints::prepare(const Poll& poll) {
 }
 
 // The first eye pass, band by band: how many hit points each pixel has, what its eye paths see
-// directly, and their mean radius for the photons' spacing. False if cancelled.
-bool StreamedHitPoints::count_hit_points(const Poll& poll) {
+// directly, and their mean radius (for the photons' spacing). False if cancelled.
+bool StreamedHitPoints::count_hit_points(const Poll& poll, double& mean_radius) {
   const Camera& cam = c_.scene->camera();
   const size_t pixels = static_cast<size_t>(cam.width) * cam.height;
   first_.assign(pixels + 1, 0);
@@ -85,7 +86,8 @@ bool StreamedHitPoints::count_hit_points(const Poll& poll) {
     if (eye.record_depth) std::copy(fresh.depth.begin(), fresh.depth.end(), depth.begin() + first_pixel);
   }
   if (eye.record_depth) c_.depth.swap(depth);
-  return c_.measure_photon_spacing_once(total ? radius_sum / total : 0.0, poll);
+  mean_radius = total ? radius_sum / total : 0.0;
+  return true;
 }
 
 bool StreamedHitPoints::pass(const Poll& poll) {

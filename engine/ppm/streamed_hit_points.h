@@ -45,7 +45,7 @@ class StreamedHitPoints : public Estimator {
   };
 
   void check_memory_for(double hit_points) const;
-  bool count_hit_points(const Poll& poll);
+  bool count_hit_points(const Poll& poll, double& mean_radius);
   bool band(const EyePassOptions& eye, uint64_t pass, const Poll& poll);
   void start_at_kept_radii(size_t first);
   double mean_r2_of_band() const;

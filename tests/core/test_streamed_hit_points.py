@@ -11,9 +11,10 @@ import ppm_core
 SIZE = (320, 240)  # at 4 eye samples a pixel, bands of 51 rows (RenderContext::band_rows): five
 
 
-def cornell(storage, size=SIZE, **settings):
-    return ppm_core.Renderer(core_scenes.cornell_3spheres(*size), photons_per_pass=20_000, threads=2,
-                             hit_points="fixed", hit_point_storage=storage, **settings)
+def cornell(storage, size=SIZE, aperture_radius=0.0, **settings):
+    return ppm_core.Renderer(core_scenes.cornell_3spheres(*size, aperture_radius=aperture_radius),
+                             photons_per_pass=20_000, threads=2, hit_points="fixed", hit_point_storage=storage,
+                             **settings)
 
 
 @pytest.mark.parametrize("settings", [
@@ -23,7 +24,8 @@ def cornell(storage, size=SIZE, **settings):
     {"grid": "hash"},
     {"gather": "hit_points"},                 # one band: the hit points are indexed
     {"light_path_limits": True, "diffuse_bounces": 1},  # each hit point's eye chain is made again too
-], ids=["default", "direct_photons", "spp1", "hash", "hit_point_index", "light_path_limits"])
+    {"dof_mode": "post", "aperture_radius": 0.05},      # the depth buffer from the first eye pass
+], ids=["default", "direct_photons", "spp1", "hash", "hit_point_index", "light_path_limits", "dof_post"])
 def test_streamed_hit_points_find_the_kept_image(settings):
     kept, streamed = cornell("kept", **settings), cornell("streamed", **settings)
     for renderer in (kept, streamed):
@@ -36,6 +38,7 @@ def test_streamed_hit_points_find_the_kept_image(settings):
     assert ss["initial_radius_mean"] == pytest.approx(ks["initial_radius_mean"], rel=1e-6)
     assert ss["radius_mean"] == pytest.approx(ks["radius_mean"], rel=1e-6)
     assert a[..., :3].mean() > 0.05
+    assert not any("depth of field" in line for line in ss["skipped"]) or "dof_mode" not in settings
     assert np.abs(a - b).sum() <= 1e-6 * np.abs(a).sum()
     assert np.abs(a - b).max() <= 1e-4 * a[..., :3].max()
 
