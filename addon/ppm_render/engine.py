@@ -154,7 +154,8 @@ class PPMRenderEngine(bpy.types.RenderEngine):
         try:
             ppm_core = core.load()
             self.update_stats("", "Exporting scene")
-            ppm_scene, camera_args = export.build_scene(ppm_core, depsgraph, frame, self.warn, self.test_break)
+            ppm_scene, camera_args, pass_indices = export.build_scene(ppm_core, depsgraph, frame, self.warn,
+                                                                      self.test_break)
         except export.Cancelled:
             self.update_stats("", "Cancelled while exporting the scene")
             return
@@ -172,11 +173,12 @@ class PPMRenderEngine(bpy.types.RenderEngine):
                 camera_args = export.camera.camera_arguments(camera_object, frame, lambda _: None,
                                                              scene.ppm.dof_mode, view=per_view)
                 ppm_scene.set_camera(**camera_args)
-            if not self.render_view(ppm_core, ppm_scene, camera_args, depsgraph, frame, view):
+            if not self.render_view(ppm_core, (ppm_scene, camera_args, pass_indices), depsgraph, frame, view):
                 return
 
-    def render_view(self, ppm_core, ppm_scene, camera_args, depsgraph, frame, view):
-        """Renders one view into its result; False after a failure."""
+    def render_view(self, ppm_core, exported, depsgraph, frame, view):
+        """Renders one view of `exported` (build_scene's) into its result; False after a failure."""
+        ppm_scene = exported[0]
         scene = depsgraph.scene
         settings = {**core_settings(scene.ppm), **film_settings(scene), **light_path_settings(scene)}
         try:
@@ -188,7 +190,7 @@ class PPMRenderEngine(bpy.types.RenderEngine):
         result = self.begin_result(0, 0, frame.window_width, frame.window_height, layer=depsgraph.view_layer.name,
                                    view=view)
         try:
-            self.write_data_passes(depsgraph.view_layer, result, ppm_scene, camera_args)
+            self.write_data_passes(depsgraph.view_layer, result, *exported)
             self.warn_if_streamed(renderer)
             try:
                 self.run(renderer, result, scene.ppm)
@@ -263,13 +265,20 @@ class PPMRenderEngine(bpy.types.RenderEngine):
             self.register_pass(scene, renderlayer, "Depth", 1, "Z", "VALUE")
         if renderlayer.use_pass_normal:
             self.register_pass(scene, renderlayer, "Normal", 3, "XYZ", "VECTOR")
+        if renderlayer.use_pass_object_index:
+            self.register_pass(scene, renderlayer, "IndexOB", 1, "X", "VALUE")
+        if renderlayer.use_pass_material_index:
+            self.register_pass(scene, renderlayer, "IndexMA", 1, "X", "VALUE")
 
-    def write_data_passes(self, view_layer, result, ppm_scene, camera_args):
-        if not (view_layer.use_pass_z or view_layer.use_pass_normal):
-            return
-        depth, normal = passes.depth_and_normal(ppm_scene, camera_args)
-        passes.write_pass(result, "Depth", depth)
-        passes.write_pass(result, "Normal", normal)
+    def write_data_passes(self, view_layer, result, ppm_scene, camera_args, pass_indices):
+        if view_layer.use_pass_z or view_layer.use_pass_normal:
+            depth, normal = passes.depth_and_normal(ppm_scene, camera_args)
+            passes.write_pass(result, "Depth", depth)
+            passes.write_pass(result, "Normal", normal)
+        if view_layer.use_pass_object_index or view_layer.use_pass_material_index:
+            objects, materials = passes.index_passes(ppm_scene, camera_args, pass_indices)
+            passes.write_pass(result, "IndexOB", objects)
+            passes.write_pass(result, "IndexMA", materials)
 
     def warn(self, message):
         self.report({'WARNING'}, f"PPM: {message}")

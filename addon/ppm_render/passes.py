@@ -1,10 +1,13 @@
-"""Depth and Normal render passes, when the view layer enables them.
+"""Depth, Normal, Object Index and Material Index render passes, when the view
+layer enables them.
 
-Both come from the core's own primary ray through each pixel centre
-(`Scene.camera_rays`) and its batch ray caster (`Scene.intersect`, camera rays).
-Depth is Cycles' Z pass: the distance of the hit along the view axis (1e10 where
-nothing is hit); Normal is the world-space normal (zero where nothing is hit).
-Rows come out bottom-up, as Blender stores them.
+All come from the core's own primary ray through each pixel centre
+(`Scene.camera_rays`) and its batch ray caster (`Scene.intersect`, camera rays),
+as Cycles writes its data passes at the camera ray's first hit. Depth is Cycles'
+Z pass: the distance of the hit along the view axis (1e10 where nothing is hit);
+Normal is the world-space normal (zero where nothing is hit); IndexOB and
+IndexMA are the Pass Index of the object and of the material hit (0 where
+nothing is). Rows come out bottom-up, as Blender stores them.
 """
 
 import numpy as np
@@ -26,6 +29,24 @@ def depth_and_normal(core_scene, args):
     normal = np.where(hit[:, None], np.asarray(hits["normal"]), 0.0).astype(np.float32)
     h, w = args["height"], args["width"]
     return depth.reshape(h, w), normal.reshape(h, w, 3)
+
+
+def index_passes(core_scene, args, pass_indices):
+    """(H, W) Object Index and (H, W) Material Index, bottom row first (export.PassIndices)."""
+    origins, directions = core_scene.camera_rays()
+    hits = core_scene.intersect(origins, directions, ray_kind="camera")
+    shape = (args["height"], args["width"])
+    return (lookup(pass_indices.objects, hits["object"]).reshape(shape),
+            lookup(pass_indices.materials, hits["material"]).reshape(shape))
+
+
+def lookup(table, ids):
+    """table[id] where 0 <= id < len(table), else 0 (a miss is -1)."""
+    ids = np.asarray(ids)
+    known = (ids >= 0) & (ids < len(table))
+    out = np.zeros(ids.shape, dtype=np.float32)
+    out[known] = np.asarray(table, dtype=np.float32)[ids[known]]
+    return out
 
 
 def write_pass(result, name, pixels):

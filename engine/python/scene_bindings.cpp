@@ -491,11 +491,12 @@ py::dict intersect(Scene& s, const py::object& origins, const py::object& direct
   s.build();
   py::array_t<double> t(n);
   py::array_t<double> normal({n, size_t(3)});
-  py::array_t<int64_t> prim(n), object(n);
+  py::array_t<int64_t> prim(n), object(n), material(n);
   double* tp = t.mutable_data();
   double* np_ = normal.mutable_data();
   int64_t* pp = prim.mutable_data();
   int64_t* op = object.mutable_data();
+  int64_t* mp = material.mutable_data();
   {
     py::gil_scoped_release release;
     // Rays are handed out in chunks from a shared counter, so a thread slowed
@@ -531,10 +532,11 @@ py::dict intersect(Scene& s, const py::object& origins, const py::object& direct
               np_[3 * i + 2] = h.geometric_normal.z;
               pp[i] = h.primitive;
               op[i] = h.object;
+              mp[i] = h.material;
             } else {
               tp[i] = kInf;
               np_[3 * i] = np_[3 * i + 1] = np_[3 * i + 2] = 0.0;
-              pp[i] = op[i] = -1;
+              pp[i] = op[i] = mp[i] = -1;
             }
           }
         }
@@ -550,6 +552,7 @@ py::dict intersect(Scene& s, const py::object& origins, const py::object& direct
   out["normal"] = normal;
   out["primitive"] = prim;
   out["object"] = object;
+  out["material"] = material;
   return out;
 }
 
@@ -863,7 +866,8 @@ void bind_scene(py::module_& m) {
            "each (width * height, 3), as the renderer generates them (clip start included).")
       .def("intersect", &intersect, py::arg("origins"), py::arg("directions"), py::arg("threads") = 0,
            py::arg("ray_kind") = py::none(),
-           "Casts rays: returns dict(t (inf on miss), normal (geometric), primitive, object (-1 on miss)). "
+           "Casts rays: returns dict(t (inf on miss), normal (geometric), primitive, object, material (-1 on "
+           "miss)). "
            "threads: 0 uses all hardware threads. ray_kind: 'camera', 'diffuse', ... to pass through "
            "what that kind of ray does not see (None: hit everything visible to any ray).")
       .def_property_readonly("primitive_count", [](Scene& s) { s.build(); return s.primitive_count(); })

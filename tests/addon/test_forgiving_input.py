@@ -65,8 +65,8 @@ def export_scene(scene):
     """(core scene, warnings) as the engine exports it."""
     warnings = []
     depsgraph = bpy.context.evaluated_depsgraph_get()
-    core_scene, _ = export.build_scene(ppm_core, depsgraph, Frame.from_render_settings(scene.render),
-                                       warnings.append)
+    core_scene, _, _ = export.build_scene(ppm_core, depsgraph, Frame.from_render_settings(scene.render),
+                                          warnings.append)
     return core_scene, warnings
 
 

@@ -1,4 +1,5 @@
-"""Depth and Normal passes (Blender 3.4 binary): the PPM passes agree with Cycles' (passes_compare.py)."""
+"""Depth, Normal, Object Index and Material Index passes (Blender 3.4 binary): the PPM passes agree with
+Cycles' (passes_compare.py)."""
 
 import json
 import os
@@ -12,7 +13,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 pytestmark = pytest.mark.skipif(shutil.which("blender") is None, reason="needs Debian's blender")
 
 
-def test_depth_and_normal_passes_match_cycles(tmp_path):
+def test_depth_normal_and_index_passes_match_cycles(tmp_path):
     script = os.path.join(ROOT, "tests", "cli", "passes_compare.py")
     run = subprocess.run(["blender", "-b", "--factory-startup", "--python-exit-code", "1", "-P", script, "--",
                           str(tmp_path)], check=False, capture_output=True, text=True, timeout=300)
@@ -22,3 +23,6 @@ def test_depth_and_normal_passes_match_cycles(tmp_path):
     assert figures["smooth_fraction"] > 0.8
     assert figures["max_depth_error"] < 0.01
     assert figures["median_normal_dot"] > 0.999 and figures["normals_within_11deg"] > 0.95
+    # Cycles' own values: the floor (which fills the frame) and the ball, and their materials (the floor has none).
+    assert figures["object_indices"] == [3.0, 9.0] and figures["material_indices"] == [0.0, 6.0]
+    assert figures["object_index_equal"] == 1.0 and figures["material_index_equal"] == 1.0

@@ -32,6 +32,14 @@ class Cancelled(Exception):
     """The user pressed Esc during the export."""
 
 
+@dataclasses.dataclass(frozen=True)
+class PassIndices:
+    """Blender's Pass Index of each core object id and of each core material, for the Object Index and
+    Material Index passes (0 where Blender has none: the default material, lights)."""
+    objects: np.ndarray
+    materials: np.ndarray
+
+
 @dataclasses.dataclass
 class Exported:
     """What the export made of one depsgraph instance, kept to update it in place (the viewport): the
@@ -66,6 +74,7 @@ class Exporter:
         self.exported = {}  # identity_of(instance) -> Exported; None where two instances had one identity
         self.instanced = set()  # original names of the objects instanced, and of those instancing them
         self.touched = set()  # original names of the objects the last update in place exported again
+        self.object_pass_index = {}  # object id -> its Blender object's Pass Index (the Object Index pass)
 
     def describe_object(self, item, slots):
         """Object info for the node programs of the object's materials, if any has one."""
@@ -75,6 +84,13 @@ class Exporter:
     def object_id(self):
         self.next_id += 1
         return self.next_id - 1
+
+    def pass_indices(self):
+        """The Pass Index of every core object id and core material (passes.index_passes)."""
+        objects = np.zeros(self.next_id, dtype=np.float32)
+        for object_id, index in self.object_pass_index.items():
+            objects[object_id] = index
+        return PassIndices(objects, self.materials.pass_index_table())
 
     def slot_materials(self, obj):
         slots = [self.materials.index(slot.material) for slot in obj.material_slots]
@@ -186,6 +202,7 @@ class Exporter:
         obj = instance.object
         instanced = instance.instance_object if instance.is_instance else None
         object_id = self.object_id()
+        self.object_pass_index[object_id] = obj.pass_index
         name = obj.name if instanced is None else f"{instanced.name}/{obj.name}.{object_id}"
         particles = getattr(instance.particle_system, "settings", None) if instance.is_instance else None
         if instance.is_instance:
@@ -333,19 +350,19 @@ def identity_of(instance):
 
 
 def build_scene(core_module, depsgraph, frame, warn, cancelled=lambda: False):
-    """(ppm_core.Scene, camera arguments) of the evaluated depsgraph, seen through the scene camera in
-    `frame`. Raises Cancelled as soon as `cancelled()` is true."""
+    """(ppm_core.Scene, camera arguments, PassIndices) of the evaluated depsgraph, seen through the
+    scene camera in `frame`. Raises Cancelled as soon as `cancelled()` is true."""
     scene = depsgraph.scene
     if scene.camera is None:
         raise ValueError(f"scene '{scene.name}' has no active camera")
     if scene.render.use_motion_blur:
         warn("motion blur is not rendered: objects and the camera stand where they are at the frame "
              "(Cycles blurs them over the shutter)")
-    core_scene = export_scene(core_module, depsgraph, warn, cancelled)
+    exporter = scene_exporter(core_module, depsgraph, warn, cancelled)
     camera_object = scene.camera.evaluated_get(depsgraph)
     camera_args = camera.camera_arguments(camera_object, frame, warn, scene.ppm.dof_mode)
-    core_scene.set_camera(**camera_args)
-    return core_scene, camera_args
+    exporter.scene.set_camera(**camera_args)
+    return exporter.scene, camera_args, exporter.pass_indices()
 
 
 def export_scene(core_module, depsgraph, warn, cancelled=lambda: False, lights=True):

@@ -38,6 +38,7 @@ class MaterialExporter:
         self.attributes = {}  # core material -> the mesh attribute its program reads
         self.needed_attribute = None  # that of the material describe() read last
         self.copied = set()  # core materials with a copy without emission (without_emission)
+        self.pass_indices = {}  # core material -> its Blender material's Pass Index (Material Index pass)
 
     def index(self, material):
         """Core material index for a Blender material (None = default grey)."""
@@ -49,6 +50,7 @@ class MaterialExporter:
         if key not in self.indices:
             params = self.in_range(self.describe(material), material.name)
             self.indices[key] = self.scene.add_material(material.name, **params)
+            self.pass_indices[self.indices[key]] = material.pass_index
             if self.needed_tangents:
                 self.tangents[self.indices[key]] = self.needed_tangents
             if "program" in params:
@@ -80,7 +82,16 @@ class MaterialExporter:
         self.copied.add(index)
         self.warn(f"{what}: emission is not supported on Bezier revolve surfaces; rendered without it")
         params = self.non_emissive[index]
-        return self.scene.add_material(f"{what} (no emission)", **params)
+        copy = self.scene.add_material(f"{what} (no emission)", **params)
+        self.pass_indices[copy] = self.pass_indices.get(index, 0)
+        return copy
+
+    def pass_index_table(self):
+        """Pass Index by core material index (0 where it has none)."""
+        table = np.zeros(max(self.pass_indices, default=-1) + 1, dtype=np.float32)
+        for index, value in self.pass_indices.items():
+            table[index] = value
+        return table
 
     def update(self, material):
         """Writes an edited `material` into its core slot (the surfaces keep their BVH). False where
@@ -101,6 +112,7 @@ class MaterialExporter:
             self.scene.add_material(material.name, **params, replace=index)
         except ValueError:  # a revolve's material made emissive: the whole export copies it
             return False
+        self.pass_indices[index] = material.pass_index
         self.emissive.discard(index)
         self.non_emissive.pop(index, None)
         if any(c > 0.0 for c in params.get("emission", (0, 0, 0))):
