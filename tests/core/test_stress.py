@@ -41,9 +41,10 @@ def test_scene_far_from_the_origin(radius, offset):
 
 
 @pytest.mark.parametrize("radius", [1e-4, 1e5])
-def test_scale_extremes_stochastic_and_photon_modes(radius):
+def test_scale_extremes_stochastic_streamed_and_photon_modes(radius):
     expected = core_scenes.expected_closed_sphere_radiance(radius, 0.5, 100.0)
-    for settings in [dict(hit_points="stochastic"), dict(direct_light="photons", gather="hit_points", grid="hash")]:
+    for settings in [dict(hit_points="stochastic"), dict(hit_point_storage="streamed"),
+                     dict(direct_light="photons", gather="hit_points", grid="hash")]:
         renderer = ppm_core.Renderer(closed_sphere(radius), photons_per_pass=20_000, threads=2, seed=3, **settings)
         renderer.run(passes=10)
         assert finite_rgb(renderer).mean() == pytest.approx(expected, rel=0.05), settings
