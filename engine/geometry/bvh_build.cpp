@@ -19,7 +19,12 @@ constexpr int kBins = 16;
 constexpr uint32_t kParallelPrims = 1u << 16;
 constexpr int kParallelDepth = 2;
 
-int build_threads() { return std::max(1, static_cast<int>(std::thread::hardware_concurrency())); }
+// Asked once: hardware_concurrency reads /sys on Linux, 10 us a call, and a dynamic scene builds
+// thousands of small trees.
+int build_threads() {
+  static const int threads = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  return threads;
+}
 
 struct Bin {
   Aabb box, cbox;  // of the primitives' boxes, and of their centroids
@@ -46,7 +51,7 @@ class Builder {
     const size_t blocks = (n + kBlock - 1) / kBlock;
     std::vector<Aabb> block_box(blocks), block_cbox(blocks);
     std::vector<size_t> block_bad(blocks, n);  // each block's first non-finite box
-    parallel_each(build_threads(), blocks, [&](size_t b) {
+    auto fill = [&](size_t b) {
       for (size_t i = b * kBlock; i < std::min(n, (b + 1) * kBlock); ++i) {
         const Aabb& box = boxes_[i];
         if (!is_finite(box.lo) || !is_finite(box.hi)) {
@@ -57,7 +62,12 @@ class Builder {
         block_box[b].grow(box);
         block_cbox[b].grow(box.center());
       }
-    });
+    };
+    if (blocks > 1) {
+      parallel_each(build_threads(), blocks, fill);
+    } else if (blocks == 1) {
+      fill(0);  // small trees (a dynamic scene's objects, one by one) start no thread
+    }
     Aabb box, cbox;
     for (size_t b = 0; b < blocks; ++b) {
       if (block_bad[b] < n)
