@@ -108,6 +108,22 @@ int RenderContext::band_rows(int samples_per_pixel) const {
   return static_cast<int>(std::clamp<size_t>(kBandPixels / (size_t(cam.width) * samples_per_pixel), 1, cam.height));
 }
 
+bool RenderContext::run_bands(int& next_row, int rows, EyePassOptions& eye,
+                              const std::function<bool(const EyePassOptions&)>& band) {
+  const int height = scene->camera().height;
+  for (int row = next_row; row < height; row += rows) {
+    eye.row_begin = row;
+    eye.row_end = std::min(height, row + rows);
+    if (!band(eye)) return false;
+    next_row = eye.row_end;
+    if (next_row < height && pause_due && pause_due()) {
+      paused = true;
+      return false;
+    }
+  }
+  return true;
+}
+
 bool RenderContext::gather_band(HitPoints& band, bool first_band, uint64_t pass, double typical_r2,
                                 const Poll& poll, PhotonPassCounters& counters) {
   if (!analysis.trace_photons) {  // nothing to trace: the pass's photons are only counted, once

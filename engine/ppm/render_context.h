@@ -38,6 +38,11 @@ struct RenderContext {
   // image is then one band.
   static constexpr size_t kBandPixels = size_t(1) << 16;
   int band_rows(int samples_per_pixel = 1) const;
+  // Calls `band` for the bands of `rows` rows from `next_row` to the image's top, setting `eye`'s
+  // rows and moving `next_row` past each band done. Between bands it stops where the run asked to
+  // pause (`paused`). True once the last band is done; false if a band was cancelled or it paused.
+  bool run_bands(int& next_row, int rows, EyePassOptions& eye,
+                 const std::function<bool(const EyePassOptions&)>& band);
   // The pass's photons into one band's pending statistics: traced and indexed at the first band
   // (`typical_r2`, a hit point's radius^2, sizes the hashed grid's cells), then gathered band by
   // band. False if cancelled.

@@ -27,22 +27,14 @@ bool StochasticHitPoints::prepare(const Poll&) {
 bool StochasticHitPoints::pass(const Poll& poll) {
   RenderStats& stats = c_.stats;
   const uint64_t pass = stats.passes;
-  const int height = c_.scene->camera().height, rows = c_.band_rows();
   EyePassOptions eye = c_.eye_options(pass + 1, 1);
   if (current_.next_row == 0) {
     current_ = PassInProgress{0, stats.photon, 0};
     if (eye.record_depth) depth_.assign(pixels_.size(), std::numeric_limits<float>::infinity());
   }
-  for (int row = current_.next_row; row < height; row += rows) {
-    eye.row_begin = row;
-    eye.row_end = std::min(height, row + rows);
-    if (!band(eye, pass, poll)) return false;
-    current_.next_row = eye.row_end;
-    if (current_.next_row < height && c_.pause_due && c_.pause_due()) {
-      c_.paused = true;
-      return false;
-    }
-  }
+  if (!c_.run_bands(current_.next_row, c_.band_rows(), eye,
+                    [&](const EyePassOptions& e) { return band(e, pass, poll); }))
+    return false;
   if (eye.record_depth) c_.depth.swap(depth_);
   stats.photon = current_.counters;
   if (c_.analysis.sample_direct) ++stats.direct_samples;

@@ -93,19 +93,12 @@ bool StreamedHitPoints::count_hit_points(const Poll& poll, double& mean_radius) 
 bool StreamedHitPoints::pass(const Poll& poll) {
   RenderStats& stats = c_.stats;
   const uint64_t pass = stats.passes;
-  const int height = c_.scene->camera().height, rows = c_.band_rows(c_.settings.samples_per_pixel);
-  EyePassOptions eye = c_.eye_options(0, c_.settings.samples_per_pixel);  // generation 0: the same samples
+  const int spp = c_.settings.samples_per_pixel;
+  EyePassOptions eye = c_.eye_options(0, spp);  // generation 0: the same samples
   if (current_.next_row == 0) current_ = PassInProgress{0, stats.photon, 0.0};
-  for (int row = current_.next_row; row < height; row += rows) {
-    eye.row_begin = row;
-    eye.row_end = std::min(height, row + rows);
-    if (!band(eye, pass, poll)) return false;
-    current_.next_row = eye.row_end;
-    if (current_.next_row < height && c_.pause_due && c_.pause_due()) {
-      c_.paused = true;
-      return false;
-    }
-  }
+  if (!c_.run_bands(current_.next_row, c_.band_rows(spp), eye,
+                    [&](const EyePassOptions& e) { return band(e, pass, poll); }))
+    return false;
   stats.photon = current_.counters;
   if (direct_light_due()) ++stats.direct_samples;
   if (pass == 0) stats.initial_radius_mean = stats_.empty() ? 0.0 : initial_radius_sum_ / stats_.size();
