@@ -4,11 +4,11 @@
 // Elsewhere, or where huge pages are off, it is a plain aligned allocation.
 #pragma once
 
+#include "ppm/fill_vector.h"
+
 #include <cstddef>
 #include <cstdlib>
 #include <new>
-#include <type_traits>
-#include <utility>
 #include <vector>
 
 #if defined(__linux__)
@@ -62,31 +62,11 @@ struct HugePageAllocator {
 template <class T>
 using HugePageVector = std::vector<T, HugePageAllocator<T>>;
 
-// The same, whose resize() leaves new elements of a plain record type unwritten, for an array a
-// parallel loop fills next: the page faults (with huge pages, the kernel's compaction to find
-// them) then happen on every thread, not all on the one that resizes. 960 MB of leaf copies took
-// 1.5-2.1 s to resize on one thread.
+// The same, whose resize() leaves new elements of a plain record type unwritten (fill_vector.h), for
+// an array a parallel loop fills next: the page faults (with huge pages, the kernel's compaction to
+// find them) then happen on every thread, not all on the one that resizes. 960 MB of leaf copies
+// took 1.5-2.1 s to resize on one thread.
 template <class T>
-struct UninitialisedHugePageAllocator : HugePageAllocator<T> {
-  template <class U>
-  struct rebind {
-    using other = UninitialisedHugePageAllocator<U>;
-  };
-  UninitialisedHugePageAllocator() = default;
-  template <class U>
-  UninitialisedHugePageAllocator(const UninitialisedHugePageAllocator<U>&) noexcept {}
-  template <class U>
-  void construct(U* p) noexcept {
-    static_assert(std::is_trivially_default_constructible_v<U>, "only for plain records");
-    ::new (static_cast<void*>(p)) U;
-  }
-  template <class U, class... Args>
-  void construct(U* p, Args&&... args) {
-    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
-  }
-};
-
-template <class T>
-using HugePageFillVector = std::vector<T, UninitialisedHugePageAllocator<T>>;
+using HugePageFillVector = std::vector<T, UninitialisedAllocator<T, HugePageAllocator>>;
 
 }  // namespace ppm

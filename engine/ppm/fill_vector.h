@@ -12,15 +12,17 @@
 
 namespace ppm {
 
-template <class T>
-struct UninitialisedAllocator : std::allocator<T> {
+// `Base` allocates (std::allocator by default; huge_pages.h passes its own); construction without
+// arguments leaves a plain record unwritten.
+template <class T, template <class> class Base = std::allocator>
+struct UninitialisedAllocator : Base<T> {
   template <class U>
   struct rebind {
-    using other = UninitialisedAllocator<U>;
+    using other = UninitialisedAllocator<U, Base>;
   };
   UninitialisedAllocator() = default;
   template <class U>
-  UninitialisedAllocator(const UninitialisedAllocator<U>&) noexcept {}
+  UninitialisedAllocator(const UninitialisedAllocator<U, Base>&) noexcept {}
   template <class U>
   void construct(U* p) noexcept {
     static_assert(std::is_trivially_default_constructible_v<U>, "only for plain records");
