@@ -271,12 +271,17 @@ class PPMRenderEngine(bpy.types.RenderEngine):
             self.register_pass(scene, renderlayer, "IndexMA", 1, "X", "VALUE")
 
     def write_data_passes(self, view_layer, result, ppm_scene, camera_args, pass_indices):
-        if view_layer.use_pass_z or view_layer.use_pass_normal:
-            depth, normal = passes.depth_and_normal(ppm_scene, camera_args)
+        geometry = view_layer.use_pass_z or view_layer.use_pass_normal
+        indices = view_layer.use_pass_object_index or view_layer.use_pass_material_index
+        if not (geometry or indices):
+            return
+        hits = passes.camera_hits(ppm_scene)
+        if geometry:
+            depth, normal = passes.depth_and_normal(hits, camera_args)
             passes.write_pass(result, "Depth", depth)
             passes.write_pass(result, "Normal", normal)
-        if view_layer.use_pass_object_index or view_layer.use_pass_material_index:
-            objects, materials = passes.index_passes(ppm_scene, camera_args, pass_indices)
+        if indices:
+            objects, materials = passes.index_passes(hits, camera_args, pass_indices)
             passes.write_pass(result, "IndexOB", objects)
             passes.write_pass(result, "IndexMA", materials)
 

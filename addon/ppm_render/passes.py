@@ -15,10 +15,17 @@ import numpy as np
 MISS_DEPTH = 1e10  # what Cycles writes for the background
 
 
-def depth_and_normal(core_scene, args):
-    """(H, W) depth along the view axis and (H, W, 3) world normals, bottom row first."""
+def camera_hits(core_scene):
+    """Each pixel centre's camera ray ("origins", "directions") and what it meets (Scene.intersect's
+    dict): cast once for all the data passes."""
     origins, directions = core_scene.camera_rays()
-    hits = core_scene.intersect(origins, directions, ray_kind="camera")
+    return {**core_scene.intersect(origins, directions, ray_kind="camera"), "origins": origins,
+            "directions": directions}
+
+
+def depth_and_normal(hits, args):
+    """(H, W) depth along the view axis and (H, W, 3) world normals, bottom row first."""
+    origins, directions = hits["origins"], hits["directions"]
     t = np.asarray(hits["t"])
     hit = np.isfinite(t)
     m = np.asarray(args["matrix"], dtype=float)
@@ -31,10 +38,8 @@ def depth_and_normal(core_scene, args):
     return depth.reshape(h, w), normal.reshape(h, w, 3)
 
 
-def index_passes(core_scene, args, pass_indices):
+def index_passes(hits, args, pass_indices):
     """(H, W) Object Index and (H, W) Material Index, bottom row first (export.PassIndices)."""
-    origins, directions = core_scene.camera_rays()
-    hits = core_scene.intersect(origins, directions, ray_kind="camera")
     shape = (args["height"], args["width"])
     return (lookup(pass_indices.objects, hits["object"]).reshape(shape),
             lookup(pass_indices.materials, hits["material"]).reshape(shape))

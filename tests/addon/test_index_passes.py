@@ -53,7 +53,7 @@ def test_each_pixel_reports_the_pass_index_of_the_object_and_material_it_sees():
     depsgraph = bpy.context.evaluated_depsgraph_get()
     core_scene, camera_args, indices = export.build_scene(ppm_core, depsgraph, Frame.from_render_settings(
         scene.render), print)
-    objects, materials = passes.index_passes(core_scene, camera_args, indices)
+    objects, materials = passes.index_passes(passes.camera_hits(core_scene), camera_args, indices)
     assert objects.shape == materials.shape == (30, 40)
     for (x, y), obj, mat in [((-1.0, 0.0), 7, 5), ((1.0, 0.0), 4, 0), ((0.0, 0.8), 3, 2)]:
         row, col = pixel_of(scene, x, y)
