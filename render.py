@@ -1,7 +1,7 @@
 """Renders a .blend file with the PPM engine, from a shell.
 
     blender -b scene.blend --python-exit-code 1 -P render.py -- --output out.exr [--passes N]
-            [--time-limit S] [--resolution W H] [--photons N] [--seed N]
+            [--time-limit S] [--target-error E] [--resolution W H] [--photons N] [--seed N]
     python render.py scene.blend --output out.exr [...]        # with the bpy module (pip install bpy)
 
 Registers the add-on from this checkout unless an installed PPM add-on is
@@ -36,6 +36,9 @@ def parse_arguments(argv, need_blend):
     parser.add_argument("--photons", type=int, help="photons per pass")
     parser.add_argument("--seed", type=int, help="random seed")
     parser.add_argument("--samples", type=int, help="eye samples per pixel")
+    parser.add_argument("--target-error", type=float,
+                        help="stop once the estimated mean error is at most this share of the image's mean "
+                             "brightness (e.g. 0.02), or at the passes or time limit")
     return parser.parse_args(argv)
 
 
@@ -54,7 +57,8 @@ def configure(bpy, scene, args):
     scene.render.engine = "PPM"
     settings = scene.ppm
     for name, value in (("passes", args.passes), ("time_limit", args.time_limit),
-                        ("photons_per_pass", args.photons), ("seed", args.seed), ("samples_per_pixel", args.samples)):
+                        ("photons_per_pass", args.photons), ("seed", args.seed), ("samples_per_pixel", args.samples),
+                        ("target_error", args.target_error)):
         if value is not None:
             setattr(settings, name, value)
     if args.resolution:

@@ -8,6 +8,7 @@ interval (0.1 s), keeping the passes done so far. Every failure ends in
 raise in scripts); the render result is always closed.
 """
 
+import math
 import time
 
 import bpy
@@ -41,9 +42,11 @@ def render_views(scene):
     return [view.name for view in scene.render.views if view.use] or [""]
 
 
-def stats_line(passes, total, photons, seconds):
+def stats_line(passes, total, photons, seconds, error=math.inf):
+    """The render window's stats; `error` is the core's estimate (stats()['error']['bound']), shown once known."""
     minutes, secs = divmod(int(seconds), 60)
-    return f"Pass {passes}/{total} | {photons / 1e6:.1f} M photons | {minutes:02d}:{secs:02d}"
+    line = f"Pass {passes}/{total} | {photons / 1e6:.1f} M photons | {minutes:02d}:{secs:02d}"
+    return line + (f" | est. error {100.0 * error:.1f}%" if math.isfinite(error) else "")
 
 
 class ProgressiveDisplay:
@@ -62,6 +65,8 @@ class ProgressiveDisplay:
         self.photons = 0
         self.shown = -1  # passes in the displayed image
         self.memory_peak = 0.0  # MiB, the most the core has held
+        self.error = math.inf  # the image's estimated error (the core's stats()['error']['bound'])
+        self.target_reached = False
 
     def cancelled(self):
         return self.engine.test_break()  # Esc in the render window
@@ -82,17 +87,21 @@ class ProgressiveDisplay:
         if self.time_limit > 0:
             fraction = max(fraction, self.elapsed() / self.time_limit)
         self.engine.update_progress(min(fraction, 1.0))
-        self.engine.update_stats("", stats_line(passes, self.total, photons, self.elapsed()))
+        self.engine.update_stats("", self.line(passes, photons))
+
+    def line(self, passes, photons):
+        return stats_line(passes, self.total, photons, self.elapsed(), self.error)
 
     def run(self):
-        """Passes until the pass count, the time limit or Esc, whichever comes first."""
-        while self.passes < self.total and not self.stopped:
+        """Passes until the pass count, the time limit, the target error or Esc, whichever comes first."""
+        while self.passes < self.total and not self.stopped and not self.target_reached:
             remaining = self.time_limit - self.elapsed() if self.time_limit > 0 else 0.0
             if self.time_limit > 0 and remaining <= 0.0:
                 break
             self.renderer.run(passes=1, callback=self)
             stats = self.renderer.stats()
             self.passes, self.photons = stats["passes"], stats["photons_emitted"]
+            self.error, self.target_reached = stats["error"]["bound"], stats["target_error_reached"]
             self.report_memory(stats)
             now = time.monotonic()
             if self.last_display is None or now - self.last_display >= DISPLAY_INTERVAL:
@@ -110,7 +119,7 @@ class ProgressiveDisplay:
 
     def show(self):
         if bpy.app.background:  # no render window: the terminal shows progress instead
-            print("PPM:", stats_line(self.passes, self.total, self.photons, self.elapsed()), flush=True)
+            print("PPM:", self.line(self.passes, self.photons), flush=True)
         write_pixels(self.result, self.renderer.image())
         self.engine.update_result(self.result)
         self.shown = self.passes
@@ -220,8 +229,9 @@ class PPMRenderEngine(bpy.types.RenderEngine):
         display = ProgressiveDisplay(self, renderer, result, settings)
         display.run()
         if display.stopped:
-            self.update_stats("", stats_line(display.passes, settings.passes, display.photons, display.elapsed())
-                              + " | cancelled")
+            self.update_stats("", display.line(display.passes, display.photons) + " | cancelled")
+        elif display.target_reached:
+            self.update_stats("", display.line(display.passes, display.photons) + " | target error reached")
 
     def view_update(self, context, depsgraph):
         """The viewport's scene changed (or is shown for the first time): export what changed."""

@@ -16,6 +16,14 @@ class PPMSceneSettings(bpy.types.PropertyGroup):
     time_limit: FloatProperty(
         name="Time Limit", default=0.0, min=0.0, unit='TIME_ABSOLUTE', subtype='TIME_ABSOLUTE',
         description="Seconds of rendering per view layer (0 = no limit)")
+    target_error: FloatProperty(
+        name="Target Error", default=0.0, min=0.0, max=1.0, soft_max=0.2, precision=3,
+        description="Stop once the estimated error (noise and bias, the mean over pixels relative to the image's "
+                    "mean brightness) is at most this, e.g. 0.02 for 2%; or at the passes or time limit, whichever "
+                    "comes first (0 = off)")
+    error_confidence: FloatProperty(
+        name="Confidence", default=0.95, min=0.5, max=0.999,
+        description="Confidence of the error estimate: the estimate is an upper bound at this confidence")
     viewport_passes: IntProperty(
         name="Viewport Passes", default=1000, min=0, soft_max=100_000,
         description="Photon passes in the viewport's Rendered shading before it stops refining (0 = no limit)")
@@ -74,7 +82,8 @@ class PPMObjectSettings(bpy.types.PropertyGroup):
 
 
 # The core's settings keys that scene.ppm carries one-to-one.
-CORE_KEYS = ("photons_per_pass", "alpha", "threshold", "max_bounces", "samples_per_pixel", "seed", "threads")
+CORE_KEYS = ("photons_per_pass", "alpha", "threshold", "max_bounces", "samples_per_pixel", "seed", "threads",
+             "target_error", "error_confidence")
 
 
 def core_settings(settings):

@@ -73,6 +73,10 @@ class RENDER_PT_ppm_sampling(PPMRenderPanel, bpy.types.Panel):
         col = layout.column()
         col.prop(settings, "passes")
         col.prop(settings, "time_limit")
+        col.prop(settings, "target_error")
+        sub = col.column()
+        sub.active = settings.target_error > 0.0
+        sub.prop(settings, "error_confidence")
         col.prop(settings, "photons_per_pass")
         col.separator()
         col.prop(settings, "alpha")

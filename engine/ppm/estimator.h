@@ -8,6 +8,7 @@
 //     Jensen 2009), new eye samples every pass, statistics kept per pixel.
 #pragma once
 
+#include "ppm/error_estimate.h"
 #include "ppm/render_context.h"
 
 #include <memory>
@@ -32,6 +33,14 @@ class Estimator {
   // The share of the pass in progress already folded into the image (stochastic: its bands).
   virtual double pass_done() const { return 0.0; }
   virtual void add_memory(MemoryUse& use) const = 0;
+  // Each pixel's pass values for the error estimate (error_estimate.h), row 0 at the bottom; a
+  // pass adds to a pixel once it is folded into the image.
+  const std::vector<PixelErrorStats>& errors() const { return errors_; }
+  // How many passes they hold, pixel by pixel.
+  virtual ErrorPasses error_passes() const = 0;
+
+ protected:
+  std::vector<PixelErrorStats> errors_;
 };
 
 // The estimator `context.settings.hit_points` and `hit_point_storage` name; `context` must outlive it.

@@ -18,7 +18,8 @@ double kept_hit_point_bytes(const Camera& camera, int samples_per_pixel) {
   const double pixels = static_cast<double>(camera.width) * camera.height;
   const double per_sample = 2.0 * (sizeof(HitPoint) + sizeof(HitPointShading)) + sizeof(HitPointStats) +
                             sizeof(uint32_t) + 2 * sizeof(Color) + sizeof(Bounces);
-  const double per_pixel = 2 * sizeof(uint32_t) + sizeof(Color) + sizeof(double) + 4 * sizeof(float);
+  const double per_pixel =
+      2 * sizeof(uint32_t) + sizeof(Color) + sizeof(double) + 4 * sizeof(float) + sizeof(PixelErrorStats);
   return pixels * (per_sample * samples_per_pixel + per_pixel);
 }
 
@@ -47,6 +48,7 @@ bool FixedHitPoints::prepare(const Poll& poll) {
   c_.stats.hit_points = hit_points_.size();
   widen_to_photon_spacing();
   report_empty_pixels();
+  errors_.assign(hit_points_.pixel_begin.size() - 1, PixelErrorStats{});
   return true;
 }
 
@@ -77,15 +79,17 @@ bool FixedHitPoints::pass(const Poll& poll) {
   if (!c_.run_photon_pass(hit_points_, pass, poll, counters)) return false;
   stats.photon = counters;
   // Direct light adds its sums only when complete, so a cancel here keeps the image consistent.
-  bool completed = true;
+  bool completed = true, direct_sampled = false;
   if (c_.analysis.sample_direct && (c_.analysis.resample_direct || stats.direct_samples == 0)) {
     ScopedSeconds timer(stats.direct_seconds);
     completed = direct_light_pass(*c_.scene, c_.lights, c_.settings, pass, c_.threads, hit_points_, c_.direct_scratch,
                                   c_.cancel, poll);
     if (completed) ++stats.direct_samples;
+    direct_sampled = completed;
   }
   {
     ScopedSeconds timer(stats.update_seconds);
+    add_pass_to_errors(direct_sampled);  // at the radii the photons were gathered with
     parallel_for(c_.threads, hit_points_.size(), [&](size_t begin, size_t end) {
       for (size_t i = begin; i < end; ++i)
         progressive_update(hit_points_.points[i].r2, hit_points_.stats[i], c_.settings.alpha, c_.settings.threshold);
@@ -93,6 +97,27 @@ bool FixedHitPoints::pass(const Poll& poll) {
   }
   ++stats.passes;
   return completed;
+}
+
+// Each pixel's value from this pass alone, and its bias estimate (error_estimate.h): what its eye
+// paths see, this pass's direct sample (or the mean, where direct light is sampled once) and the
+// pass's photons at the radii they were gathered with.
+void FixedHitPoints::add_pass_to_errors(bool direct_sampled) {
+  const double direct_scale = c_.stats.direct_samples > 0 ? 1.0 / c_.stats.direct_samples : 0.0;
+  const double photons = static_cast<double>(c_.settings.photons_per_pass);
+  parallel_for(c_.threads, errors_.size(), [&](size_t begin, size_t end) {
+    for (size_t p = begin; p < end; ++p) {
+      double value = luminance(hit_points_.emitted[p]), bias = 0.0;
+      for (uint32_t i = hit_points_.pixel_begin[p]; i < hit_points_.pixel_begin[p + 1]; ++i) {
+        const HitPointStats& s = hit_points_.stats[i];
+        value += direct_sampled ? luminance(c_.direct_scratch[i]) : luminance(s.direct) * direct_scale;
+        const double scale = c_.pass_radiance_scale(hit_points_.points[i].r2, photons);
+        value += scale * s.pass_flux;
+        bias += scale * s.pass_bias;
+      }
+      errors_[p].add(value, bias, c_.stats.passes + 1);
+    }
+  });
 }
 
 PixelValue FixedHitPoints::pixel(size_t p) const {

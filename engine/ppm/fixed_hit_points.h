@@ -19,15 +19,17 @@ class FixedHitPoints : public Estimator {
   bool pass(const Poll& poll) override;
   PixelValue pixel(size_t p) const override;
   double radius_mean() const override;
+  ErrorPasses error_passes() const override { return ErrorPasses{c_.stats.passes, 0}; }
   void add_memory(MemoryUse& use) const override {
     use.hit_points += hit_points_.memory_bytes() - hit_points_.pixel_bytes();
-    use.pixels += hit_points_.pixel_bytes();
+    use.pixels += hit_points_.pixel_bytes() + errors_.capacity() * sizeof(PixelErrorStats);
   }
 
  private:
   void check_memory_for_hit_points() const;
   void widen_to_photon_spacing();
   void report_empty_pixels();
+  void add_pass_to_errors(bool direct_sampled);
 
   RenderContext& c_;
   HitPoints hit_points_;

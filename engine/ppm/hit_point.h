@@ -51,11 +51,13 @@ inline SurfaceRecord surface_record(const HitPoint& h, const HitPointShading& sh
 // Create as HitPointStats{} (all zero). No member initialisers: they would
 // make resize() write every element on one thread (see fill_vector.h).
 struct HitPointStats {
-  double n;       // photons accumulated so far (alpha-weighted)
-  uint32_t m;     // photons gathered at the current radius, not yet applied
-  Color tau;      // flux at the current radius (already times BSDF and throughput)
-  Color tau_m;    // flux of the m pending photons
-  Color direct;   // sum of direct-light samples
+  double n;          // photons accumulated so far (alpha-weighted)
+  uint32_t m;        // photons gathered at the current radius, not yet applied
+  float pass_bias;   // the last pass's photons' bias sum, in luminance (error_estimate.h)
+  Color tau;         // flux at the current radius (already times BSDF and throughput)
+  Color tau_m;       // flux of the m pending photons
+  Color direct;      // sum of direct-light samples
+  float pass_flux;   // the last pass's photons' flux, in luminance (error_estimate.h)
 };
 
 

@@ -1,6 +1,7 @@
 // Photon passes (see photon_pass.h).
 #include "ppm/photon_pass.h"
 
+#include "ppm/error_estimate.h"
 #include "ppm/parallel.h"
 #include "ppm/photon_tracer.h"
 
@@ -84,7 +85,8 @@ inline bool within_budget(const BounceLimits& limits, const HitPoints& hp, uint3
 }  // namespace
 
 PhotonPass::PhotonPass(const Settings& settings, int threads)
-    : settings_(settings), threads_(threads), m_acc_(threads), tau_acc_(threads), deposits_(threads) {}
+    : settings_(settings), threads_(threads), m_acc_(threads), tau_acc_(threads), bias_acc_(threads),
+      deposits_(threads) {}
 
 double PhotonPass::mean_r2(const HitPoints& hp) const {
   double sum = 0.0;
@@ -138,8 +140,10 @@ bool PhotonPass::run_hit_point_index(const Grid& grid, const Scene& scene, const
   auto work = [&](int, size_t block) {
     m_acc_[block].assign(n, 0u);
     tau_acc_[block].assign(n, Vec3f(0.0f));
+    bias_acc_[block].assign(n, 0.0f);
     uint32_t* m = m_acc_[block].data();
     Vec3f* tau = tau_acc_[block].data();
+    float* bias = bias_acc_[block].data();
     uint64_t deposits = 0;
     const uint64_t first = photons * block / blocks, last = photons * (block + 1) / blocks;
     for (uint64_t begin = first; begin < last; begin += kPhotonChunk) {
@@ -154,7 +158,11 @@ bool PhotonPass::run_hit_point_index(const Grid& grid, const Scene& scene, const
               if (!photon_weight(scene, hp, h, pos, d, nf, w)) return;
               if (limits_.active && !within_budget(limits_, hp, h, used, nf)) return;
               ++m[h];
-              tau[h] += w * f;
+              const Vec3f wf = w * f;
+              tau[h] += wf;
+              const HitPoint& point = hp.points[h];
+              const Vec3 d = pos - point.position;
+              bias[h] += static_cast<float>(luminance(Color(wf)) * bias_weight(glm::dot(d, d), point.r2));
             });
           });
     }
@@ -162,13 +170,18 @@ bool PhotonPass::run_hit_point_index(const Grid& grid, const Scene& scene, const
   };
   if (!parallel_chunks(blocks, blocks, work, cancel, poll, settings_.progress_interval)) return false;
   parallel_for(threads_, n, [&](size_t begin, size_t end) {
+    for (size_t i = begin; i < end; ++i) hp.stats[i].pass_flux = hp.stats[i].pass_bias = 0.0f;
     for (int b = 0; b < blocks; ++b) {  // block order: deterministic sums
       const uint32_t* m = m_acc_[b].data();
       const Vec3f* tau = tau_acc_[b].data();
+      const float* bias = bias_acc_[b].data();
       for (size_t i = begin; i < end; ++i) {
         if (m[i] == 0) continue;
-        hp.stats[i].m += m[i];
-        hp.stats[i].tau_m += Color(tau[i]);
+        HitPointStats& s = hp.stats[i];
+        s.m += m[i];
+        s.tau_m += Color(tau[i]);
+        s.pass_flux += static_cast<float>(luminance(Color(tau[i])));
+        s.pass_bias += bias[i];
       }
     }
   });
@@ -252,8 +265,11 @@ bool PhotonPass::gather(const Scene& scene, HitPoints& hp, std::atomic<bool>& ca
   if (!gathered) return false;
   parallel_for(threads_, hp.size(), [&](size_t begin, size_t end) {
     for (size_t i = begin; i < end; ++i) {
-      hp.stats[i].m += gathered_m_[i];
-      hp.stats[i].tau_m += gathered_tau_[i];
+      HitPointStats& s = hp.stats[i];
+      s.m += gathered_m_[i];
+      s.tau_m += gathered_tau_[i];
+      s.pass_flux = static_cast<float>(luminance(gathered_tau_[i]));
+      s.pass_bias = gathered_bias_[i];
     }
   });
   counters.gather_seconds += seconds_since(t0);
@@ -288,6 +304,7 @@ bool PhotonPass::gather_at_hit_points(const Grid& grid, const Scene& scene, cons
   const size_t n = hp.size(), hchunks = (n + kHitPointChunk - 1) / kHitPointChunk;
   gathered_m_.resize(n);
   gathered_tau_.resize(n);
+  gathered_bias_.resize(n);
   auto gather = [&](int, size_t chunk) {
     const Vec3* position = positions_.data();
     const Arrival* arrival = arrivals_.data();
@@ -299,19 +316,21 @@ bool PhotonPass::gather_at_hit_points(const Grid& grid, const Scene& scene, cons
       const double r2 = h.r2, r = std::sqrt(r2);
       uint32_t m = 0;
       Color tau(0.0);
+      double bias = 0.0;  // luminance
       if (!h.glossy) {
         // Diffuse: the weight is the same for every photon, so sum the flux and weigh once.
         const Vec3f normal_f = h.normal;
         const Vec3 normal(normal_f);
         const Bounces budget = limited ? limits_.budget(hp.chain[i]) : Bounces{};
-        Color flux(0.0);
+        Color flux(0.0), flux_bias(0.0);
         // Compiled twice, so that the loop without bounce limits has no test for them.
         auto sum = [&](auto with_limits) {
           grid.for_each_run_in_box(center - r, center + r, [&](uint32_t begin, uint32_t end) {
             for (uint32_t p = begin; p < end; ++p) {
               // Most candidates fail the distance test, which reads positions only.
               const Vec3 d = position[p] - center;
-              if (glm::dot(d, d) > r2) continue;
+              const double d2 = glm::dot(d, d);
+              if (d2 > r2) continue;
               const Arrival& a = arrival[p];
               if (!counts_for_diffuse(d, normal, normal_f, a.direction, a.normal)) continue;
               if constexpr (decltype(with_limits)::value) {
@@ -319,6 +338,7 @@ bool PhotonPass::gather_at_hit_points(const Grid& grid, const Scene& scene, cons
               }
               ++m;
               flux += Color(a.flux);
+              flux_bias += Color(a.flux) * bias_weight(d2, r2);
             }
           });
         };
@@ -327,6 +347,7 @@ bool PhotonPass::gather_at_hit_points(const Grid& grid, const Scene& scene, cons
         else
           sum(std::false_type{});
         tau = flux * Color(h.weight);
+        bias = luminance(flux_bias * Color(h.weight));
       } else {
         grid.for_each_run_in_box(center - r, center + r, [&](uint32_t begin, uint32_t end) {
           for (uint32_t p = begin; p < end; ++p) {
@@ -335,12 +356,16 @@ bool PhotonPass::gather_at_hit_points(const Grid& grid, const Scene& scene, cons
             if (!photon_weight(scene, hp, static_cast<uint32_t>(i), position[p], a.direction, a.normal, w)) continue;
             if (limited && !within_budget(limits_, hp, static_cast<uint32_t>(i), bounces[p], a.normal)) continue;
             ++m;
-            tau += Color(w * a.flux);
+            const Color wf(w * a.flux);
+            tau += wf;
+            const Vec3 d = position[p] - center;
+            bias += luminance(wf) * bias_weight(glm::dot(d, d), r2);
           }
         });
       }
       gathered_m_[i] = m;
       gathered_tau_[i] = tau;
+      gathered_bias_[i] = static_cast<float>(bias);
     }
   };
   return parallel_chunks(threads_, hchunks, gather, cancel, poll, settings_.progress_interval);
@@ -360,6 +385,8 @@ size_t PhotonPass::per_hit_point_bytes() const {
   size_t bytes = 0;
   for (const auto& v : m_acc_) bytes += v.capacity() * sizeof(uint32_t);
   for (const auto& v : tau_acc_) bytes += v.capacity() * sizeof(Vec3f);
+  for (const auto& v : bias_acc_) bytes += v.capacity() * sizeof(float);
+  bytes += gathered_bias_.capacity() * sizeof(float);
   bytes += gathered_m_.capacity() * sizeof(uint32_t) + gathered_tau_.capacity() * sizeof(Color);
   return bytes + centers_.capacity() * sizeof(Vec3) + radii_.capacity() * sizeof(double);
 }

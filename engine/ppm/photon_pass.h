@@ -1,5 +1,6 @@
 // A photon pass: trace `photons_per_pass` photons in parallel and gather them
-// into the hit points' pending statistics (m, tau_m). Two organisations, both
+// into the hit points' pending statistics (m, tau_m), and what the pass alone found into their
+// pass_flux and pass_bias (for the error estimate, error_estimate.h). Two organisations, both
 // over either spatial index (quantile grid or hashed grid):
 //   HitPoints: the index holds the hit points as spheres; every photon looks up
 //     the hit points around it and adds to one accumulator per block of
@@ -96,6 +97,7 @@ class PhotonPass {
   // Per-block accumulators (HitPoints organisation).
   std::vector<std::vector<uint32_t>> m_acc_;
   std::vector<std::vector<Vec3f>> tau_acc_;
+  std::vector<std::vector<float>> bias_acc_;  // luminance (error_estimate.h)
   std::vector<uint64_t> deposits_;
   // Photons organisation: photons per chunk as traced; their positions
   // concatenated in chunk order (the traced order) for the grid, then all of
@@ -111,6 +113,7 @@ class PhotonPass {
   // One pass's gather per hit point, added to the statistics once the pass completes.
   std::vector<uint32_t> gathered_m_;
   std::vector<Color> gathered_tau_;
+  std::vector<float> gathered_bias_;  // luminance (error_estimate.h)
   std::vector<Vec3> centers_;
   std::vector<double> radii_;
 };

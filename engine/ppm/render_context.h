@@ -50,6 +50,9 @@ struct RenderContext {
                    PhotonPassCounters& counters);
   // Radiance of the photons gathered at radius^2 `r2` into `s`, over `photons_emitted`.
   Color photon_radiance(double r2, const HitPointStats& s, double photons_emitted) const;
+  // What turns a hit point's pass_flux and pass_bias (gathered at radius^2 `r2` from one pass of
+  // `photons` photons) into radiance: the error estimate's pass values (error_estimate.h).
+  double pass_radiance_scale(double r2, double photons) const;
   void add_memory(MemoryUse& use) const;
 
   std::shared_ptr<const Scene> scene;

@@ -2,6 +2,7 @@
 // statistics (Renderer::stats()) between runs.
 #pragma once
 
+#include "ppm/error_estimate.h"
 #include "ppm/photon_pass.h"
 
 #include <cstdint>
@@ -46,6 +47,8 @@ struct RenderStats {
   double radius_mean = 0.0;
   double pass_done = 0.0;  // the share of the pass in progress already in the image (Progress::pass_done)
   std::vector<std::string> skipped;
+  ImageError error;                  // the image's estimated error (error_estimate.h)
+  bool target_error_reached = false;  // the last run() stopped on settings.target_error
 };
 
 }  // namespace ppm

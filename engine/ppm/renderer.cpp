@@ -61,16 +61,50 @@ uint64_t Renderer::run(uint64_t passes, double seconds, const std::function<bool
     return poll(progress());
   };
   bool ok = prepared_ || (prepared_ = estimator_->prepare(inner_poll));
+  stats.target_error_reached = false;
   while (ok && (passes == 0 || stats.passes - start < passes)) {
     if (seconds > 0.0 && since(t0) >= seconds) break;
+    if ((stats.target_error_reached = target_reached())) break;
     ok = estimator_->pass(inner_poll);
     if (ok && poll && !poll(progress())) ok = false;
     last_callback = Clock::now();
   }
+  if (ok && !stats.target_error_reached) stats.target_error_reached = target_reached();
   const bool timed_out = seconds > 0.0 && since(t0) >= seconds;
   stats.cancelled = !ok && !timed_out && !context_.paused;
   stats.total_seconds += since(t0);
   return stats.passes - start;
+}
+
+// Whether the image's estimated error has met settings.target_error (off at 0).
+bool Renderer::target_reached() const {
+  const Settings& s = context_.settings;
+  if (!(s.target_error > 0.0) || !prepared_ || context_.stats.passes < static_cast<uint64_t>(s.error_min_passes) ||
+      estimator_->pass_done() > 0.0)
+    return false;
+  return image_error(estimator_->errors(), estimator_->error_passes(), s.error_confidence).bound <= s.target_error;
+}
+
+std::vector<float> Renderer::error_image() const {
+  refuse_while_running(running_, "error()");
+  const Camera& cam = context_.scene->camera();
+  const int W = cam.width, H = cam.height;
+  std::vector<float> out(static_cast<size_t>(W) * H * 3, 0.0f);
+  if (!prepared_) return out;
+  const std::vector<PixelErrorStats>& errors = estimator_->errors();
+  const ErrorPasses counts = estimator_->error_passes();
+  StudentTByPasses t_of(context_.settings.error_confidence);
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      const size_t p = static_cast<size_t>(y) * W + x;
+      const uint64_t n = counts.of(p);
+      const PixelError e = pixel_error(errors[p], n, t_of(n));
+      float* o = &out[(static_cast<size_t>(H - 1 - y) * W + x) * 3];  // top row first
+      o[0] = to_float(e.bias);
+      o[1] = to_float(e.noise);
+      o[2] = to_float(e.value);
+    }
+  return out;
 }
 
 std::vector<float> Renderer::image() const {
@@ -113,6 +147,8 @@ RenderStats Renderer::stats() const {
   s.memory = MemoryUse{};
   context_.add_memory(s.memory);
   estimator_->add_memory(s.memory);
+  if (prepared_)
+    s.error = image_error(estimator_->errors(), estimator_->error_passes(), context_.settings.error_confidence);
   return s;
 }
 

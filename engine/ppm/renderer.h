@@ -52,6 +52,10 @@ class Renderer {
   // writing the data.
   std::vector<float> image() const;
   RenderStats stats() const;
+  // Per pixel, rows from the top like image(): the estimated bias and noise (at the settings'
+  // confidence) of its luminance, and its luminance (error_estimate.h); 3 floats a pixel. Before
+  // two passes the noise is inf.
+  std::vector<float> error_image() const;
   const Settings& settings() const { return context_.settings; }
   int width() const { return context_.scene->camera().width; }
   int height() const { return context_.scene->camera().height; }
@@ -59,6 +63,8 @@ class Renderer {
  private:
   RenderContext context_;
   std::unique_ptr<Estimator> estimator_;
+  bool target_reached() const;
+
   bool prepared_ = false;             // Estimator::prepare has completed
   std::atomic<bool> running_{false};  // image()/stats() refuse to read while a pass writes
 };

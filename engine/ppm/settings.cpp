@@ -22,6 +22,9 @@ void Settings::validate() const {
     fail("initial_radius_pixels must be positive");
   if (dof_max_radius < 1 || dof_max_radius > 256) fail("dof_max_radius must be in [1, 256]");
   if (!(progress_interval > 0.0) || !std::isfinite(progress_interval)) fail("progress_interval must be positive");
+  if (!(target_error >= 0.0) || !std::isfinite(target_error)) fail("target_error must be >= 0 (0: off)");
+  if (!(error_confidence > 0.0 && error_confidence < 1.0)) fail("error_confidence must be in (0, 1)");
+  if (error_min_passes < 2 || error_min_passes > 1000000) fail("error_min_passes must be in [2, 1000000]");
 }
 
 }  // namespace ppm

@@ -67,6 +67,12 @@ struct Settings {
   // instead of showing the background; with transparent_glass also those that escape through smooth glass.
   bool transparent_background = false;
   bool transparent_glass = false;
+  // Halting on the error estimate (error_estimate.h): run() stops once the image's estimated
+  // relative error, at `error_confidence`, is at most target_error (0: off), after at least
+  // error_min_passes passes.
+  double target_error = 0.0;
+  double error_confidence = 0.95;
+  int error_min_passes = 8;
 
   // Scatterings a photon path or an eye chain may take.
   int path_bounces() const { return light_path_limits ? std::min(total_bounces, 1000) + 1 : max_bounces; }

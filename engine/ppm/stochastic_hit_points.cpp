@@ -16,10 +16,12 @@ bool StochasticHitPoints::prepare(const Poll&) {
   const Camera& cam = c_.scene->camera();
   // The pixels' statistics, a depth buffer and the image read back, before any of it is made.
   const double pixels = static_cast<double>(cam.width) * cam.height;
-  check_memory(static_cast<size_t>(pixels * (sizeof(PixelStats) + 2 * sizeof(float) + 4 * sizeof(float))),
+  check_memory(static_cast<size_t>(pixels * (sizeof(PixelStats) + sizeof(PixelErrorStats) + 2 * sizeof(float) +
+                                              4 * sizeof(float))),
                "stochastic hit points at " + std::to_string(cam.width) + "x" + std::to_string(cam.height),
                "render a smaller image or in parts (render border)");
   pixels_.assign(static_cast<size_t>(cam.width) * cam.height, PixelStats{});
+  errors_.assign(pixels_.size(), PixelErrorStats{});
   current_ = PassInProgress{};
   return true;
 }
@@ -99,20 +101,29 @@ void StochasticHitPoints::start_at_pixel_radii(size_t first_pixel) {
 
 // The band's findings into its pixels (pass number `pass`, 1 for the first), with the same
 // cross-generation rule as fixed hit points, per pixel.
+// The pixel's value from this pass alone and its bias estimate go to the error estimate
+// (error_estimate.h), at the radius the photons were gathered with.
 void StochasticHitPoints::fold_band(size_t first_pixel, uint64_t pass) {
   const HitPoints& fresh = hit_points_;
   const size_t band_pixels = fresh.pixel_begin.size() - 1;
+  const double photons = static_cast<double>(current_.counters.emitted - c_.stats.photon.emitted);
   parallel_for(c_.threads, band_pixels, [&](size_t begin, size_t end) {
     for (size_t p = begin; p < end; ++p) {
       uint32_t m = 0;
       Color tau_m(0.0), light = fresh.emitted[p];
+      double pass_flux = 0.0, pass_bias = 0.0;
       for (uint32_t i = fresh.pixel_begin[p]; i < fresh.pixel_begin[p + 1]; ++i) {
         m += fresh.stats[i].m;
         tau_m += fresh.stats[i].tau_m;
         light += fresh.stats[i].direct;
+        pass_flux += fresh.stats[i].pass_flux;
+        pass_bias += fresh.stats[i].pass_bias;
       }
+      PixelStats& px = pixels_[first_pixel + p];
+      const double scale = c_.pass_radiance_scale(px.r2, photons);
+      errors_[first_pixel + p].add(luminance(light) + scale * pass_flux, scale * pass_bias, pass);
       const PixelPass found{m, Vec3f(tau_m), Vec3f(light), static_cast<float>(fresh.transparency[p])};
-      fold_pass(pixels_[first_pixel + p], found, pass, c_.settings.alpha, c_.settings.threshold);
+      fold_pass(px, found, pass, c_.settings.alpha, c_.settings.threshold);
     }
   });
 }
@@ -138,7 +149,8 @@ double StochasticHitPoints::radius_mean() const {
 }
 
 void StochasticHitPoints::add_memory(MemoryUse& use) const {
-  use.pixels += pixels_.capacity() * sizeof(PixelStats) + depth_.capacity() * sizeof(float);
+  use.pixels += pixels_.capacity() * sizeof(PixelStats) + errors_.capacity() * sizeof(PixelErrorStats) +
+                depth_.capacity() * sizeof(float);
   use.hit_points += hit_points_.memory_bytes() + eye_scratch_.memory_bytes();
 }
 

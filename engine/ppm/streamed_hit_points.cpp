@@ -20,7 +20,8 @@ void StreamedHitPoints::check_memory_for(double hit_points) const {
   const Camera& cam = c_.scene->camera();
   const double pixels = static_cast<double>(cam.width) * cam.height;
   const double needed = hit_points * sizeof(FloatPhotonStats) +
-                        pixels * (sizeof(uint32_t) + sizeof(Vec3f) + 2 * sizeof(float) + 4 * sizeof(float));
+                        pixels * (sizeof(uint32_t) + sizeof(Vec3f) + sizeof(PixelErrorStats) + 2 * sizeof(float) +
+                                  4 * sizeof(float));
   check_memory(static_cast<size_t>(std::min(needed, 1e18)),
                "fixed hit points at " + std::to_string(cam.width) + "x" + std::to_string(cam.height) + " and " +
                    std::to_string(c_.settings.samples_per_pixel) + " samples per pixel, streamed,",
@@ -61,6 +62,7 @@ bool StreamedHitPoints::count_hit_points(const Poll& poll, double& mean_radius) 
   first_.assign(pixels + 1, 0);
   light_.assign(pixels, Vec3f(0.0f));
   transparency_.assign(pixels, 0.0f);
+  errors_.assign(pixels, PixelErrorStats{});
   EyePassOptions eye = c_.eye_options(0, c_.settings.samples_per_pixel);
   std::vector<float> depth;
   if (eye.record_depth) depth.assign(pixels, std::numeric_limits<float>::infinity());
@@ -175,6 +177,7 @@ void StreamedHitPoints::fold_band(size_t first_pixel) {
   const float w = 1.0f / static_cast<float>(c_.stats.direct_samples + 1);
   const double alpha = c_.settings.alpha;
   const uint32_t threshold = c_.settings.threshold;
+  const double photons = static_cast<double>(current_.counters.emitted - c_.stats.photon.emitted);
   constexpr size_t kBlock = 4096;  // pixels; sums of r^2 by block: the same whichever thread folds which
   const size_t blocks = (band_pixels + kBlock - 1) / kBlock;
   block_sums_.assign(blocks, 0.0);
@@ -182,14 +185,20 @@ void StreamedHitPoints::fold_band(size_t first_pixel) {
     double sum_r2 = 0.0;
     for (size_t p = b * kBlock; p < std::min(band_pixels, (b + 1) * kBlock); ++p) {
       Color light = fresh.emitted[p];
+      double photon_value = 0.0, bias = 0.0;  // this pass's, for the error estimate (error_estimate.h)
       for (uint32_t i = fresh.pixel_begin[p]; i < fresh.pixel_begin[p + 1]; ++i) {
+        const HitPointStats& found = fresh.stats[i];
         FloatPhotonStats& s = stats_[first + i];
-        s.fold(fresh.stats[i].m, Vec3f(fresh.stats[i].tau_m), alpha, threshold);
+        const double scale = c_.pass_radiance_scale(s.r2, photons);  // the radius it gathered with
+        photon_value += scale * found.pass_flux;
+        bias += scale * found.pass_bias;
+        s.fold(found.m, Vec3f(found.tau_m), alpha, threshold);
         sum_r2 += s.r2;
-        light += fresh.stats[i].direct;
+        light += found.direct;
       }
       Vec3f& mean = light_[first_pixel + p];
       if (direct) mean += (Vec3f(light) - mean) * w;
+      errors_[first_pixel + p].add(luminance(direct ? light : Color(mean)) + photon_value, bias, c_.stats.passes + 1);
     }
     block_sums_[b] = sum_r2;
   });
@@ -220,7 +229,7 @@ void StreamedHitPoints::add_memory(MemoryUse& use) const {
   use.hit_points += stats_.capacity() * sizeof(FloatPhotonStats) + hit_points_.memory_bytes() +
                     eye_scratch_.memory_bytes();
   use.pixels += first_.capacity() * sizeof(uint32_t) + light_.capacity() * sizeof(Vec3f) +
-                transparency_.capacity() * sizeof(float);
+                transparency_.capacity() * sizeof(float) + errors_.capacity() * sizeof(PixelErrorStats);
 }
 
 }  // namespace ppm

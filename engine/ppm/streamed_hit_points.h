@@ -34,6 +34,9 @@ class StreamedHitPoints : public Estimator {
   bool pass(const Poll& poll) override;
   PixelValue pixel(size_t p) const override;
   double radius_mean() const override;
+  ErrorPasses error_passes() const override {
+    return ErrorPasses{c_.stats.passes, static_cast<size_t>(current_.next_row) * c_.scene->camera().width};
+  }
   double pass_done() const override;
   void add_memory(MemoryUse& use) const override;
 

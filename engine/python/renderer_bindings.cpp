@@ -108,6 +108,11 @@ const std::map<std::string, SettingAccess>& setting_table() {
        number(&Settings::transparent_background, "camera rays that escape leave alpha 0 (Film > Transparent)")},
       {"transparent_glass", number(&Settings::transparent_glass,
                                    "with transparent_background: also rays escaping through smooth glass")},
+      {"target_error", number(&Settings::target_error,
+                              "stop once the image's estimated relative error is at most this (0: off)")},
+      {"error_confidence",
+       number(&Settings::error_confidence, "confidence of the error estimate's noise bound, in (0, 1)")},
+      {"error_min_passes", number(&Settings::error_min_passes, "passes before target_error can stop a run")},
       {"grid", enumeration(&Settings::grid, {{"quantile", GridKind::Quantile}, {"hash", GridKind::Hash}},
                            "spatial index: 'quantile' grid or 'hash'ed uniform grid", "grid")},
   };
@@ -179,6 +184,15 @@ py::dict stats_dict(const RenderStats& s) {
   t["total"] = s.total_seconds;
   d["seconds"] = t;
   d["skipped"] = s.skipped;
+  py::dict error;
+  error["relative"] = s.error.relative;
+  error["bias"] = s.error.bias;
+  error["noise"] = s.error.noise;
+  error["bound"] = s.error.bound;
+  error["pixel_p95"] = s.error.pixel_p95;
+  error["confidence"] = s.error.confidence;
+  d["error"] = error;
+  d["target_error_reached"] = s.target_error_reached;
   return d;
 }
 
@@ -267,5 +281,23 @@ void bind_renderer(py::module_& m) {
            },
            "Linear RGBA float32 image of shape (H, W, 4), top row first; alpha = 1.")
       .def("stats", [](const Renderer& r) { return stats_dict(r.stats()); })
+      .def("error",
+           [](const Renderer& r) {
+             std::vector<float> values;
+             {
+               py::gil_scoped_release release;
+               values = r.error_image();
+             }
+             py::array_t<float> all({py::ssize_t(r.height()), py::ssize_t(r.width()), py::ssize_t(3)}, values.data());
+             py::dict out;
+             const py::slice every(0, r.height(), 1), columns(0, r.width(), 1);
+             out["bias"] = all[py::make_tuple(every, columns, 0)];
+             out["noise"] = all[py::make_tuple(every, columns, 1)];
+             out["luminance"] = all[py::make_tuple(every, columns, 2)];
+             return out;
+           },
+           "The estimated error per pixel, (H, W) float32 arrays, top row first, in luminance: 'bias' (signed: "
+           "the image minus the truth, expected), 'noise' (half-width at settings error_confidence), "
+           "'luminance' (the pixel's). The bound is abs(bias) + noise; stats()['error'] gives the image's.")
       .def_property_readonly("settings", [](const Renderer& r) { return settings_dict(r.settings()); });
 }

@@ -123,6 +123,19 @@ def test_time_limit_ends_the_render(spy, tmp_path):
     assert 0 < spy.renderers[-1].stats()["passes"] < 100_000
 
 
+def test_target_error_ends_the_render_and_the_stats_show_the_estimate(spy, monkeypatch, tmp_path):
+    lines = []
+    original = engine.ProgressiveDisplay.line
+    monkeypatch.setattr(engine.ProgressiveDisplay, "line",
+                        lambda self, passes, photons: lines.append(original(self, passes, photons)) or lines[-1])
+    render_file(simple_scene(64, 48), tmp_path / "e.exr", passes=100_000, target_error=0.05,
+                photons_per_pass=20_000)
+    stats = spy.renderers[-1].stats()
+    assert stats["target_error_reached"] and stats["error"]["bound"] <= 0.05
+    assert spy.renderers[-1].settings["error_min_passes"] <= stats["passes"] < 100_000
+    assert "est. error" in lines[-1] and "est. error" not in lines[0]  # unknown before two passes
+
+
 def test_escape_cancels_quickly_and_keeps_the_image(spy, monkeypatch, tmp_path):
     scene = simple_scene(160, 120)
     start = time.monotonic()
@@ -294,6 +307,7 @@ def test_a_million_triangles_export_whole():
 
 def test_stats_line_format():
     assert engine.stats_line(12, 200, 3.1e6, 12.4) == "Pass 12/200 | 3.1 M photons | 00:12"
+    assert engine.stats_line(12, 200, 3.1e6, 12.4, 0.0314) == "Pass 12/200 | 3.1 M photons | 00:12 | est. error 3.1%"
 
 
 def test_camera_matches_cycles_fov_rules():

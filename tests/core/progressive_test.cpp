@@ -103,7 +103,7 @@ TEST(Progressive, FloatPixelStatsKeepTheEstimateOverAHundredThousandPasses) {
   }
   EXPECT_NEAR(px.light.x, light_sum / 100000, 1e-5);
   EXPECT_FLOAT_EQ(px.transparency, 0.25f);
-  const HitPointStats s{px.n, px.m, Color(px.tau), Color(px.tau_m), Color(0.0)};
+  const HitPointStats s = px.in_double();
   EXPECT_NEAR(photon_radiance(px.r2, s, 100000.0, 1.0).x, density * flux, 1e-3 * density * flux);
 }
 

@@ -148,5 +148,6 @@ def test_stochastic_memory_for_hit_points_does_not_grow_with_the_image():
     band = 65536  # pixels (RenderContext::kBandPixels)
     # One band's hit points and what the eye pass, gather and direct light keep for them.
     assert small["hit_points"] <= 1024 * band and large["hit_points"] <= 1024 * band
-    assert large["pixels"] <= 52 * 2048 * 2048 * 1.01  # pixel_stats.h: 52 bytes a pixel
+    # pixel_stats.h: 52 bytes a pixel; error_estimate.h: 16
+    assert large["pixels"] <= (52 + 16) * 2048 * 2048 * 1.01
     assert large["pixels"] >= 15 * small["pixels"]
