@@ -1,5 +1,5 @@
-"""A 4K render (3840 x 2160) in bounded memory: stochastic hit points keep 52 bytes a pixel and one
-band's hit points (engine/ppm/stochastic_hit_points.h), streamed fixed hit points 36 bytes a hit point
+"""A 4K render (3840 x 2160) in bounded memory: stochastic hit points keep 52 bytes a pixel (68 with the
+error estimate's 16) and one band's hit points (engine/ppm/stochastic_hit_points.h), streamed fixed hit points 36 bytes a hit point
 and 20 a pixel (streamed_hit_points.h). Each render runs in a fresh process, so that its peak resident
 set is its own."""
 
@@ -49,7 +49,7 @@ def test_a_4k_stochastic_render_stays_under_96_bytes_a_pixel():
     pixels = WIDTH * HEIGHT
     assert row["shape"] == [HEIGHT, WIDTH, 4] and row["mean"] > 0.0
     assert row["grown"] <= CEILING_BYTES_PER_PIXEL * pixels, row
-    assert row["memory"]["pixels"] <= 52 * pixels * 1.01, row
+    assert row["memory"]["pixels"] <= (52 + 16) * pixels * 1.01, row  # pixel_stats.h, error_estimate.h
 
 
 def test_a_4k_render_with_fixed_hit_points_streams_them_in_under_64_bytes_each():
@@ -57,7 +57,7 @@ def test_a_4k_render_with_fixed_hit_points_streams_them_in_under_64_bytes_each()
     assert row["storage"] == "streamed" and row["shape"] == [HEIGHT, WIDTH, 4] and row["mean"] > 0.0
     assert row["hit_points"] > 2 * WIDTH * HEIGHT
     assert row["grown"] <= CEILING_BYTES_PER_FIXED_HIT_POINT * row["hit_points"], row
-    assert row["memory"]["pixels"] <= 20 * WIDTH * HEIGHT * 1.01, row
+    assert row["memory"]["pixels"] <= (20 + 16) * WIDTH * HEIGHT * 1.01, row  # and the error estimate's 16
 
 
 def resident_bytes():
