@@ -33,6 +33,8 @@ namespace ppm {
 // The bias weight of a photon at squared distance d2 from a hit point of radius^2 r2: the flux
 // it adds, times this, summed over the pass and scaled as the flux is, is b_j (see above).
 inline double bias_weight(double d2, double r2) { return 3.0 * (2.0 * d2 / r2 - 1.0); }
+// The same summed over photons from their flux and their flux times d2 (no division per photon).
+inline Color bias_sum(const Color& flux, const Color& flux_d2, double r2) { return flux_d2 * (6.0 / r2) - flux * 3.0; }
 
 // Running mean and sum of squared deviations in float (Welford: stable over thousands of passes,
 // where sums of squares would cancel).

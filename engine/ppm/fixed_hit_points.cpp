@@ -89,31 +89,32 @@ bool FixedHitPoints::pass(const Poll& poll) {
   }
   {
     ScopedSeconds timer(stats.update_seconds);
-    add_pass_to_errors(direct_sampled);  // at the radii the photons were gathered with
-    parallel_for(c_.threads, hit_points_.size(), [&](size_t begin, size_t end) {
-      for (size_t i = begin; i < end; ++i)
-        progressive_update(hit_points_.points[i].r2, hit_points_.stats[i], c_.settings.alpha, c_.settings.threshold);
-    });
+    update_pixels(direct_sampled);
   }
   ++stats.passes;
   return completed;
 }
 
-// Each pixel's value from this pass alone, and its bias estimate (error_estimate.h): what its eye
-// paths see, this pass's direct sample (or the mean, where direct light is sampled once) and the
-// pass's photons at the radii they were gathered with.
-void FixedHitPoints::add_pass_to_errors(bool direct_sampled) {
+// Pixel by pixel, in one sweep over the hit points: the pixel's value from this pass alone and its
+// bias estimate go to the error estimate (error_estimate.h), at the radii the photons were gathered
+// with (what its eye paths see, this pass's direct sample or the mean where direct light is sampled
+// once, the pass's photons); then each hit point's progressive update.
+void FixedHitPoints::update_pixels(bool direct_sampled) {
   const double direct_scale = c_.stats.direct_samples > 0 ? 1.0 / c_.stats.direct_samples : 0.0;
   const double photons = static_cast<double>(c_.settings.photons_per_pass);
+  const double alpha = c_.settings.alpha;
+  const uint32_t threshold = c_.settings.threshold;
   parallel_for(c_.threads, errors_.size(), [&](size_t begin, size_t end) {
     for (size_t p = begin; p < end; ++p) {
       double value = luminance(hit_points_.emitted[p]), bias = 0.0;
       for (uint32_t i = hit_points_.pixel_begin[p]; i < hit_points_.pixel_begin[p + 1]; ++i) {
-        const HitPointStats& s = hit_points_.stats[i];
+        HitPointStats& s = hit_points_.stats[i];
+        double& r2 = hit_points_.points[i].r2;
         value += direct_sampled ? luminance(c_.direct_scratch[i]) : luminance(s.direct) * direct_scale;
-        const double scale = c_.pass_radiance_scale(hit_points_.points[i].r2, photons);
+        const double scale = c_.pass_radiance_scale(r2, photons);
         value += scale * s.pass_flux;
         bias += scale * s.pass_bias;
+        progressive_update(r2, s, alpha, threshold);
       }
       errors_[p].add(value, bias, c_.stats.passes + 1);
     }

@@ -29,7 +29,7 @@ class FixedHitPoints : public Estimator {
   void check_memory_for_hit_points() const;
   void widen_to_photon_spacing();
   void report_empty_pixels();
-  void add_pass_to_errors(bool direct_sampled);
+  void update_pixels(bool direct_sampled);
 
   RenderContext& c_;
   HitPoints hit_points_;

@@ -322,7 +322,7 @@ bool PhotonPass::gather_at_hit_points(const Grid& grid, const Scene& scene, cons
         const Vec3f normal_f = h.normal;
         const Vec3 normal(normal_f);
         const Bounces budget = limited ? limits_.budget(hp.chain[i]) : Bounces{};
-        Color flux(0.0), flux_bias(0.0);
+        Color flux(0.0), flux_d2(0.0);
         // Compiled twice, so that the loop without bounce limits has no test for them.
         auto sum = [&](auto with_limits) {
           grid.for_each_run_in_box(center - r, center + r, [&](uint32_t begin, uint32_t end) {
@@ -338,7 +338,7 @@ bool PhotonPass::gather_at_hit_points(const Grid& grid, const Scene& scene, cons
               }
               ++m;
               flux += Color(a.flux);
-              flux_bias += Color(a.flux) * bias_weight(d2, r2);
+              flux_d2 += Color(a.flux) * d2;
             }
           });
         };
@@ -347,7 +347,7 @@ bool PhotonPass::gather_at_hit_points(const Grid& grid, const Scene& scene, cons
         else
           sum(std::false_type{});
         tau = flux * Color(h.weight);
-        bias = luminance(flux_bias * Color(h.weight));
+        bias = luminance(bias_sum(flux, flux_d2, r2) * Color(h.weight));
       } else {
         grid.for_each_run_in_box(center - r, center + r, [&](uint32_t begin, uint32_t end) {
           for (uint32_t p = begin; p < end; ++p) {

@@ -144,11 +144,6 @@ Color RenderContext::photon_radiance(double r2, const HitPointStats& s, double p
   return ppm::photon_radiance(r2, s, photons_emitted, lights.flux_unit());
 }
 
-double RenderContext::pass_radiance_scale(double r2, double photons) const {
-  if (!analysis.trace_photons || !(r2 > 0.0) || !(photons > 0.0)) return 0.0;
-  return lights.flux_unit() / (kPi * r2 * photons);
-}
-
 void RenderContext::add_memory(MemoryUse& use) const {
   use.scene += scene->memory_bytes();
   use.pixels += depth.capacity() * sizeof(float);

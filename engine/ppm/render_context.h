@@ -52,7 +52,10 @@ struct RenderContext {
   Color photon_radiance(double r2, const HitPointStats& s, double photons_emitted) const;
   // What turns a hit point's pass_flux and pass_bias (gathered at radius^2 `r2` from one pass of
   // `photons` photons) into radiance: the error estimate's pass values (error_estimate.h).
-  double pass_radiance_scale(double r2, double photons) const;
+  double pass_radiance_scale(double r2, double photons) const {
+    if (!analysis.trace_photons || !(r2 > 0.0) || !(photons > 0.0)) return 0.0;
+    return lights.flux_unit() / (kPi * r2 * photons);
+  }
   void add_memory(MemoryUse& use) const;
 
   std::shared_ptr<const Scene> scene;
