@@ -1,5 +1,5 @@
 """Depth, Normal, Object Index and Material Index render passes, when the view
-layer enables them.
+layer enables them; the error estimate's passes when scene.ppm.error_passes asks for them.
 
 All come from the core's own primary ray through each pixel centre
 (`Scene.camera_rays`) and its batch ray caster (`Scene.intersect`, camera rays),
@@ -13,6 +13,7 @@ nothing is). Rows come out bottom-up, as Blender stores them.
 import numpy as np
 
 MISS_DEPTH = 1e10  # what Cycles writes for the background
+ERROR_PASSES = ("Error", "Bias", "Noise")
 
 
 def camera_hits(core_scene):
@@ -52,6 +53,17 @@ def lookup(table, ids):
     out = np.zeros(ids.shape, dtype=np.float32)
     out[known] = np.asarray(table, dtype=np.float32)[ids[known]]
     return out
+
+
+def error_passes(error):
+    """The core's Renderer.error() (top row first) as ERROR_PASSES, bottom row first: Error is each
+    pixel's bound (abs(bias) + noise) over its luminance (0 where it is black), Bias and Noise are in
+    luminance. Before two passes Noise and Error are inf, as the core says."""
+    bias, noise, value = (np.asarray(error[key], dtype=np.float32)[::-1] for key in ("bias", "noise", "luminance"))
+    bound = np.abs(bias) + noise
+    with np.errstate(divide="ignore", invalid="ignore"):
+        relative = np.where(value > 0.0, bound / np.abs(value), 0.0).astype(np.float32)
+    return {"Error": relative, "Bias": bias, "Noise": noise}
 
 
 def write_pass(result, name, pixels):

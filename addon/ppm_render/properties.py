@@ -24,6 +24,11 @@ class PPMSceneSettings(bpy.types.PropertyGroup):
     error_confidence: FloatProperty(
         name="Confidence", default=0.95, min=0.5, max=0.999,
         description="Confidence of the error estimate: the estimate is an upper bound at this confidence")
+    error_passes: BoolProperty(
+        name="Error Passes", default=False,
+        description="Write the error estimate as render passes: Error (each pixel's bound at the confidence, "
+                    "relative to its brightness), Bias (signed: the image minus the truth, expected) and Noise "
+                    "(the noise's bound), both in luminance")
     viewport_passes: IntProperty(
         name="Viewport Passes", default=1000, min=0, soft_max=100_000,
         description="Photon passes in the viewport's Rendered shading before it stops refining (0 = no limit)")

@@ -77,6 +77,9 @@ class RENDER_PT_ppm_sampling(PPMRenderPanel, bpy.types.Panel):
         sub = col.column()
         sub.active = settings.target_error > 0.0
         sub.prop(settings, "error_confidence")
+        if settings.target_error > 0.0 and settings.hit_points == 'FIXED':
+            sub.label(text="Fixed hit points: anti-aliasing not estimated", icon='ERROR')
+        col.prop(settings, "error_passes")
         col.prop(settings, "photons_per_pass")
         col.separator()
         col.prop(settings, "alpha")

@@ -76,3 +76,21 @@ def test_the_engine_writes_the_index_passes_the_view_layer_enables(monkeypatch, 
     written.clear()
     render_file(scene, tmp_path / "j.exr", passes=1, photons_per_pass=2000)
     assert written == {}
+
+
+def test_the_engine_writes_the_error_passes_when_asked(monkeypatch, tmp_path):
+    scene = indexed_scene()
+    written = {}
+    monkeypatch.setattr(passes, "write_pass", lambda result, name, pixels: written.setdefault(
+        name, (pixels, result.layers[0].passes.get(name) is not None)))
+    render_file(scene, tmp_path / "e.exr", passes=4, photons_per_pass=2000, error_passes=True)
+    assert set(written) == set(passes.ERROR_PASSES)
+    for name, (pixels, registered) in written.items():
+        assert registered and pixels.shape == (30, 40) and np.all(np.isfinite(pixels)), name
+    error, bias, noise = (written[name][0] for name in ("Error", "Bias", "Noise"))
+    row, col = pixel_of(scene, 0.0, 0.8)  # the lit floor
+    assert noise[row, col] >= 0.0 and error[row, col] > 0.0
+    scene.ppm.error_passes = False
+    written.clear()
+    render_file(scene, tmp_path / "f.exr", passes=1, photons_per_pass=2000)
+    assert written == {}
