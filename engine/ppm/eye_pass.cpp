@@ -2,6 +2,7 @@
 #include "ppm/eye_pass.h"
 
 #include "math/rng.h"
+#include "ppm/denoising_features.h"
 #include "ppm/parallel.h"
 
 #include <algorithm>
@@ -28,6 +29,19 @@ struct EyeVertex {
 };
 
 using ChunkOutput = EyePassScratch::Chunk;
+
+// One eye sample's denoising features (denoising_features.h): the albedo its hit points see
+// through their throughput, and their normals weighted by it.
+struct SampleFeatures {
+  Color albedo{0.0};
+  Vec3 normal{0.0};
+  double weight = 0.0;
+  void add(const Color& throughput, const Color& surface_albedo, const Vec3& n) {
+    albedo += throughput * surface_albedo;
+    normal += luminance(throughput) * n;
+    weight += luminance(throughput);
+  }
+};
 
 struct EyeTracer {
   const Scene& scene;
@@ -126,7 +140,8 @@ struct EyeTracer {
 
   // `sp`: the surface point at `hit` as v sees it (surface_point(hit, -v.ray.direction,
   // pixel_size(v.length), path_of(v, hit.t))).
-  void record(const Hit& hit, const SurfacePoint& sp, const EyeVertex& v, uint32_t pixel, ChunkOutput& out) const {
+  void record(const Hit& hit, const SurfacePoint& sp, const EyeVertex& v, uint32_t pixel, ChunkOutput& out,
+              SampleFeatures* features) const {
     const Material& m = scene.material(hit.material);
     const Vec3 wo = -v.ray.direction;
     const LightPath path = path_of(v, hit.t);
@@ -149,11 +164,13 @@ struct EyeTracer {
                         sp.tangent != Vec3(0.0) ? hit.tangent : glm::vec4(0.0f), hit.material, hit.object,
                         hit.primitive, pixel, path});
     if (limits.active) out.chain.push_back(v.chain);
+    if (features) features->add(v.throughput, denoising_albedo(m, sp, wo), ns);
   }
 
   // Adds what the path sees directly to `emitted` and what of it is transparent to `transparency`.
+  // `features`: nullptr, or where this sample's denoising features go.
   void trace(const Ray& primary, const Color& weight, Rng& rng, uint32_t pixel, ChunkOutput& out,
-             Color& emitted, double& transparency) const {
+             Color& emitted, double& transparency, SampleFeatures* features) const {
     EyeVertex stack[2 * kSplitDepth + 4];
     int top = 0;
     stack[top++] = EyeVertex{primary, weight, 0, 0.0, true, Bounces{}, false};
@@ -179,7 +196,7 @@ struct EyeTracer {
       // A mixture of followed and stored lobes: one or the other, divided by its probability.
       if (!(followed >= 1.0 || (followed > 0.0 && rng.uniform() < followed))) {
         record(hit, sp, EyeVertex{here.ray, here.throughput / (1.0 - followed), here.depth, here.length,
-                                  here.glass_only, here.chain, false}, pixel, out);
+                                  here.glass_only, here.chain, false}, pixel, out, features);
         continue;
       }
       // With Cycles' limits, one ray more than the total: it may still see emission.
@@ -221,6 +238,13 @@ struct EyeTracer {
   }
 };
 
+// A sample's features into its pixel's: albedo summed (the throughput has 1/spp), the normal a
+// mean over the samples (a sample that sees no surface adds none, as in Cycles).
+void add_features(const SampleFeatures& f, int spp, Vec3f& albedo, Vec3f& normal) {
+  albedo += Vec3f(f.albedo);
+  if (f.weight > 0.0) normal += Vec3f(f.normal / (f.weight * spp));
+}
+
 }  // namespace
 
 size_t EyePassScratch::memory_bytes() const {
@@ -259,6 +283,8 @@ bool eye_pass(const Scene& scene, const Settings& settings, const EyePassOptions
   counts.assign(pixels, 0);
   if (options.record_depth) out.depth.assign(pixels, std::numeric_limits<float>::infinity());
   else out.depth.clear();
+  out.albedo.assign(options.record_features ? pixels : 0, Vec3f(0.0f));
+  out.feature_normal.assign(options.record_features ? pixels : 0, Vec3f(0.0f));
 
   auto work = [&](int, size_t chunk) {
     ChunkOutput& o = outputs[chunk];
@@ -295,7 +321,10 @@ bool eye_pass(const Scene& scene, const Settings& settings, const EyePassOptions
               ++depth_count;
             }
           }
-          tracer.trace(ray, Color(1.0 / spp), rng, pixel, o, out.emitted[local], out.transparency[local]);
+          SampleFeatures features;
+          tracer.trace(ray, Color(1.0 / spp), rng, pixel, o, out.emitted[local], out.transparency[local],
+                       options.record_features ? &features : nullptr);
+          if (options.record_features) add_features(features, spp, out.albedo[local], out.feature_normal[local]);
         }
         if (depth_count > 0) out.depth[local] = static_cast<float>(depth_sum / depth_count);
         counts[local] = static_cast<uint32_t>(o.points.size() - before);

@@ -20,6 +20,7 @@ struct EyePassOptions {
   uint64_t generation = 0;      // stochastic PPM draws new eye samples every pass
   bool lens = false;            // sample the aperture (thin lens)
   bool record_depth = false;    // per-pixel depth for the depth-of-field post-process
+  bool record_features = false; // per-pixel denoising albedo and normal (HitPoints::albedo)
   // The rows traced: [row_begin, row_end), row 0 at the bottom; row_end < 0 means to the top.
   // The per-pixel outputs (pixel_begin, emitted, transparency, depth) cover these rows only,
   // indexed from the first pixel of row_begin.

@@ -69,6 +69,8 @@ struct HitPoints {
   std::vector<Color> emitted;         // per pixel: emission and background seen along eye paths
   std::vector<double> transparency;   // per pixel: the share of eye samples that leave it transparent
   std::vector<float> depth;           // per pixel: mean view-axis depth of the first hit (inf: none); optional
+  // Optional, per pixel: Cycles' Denoising Albedo and Normal (world space), denoising_features.h.
+  std::vector<Vec3f> albedo, feature_normal;
   FillVector<Bounces> chain;          // with bounce limits: each eye chain's scatterings (bounce_limits.h)
   size_t size() const { return points.size(); }
   size_t memory_bytes() const {
@@ -78,7 +80,8 @@ struct HitPoints {
   // Of which per pixel.
   size_t pixel_bytes() const {
     return pixel_begin.capacity() * sizeof(uint32_t) + emitted.capacity() * sizeof(Color) +
-           transparency.capacity() * sizeof(double) + depth.capacity() * sizeof(float);
+           transparency.capacity() * sizeof(double) + depth.capacity() * sizeof(float) +
+           (albedo.capacity() + feature_normal.capacity()) * sizeof(Vec3f);
   }
 };
 

@@ -3,6 +3,7 @@
 #include "ppm/renderer.h"
 
 #include "post/dof_post.h"
+#include "ppm/denoising_features.h"
 
 #include <algorithm>
 #include <cfloat>
@@ -103,6 +104,29 @@ std::vector<float> Renderer::error_image() const {
       o[0] = to_float(e.bias);
       o[1] = to_float(e.noise);
       o[2] = to_float(e.value);
+    }
+  return out;
+}
+
+std::vector<float> Renderer::denoising_features(int samples_per_pixel, const std::function<bool()>& poll) {
+  if (samples_per_pixel < 0 || samples_per_pixel > 4096)
+    throw std::invalid_argument("denoising_features: samples_per_pixel must be in [0, 4096]");
+  if (running_.exchange(true)) throw std::runtime_error("denoising_features: this renderer is running");
+  struct Done {
+    std::atomic<bool>& flag;
+    ~Done() { flag = false; }
+  } done{running_};
+  context_.cancel = false;
+  DenoisingFeatures features;
+  const int spp = samples_per_pixel > 0 ? samples_per_pixel : context_.settings.samples_per_pixel;
+  if (!ppm::denoising_features(context_, spp, features, poll ? poll : Poll([] { return true; }))) return {};
+  const int W = width(), H = height();
+  std::vector<float> out(static_cast<size_t>(W) * H * 6);
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      const size_t p = static_cast<size_t>(y) * W + x;
+      float* o = &out[(static_cast<size_t>(H - 1 - y) * W + x) * 6];  // top row first
+      for (int k = 0; k < 3; ++k) o[k] = features.albedo[p][k], o[3 + k] = features.normal[p][k];
     }
   return out;
 }

@@ -56,6 +56,11 @@ class Renderer {
   // confidence) of its luminance, and its luminance (error_estimate.h); 3 floats a pixel. Before
   // two passes the noise is inf.
   std::vector<float> error_image() const;
+  // Cycles' Denoising Albedo and Denoising Normal (denoising_features.h) from `samples_per_pixel`
+  // eye samples per pixel (0: the settings'), rows from the top: 6 floats a pixel, albedo RGB and
+  // the world-space normal. An eye pass of its own, made band by band; `poll` returning false
+  // cancels it (then it returns an empty vector). Not while run() is in progress.
+  std::vector<float> denoising_features(int samples_per_pixel, const std::function<bool()>& poll);
   const Settings& settings() const { return context_.settings; }
   int width() const { return context_.scene->camera().width; }
   int height() const { return context_.scene->camera().height; }

@@ -281,6 +281,33 @@ void bind_renderer(py::module_& m) {
            },
            "Linear RGBA float32 image of shape (H, W, 4), top row first; alpha = 1.")
       .def("stats", [](const Renderer& r) { return stats_dict(r.stats()); })
+      .def("denoising_features",
+           [](Renderer& r, int samples_per_pixel) {
+             std::vector<float> values;
+             {
+               py::gil_scoped_release release;
+               values = r.denoising_features(samples_per_pixel, [] {
+                 py::gil_scoped_acquire gil;
+                 return PyErr_CheckSignals() == 0;  // Ctrl-C cancels
+               });
+             }
+             if (values.empty()) {
+               if (PyErr_Occurred()) throw py::error_already_set();
+               throw std::runtime_error("denoising_features: cancelled");
+             }
+             py::array_t<float> all({py::ssize_t(r.height()), py::ssize_t(r.width()), py::ssize_t(6)}, values.data());
+             const py::slice every(0, r.height(), 1), columns(0, r.width(), 1);
+             py::dict out;
+             out["albedo"] = all[py::make_tuple(every, columns, py::slice(0, 3, 1))];
+             out["normal"] = all[py::make_tuple(every, columns, py::slice(3, 6, 1))];
+             return out;
+           },
+           py::arg("samples_per_pixel") = 0,
+           "Cycles' Denoising Albedo and Denoising Normal: dict of (H, W, 3) float32 arrays 'albedo' (linear "
+           "RGB) and 'normal' (world space), top row first, from an eye pass of samples_per_pixel samples a "
+           "pixel (0: the settings'). As Cycles, each sample's are those of the first surface its path does "
+           "not follow as a mirror or smooth glass, through the tint of those it does; zero where it sees only "
+           "background or emitters.")
       .def("error",
            [](const Renderer& r) {
              std::vector<float> values;

@@ -327,6 +327,25 @@ bool closure_sample(const std::vector<Lobe>& lobes, const SurfacePoint& sp, cons
   return true;
 }
 
+Color closure_albedo(const std::vector<Lobe>& lobes, const SurfacePoint& sp, const Vec3& wo) {
+  Color eff[kMaxLobes];
+  effective_weights(lobes, sp, wo, eff);
+  const double mu = glm::clamp(std::fabs(glm::dot(wo, sp.ns)), 0.0, 1.0);
+  Color albedo(0.0);
+  for (size_t i = 0; i < lobes.size(); ++i) {
+    const Lobe& l = lobes[i];
+    if (l.followed(sp)) continue;
+    const Color tint = l.kind == LobeKind::Dielectric ? l.tint : l.color_at(sp);
+    if (l.layer)
+      albedo += eff[i] * tint * layer_albedo(l, sp, mu);
+    else if (l.kind == LobeKind::Dielectric)  // stored: reflection only (refraction is followed)
+      albedo += eff[i] * tint * fresnel_dielectric(mu, 1.0, l.ior);
+    else
+      albedo += eff[i] * tint;
+  }
+  return albedo;
+}
+
 double closure_followed_share(const std::vector<Lobe>& lobes, const SurfacePoint& sp, const Vec3& wo) {
   Color eff[kMaxLobes];
   double prob[kMaxLobes];

@@ -35,6 +35,10 @@ double closure_followed_share(const std::vector<Lobe>& lobes, const SurfacePoint
 int closure_followed_branches(const std::vector<Lobe>& lobes, const SurfacePoint& sp, const Vec3& wo, double u,
                               double u1, double u2, double u3, BsdfSample out[2]);
 
+// Cycles' Denoising Albedo of the lobes hit points store: each lobe's colour (a layer's and a
+// dielectric's: their reflectance towards wo, tinted) times its weight after the layers above.
+Color closure_albedo(const std::vector<Lobe>& lobes, const SurfacePoint& sp, const Vec3& wo);
+
 bool closure_has_followed(const std::vector<Lobe>& lobes);
 bool closure_is_followed(const std::vector<Lobe>& lobes);
 bool closure_transmits(const std::vector<Lobe>& lobes);  // a stored lobe scatters to the far side
