@@ -14,7 +14,7 @@ import time
 import bpy
 import numpy as np
 
-from . import core, export, passes, viewport
+from . import core, denoise, export, passes, viewport
 from .export.camera import Frame
 from .properties import core_settings, film_settings, light_path_settings
 from .viewport_camera import region_view
@@ -203,17 +203,18 @@ class PPMRenderEngine(bpy.types.RenderEngine):
             self.warn_if_streamed(renderer)
             self.warn_if_estimate_partial(settings)
             try:
-                self.run(renderer, result, scene.ppm)
+                line = self.run(renderer, result, scene.ppm)
             except MemoryError as error:  # the core found no memory for them before making them
                 if settings["hit_points"] != "fixed":
                     raise
                 # Where Cycles renders the frame, so do we: stochastic hit points need 52 bytes a pixel.
                 self.warn(f"{error}; rendering with stochastic hit points instead")
                 renderer = ppm_core.Renderer(ppm_scene, **{**settings, "hit_points": "stochastic"})
-                self.run(renderer, result, scene.ppm)
+                line = self.run(renderer, result, scene.ppm)
             if scene.ppm.error_passes:
                 for name, pixels in passes.error_passes(renderer.error()).items():
                     passes.write_pass(result, name, pixels)
+            self.write_denoising(renderer, result, scene.ppm, exported[1], line)
             return True
         except Exception as error:  # noqa: BLE001
             self.fail(error)
@@ -237,12 +238,16 @@ class PPMRenderEngine(bpy.types.RenderEngine):
                       "stochastic hit points (Auto) estimate all of it")
 
     def run(self, renderer, result, settings):
+        """The passes, shown as they go; returns the final stats line."""
         display = ProgressiveDisplay(self, renderer, result, settings)
         display.run()
+        line = display.line(display.passes, display.photons)
         if display.stopped:
-            self.update_stats("", display.line(display.passes, display.photons) + " | cancelled")
+            line += " | cancelled"
         elif display.target_reached:
-            self.update_stats("", display.line(display.passes, display.photons) + " | target error reached")
+            line += " | target error reached"
+        self.update_stats("", line)
+        return line
 
     def view_update(self, context, depsgraph):
         """The viewport's scene changed (or is shown for the first time): export what changed."""
@@ -293,6 +298,10 @@ class PPMRenderEngine(bpy.types.RenderEngine):
         if scene.ppm.error_passes:
             for name in passes.ERROR_PASSES:
                 self.register_pass(scene, renderlayer, name, 1, "X", "VALUE")
+        if scene.ppm.denoising_data:
+            noisy = (passes.NOISY_PASS,) if scene.ppm.denoise else ()
+            for name, channels, chan_id, kind in passes.DENOISING_PASSES + noisy:
+                self.register_pass(scene, renderlayer, name, channels, chan_id, kind)
 
     def write_data_passes(self, view_layer, result, ppm_scene, camera_args, pass_indices):
         geometry = view_layer.use_pass_z or view_layer.use_pass_normal
@@ -308,6 +317,35 @@ class PPMRenderEngine(bpy.types.RenderEngine):
             objects, materials = passes.index_passes(hits, camera_args, pass_indices)
             passes.write_pass(result, "IndexOB", objects)
             passes.write_pass(result, "IndexMA", materials)
+
+    def write_denoising(self, renderer, result, settings, camera_args, line):
+        """Denoising Albedo and Normal passes, and the denoised Combined (denoise.py), as asked;
+        `line` is the render's final stats line, shown again after them."""
+        use_denoiser = settings.denoise
+        if use_denoiser:
+            use_denoiser, why = denoise.available()
+            if not use_denoiser:
+                self.warn(f"Denoise skipped: {why}; the image is the noisy one")
+        if not (use_denoiser or settings.denoising_data):
+            return
+        self.update_stats("", "Denoising data")
+        features = renderer.denoising_features()
+        albedo, normal = features["albedo"], passes.camera_space(features["normal"], camera_args["matrix"])
+        if settings.denoising_data:  # passes run bottom-up, the core's arrays top-down
+            passes.write_pass(result, "Denoising Albedo", albedo[::-1])
+            passes.write_pass(result, "Denoising Normal", normal[::-1])
+        if use_denoiser:
+            self.update_stats("", "Denoising")
+            image = renderer.image()
+            if settings.denoising_data:
+                passes.write_pass(result, "Noisy Image", image[::-1])
+            try:
+                write_pixels(result, denoise.denoise(image, albedo, normal))
+                self.update_result(result)
+                line += " | denoised"
+            except RuntimeError as error:  # the frame is kept, noisy: a farm job goes on
+                self.warn(f"Denoise failed ({error}); the image is the noisy one")
+        self.update_stats("", line)
 
     def warn(self, message):
         self.report({'WARNING'}, f"PPM: {message}")

@@ -1,5 +1,7 @@
 """Depth, Normal, Object Index and Material Index render passes, when the view
-layer enables them; the error estimate's passes when scene.ppm.error_passes asks for them.
+layer enables them; the error estimate's passes when scene.ppm.error_passes asks for them;
+Denoising Albedo and Normal (scene.ppm.denoising_data) from the core's
+Renderer.denoising_features, the normal in Cycles' camera space.
 
 All come from the core's own primary ray through each pixel centre
 (`Scene.camera_rays`) and its batch ray caster (`Scene.intersect`, camera rays),
@@ -14,6 +16,8 @@ import numpy as np
 
 MISS_DEPTH = 1e10  # what Cycles writes for the background
 ERROR_PASSES = ("Error", "Bias", "Noise")
+DENOISING_PASSES = (("Denoising Normal", 3, "XYZ", "VECTOR"), ("Denoising Albedo", 3, "RGB", "COLOR"))
+NOISY_PASS = ("Noisy Image", 4, "RGBA", "COLOR")
 
 
 def camera_hits(core_scene):
@@ -53,6 +57,15 @@ def lookup(table, ids):
     out = np.zeros(ids.shape, dtype=np.float32)
     out[known] = np.asarray(table, dtype=np.float32)[ids[known]]
     return out
+
+
+def camera_space(normals, matrix):
+    """World-space normals (..., 3) in Cycles' camera space: x right, y up, z along the view (a
+    surface facing the camera has z = -1), from the camera's world matrix."""
+    axes = np.asarray(matrix, dtype=float)[:3, :3]
+    axes = axes / np.linalg.norm(axes, axis=0)
+    to_camera = np.stack([axes[:, 0], axes[:, 1], -axes[:, 2]])
+    return (np.asarray(normals, dtype=float) @ to_camera.T).astype(np.float32)
 
 
 def error_passes(error):

@@ -29,6 +29,15 @@ class PPMSceneSettings(bpy.types.PropertyGroup):
         description="Write the error estimate as render passes: Error (each pixel's bound at the confidence, "
                     "relative to its brightness), Bias (signed: the image minus the truth, expected) and Noise "
                     "(the noise's bound), both in luminance")
+    denoising_data: BoolProperty(
+        name="Denoising Data", default=False,
+        description="Write Denoising Albedo and Denoising Normal passes, as Cycles' Denoising Data: the guides "
+                    "the compositor's Denoise node takes with the image")
+    denoise: BoolProperty(
+        name="Denoise", default=False,
+        description="Denoise the finished image with Blender's own Open Image Denoise, guided by the denoising "
+                    "albedo and normal (Combined is then the denoised image; with Denoising Data also the noisy "
+                    "one, as Noisy Image). Smooths noise, and may smear sharp caustics")
     viewport_passes: IntProperty(
         name="Viewport Passes", default=1000, min=0, soft_max=100_000,
         description="Photon passes in the viewport's Rendered shading before it stops refining (0 = no limit)")

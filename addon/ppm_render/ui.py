@@ -80,6 +80,8 @@ class RENDER_PT_ppm_sampling(PPMRenderPanel, bpy.types.Panel):
         if settings.target_error > 0.0 and settings.hit_points == 'FIXED':
             sub.label(text="Fixed hit points: anti-aliasing not estimated", icon='ERROR')
         col.prop(settings, "error_passes")
+        col.prop(settings, "denoise")
+        col.prop(settings, "denoising_data")
         col.prop(settings, "photons_per_pass")
         col.separator()
         col.prop(settings, "alpha")
