@@ -26,6 +26,9 @@ struct EyeVertex {
   // Past a bounce limit: the ray still sees lights, emission and the world, as in Cycles (a limit
   // stops the path after the next surface's emission), but records no hit point and goes no further.
   bool emission_only;
+  // The chance that a single path (Cycles', which picks one branch where we split) comes this way:
+  // what the denoising normal is weighted by.
+  double share = 1.0;
 };
 
 using ChunkOutput = EyePassScratch::Chunk;
@@ -35,11 +38,9 @@ using ChunkOutput = EyePassScratch::Chunk;
 struct SampleFeatures {
   Color albedo{0.0};
   Vec3 normal{0.0};
-  double weight = 0.0;
-  void add(const Color& throughput, const Color& surface_albedo, const Vec3& n) {
+  void add(const Color& throughput, const Color& surface_albedo, const Vec3& n, double share) {
     albedo += throughput * surface_albedo;
-    normal += luminance(throughput) * n;
-    weight += luminance(throughput);
+    normal += share * n;
   }
 };
 
@@ -164,7 +165,7 @@ struct EyeTracer {
                         sp.tangent != Vec3(0.0) ? hit.tangent : glm::vec4(0.0f), hit.material, hit.object,
                         hit.primitive, pixel, path});
     if (limits.active) out.chain.push_back(v.chain);
-    if (features) features->add(v.throughput, denoising_albedo(m, sp, wo), ns);
+    if (features) features->add(v.throughput, denoising_albedo(m, sp, wo), ns, v.share);
   }
 
   // Adds what the path sees directly to `emitted` and what of it is transparent to `transparency`.
@@ -188,7 +189,7 @@ struct EyeTracer {
       if (ends_at_holdout(v, hit, m, transparency)) continue;
       if (m.emits()) emitted += v.throughput * scene.emission(hit, -v.ray.direction, path_of(v, hit.t));
       if (is_black(m) || v.emission_only) continue;
-      const EyeVertex here{v.ray, v.throughput, v.depth, v.length + hit.t, v.glass_only, v.chain, false};
+      const EyeVertex here{v.ray, v.throughput, v.depth, v.length + hit.t, v.glass_only, v.chain, false, v.share};
       const SurfacePoint sp = scene.surface_point(hit, -v.ray.direction, pixel_size(here.length), path_of(v, hit.t));
       double followed = is_specular(m) ? 1.0 : 0.0;
       if (m.kind == MaterialKind::Mixture && followed == 0.0 && closure_has_followed(m.lobes))
@@ -196,7 +197,7 @@ struct EyeTracer {
       // A mixture of followed and stored lobes: one or the other, divided by its probability.
       if (!(followed >= 1.0 || (followed > 0.0 && rng.uniform() < followed))) {
         record(hit, sp, EyeVertex{here.ray, here.throughput / (1.0 - followed), here.depth, here.length,
-                                  here.glass_only, here.chain, false}, pixel, out, features);
+                                  here.glass_only, here.chain, false, here.share}, pixel, out, features);
         continue;
       }
       // With Cycles' limits, one ray more than the total: it may still see emission.
@@ -215,8 +216,10 @@ struct EyeTracer {
         branches[0].weight /= pick == 0 ? p0 : 1.0 - p0;
         count = 1;
       }
+      const double split = count == 2 ? luminance(branches[0].weight) + luminance(branches[1].weight) : 0.0;
       for (int b = 0; b < count; ++b) {
         const Color thr = v.throughput * branches[b].weight;
+        const double share = v.share * (split > 0.0 ? luminance(branches[b].weight) / split : 1.0);
         if (!(max_component(thr) > 0.0)) continue;
         const Vec3 wi = branches[b].wi;
         const Vec3 origin = offset_point(hit.position, hit.geometric_normal, wi, scene.offset_floor());
@@ -228,21 +231,22 @@ struct EyeTracer {
         const bool emission_only = limits.by_kind && !within(chain, limits.max);
         if (branches[b].ray_kind == 0) {  // through a transparent lobe: no bounce, as Cycles counts it
           stack[top++] = EyeVertex{Ray{origin, wi, v.ray.kind}, thr, v.depth, here.length, v.glass_only, v.chain,
-                                   v.emission_only};
+                                   v.emission_only, share};
           continue;
         }
         stack[top++] =
-            EyeVertex{Ray{origin, wi, kind}, thr, v.depth + 1, here.length, glass_only, chain, emission_only};
+            EyeVertex{Ray{origin, wi, kind}, thr, v.depth + 1, here.length, glass_only, chain, emission_only, share};
       }
     }
   }
 };
 
 // A sample's features into its pixel's: albedo summed (the throughput has 1/spp), the normal a
-// mean over the samples (a sample that sees no surface adds none, as in Cycles).
+// mean over the samples, each the normals of its hit points weighted by the chance a single path
+// goes there (a branch to the sky adds nothing, as in Cycles).
 void add_features(const SampleFeatures& f, int spp, Vec3f& albedo, Vec3f& normal) {
   albedo += Vec3f(f.albedo);
-  if (f.weight > 0.0) normal += Vec3f(f.normal / (f.weight * spp));
+  normal += Vec3f(f.normal / double(spp));
 }
 
 }  // namespace
