@@ -231,11 +231,11 @@ class PPMRenderEngine(bpy.types.RenderEngine):
             self.warn(why[0] if why else "fixed hit points are streamed: an eye pass every pass")
 
     def warn_if_estimate_partial(self, settings):
-        """Fixed hit points keep their eye samples: the error estimate cannot see their anti-aliasing
-        error, and halting on it may stop early (bench/README.md, "The error estimate")."""
-        if settings["target_error"] > 0.0 and settings["hit_points"] == "fixed":
-            self.warn("with fixed hit points the error estimate leaves out anti-aliasing and may stop early; "
-                      "stochastic hit points (Auto) estimate all of it")
+        """Fixed hit points keep their eye samples: at one sample per pixel the error estimate cannot
+        measure their anti-aliasing error, and halting on it may stop early (README, "The error estimate")."""
+        if settings["target_error"] > 0.0 and settings["hit_points"] == "fixed" and settings["samples_per_pixel"] == 1:
+            self.warn("with fixed hit points at 1 sample per pixel the error estimate leaves out anti-aliasing "
+                      "and may stop early; use 2 or more samples, or stochastic hit points (Auto)")
 
     def run(self, renderer, result, settings):
         """The passes, shown as they go; returns the final stats line."""

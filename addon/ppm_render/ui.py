@@ -77,8 +77,8 @@ class RENDER_PT_ppm_sampling(PPMRenderPanel, bpy.types.Panel):
         sub = col.column()
         sub.active = settings.target_error > 0.0
         sub.prop(settings, "error_confidence")
-        if settings.target_error > 0.0 and settings.hit_points == 'FIXED':
-            sub.label(text="Fixed hit points: anti-aliasing not estimated", icon='ERROR')
+        if settings.target_error > 0.0 and settings.hit_points == 'FIXED' and settings.samples_per_pixel == 1:
+            sub.label(text="1 sample per pixel: anti-aliasing not estimated", icon='ERROR')
         col.prop(settings, "error_passes")
         col.prop(settings, "denoise")
         col.prop(settings, "denoising_data")

@@ -51,7 +51,7 @@ double student_t_quantile(double confidence, double dof) {
   return z + g1 / v + g2 / (v * v) + g3 / (v * v * v) + g4 / (v * v * v * v);
 }
 
-PixelError pixel_error(const PixelErrorStats& s, uint64_t passes, double t) {
+PixelError pixel_error(const PixelErrorStats& s, uint64_t passes, double t, double sampling_variance) {
   PixelError e;
   e.value = s.value.mean;
   e.bias = s.bias.mean;
@@ -64,7 +64,7 @@ PixelError pixel_error(const PixelErrorStats& s, uint64_t passes, double t) {
   // test); a larger one is shrunk by its variance (see PixelError).
   e.bias = b * b > 4.0 * bias_variance ? std::copysign(std::sqrt(b * b - bias_variance), b) : 0.0;
   e.bias_sd = std::sqrt(bias_variance);
-  e.sd = std::sqrt(s.value.variance_of_mean(n));
+  e.sd = std::sqrt(std::max(s.value.variance_of_mean(n), sampling_variance));
   e.noise = t * e.sd;
   return e;
 }
@@ -100,17 +100,21 @@ class LogQuantile {
 
 }  // namespace
 
-ImageError image_error(const std::vector<PixelErrorStats>& pixels, const ErrorPasses& counts, double confidence) {
+ImageError image_error(const std::vector<PixelErrorStats>& pixels, const ErrorPasses& counts, double confidence,
+                       const std::vector<float>& sampling_variance) {
   ImageError out;
   out.confidence = confidence;
-  double sum_value = 0.0, sum_bias = 0.0, sum_sd = 0.0, sum_absolute = 0.0, variance = 0.0;
+  double sum_value = 0.0, sum_bias = 0.0, sum_sd = 0.0, sum_absolute = 0.0, variance = 0.0, sum_aliasing = 0.0;
+  auto sampling = [&](size_t p) { return sampling_variance.empty() ? 0.0 : double(sampling_variance[p]); };
   double passes = 0.0;
   StudentTByPasses t_of(confidence);
   for (size_t p = 0; p < pixels.size(); ++p) {
     const PixelErrorStats& s = pixels[p];
     const uint64_t n = counts.of(p);
-    const PixelError e = pixel_error(s, n, t_of(n));
+    const PixelError e = pixel_error(s, n, t_of(n), sampling(p));
     const double rms = e.rms();
+    if (n >= kMinErrorPasses)
+      sum_aliasing += std::sqrt(std::max(0.0, sampling(p) - s.value.variance_of_mean(static_cast<double>(n))));
     sum_value += std::fabs(e.value);
     sum_bias += std::fabs(e.bias);
     sum_sd += e.sd;
@@ -125,18 +129,19 @@ ImageError image_error(const std::vector<PixelErrorStats>& pixels, const ErrorPa
   }
   if (passes < kMinErrorPasses || !(sum_value > 0.0)) {  // nothing yet, or a black image: no relative error
     const double none = passes < kMinErrorPasses ? std::numeric_limits<double>::infinity() : 0.0;
-    out.relative = out.bias = out.noise = out.bound = out.pixel_p95 = none;
+    out.relative = out.bias = out.noise = out.bound = out.pixel_p95 = out.anti_aliasing = none;
     return out;
   }
   out.bias = sum_bias / sum_value;
   out.noise = sum_sd / sum_value;
+  out.anti_aliasing = sum_aliasing / sum_value;
   out.relative = sum_absolute / sum_value;
   out.bound = out.relative + student_t_quantile(confidence, passes - 1.0) * std::sqrt(variance) / sum_value;
   const double bright = 0.05 * sum_value / static_cast<double>(pixels.size());
   LogQuantile relative;
   for (size_t p = 0; p < pixels.size(); ++p) {
     const uint64_t n = counts.of(p);
-    const PixelError e = pixel_error(pixels[p], n, t_of(n));
+    const PixelError e = pixel_error(pixels[p], n, t_of(n), sampling(p));
     if (std::fabs(e.value) >= bright) relative.add(e.bound() / std::fabs(e.value));
   }
   out.pixel_p95 = relative.empty() ? 0.0 : relative.quantile(0.95);

@@ -14,8 +14,13 @@
 //     integrate to 0 over the disc, and to r^2 / 8 times the Laplacian against a quadratic), so
 //     the mean of b_j estimates the bias of the mean of y_j. Where L has an edge (a caustic's,
 //     a shadow's) the quadratic model is off: bench/README gives where it fails.
-// What fixed hit points cannot see is not in it: with the same eye samples every pass, the
-// difference between their mean and the pixel's whole footprint (anti-aliasing) is not estimated.
+//   anti-aliasing (fixed hit points): with the same eye samples every pass, their mean differs
+//     from the pixel's whole footprint by an error no pass removes. Its variance is that of the
+//     mean of the pixel's n samples, s^2 / n, s^2 the spread of the samples' current values; those
+//     carry the photons' noise too (E[s^2 / n] = anti-aliasing + noise variance where the samples'
+//     noises are independent), so the pixel's variance is the larger of s^2 / n and the passes'
+//     noise variance. At 1 sample per pixel there is no spread to measure, and streamed hit points
+//     keep no per-sample light: not estimated there.
 // All in luminance (Rec. 709 weights), the pixel's premultiplied value.
 #pragma once
 
@@ -77,7 +82,7 @@ struct PixelError {
   double value = 0.0;    // the pixel's luminance
   double bias = 0.0;     // expected (image minus truth)
   double bias_sd = 0.0;  // standard deviation of the bias estimate
-  double sd = 0.0;       // standard deviation of the pixel's value (the noise)
+  double sd = 0.0;       // standard deviation of the pixel's value (the noise, anti-aliasing included)
   double noise = 0.0;    // half-width of the noise at the confidence asked for: t sd
   // At the confidence asked for, the error is at most this (Hachisuka et al.'s bound).
   double bound() const { return std::fabs(bias) + noise; }
@@ -98,8 +103,9 @@ double student_t_quantile(double confidence, double dof);
 // Passes before an estimate means anything: fewer give no noise estimate (infinite bound).
 constexpr uint64_t kMinErrorPasses = 2;
 
-// `t` is student_t_quantile(confidence, passes - 1).
-PixelError pixel_error(const PixelErrorStats& s, uint64_t passes, double t);
+// `t` is student_t_quantile(confidence, passes - 1); `sampling_variance` the variance of the mean of
+// the pixel's fixed eye samples (anti-aliasing, above; 0: none).
+PixelError pixel_error(const PixelErrorStats& s, uint64_t passes, double t, double sampling_variance = 0.0);
 
 // The t of each pixel's pass count, asked once per count as the pixels are walked (a stochastic
 // pass in progress leaves two counts).
@@ -131,11 +137,14 @@ struct ImageError {
   double relative = 0.0;
   double bias = 0.0;   // the part of `relative` that is bias: sum |bias| / sum of values
   double noise = 0.0;  // and noise: sum of the values' sd / sum of values
+  double anti_aliasing = 0.0;  // of which the eye samples' spread beyond the passes' noise (fixed hit points)
   double bound = 0.0;  // what target_error compares with
   double pixel_p95 = 0.0;
   double confidence = 0.0;
 };
 
-ImageError image_error(const std::vector<PixelErrorStats>& pixels, const ErrorPasses& passes, double confidence);
+// `sampling_variance`: per pixel (pixel_error's), or empty.
+ImageError image_error(const std::vector<PixelErrorStats>& pixels, const ErrorPasses& passes, double confidence,
+                       const std::vector<float>& sampling_variance = {});
 
 }  // namespace ppm

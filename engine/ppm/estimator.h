@@ -38,9 +38,15 @@ class Estimator {
   const std::vector<PixelErrorStats>& errors() const { return errors_; }
   // How many passes they hold, pixel by pixel.
   virtual ErrorPasses error_passes() const = 0;
+  // Per pixel, the variance of the mean of its fixed eye samples (error_estimate.h's anti-aliasing);
+  // empty where the eye samples change every pass or are not kept.
+  virtual const std::vector<float>& sampling_variance() const { return no_sampling_variance_; }
 
  protected:
   std::vector<PixelErrorStats> errors_;
+
+ private:
+  std::vector<float> no_sampling_variance_;
 };
 
 // The estimator `context.settings.hit_points` and `hit_point_storage` name; `context` must outlive it.

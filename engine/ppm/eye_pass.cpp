@@ -287,6 +287,7 @@ bool eye_pass(const Scene& scene, const Settings& settings, const EyePassOptions
   counts.assign(pixels, 0);
   if (options.record_depth) out.depth.assign(pixels, std::numeric_limits<float>::infinity());
   else out.depth.clear();
+  out.sample_light.assign(options.record_samples ? pixels * spp : 0, 0.0f);
   out.albedo.assign(options.record_features ? pixels : 0, Vec3f(0.0f));
   out.feature_normal.assign(options.record_features ? pixels : 0, Vec3f(0.0f));
 
@@ -295,6 +296,7 @@ bool eye_pass(const Scene& scene, const Settings& settings, const EyePassOptions
     o.points.clear();
     o.shading.clear();
     o.chain.clear();
+    o.sample.clear();
     // About one hit point per eye sample: reserving saves the regrowth copies and their page faults.
     o.points.reserve(size_t(kRowsPerChunk) * W * spp);
     o.shading.reserve(size_t(kRowsPerChunk) * W * spp);
@@ -326,8 +328,13 @@ bool eye_pass(const Scene& scene, const Settings& settings, const EyePassOptions
             }
           }
           SampleFeatures features;
+          const double light_before = luminance(out.emitted[local]);
           tracer.trace(ray, Color(1.0 / spp), rng, pixel, o, out.emitted[local], out.transparency[local],
                        options.record_features ? &features : nullptr);
+          if (options.record_samples) {
+            o.sample.resize(o.points.size(), static_cast<uint16_t>(s));
+            out.sample_light[local * spp + s] = static_cast<float>(luminance(out.emitted[local]) - light_before);
+          }
           if (options.record_features) add_features(features, spp, out.albedo[local], out.feature_normal[local]);
         }
         if (depth_count > 0) out.depth[local] = static_cast<float>(depth_sum / depth_count);
@@ -352,6 +359,7 @@ bool eye_pass(const Scene& scene, const Settings& settings, const EyePassOptions
       out.points[first[c] + k] = hp;
       out.shading[first[c] + k] = o.shading[k];
       out.stats[first[c] + k] = HitPointStats{};
+      if (options.record_samples) out.stats[first[c] + k].sample = o.sample[k];
       if (tracer.limits.active) out.chain[first[c] + k] = o.chain[k];
     }
   });

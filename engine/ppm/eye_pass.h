@@ -21,6 +21,7 @@ struct EyePassOptions {
   bool lens = false;            // sample the aperture (thin lens)
   bool record_depth = false;    // per-pixel depth for the depth-of-field post-process
   bool record_features = false; // per-pixel denoising albedo and normal (HitPoints::albedo)
+  bool record_samples = false;  // each hit point's eye sample, each sample's light (HitPoints::sample_light)
   // The rows traced: [row_begin, row_end), row 0 at the bottom; row_end < 0 means to the top.
   // The per-pixel outputs (pixel_begin, emitted, transparency, depth) cover these rows only,
   // indexed from the first pixel of row_begin.
@@ -36,6 +37,7 @@ struct EyePassScratch {
     std::vector<HitPoint> points;
     std::vector<HitPointShading> shading;
     std::vector<Bounces> chain;  // with bounce limits
+    std::vector<uint16_t> sample;  // with record_samples
   };
   std::vector<Chunk> chunks;
   std::vector<uint32_t> counts;  // hit points per pixel

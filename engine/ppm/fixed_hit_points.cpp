@@ -38,9 +38,9 @@ bool FixedHitPoints::prepare(const Poll& poll) {
   {
     ScopedSeconds timer(seconds);
     EyePassScratch scratch;  // freed once the hit points are made
-    if (!eye_pass(*c_.scene, c_.settings, c_.eye_options(0, c_.settings.samples_per_pixel), hit_points_, scratch,
-                  c_.cancel, poll))
-      return false;
+    EyePassOptions eye = c_.eye_options(0, c_.settings.samples_per_pixel);
+    eye.record_samples = c_.settings.samples_per_pixel > 1;  // the error estimate's anti-aliasing term
+    if (!eye_pass(*c_.scene, c_.settings, eye, hit_points_, scratch, c_.cancel, poll)) return false;
     if (!hit_points_.depth.empty()) c_.depth.swap(hit_points_.depth);
     if (!c_.measure_photon_spacing_once(hit_points_, poll)) return false;
   }
@@ -119,6 +119,39 @@ void FixedHitPoints::update_pixels(bool direct_sampled) {
       errors_[p].add(value, bias, c_.stats.passes + 1);
     }
   });
+}
+
+// The spread of each pixel's eye samples (error_estimate.h): sample s's value is what it saw
+// directly plus its hit points' current estimates, times the samples per pixel (each carries 1/spp).
+const std::vector<float>& FixedHitPoints::sampling_variance() const {
+  const int spp = c_.settings.samples_per_pixel;
+  if (hit_points_.sample_light.empty() || c_.stats.passes == 0) {
+    sampling_variance_.clear();
+    return sampling_variance_;
+  }
+  if (sampling_variance_passes_ == c_.stats.passes && !sampling_variance_.empty()) return sampling_variance_;
+  const double direct_scale = c_.stats.direct_samples > 0 ? 1.0 / c_.stats.direct_samples : 0.0;
+  const double photons_emitted = static_cast<double>(c_.stats.photon.emitted);
+  const size_t pixels = hit_points_.pixel_begin.size() - 1;
+  sampling_variance_.resize(pixels);
+  parallel_for(c_.threads, pixels, [&](size_t begin, size_t end) {
+    std::vector<double> value(spp);
+    for (size_t p = begin; p < end; ++p) {
+      for (int s = 0; s < spp; ++s) value[s] = hit_points_.sample_light[p * spp + s];
+      for (uint32_t i = hit_points_.pixel_begin[p]; i < hit_points_.pixel_begin[p + 1]; ++i) {
+        const HitPointStats& st = hit_points_.stats[i];
+        value[st.sample] += luminance(st.direct) * direct_scale +
+                            luminance(c_.photon_radiance(hit_points_.points[i].r2, st, photons_emitted));
+      }
+      double mean = 0.0, m2 = 0.0;
+      for (int s = 0; s < spp; ++s) mean += value[s] * spp;
+      mean /= spp;
+      for (int s = 0; s < spp; ++s) m2 += (value[s] * spp - mean) * (value[s] * spp - mean);
+      sampling_variance_[p] = static_cast<float>(m2 / ((spp - 1.0) * spp));
+    }
+  });
+  sampling_variance_passes_ = c_.stats.passes;
+  return sampling_variance_;
 }
 
 PixelValue FixedHitPoints::pixel(size_t p) const {

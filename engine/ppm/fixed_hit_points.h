@@ -20,9 +20,11 @@ class FixedHitPoints : public Estimator {
   PixelValue pixel(size_t p) const override;
   double radius_mean() const override;
   ErrorPasses error_passes() const override { return ErrorPasses{c_.stats.passes, 0}; }
+  const std::vector<float>& sampling_variance() const override;
   void add_memory(MemoryUse& use) const override {
     use.hit_points += hit_points_.memory_bytes() - hit_points_.pixel_bytes();
-    use.pixels += hit_points_.pixel_bytes() + errors_.capacity() * sizeof(PixelErrorStats);
+    use.pixels += hit_points_.pixel_bytes() + (errors_.capacity() * sizeof(PixelErrorStats)) +
+                  sampling_variance_.capacity() * sizeof(float);
   }
 
  private:
@@ -33,6 +35,9 @@ class FixedHitPoints : public Estimator {
 
   RenderContext& c_;
   HitPoints hit_points_;
+  // sampling_variance()'s, made when asked after a pass, kept until the next.
+  mutable std::vector<float> sampling_variance_;
+  mutable uint64_t sampling_variance_passes_ = 0;
 };
 
 }  // namespace ppm

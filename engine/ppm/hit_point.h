@@ -58,7 +58,9 @@ struct HitPointStats {
   Color tau_m;       // flux of the m pending photons
   Color direct;      // sum of direct-light samples
   float pass_flux;   // the last pass's photons' flux, in luminance (error_estimate.h)
+  uint32_t sample;   // its pixel's eye sample it comes from (with EyePassOptions::record_samples)
 };
+static_assert(sizeof(HitPointStats) == 96, "HitPointStats grew");
 
 
 struct HitPoints {
@@ -71,6 +73,8 @@ struct HitPoints {
   std::vector<float> depth;           // per pixel: mean view-axis depth of the first hit (inf: none); optional
   // Optional, per pixel: Cycles' Denoising Albedo and Normal (world space), denoising_features.h.
   std::vector<Vec3f> albedo, feature_normal;
+  // Optional, per pixel and eye sample: the luminance the sample saw directly (emission, background).
+  std::vector<float> sample_light;
   FillVector<Bounces> chain;          // with bounce limits: each eye chain's scatterings (bounce_limits.h)
   size_t size() const { return points.size(); }
   size_t memory_bytes() const {
@@ -81,7 +85,7 @@ struct HitPoints {
   size_t pixel_bytes() const {
     return pixel_begin.capacity() * sizeof(uint32_t) + emitted.capacity() * sizeof(Color) +
            transparency.capacity() * sizeof(double) + depth.capacity() * sizeof(float) +
-           (albedo.capacity() + feature_normal.capacity()) * sizeof(Vec3f);
+           (albedo.capacity() + feature_normal.capacity()) * sizeof(Vec3f) + sample_light.capacity() * sizeof(float);
   }
 };
 

@@ -83,7 +83,9 @@ bool Renderer::target_reached() const {
   if (!(s.target_error > 0.0) || !prepared_ || context_.stats.passes < static_cast<uint64_t>(s.error_min_passes) ||
       estimator_->pass_done() > 0.0)
     return false;
-  return image_error(estimator_->errors(), estimator_->error_passes(), s.error_confidence).bound <= s.target_error;
+  return image_error(estimator_->errors(), estimator_->error_passes(), s.error_confidence,
+                     estimator_->sampling_variance())
+             .bound <= s.target_error;
 }
 
 std::vector<float> Renderer::error_image() const {
@@ -93,13 +95,14 @@ std::vector<float> Renderer::error_image() const {
   std::vector<float> out(static_cast<size_t>(W) * H * 3, 0.0f);
   if (!prepared_) return out;
   const std::vector<PixelErrorStats>& errors = estimator_->errors();
+  const std::vector<float>& sampling = estimator_->sampling_variance();
   const ErrorPasses counts = estimator_->error_passes();
   StudentTByPasses t_of(context_.settings.error_confidence);
   for (int y = 0; y < H; ++y)
     for (int x = 0; x < W; ++x) {
       const size_t p = static_cast<size_t>(y) * W + x;
       const uint64_t n = counts.of(p);
-      const PixelError e = pixel_error(errors[p], n, t_of(n));
+      const PixelError e = pixel_error(errors[p], n, t_of(n), sampling.empty() ? 0.0 : sampling[p]);
       float* o = &out[(static_cast<size_t>(H - 1 - y) * W + x) * 3];  // top row first
       o[0] = to_float(e.bias);
       o[1] = to_float(e.noise);
@@ -172,7 +175,8 @@ RenderStats Renderer::stats() const {
   context_.add_memory(s.memory);
   estimator_->add_memory(s.memory);
   if (prepared_)
-    s.error = image_error(estimator_->errors(), estimator_->error_passes(), context_.settings.error_confidence);
+    s.error = image_error(estimator_->errors(), estimator_->error_passes(), context_.settings.error_confidence,
+                          estimator_->sampling_variance());
   return s;
 }
 

@@ -188,6 +188,7 @@ py::dict stats_dict(const RenderStats& s) {
   error["relative"] = s.error.relative;
   error["bias"] = s.error.bias;
   error["noise"] = s.error.noise;
+  error["anti_aliasing"] = s.error.anti_aliasing;
   error["bound"] = s.error.bound;
   error["pixel_p95"] = s.error.pixel_p95;
   error["confidence"] = s.error.confidence;

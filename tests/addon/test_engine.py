@@ -136,13 +136,16 @@ def test_target_error_ends_the_render_and_the_stats_show_the_estimate(spy, monke
     assert "est. error" in lines[-1] and "est. error" not in lines[0]  # unknown before two passes
 
 
-def test_a_target_error_with_fixed_hit_points_warns_that_the_estimate_leaves_out_anti_aliasing(monkeypatch, tmp_path):
+def test_a_target_error_with_one_fixed_sample_per_pixel_warns_that_the_estimate_leaves_out_anti_aliasing(
+        monkeypatch, tmp_path):
     warnings = []
     monkeypatch.setattr(engine.PPMRenderEngine, "warn", lambda self, message: warnings.append(message))
     scene = simple_scene()
-    render_file(scene, tmp_path / "f.exr", passes=3, photons_per_pass=5_000, hit_points="FIXED")
-    assert not [w for w in warnings if "anti-aliasing" in w]  # no target: nothing to say
-    render_file(scene, tmp_path / "f.exr", passes=3, photons_per_pass=5_000, hit_points="FIXED", target_error=0.5)
+    fixed = {"passes": 3, "photons_per_pass": 5_000, "hit_points": "FIXED"}
+    render_file(scene, tmp_path / "f.exr", **fixed, samples_per_pixel=1)
+    render_file(scene, tmp_path / "f.exr", **fixed, samples_per_pixel=4, target_error=0.5)
+    assert not [w for w in warnings if "anti-aliasing" in w]  # no target, or samples to measure it from
+    render_file(scene, tmp_path / "f.exr", **fixed, samples_per_pixel=1, target_error=0.5)
     assert len([w for w in warnings if "anti-aliasing" in w]) == 1
 
 

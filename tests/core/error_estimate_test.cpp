@@ -83,6 +83,16 @@ TEST(PixelError, NoiseIsTTimesTheMeansStandardDeviation) {
   EXPECT_TRUE(std::isinf(pixel_error(pixel_of({1.0}, 0.0), 1, t).noise));  // one pass: no noise estimate
 }
 
+TEST(PixelError, TheEyeSamplesSpreadCountsWhereItExceedsThePassesNoise) {
+  const PixelErrorStats s = pixel_of({1.0, 2.0, 3.0, 4.0}, 0.0);  // noise variance of the mean 5/12
+  const double t = student_t_quantile(0.95, 3);
+  EXPECT_NEAR(pixel_error(s, 4, t, 0.1).sd, std::sqrt(5.0 / 12.0), 1e-6);  // within the noise: the noise
+  EXPECT_NEAR(pixel_error(s, 4, t, 2.0).sd, std::sqrt(2.0), 1e-6);          // beyond it: the samples' spread
+  const ImageError image = image_error({s}, ErrorPasses{4, 0}, 0.95, {2.0f});
+  EXPECT_NEAR(image.anti_aliasing, std::sqrt(2.0 - 5.0 / 12.0) / 2.5, 1e-6);
+  EXPECT_EQ(image_error({s}, ErrorPasses{4, 0}, 0.95).anti_aliasing, 0.0);
+}
+
 TEST(PixelError, ABiasEstimateWithinItsOwnNoiseCountsAsNone) {
   PixelErrorStats noisy{}, steady{};
   const double biases[] = {0.3, -0.2, 0.25, -0.35, 0.1, -0.05};
