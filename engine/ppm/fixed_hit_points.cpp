@@ -12,14 +12,15 @@
 
 namespace ppm {
 
-// Per eye sample a hit point twice while the chunks are joined, its statistics and a pass's sums;
-// per pixel the pixel's records and the image read back.
+// Per eye sample a hit point twice while the chunks are joined, its statistics and a pass's sums,
+// and the light it saw directly; per pixel the pixel's records, the image read back and the error
+// estimate's.
 double kept_hit_point_bytes(const Camera& camera, int samples_per_pixel) {
   const double pixels = static_cast<double>(camera.width) * camera.height;
   const double per_sample = 2.0 * (sizeof(HitPoint) + sizeof(HitPointShading)) + sizeof(HitPointStats) +
-                            sizeof(uint32_t) + 2 * sizeof(Color) + sizeof(Bounces);
-  const double per_pixel =
-      2 * sizeof(uint32_t) + sizeof(Color) + sizeof(double) + 4 * sizeof(float) + sizeof(PixelErrorStats);
+                            sizeof(uint32_t) + 2 * sizeof(Color) + sizeof(Bounces) + sizeof(uint16_t) + sizeof(float);
+  const double per_pixel = 2 * sizeof(uint32_t) + sizeof(Color) + sizeof(double) + 5 * sizeof(float) +
+                           sizeof(PixelErrorStats);
   return pixels * (per_sample * samples_per_pixel + per_pixel);
 }
 
