@@ -34,7 +34,7 @@ struct EyeVertex {
 using ChunkOutput = EyePassScratch::Chunk;
 
 // One eye sample's denoising features (denoising_features.h): the albedo its hit points see
-// through their throughput, and their normals weighted by it.
+// through their throughput, and their normals weighted by the chance a single path reaches them.
 struct SampleFeatures {
   Color albedo{0.0};
   Vec3 normal{0.0};

@@ -9,23 +9,19 @@ Runs inside Blender 3.4 (the bpy modules write only Combined into multilayer EXR
 Writes OUT_DIR/denoising.json with the figures per object; test_passes.py checks them.
 """
 
-import glob
 import json
 import math
 import os
 import sys
 
-ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-for site in glob.glob(os.path.join(ROOT, ".venv", "lib", "python3*", "site-packages")):
-    if site not in sys.path:
-        sys.path.append(site)
-sys.path.insert(0, os.path.join(ROOT, "addon"))
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from blender_side import read_pass  # noqa: E402  (puts numpy and the add-on on the path first)
 
-import bpy
-import numpy as np
-import OpenImageIO as oiio
+# isort: split
+import bpy  # noqa: E402
+import numpy as np  # noqa: E402
 
-import ppm_render
+import ppm_render  # noqa: E402
 
 OBJECTS = {1: "floor", 2: "diffuse ball", 3: "mirror ball", 4: "glass ball"}
 
@@ -81,13 +77,6 @@ def scene_with_balls():
     layer.use_pass_object_index = True
     layer.cycles.denoising_store_passes = True
     return scene
-
-
-def read_pass(path, prefix, channels):
-    buf = oiio.ImageBuf(str(path))
-    names = buf.spec().channelnames
-    index = [next(i for i, n in enumerate(names) if n.endswith(f"{prefix}.{c}")) for c in channels]
-    return buf.get_pixels(oiio.FLOAT)[..., index]
 
 
 def render(scene, engine, path):

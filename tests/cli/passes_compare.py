@@ -9,23 +9,19 @@ for Cycles, so the passes cannot be read back there):
 Writes OUT_DIR/passes.json with the agreement figures; test_passes.py checks them.
 """
 
-import glob
 import json
 import math
 import os
 import sys
 
-ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-for site in glob.glob(os.path.join(ROOT, ".venv", "lib", "python3*", "site-packages")):
-    if site not in sys.path:
-        sys.path.append(site)
-sys.path.insert(0, os.path.join(ROOT, "addon"))
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from blender_side import read_pass  # noqa: E402  (puts numpy and the add-on on the path first)
 
-import bpy
-import numpy as np
-import OpenImageIO as oiio
+# isort: split
+import bpy  # noqa: E402
+import numpy as np  # noqa: E402
 
-import ppm_render
+import ppm_render  # noqa: E402
 
 
 def scene_with_passes():
@@ -56,13 +52,6 @@ def scene_with_passes():
     layer.use_pass_z = layer.use_pass_normal = True
     layer.use_pass_object_index = layer.use_pass_material_index = True
     return scene
-
-
-def read_pass(path, prefix, channels):
-    buf = oiio.ImageBuf(str(path))
-    names = buf.spec().channelnames
-    index = [next(i for i, n in enumerate(names) if n.endswith(f"{prefix}.{c}")) for c in channels]
-    return buf.get_pixels(oiio.FLOAT)[..., index]
 
 
 def render(scene, engine, path):

@@ -14,12 +14,17 @@ ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 pytestmark = pytest.mark.skipif(shutil.which("blender") is None, reason="needs Debian's blender")
 
 
-def test_depth_normal_and_index_passes_match_cycles(tmp_path):
-    script = os.path.join(ROOT, "tests", "cli", "passes_compare.py")
-    run = subprocess.run(["blender", "-b", "--factory-startup", "--python-exit-code", "1", "-P", script, "--",
-                          str(tmp_path)], check=False, capture_output=True, text=True, timeout=300)
+def figures_of(script, tmp_path, output):
+    """Runs tests/cli/`script` in Blender 3.4; the figures it wrote to tmp_path/`output`."""
+    run = subprocess.run(["blender", "-b", "--factory-startup", "--python-exit-code", "1", "-P",
+                          os.path.join(ROOT, "tests", "cli", script), "--", str(tmp_path)],
+                         check=False, capture_output=True, text=True, timeout=300)
     assert run.returncode == 0, run.stdout[-3000:] + run.stderr[-3000:]
-    figures = json.loads((tmp_path / "passes.json").read_text())
+    return json.loads((tmp_path / output).read_text())
+
+
+def test_depth_normal_and_index_passes_match_cycles(tmp_path):
+    figures = figures_of("passes_compare.py", tmp_path, "passes.json")
     assert figures["shape"] == [36, 48]
     assert figures["smooth_fraction"] > 0.8
     assert figures["max_depth_error"] < 0.01
@@ -30,11 +35,7 @@ def test_depth_normal_and_index_passes_match_cycles(tmp_path):
 
 
 def test_denoising_albedo_and_normal_match_cycles(tmp_path):
-    script = os.path.join(ROOT, "tests", "cli", "denoising_compare.py")
-    run = subprocess.run(["blender", "-b", "--factory-startup", "--python-exit-code", "1", "-P", script, "--",
-                          str(tmp_path)], check=False, capture_output=True, text=True, timeout=300)
-    assert run.returncode == 0, run.stdout[-3000:] + run.stderr[-3000:]
-    figures = json.loads((tmp_path / "denoising.json").read_text())
+    figures = figures_of("denoising_compare.py", tmp_path, "denoising.json")
     assert figures["shape"] == [48, 64]
     for name in ("floor", "diffuse ball"):  # a diffuse surface's colour and normal, exactly
         assert figures[name]["albedo_mean_difference"] < 1e-3, (name, figures[name])
