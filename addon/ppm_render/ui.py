@@ -91,6 +91,9 @@ class RENDER_PT_ppm_sampling(PPMRenderPanel, bpy.types.Panel):
         sub.active = not settings.cycles_light_paths
         sub.prop(settings, "max_bounces")
         col.prop(settings, "samples_per_pixel")
+        sub = col.column()
+        sub.active = settings.hit_points != 'FIXED'
+        sub.prop(settings, "adaptive_samples")
 
 
 class RENDER_PT_ppm_viewport(PPMRenderPanel, bpy.types.Panel):

@@ -309,13 +309,15 @@ bool eye_pass(const Scene& scene, const Settings& settings, const EyePassOptions
         const size_t before = o.points.size();
         double depth_sum = 0.0;
         int depth_count = 0;
-        for (int s = 0; s < spp; ++s) {
+        const int samples = options.pixel_samples ? std::clamp<int>(options.pixel_samples[pixel], 1, spp) : spp;
+        const int lattice = samples == spp ? grid : static_cast<int>(std::floor(std::sqrt(double(samples))));
+        for (int s = 0; s < samples; ++s) {
           Rng rng(settings.seed, kEyeStream + options.generation, static_cast<uint64_t>(pixel) * spp + s);
-          // Stratified on a grid x grid lattice for the first grid^2 samples, then uniform.
+          // Stratified on a lattice x lattice grid for the first lattice^2 samples, then uniform.
           double jx = rng.uniform(), jy = rng.uniform();
-          if (s < grid * grid) {
-            jx = (s % grid + jx) / grid;
-            jy = (s / grid + jy) / grid;
+          if (s < lattice * lattice) {
+            jx = (s % lattice + jx) / lattice;
+            jy = (s / lattice + jy) / lattice;
           }
           const double lu = rng.uniform(), lv = rng.uniform();
           Ray ray = options.lens ? rays.through_lens(x + jx, y + jy, lu, lv) : rays.through(x + jx, y + jy);
@@ -329,13 +331,13 @@ bool eye_pass(const Scene& scene, const Settings& settings, const EyePassOptions
           }
           SampleFeatures features;
           const double light_before = luminance(out.emitted[local]);
-          tracer.trace(ray, Color(1.0 / spp), rng, pixel, o, out.emitted[local], out.transparency[local],
+          tracer.trace(ray, Color(1.0 / samples), rng, pixel, o, out.emitted[local], out.transparency[local],
                        options.record_features ? &features : nullptr);
           if (options.record_samples) {
             o.sample.resize(o.points.size(), static_cast<uint16_t>(s));
             out.sample_light[local * spp + s] = static_cast<float>(luminance(out.emitted[local]) - light_before);
           }
-          if (options.record_features) add_features(features, spp, out.albedo[local], out.feature_normal[local]);
+          if (options.record_features) add_features(features, samples, out.albedo[local], out.feature_normal[local]);
         }
         if (depth_count > 0) out.depth[local] = static_cast<float>(depth_sum / depth_count);
         counts[local] = static_cast<uint32_t>(o.points.size() - before);

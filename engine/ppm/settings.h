@@ -73,6 +73,9 @@ struct Settings {
   double target_error = 0.0;
   double error_confidence = 0.95;
   int error_min_passes = 8;
+  // Stochastic hit points: up to this many eye samples a pixel each pass, where the error estimate
+  // finds the pixel's pass values noisiest (adaptive_samples.h); 1: one everywhere.
+  int adaptive_samples = 1;
 
   // Scatterings a photon path or an eye chain may take.
   int path_bounces() const { return light_path_limits ? std::min(total_bounces, 1000) + 1 : max_bounces; }

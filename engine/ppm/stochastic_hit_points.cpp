@@ -1,6 +1,7 @@
 // Stochastic hit points (see stochastic_hit_points.h).
 #include "ppm/stochastic_hit_points.h"
 
+#include "ppm/adaptive_samples.h"
 #include "ppm/direct_light.h"
 #include "ppm/memory_budget.h"
 #include "ppm/parallel.h"
@@ -29,12 +30,17 @@ bool StochasticHitPoints::prepare(const Poll&) {
 bool StochasticHitPoints::pass(const Poll& poll) {
   RenderStats& stats = c_.stats;
   const uint64_t pass = stats.passes;
-  EyePassOptions eye = c_.eye_options(pass + 1, 1);
+  // Adaptive eye sampling (adaptive_samples.h) once the error estimate has passes enough to go on.
+  const int max_samples = c_.settings.adaptive_samples;
+  const bool adaptive = max_samples > 1 && pass >= static_cast<uint64_t>(c_.settings.error_min_passes);
+  EyePassOptions eye = c_.eye_options(pass + 1, adaptive ? max_samples : 1);
   if (current_.next_row == 0) {
     current_ = PassInProgress{0, stats.photon, 0};
     if (eye.record_depth) depth_.assign(pixels_.size(), std::numeric_limits<float>::infinity());
+    if (adaptive) allocate_eye_samples(errors_, pass, max_samples, eye_samples_);
   }
-  if (!c_.run_bands(current_.next_row, c_.band_rows(), eye,
+  if (adaptive) eye.pixel_samples = eye_samples_.data();
+  if (!c_.run_bands(current_.next_row, c_.band_rows(adaptive ? max_samples : 1), eye,
                     [&](const EyePassOptions& e) { return band(e, pass, poll); }))
     return false;
   if (eye.record_depth) c_.depth.swap(depth_);
@@ -150,7 +156,7 @@ double StochasticHitPoints::radius_mean() const {
 
 void StochasticHitPoints::add_memory(MemoryUse& use) const {
   use.pixels += pixels_.capacity() * sizeof(PixelStats) + errors_.capacity() * sizeof(PixelErrorStats) +
-                depth_.capacity() * sizeof(float);
+                depth_.capacity() * sizeof(float) + eye_samples_.capacity();
   use.hit_points += hit_points_.memory_bytes() + eye_scratch_.memory_bytes();
 }
 

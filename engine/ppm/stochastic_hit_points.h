@@ -53,6 +53,7 @@ class StochasticHitPoints : public Estimator {
   std::vector<PixelStats> pixels_;
   PassInProgress current_;
   std::vector<float> depth_;  // the pass's depth (POST depth of field), until it completes
+  std::vector<uint8_t> eye_samples_;  // per pixel, the pass's eye samples (adaptive_samples.h)
   HitPoints hit_points_;      // the band being made, reused: no pass allocates once sizes settle
   EyePassScratch eye_scratch_;
 };

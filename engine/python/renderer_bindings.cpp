@@ -113,6 +113,9 @@ const std::map<std::string, SettingAccess>& setting_table() {
       {"error_confidence",
        number(&Settings::error_confidence, "confidence of the error estimate's noise bound, in (0, 1)")},
       {"error_min_passes", number(&Settings::error_min_passes, "passes before target_error can stop a run")},
+      {"adaptive_samples", number(&Settings::adaptive_samples,
+                                  "stochastic hit points: up to this many eye samples a pixel each pass where the "
+                                  "error estimate finds the pixel noisiest (1: one everywhere)")},
       {"grid", enumeration(&Settings::grid, {{"quantile", GridKind::Quantile}, {"hash", GridKind::Hash}},
                            "spatial index: 'quantile' grid or 'hash'ed uniform grid", "grid")},
   };

@@ -57,7 +57,7 @@ def spy(monkeypatch):
 def test_settings_reach_the_core(spy, tmp_path):
     scene = simple_scene()
     values = {"photons_per_pass": 12_345, "alpha": 0.55, "threshold": 3, "max_bounces": 5,
-              "samples_per_pixel": 2, "seed": 17, "threads": 1}
+              "samples_per_pixel": 2, "seed": 17, "threads": 1, "adaptive_samples": 3}
     render_file(scene, tmp_path / "a.exr", passes=3, animated_seed=False, **values)
     renderer = spy.renderers[-1]
     for key, value in values.items():
