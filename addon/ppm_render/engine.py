@@ -189,7 +189,9 @@ class PPMRenderEngine(bpy.types.RenderEngine):
         """Renders one view of `exported` (build_scene's) into its result; False after a failure."""
         ppm_scene = exported[0]
         scene = depsgraph.scene
-        settings = {**core_settings(scene.ppm), **film_settings(scene), **light_path_settings(scene)}
+        layer = depsgraph.view_layer
+        settings = {**core_settings(scene.ppm), **film_settings(scene), **light_path_settings(scene),
+                    "light_passes": layer.use_pass_emit or layer.use_pass_environment}
         try:
             renderer = ppm_core.Renderer(ppm_scene, **settings)
         except Exception as error:  # noqa: BLE001 - every failure must reach the user
@@ -214,6 +216,9 @@ class PPMRenderEngine(bpy.types.RenderEngine):
             if scene.ppm.error_passes:
                 for name, pixels in passes.error_passes(renderer.error()).items():
                     passes.write_pass(result, name, pixels)
+            if settings["light_passes"]:
+                for name, pixels in renderer.light_passes().items():
+                    passes.write_pass(result, name, pixels[::-1])  # passes run bottom-up
             self.write_denoising(renderer, result, scene.ppm, exported[1], line)
             return True
         except Exception as error:  # noqa: BLE001
@@ -295,6 +300,10 @@ class PPMRenderEngine(bpy.types.RenderEngine):
             self.register_pass(scene, renderlayer, "IndexOB", 1, "X", "VALUE")
         if renderlayer.use_pass_material_index:
             self.register_pass(scene, renderlayer, "IndexMA", 1, "X", "VALUE")
+        if renderlayer.use_pass_emit:  # Cycles' names: what camera rays see at no bounce
+            self.register_pass(scene, renderlayer, "Emit", 3, "RGB", "COLOR")
+        if renderlayer.use_pass_environment:
+            self.register_pass(scene, renderlayer, "Env", 3, "RGB", "COLOR")
         if scene.ppm.error_passes:
             for name in passes.ERROR_PASSES:
                 self.register_pass(scene, renderlayer, name, 1, "X", "VALUE")

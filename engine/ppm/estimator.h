@@ -29,6 +29,8 @@ class Estimator {
   virtual bool pass(const Poll& poll) = 0;
   // Pixel p (row 0 at the bottom) after the passes so far; only once prepared.
   virtual PixelValue pixel(size_t p) const = 0;
+  // With settings.light_passes: what pixel p's camera rays see at no bounce (Cycles' Emit, Env).
+  virtual SeenLight seen(size_t p) const = 0;
   virtual double radius_mean() const = 0;
   // The share of the pass in progress already folded into the image (stochastic: its bands).
   virtual double pass_done() const { return 0.0; }

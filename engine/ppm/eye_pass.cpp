@@ -75,18 +75,22 @@ struct EyeTracer {
   }
 
   // A path that leaves the scene: transparent, or what it sees of the suns and the background.
-  void escape(const EyeVertex& v, Color& emitted, double& transparency) const {
+  // `seen`: where a camera ray's (no bounce) sun and world go too, or nullptr.
+  void escape(const EyeVertex& v, Color& emitted, double& transparency, SeenLight* seen) const {
     if (settings.transparent_background && transparent_path(v)) {
       transparency += mean(v.throughput);
       return;
     }
+    const Color before = emitted;
     see_suns(v.ray, v.depth, v.throughput, emitted);
-    if (v.ray.kind == kCameraRay && scene.camera_background() != nullptr) {
-      emitted += v.throughput * scene.camera_background()->radiance(v.ray.direction);
-      return;
-    }
-    if (background != nullptr && (background->visibility & v.ray.kind) && reaches(*background, v.depth))
-      emitted += v.throughput * background_radiance(*background, v.ray.direction);
+    if (seen) seen->emission += emitted - before;
+    Color world(0.0);
+    if (v.ray.kind == kCameraRay && scene.camera_background() != nullptr)
+      world = v.throughput * scene.camera_background()->radiance(v.ray.direction);
+    else if (background != nullptr && (background->visibility & v.ray.kind) && reaches(*background, v.depth))
+      world = v.throughput * background_radiance(*background, v.ray.direction);
+    emitted += world;
+    if (seen) seen->environment += world;
   }
 
   // Cycles: a camera ray that meets a holdout cuts a hole, whether or not the film is transparent.
@@ -169,9 +173,10 @@ struct EyeTracer {
   }
 
   // Adds what the path sees directly to `emitted` and what of it is transparent to `transparency`.
-  // `features`: nullptr, or where this sample's denoising features go.
+  // `features`: nullptr, or where this sample's denoising features go; `seen`: nullptr, or where
+  // what it sees at no bounce goes (as well as into `emitted`).
   void trace(const Ray& primary, const Color& weight, Rng& rng, uint32_t pixel, ChunkOutput& out,
-             Color& emitted, double& transparency, SampleFeatures* features) const {
+             Color& emitted, double& transparency, SampleFeatures* features, SeenLight* seen) const {
     EyeVertex stack[2 * kSplitDepth + 4];
     int top = 0;
     stack[top++] = EyeVertex{primary, weight, 0, 0.0, true, Bounces{}, false};
@@ -180,14 +185,22 @@ struct EyeTracer {
       const EyeVertex v = stack[--top];
       Hit hit;
       const bool found = scene.intersect(v.ray, hit, v.depth == 0 ? tmax0 : kInf);
-      if (see_lights(v.ray, v.depth, found ? hit.t : kInf, v.throughput, emitted)) continue;
+      SeenLight* seen_here = v.depth == 0 ? seen : nullptr;  // Cycles' Emit and Env: no bounce
+      const Color before = emitted;
+      const bool behind_a_light = see_lights(v.ray, v.depth, found ? hit.t : kInf, v.throughput, emitted);
+      if (seen_here) seen_here->emission += emitted - before;
+      if (behind_a_light) continue;
       if (!found) {
-        escape(v, emitted, transparency);
+        escape(v, emitted, transparency, seen_here);
         continue;
       }
       const Material& m = scene.material(hit.material);
       if (ends_at_holdout(v, hit, m, transparency)) continue;
-      if (m.emits()) emitted += v.throughput * scene.emission(hit, -v.ray.direction, path_of(v, hit.t));
+      if (m.emits()) {
+        const Color emission = v.throughput * scene.emission(hit, -v.ray.direction, path_of(v, hit.t));
+        emitted += emission;
+        if (seen_here) seen_here->emission += emission;
+      }
       if (is_black(m) || v.emission_only) continue;
       const EyeVertex here{v.ray, v.throughput, v.depth, v.length + hit.t, v.glass_only, v.chain, false, v.share};
       const SurfacePoint sp = scene.surface_point(hit, -v.ray.direction, pixel_size(here.length), path_of(v, hit.t));
@@ -288,6 +301,7 @@ bool eye_pass(const Scene& scene, const Settings& settings, const EyePassOptions
   if (options.record_depth) out.depth.assign(pixels, std::numeric_limits<float>::infinity());
   else out.depth.clear();
   out.sample_light.assign(options.record_samples ? pixels * spp : 0, 0.0f);
+  out.seen.assign(options.record_seen ? pixels : 0, SeenLight{});
   out.albedo.assign(options.record_features ? pixels : 0, Vec3f(0.0f));
   out.feature_normal.assign(options.record_features ? pixels : 0, Vec3f(0.0f));
 
@@ -332,7 +346,7 @@ bool eye_pass(const Scene& scene, const Settings& settings, const EyePassOptions
           SampleFeatures features;
           const double light_before = luminance(out.emitted[local]);
           tracer.trace(ray, Color(1.0 / samples), rng, pixel, o, out.emitted[local], out.transparency[local],
-                       options.record_features ? &features : nullptr);
+                       options.record_features ? &features : nullptr, options.record_seen ? &out.seen[local] : nullptr);
           if (options.record_samples) {
             o.sample.resize(o.points.size(), static_cast<uint16_t>(s));
             out.sample_light[local * spp + s] = static_cast<float>(luminance(out.emitted[local]) - light_before);

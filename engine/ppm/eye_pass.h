@@ -22,6 +22,7 @@ struct EyePassOptions {
   bool record_depth = false;    // per-pixel depth for the depth-of-field post-process
   bool record_features = false; // per-pixel denoising albedo and normal (HitPoints::albedo)
   bool record_samples = false;  // each hit point's eye sample, each sample's light (HitPoints::sample_light)
+  bool record_seen = false;     // per pixel, the emission and world seen at no bounce (HitPoints::seen)
   // Optional, per pixel of the image (row 0 at the bottom): its own number of samples, at most
   // samples_per_pixel (the random streams' stride); nullptr: samples_per_pixel everywhere.
   const uint8_t* pixel_samples = nullptr;

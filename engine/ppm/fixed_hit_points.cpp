@@ -41,6 +41,7 @@ bool FixedHitPoints::prepare(const Poll& poll) {
     EyePassScratch scratch;  // freed once the hit points are made
     EyePassOptions eye = c_.eye_options(0, c_.settings.samples_per_pixel);
     eye.record_samples = c_.settings.samples_per_pixel > 1;  // the error estimate's anti-aliasing term
+    eye.record_seen = c_.settings.light_passes;
     if (!eye_pass(*c_.scene, c_.settings, eye, hit_points_, scratch, c_.cancel, poll)) return false;
     if (!hit_points_.depth.empty()) c_.depth.swap(hit_points_.depth);
     if (!c_.measure_photon_spacing_once(hit_points_, poll)) return false;

@@ -18,6 +18,7 @@ class FixedHitPoints : public Estimator {
   bool prepare(const Poll& poll) override;
   bool pass(const Poll& poll) override;
   PixelValue pixel(size_t p) const override;
+  SeenLight seen(size_t p) const override { return hit_points_.seen.empty() ? SeenLight{} : hit_points_.seen[p]; }
   double radius_mean() const override;
   ErrorPasses error_passes() const override { return ErrorPasses{c_.stats.passes, 0}; }
   const std::vector<float>& sampling_variance() const override;

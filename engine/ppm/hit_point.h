@@ -63,6 +63,13 @@ struct HitPointStats {
 static_assert(sizeof(HitPointStats) == 96, "HitPointStats grew");
 
 
+// What a pixel's camera rays see directly, at no bounce (Cycles' Emit and Env passes): the
+// emission of surfaces and lights, and the world.
+struct SeenLight {
+  Color emission{0.0};
+  Color environment{0.0};
+};
+
 struct HitPoints {
   FillVector<HitPoint> points;
   FillVector<HitPointShading> shading;
@@ -75,6 +82,7 @@ struct HitPoints {
   std::vector<Vec3f> albedo, feature_normal;
   // Optional, per pixel and eye sample: the luminance the sample saw directly (emission, background).
   std::vector<float> sample_light;
+  std::vector<SeenLight> seen;  // optional, per pixel (EyePassOptions::record_seen)
   FillVector<Bounces> chain;          // with bounce limits: each eye chain's scatterings (bounce_limits.h)
   size_t size() const { return points.size(); }
   size_t memory_bytes() const {
@@ -85,7 +93,8 @@ struct HitPoints {
   size_t pixel_bytes() const {
     return pixel_begin.capacity() * sizeof(uint32_t) + emitted.capacity() * sizeof(Color) +
            transparency.capacity() * sizeof(double) + depth.capacity() * sizeof(float) +
-           (albedo.capacity() + feature_normal.capacity()) * sizeof(Vec3f) + sample_light.capacity() * sizeof(float);
+           (albedo.capacity() + feature_normal.capacity()) * sizeof(Vec3f) + sample_light.capacity() * sizeof(float) +
+           seen.capacity() * sizeof(SeenLight);
   }
 };
 

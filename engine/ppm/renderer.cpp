@@ -134,6 +134,22 @@ std::vector<float> Renderer::denoising_features(int samples_per_pixel, const std
   return out;
 }
 
+std::vector<float> Renderer::light_passes() const {
+  refuse_while_running(running_, "light_passes()");
+  if (!context_.settings.light_passes)
+    throw std::runtime_error("light_passes(): make the renderer with light_passes=True");
+  const int W = width(), H = height();
+  std::vector<float> out(static_cast<size_t>(W) * H * 6, 0.0f);
+  if (!prepared_) return out;
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      const SeenLight seen = estimator_->seen(static_cast<size_t>(y) * W + x);
+      float* o = &out[(static_cast<size_t>(H - 1 - y) * W + x) * 6];  // top row first
+      for (int k = 0; k < 3; ++k) o[k] = to_float(seen.emission[k]), o[3 + k] = to_float(seen.environment[k]);
+    }
+  return out;
+}
+
 std::vector<float> Renderer::image() const {
   refuse_while_running(running_, "image()");
   const Camera& cam = context_.scene->camera();

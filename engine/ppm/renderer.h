@@ -61,6 +61,9 @@ class Renderer {
   // the world-space normal. An eye pass of its own, made band by band; `poll` returning false
   // cancels it (then it returns an empty vector). Not while run() is in progress.
   std::vector<float> denoising_features(int samples_per_pixel, const std::function<bool()>& poll);
+  // With settings.light_passes: per pixel, rows from the top, what camera rays see at no bounce,
+  // emission of surfaces and lights (Cycles' Emit) and the world (Env): 6 floats a pixel.
+  std::vector<float> light_passes() const;
   const Settings& settings() const { return context_.settings; }
   int width() const { return context_.scene->camera().width; }
   int height() const { return context_.scene->camera().height; }

@@ -76,6 +76,9 @@ struct Settings {
   // Stochastic hit points: up to this many eye samples a pixel each pass, where the error estimate
   // finds the pixel's pass values noisiest (adaptive_samples.h); 1: one everywhere.
   int adaptive_samples = 1;
+  // Keep what camera rays see at no bounce, emission and world apart (Renderer::light_passes,
+  // Cycles' Emit and Env passes): 24 bytes a pixel more with stochastic hit points.
+  bool light_passes = false;
 
   // Scatterings a photon path or an eye chain may take.
   int path_bounces() const { return light_path_limits ? std::min(total_bounces, 1000) + 1 : max_bounces; }

@@ -23,6 +23,7 @@ bool StochasticHitPoints::prepare(const Poll&) {
                "render a smaller image or in parts (render border)");
   pixels_.assign(static_cast<size_t>(cam.width) * cam.height, PixelStats{});
   errors_.assign(pixels_.size(), PixelErrorStats{});
+  seen_.assign(c_.settings.light_passes ? pixels_.size() : 0, SeenMeans{Vec3f(0.0f), Vec3f(0.0f)});
   current_ = PassInProgress{};
   return true;
 }
@@ -34,6 +35,7 @@ bool StochasticHitPoints::pass(const Poll& poll) {
   const int max_samples = c_.settings.adaptive_samples;
   const bool adaptive = max_samples > 1 && pass >= static_cast<uint64_t>(c_.settings.error_min_passes);
   EyePassOptions eye = c_.eye_options(pass + 1, adaptive ? max_samples : 1);
+  eye.record_seen = c_.settings.light_passes;
   if (current_.next_row == 0) {
     current_ = PassInProgress{0, stats.photon, 0};
     if (eye.record_depth) depth_.assign(pixels_.size(), std::numeric_limits<float>::infinity());
@@ -130,6 +132,12 @@ void StochasticHitPoints::fold_band(size_t first_pixel, uint64_t pass) {
       errors_[first_pixel + p].add(luminance(light) + scale * pass_flux, scale * pass_bias, pass);
       const PixelPass found{m, Vec3f(tau_m), Vec3f(light), static_cast<float>(fresh.transparency[p])};
       fold_pass(px, found, pass, c_.settings.alpha, c_.settings.threshold);
+      if (!seen_.empty()) {  // running means, as the pixel's light
+        SeenMeans& mean = seen_[first_pixel + p];
+        const float w = 1.0f / static_cast<float>(pass);
+        mean.emission += (Vec3f(fresh.seen[p].emission) - mean.emission) * w;
+        mean.environment += (Vec3f(fresh.seen[p].environment) - mean.environment) * w;
+      }
     }
   });
 }
@@ -140,6 +148,11 @@ PixelValue StochasticHitPoints::pixel(size_t p) const {
   const bool in_pass = p < static_cast<size_t>(current_.next_row) * c_.scene->camera().width;
   const double emitted = static_cast<double>(in_pass ? current_.counters.emitted : c_.stats.photon.emitted);
   return PixelValue{Color(px.light) + c_.photon_radiance(px.r2, px.in_double(), emitted), px.transparency};
+}
+
+SeenLight StochasticHitPoints::seen(size_t p) const {
+  if (seen_.empty()) return SeenLight{};
+  return SeenLight{Color(seen_[p].emission), Color(seen_[p].environment)};
 }
 
 double StochasticHitPoints::pass_done() const {
@@ -156,7 +169,7 @@ double StochasticHitPoints::radius_mean() const {
 
 void StochasticHitPoints::add_memory(MemoryUse& use) const {
   use.pixels += pixels_.capacity() * sizeof(PixelStats) + errors_.capacity() * sizeof(PixelErrorStats) +
-                depth_.capacity() * sizeof(float) + eye_samples_.capacity();
+                depth_.capacity() * sizeof(float) + eye_samples_.capacity() + seen_.capacity() * sizeof(SeenMeans);
   use.hit_points += hit_points_.memory_bytes() + eye_scratch_.memory_bytes();
 }
 

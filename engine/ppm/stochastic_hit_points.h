@@ -28,6 +28,7 @@ class StochasticHitPoints : public Estimator {
   bool prepare(const Poll& poll) override;
   bool pass(const Poll& poll) override;
   PixelValue pixel(size_t p) const override;
+  SeenLight seen(size_t p) const override;
   double radius_mean() const override;
   ErrorPasses error_passes() const override {
     return ErrorPasses{c_.stats.passes, static_cast<size_t>(current_.next_row) * c_.scene->camera().width};
@@ -54,6 +55,11 @@ class StochasticHitPoints : public Estimator {
   PassInProgress current_;
   std::vector<float> depth_;  // the pass's depth (POST depth of field), until it completes
   std::vector<uint8_t> eye_samples_;  // per pixel, the pass's eye samples (adaptive_samples.h)
+  // With settings.light_passes, per pixel: the running means of what camera rays saw at no bounce.
+  struct SeenMeans {
+    Vec3f emission, environment;
+  };
+  std::vector<SeenMeans> seen_;
   HitPoints hit_points_;      // the band being made, reused: no pass allocates once sizes settle
   EyePassScratch eye_scratch_;
 };

@@ -64,6 +64,8 @@ bool StreamedHitPoints::count_hit_points(const Poll& poll, double& mean_radius) 
   transparency_.assign(pixels, 0.0f);
   errors_.assign(pixels, PixelErrorStats{});
   EyePassOptions eye = c_.eye_options(0, c_.settings.samples_per_pixel);
+  eye.record_seen = c_.settings.light_passes;
+  seen_.assign(eye.record_seen ? pixels : 0, SeenLight{});
   std::vector<float> depth;
   if (eye.record_depth) depth.assign(pixels, std::numeric_limits<float>::infinity());
   uint64_t total = 0;
@@ -83,6 +85,7 @@ bool StreamedHitPoints::count_hit_points(const Poll& poll, double& mean_radius) 
       first_[first_pixel + p + 1] = static_cast<uint32_t>(total);
       light_[first_pixel + p] = Vec3f(fresh.emitted[p]);
       transparency_[first_pixel + p] = static_cast<float>(fresh.transparency[p]);
+      if (eye.record_seen) seen_[first_pixel + p] = fresh.seen[p];
     }
     for (const HitPoint& h : fresh.points) radius_sum += std::sqrt(h.r2);
     if (eye.record_depth) std::copy(fresh.depth.begin(), fresh.depth.end(), depth.begin() + first_pixel);

@@ -33,6 +33,7 @@ class StreamedHitPoints : public Estimator {
   bool prepare(const Poll& poll) override;
   bool pass(const Poll& poll) override;
   PixelValue pixel(size_t p) const override;
+  SeenLight seen(size_t p) const override { return seen_.empty() ? SeenLight{} : seen_[p]; }
   double radius_mean() const override;
   ErrorPasses error_passes() const override {
     return ErrorPasses{c_.stats.passes, static_cast<size_t>(current_.next_row) * c_.scene->camera().width};
@@ -60,6 +61,7 @@ class StreamedHitPoints : public Estimator {
   std::vector<uint32_t> first_;        // per pixel and one more: its first hit point's record
   std::vector<Vec3f> light_;           // per pixel: what eye paths see directly, plus the mean direct light
   std::vector<float> transparency_;    // per pixel
+  std::vector<SeenLight> seen_;        // per pixel, with settings.light_passes: the same every pass
   PassInProgress current_;
   double typical_r2_ = 0.0;            // mean r^2 of the last pass (sizes a hashed grid's cells)
   double initial_radius_sum_ = 0.0;    // over the first pass (stats' initial_radius_mean)

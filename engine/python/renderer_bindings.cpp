@@ -113,6 +113,8 @@ const std::map<std::string, SettingAccess>& setting_table() {
       {"error_confidence",
        number(&Settings::error_confidence, "confidence of the error estimate's noise bound, in (0, 1)")},
       {"error_min_passes", number(&Settings::error_min_passes, "passes before target_error can stop a run")},
+      {"light_passes", number(&Settings::light_passes,
+                              "keep the emission and the world camera rays see at no bounce apart (light_passes())")},
       {"adaptive_samples", number(&Settings::adaptive_samples,
                                   "stochastic hit points: up to this many eye samples a pixel each pass where the "
                                   "error estimate finds the pixel noisiest (1: one everywhere)")},
@@ -285,6 +287,24 @@ void bind_renderer(py::module_& m) {
            },
            "Linear RGBA float32 image of shape (H, W, 4), top row first; alpha = 1.")
       .def("stats", [](const Renderer& r) { return stats_dict(r.stats()); })
+      .def("light_passes",
+           [](const Renderer& r) {
+             std::vector<float> values;
+             {
+               py::gil_scoped_release release;
+               values = r.light_passes();
+             }
+             py::array_t<float> all({py::ssize_t(r.height()), py::ssize_t(r.width()), py::ssize_t(6)}, values.data());
+             const py::slice every(0, r.height(), 1), columns(0, r.width(), 1);
+             py::dict out;
+             out["Emit"] = all[py::make_tuple(every, columns, py::slice(0, 3, 1))];
+             out["Env"] = all[py::make_tuple(every, columns, py::slice(3, 6, 1))];
+             return out;
+           },
+           "With light_passes=True: what camera rays see at no bounce, as Cycles' Emit and Env passes: dict of "
+           "(H, W, 3) float32, top row first, 'Emit' (surfaces' and lights' emission) and 'Env' (the world). "
+           "What is seen through mirrors and glass is in neither (Cycles counts it as glossy or transmission "
+           "light).")
       .def("denoising_features",
            [](Renderer& r, int samples_per_pixel) {
              std::vector<float> values;

@@ -63,7 +63,7 @@ def test_settings_reach_the_core(spy, tmp_path):
     for key, value in values.items():
         assert renderer.settings[key] == pytest.approx(value), key
     assert set(spy.kwargs[-1]) == set(CORE_KEYS) | {"dof_mode", "hit_points", "transparent_background",
-                                                    "transparent_glass", "light_path_limits"}
+                                                    "transparent_glass", "light_path_limits", "light_passes"}
     assert spy.kwargs[-1]["light_path_limits"] is False
     assert renderer.settings["dof_mode"] == "off" and renderer.settings["hit_points"] == "stochastic"
     stats = renderer.stats()

@@ -1,6 +1,6 @@
-"""What the scripts Blender 3.4 runs here share (passes_compare.py, denoising_compare.py): this
-checkout's .venv packages (numpy, OpenImageIO, ppm_core; the same Python 3.11) and its add-on on
-the path, and reading one pass of a multilayer EXR."""
+"""What the scripts Blender 3.4 runs here share (passes_compare.py, denoising_compare.py,
+light_passes_compare.py): this checkout's .venv packages (numpy, OpenImageIO, ppm_core; the same
+Python 3.11) and its add-on on the path, and reading one pass of a multilayer EXR."""
 
 import glob
 import os

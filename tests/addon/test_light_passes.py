@@ -1,0 +1,58 @@
+"""Cycles' Emit and Env passes, when the view layer enables them: what camera rays see at no bounce,
+the emission of surfaces and lights apart from the world (the core's Renderer.light_passes)."""
+
+import numpy as np
+
+from conftest import bpy, render_file
+from ppm_render import passes
+
+GLOW, SKY = (1.0, 0.5, 0.25), (0.05, 0.1, 0.2)
+
+
+def panel_and_sky():
+    """An emissive panel (strength 2) fills the left half of the view of a camera looking down; the
+    world's colour is everywhere else."""
+    scene = bpy.context.scene
+    mesh = bpy.data.meshes.new("panel")
+    mesh.from_pydata([(-10, -10, 0), (0, -10, 0), (0, 10, 0), (-10, 10, 0)], [], [(0, 1, 2, 3)])
+    panel = bpy.data.objects.new("panel", mesh)
+    material = bpy.data.materials.new("glow")
+    if material.node_tree is None:  # before Blender 5.0 (where use_nodes is deprecated)
+        material.use_nodes = True
+    nodes = material.node_tree.nodes
+    nodes.clear()
+    emission, output = nodes.new("ShaderNodeEmission"), nodes.new("ShaderNodeOutputMaterial")
+    emission.inputs["Color"].default_value, emission.inputs["Strength"].default_value = (*GLOW, 1.0), 2.0
+    material.node_tree.links.new(emission.outputs[0], output.inputs["Surface"])
+    panel.data.materials.append(material)
+    scene.collection.objects.link(panel)
+    scene.world = bpy.data.worlds.new("sky")
+    scene.world.color = SKY
+    if scene.world.node_tree is not None:  # Blender 5.0 makes worlds with a Background node
+        scene.world.node_tree.nodes["Background"].inputs["Color"].default_value = (*SKY, 1.0)
+    cam = bpy.data.objects.new("cam", bpy.data.cameras.new("cam"))
+    cam.location = (0.0, 0.0, 4.0)
+    scene.collection.objects.link(cam)
+    scene.camera = cam
+    scene.render.resolution_x, scene.render.resolution_y, scene.render.resolution_percentage = 40, 30, 100
+    return scene
+
+
+def test_emit_and_env_are_written_when_the_view_layer_asks(monkeypatch, tmp_path):
+    written = {}
+    monkeypatch.setattr(passes, "write_pass", lambda result, name, pixels: written.setdefault(
+        name, (np.array(pixels), result.layers[0].passes.get(name) is not None)))
+    scene = panel_and_sky()
+    layer = bpy.context.view_layer
+    layer.use_pass_emit = layer.use_pass_environment = True
+    image = render_file(scene, tmp_path / "l.exr", passes=2, photons_per_pass=1000)
+    (emit, emit_registered), (env, env_registered) = written["Emit"], written["Env"]
+    assert emit_registered and env_registered and emit.shape == env.shape == (30, 40, 3)
+    np.testing.assert_allclose(emit[:, 3:17], np.broadcast_to(np.multiply(GLOW, 2.0), (30, 14, 3)), rtol=1e-4)
+    np.testing.assert_allclose(env[:, 23:37], np.broadcast_to(SKY, (30, 14, 3)), rtol=1e-4)
+    assert not env[:, 3:17].any() and not emit[:, 23:37].any()
+    np.testing.assert_allclose((emit + env)[::-1], image[..., :3], atol=1e-4)  # nothing else lit here
+    layer.use_pass_emit = layer.use_pass_environment = False
+    written.clear()
+    render_file(scene, tmp_path / "m.exr", passes=1, photons_per_pass=1000)
+    assert "Emit" not in written and "Env" not in written
