@@ -15,10 +15,12 @@ namespace ppm {
 
 bool StochasticHitPoints::prepare(const Poll&) {
   const Camera& cam = c_.scene->camera();
-  // The pixels' statistics, a depth buffer and the image read back, before any of it is made.
+  // The pixels' statistics, a depth buffer and the image read back, before any of it is made; the
+  // light passes' and adaptive sampling's where asked for.
   const double pixels = static_cast<double>(cam.width) * cam.height;
+  const size_t optional = (c_.settings.light_passes ? sizeof(SeenMeans) : 0) + (c_.settings.adaptive_samples > 1);
   check_memory(static_cast<size_t>(pixels * (sizeof(PixelStats) + sizeof(PixelErrorStats) + 2 * sizeof(float) +
-                                              4 * sizeof(float))),
+                                              4 * sizeof(float) + optional)),
                "stochastic hit points at " + std::to_string(cam.width) + "x" + std::to_string(cam.height),
                "render a smaller image or in parts (render border)");
   pixels_.assign(static_cast<size_t>(cam.width) * cam.height, PixelStats{});
