@@ -213,13 +213,7 @@ class PPMRenderEngine(bpy.types.RenderEngine):
                 self.warn(f"{error}; rendering with stochastic hit points instead")
                 renderer = ppm_core.Renderer(ppm_scene, **{**settings, "hit_points": "stochastic"})
                 line = self.run(renderer, result, scene.ppm)
-            if scene.ppm.error_passes:
-                for name, pixels in passes.error_passes(renderer.error()).items():
-                    passes.write_pass(result, name, pixels)
-            if settings["light_passes"]:
-                for name, pixels in renderer.light_passes().items():
-                    passes.write_pass(result, name, pixels[::-1])  # passes run bottom-up
-            self.write_denoising(renderer, result, scene.ppm, exported[1], line)
+            self.write_passes_of_the_render(renderer, result, scene.ppm, settings["light_passes"], exported[1], line)
             return True
         except Exception as error:  # noqa: BLE001
             self.fail(error)
@@ -326,6 +320,17 @@ class PPMRenderEngine(bpy.types.RenderEngine):
             objects, materials = passes.index_passes(hits, camera_args, pass_indices)
             passes.write_pass(result, "IndexOB", objects)
             passes.write_pass(result, "IndexMA", materials)
+
+    def write_passes_of_the_render(self, renderer, result, settings, light_passes, camera_args, line):
+        """The passes made from the finished render, as asked: the error estimate's, Emit and Env, and
+        the denoising ones; `line` is the render's final stats line."""
+        if settings.error_passes:
+            for name, pixels in passes.error_passes(renderer.error()).items():
+                passes.write_pass(result, name, pixels)
+        if light_passes:
+            for name, pixels in renderer.light_passes().items():
+                passes.write_pass(result, name, pixels[::-1])  # passes run bottom-up
+        self.write_denoising(renderer, result, settings, camera_args, line)
 
     def write_denoising(self, renderer, result, settings, camera_args, line):
         """Denoising Albedo and Normal passes, and the denoised Combined (denoise.py), as asked;
