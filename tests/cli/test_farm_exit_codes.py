@@ -78,6 +78,18 @@ def test_a_frame_cycles_renders_renders_with_warnings(tmp_path):
     assert "'hidden'" not in output  # scaled to zero: nothing to render, as in Cycles
 
 
+def test_an_animation_renders_every_frame_with_the_engine_named_on_the_command_line(tmp_path):
+    """What a farm's animation job runs (Flamenco's Simple Blender Render: -E, -o, -s, -e, -a) on a node
+    with only the zip installed: every frame written, exit 0, and frames differing (each its own seed)."""
+    env = farm_node(tmp_path)
+    blend = scene_file(tmp_path, env)
+    run = blender(blend, "-E", "PPM", "-o", str(tmp_path / "anim_####"), "-F", "PNG", "-s", "1", "-e", "3", "-a",
+                  env=env)
+    assert run.returncode == 0, (run.stdout + run.stderr)[-3000:]
+    frames = [(tmp_path / f"anim_{n:04d}.png").read_bytes() for n in (1, 2, 3)]
+    assert all(len(f) > 0 for f in frames) and len(set(frames)) == 3
+
+
 @pytest.mark.parametrize("frames", [["-f", "1"], ["-s", "1", "-e", "2", "-a"]])
 def test_a_frame_that_cannot_render_stops_the_job(frames, tmp_path):
     """A node whose zip has no core for its Python (3.11 here): every frame fails, loudly."""
