@@ -1,6 +1,7 @@
-"""The commands render managers run (`blender -b file.blend -f N`, `-a`) with the add-on installed in a
-user folder, as on a farm node: a frame that Cycles renders renders (bad objects are left out with a
-warning), and a frame that cannot be rendered makes Blender exit non-zero, so the job stops there."""
+"""The commands render managers run (`blender -b file.blend -f N`, `-a`, Flamenco's `--render-frame A..B`)
+with the add-on installed in a user folder, as on a farm node: every frame of a range renders, a frame
+that Cycles renders renders (bad objects are left out with a warning), and a frame that cannot be
+rendered makes Blender exit non-zero, so the job stops there."""
 
 import os
 import subprocess
@@ -78,16 +79,18 @@ def test_a_frame_cycles_renders_renders_with_warnings(tmp_path):
     assert "'hidden'" not in output  # scaled to zero: nothing to render, as in Cycles
 
 
-def test_an_animation_renders_every_frame_with_the_engine_named_on_the_command_line(tmp_path):
-    """What a farm's animation job runs (Flamenco's Simple Blender Render: -E, -o, -s, -e, -a) on a node
-    with only the zip installed: every frame written, exit 0, and frames differing (each its own seed)."""
+@pytest.mark.parametrize("frames", [["-E", "PPM", "-s", "1", "-e", "3", "-a"], ["--render-frame", "1..3"]],
+                         ids=["animation", "flamenco-chunk"])
+def test_every_frame_of_a_range_renders_on_a_node_with_only_the_zip(frames, tmp_path):
+    """What farms run on a node with only the zip installed: an animation with the engine named (-E,
+    -s, -e, -a), and Flamenco's Simple Blender Render task (--render-output, --render-format and a chunk
+    of frames, --render-frame A..B): every frame written, exit 0, each frame its own noise (seed)."""
     env = farm_node(tmp_path)
     blend = scene_file(tmp_path, env)
-    run = blender(blend, "-E", "PPM", "-o", str(tmp_path / "anim_####"), "-F", "PNG", "-s", "1", "-e", "3", "-a",
-                  env=env)
+    run = blender(blend, "--render-output", str(tmp_path / "anim_####"), "--render-format", "PNG", *frames, env=env)
     assert run.returncode == 0, (run.stdout + run.stderr)[-3000:]
-    frames = [(tmp_path / f"anim_{n:04d}.png").read_bytes() for n in (1, 2, 3)]
-    assert all(len(f) > 0 for f in frames) and len(set(frames)) == 3
+    frames_written = [(tmp_path / f"anim_{n:04d}.png").read_bytes() for n in (1, 2, 3)]
+    assert all(len(f) > 0 for f in frames_written) and len(set(frames_written)) == 3
 
 
 @pytest.mark.parametrize("frames", [["-f", "1"], ["-s", "1", "-e", "2", "-a"]])
