@@ -76,7 +76,7 @@ bool StochasticHitPoints::band(const EyePassOptions& eye, uint64_t pass, const P
   }
   {  // not polled: a band is folded whole or not at all
     ScopedSeconds timer(stats.update_seconds);
-    fold_band(first_pixel, pass + 1);
+    fold_band(first_pixel, pass + 1, eye.pixel_samples);
     if (eye.record_depth) std::copy(fresh.depth.begin(), fresh.depth.end(), depth_.begin() + first_pixel);
   }
   current_.hit_points += fresh.size();
@@ -110,10 +110,13 @@ void StochasticHitPoints::start_at_pixel_radii(size_t first_pixel) {
 }
 
 // The band's findings into its pixels (pass number `pass`, 1 for the first), with the same
-// cross-generation rule as fixed hit points, per pixel.
+// cross-generation rule as fixed hit points, per pixel. With several eye samples in a pixel
+// (`pixel_samples`, adaptive_samples.h) the pass's value is their mean (each hit point carries 1 /
+// samples), and so is the photon count the radius update sees: summed, it would shrink the radius
+// of a pixel with 4 samples 4 times as fast as its neighbours'.
 // The pixel's value from this pass alone and its bias estimate go to the error estimate
 // (error_estimate.h), at the radius the photons were gathered with.
-void StochasticHitPoints::fold_band(size_t first_pixel, uint64_t pass) {
+void StochasticHitPoints::fold_band(size_t first_pixel, uint64_t pass, const uint8_t* pixel_samples) {
   const HitPoints& fresh = hit_points_;
   const size_t band_pixels = fresh.pixel_begin.size() - 1;
   const double photons = static_cast<double>(current_.counters.emitted - c_.stats.photon.emitted);
@@ -129,6 +132,8 @@ void StochasticHitPoints::fold_band(size_t first_pixel, uint64_t pass) {
         pass_flux += fresh.stats[i].pass_flux;
         pass_bias += fresh.stats[i].pass_bias;
       }
+      const uint32_t samples = pixel_samples ? pixel_samples[first_pixel + p] : 1;
+      m = (m + samples / 2) / samples;  // the photons of the pixel's mean sample, rounded
       PixelStats& px = pixels_[first_pixel + p];
       const double scale = c_.pass_radiance_scale(px.r2, photons);
       errors_[first_pixel + p].add(luminance(light) + scale * pass_flux, scale * pass_bias, pass);

@@ -48,7 +48,7 @@ class StochasticHitPoints : public Estimator {
   bool band(const EyePassOptions& eye, uint64_t pass, const Poll& poll);
   bool gather_photons(bool first_band, uint64_t pass, const Poll& poll);
   void start_at_pixel_radii(size_t first_pixel);
-  void fold_band(size_t first_pixel, uint64_t pass);
+  void fold_band(size_t first_pixel, uint64_t pass, const uint8_t* pixel_samples);
 
   RenderContext& c_;
   std::vector<PixelStats> pixels_;
