@@ -35,6 +35,20 @@ def test_the_closed_sphere_converges_to_its_radiance_with_adaptive_samples():
     assert luminance(renderer.image()).mean() == pytest.approx(SPHERE_RADIANCE, rel=0.01)
 
 
+def test_more_samples_in_a_pixel_do_not_shrink_its_radius_faster():
+    """The radius update sees the photons of the pixel's mean sample: with more eye samples a pass the
+    radii shrink as with one (measured: 0.04287 against 0.04292, with 49% more hit points)."""
+    radius, hit_points = {}, {}
+    for samples in (1, 4):
+        scene = core_scenes.closed_sphere_with_point_light(radius=1.0, albedo=0.5, power=100.0)
+        renderer = ppm_core.Renderer(scene, photons_per_pass=20_000, threads=1, seed=5, hit_points="stochastic",
+                                     adaptive_samples=samples)
+        renderer.run(passes=40)
+        radius[samples], hit_points[samples] = renderer.stats()["radius_mean"], renderer.stats()["hit_points"]
+    assert hit_points[4] > 1.2 * hit_points[1]
+    assert radius[4] == pytest.approx(radius[1], rel=0.03)
+
+
 @pytest.mark.parametrize("bad", [0, 65])
 def test_bad_adaptive_samples_are_refused(bad):
     with pytest.raises(ValueError, match="adaptive_samples"):
