@@ -125,6 +125,30 @@ class RENDER_PT_ppm_camera(PPMRenderPanel, bpy.types.Panel):
         layout.prop(settings, "threads")
 
 
+class VIEWLAYER_PT_ppm_passes(PPMRenderPanel, bpy.types.Panel):
+    """The passes PPM writes, under View Layer Properties > Passes (Blender's own subpanels there are
+    EEVEE's and would offer passes PPM does not write)."""
+    bl_label = "PPM Passes"
+    bl_context = "view_layer"
+    bl_parent_id = "VIEWLAYER_PT_layer_passes"
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        layer, settings = context.view_layer, context.scene.ppm
+        col = layout.column(heading="Data", align=True)
+        col.prop(layer, "use_pass_z")
+        col.prop(layer, "use_pass_normal")
+        col.prop(layer, "use_pass_object_index")
+        col.prop(layer, "use_pass_material_index")
+        col.prop(settings, "denoising_data")
+        col = layout.column(heading="Light", align=True)
+        col.prop(layer, "use_pass_emit", text="Emission")
+        col.prop(layer, "use_pass_environment")
+        col = layout.column(heading="Error", align=True)
+        col.prop(settings, "error_passes")
+
+
 class OBJECT_PT_ppm_revolve(bpy.types.Panel):
     bl_label = "PPM Bezier Revolve"
     bl_space_type = "PROPERTIES"
@@ -141,7 +165,8 @@ class OBJECT_PT_ppm_revolve(bpy.types.Panel):
         layout.label(text="Profile in local XY: radius = X, height = Y, axis = local Y")
 
 
-classes = (RENDER_PT_ppm_sampling, RENDER_PT_ppm_viewport, RENDER_PT_ppm_camera, OBJECT_PT_ppm_revolve)
+classes = (RENDER_PT_ppm_sampling, RENDER_PT_ppm_viewport, RENDER_PT_ppm_camera, VIEWLAYER_PT_ppm_passes,
+           OBJECT_PT_ppm_revolve)
 
 
 def register():

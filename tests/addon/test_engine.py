@@ -355,3 +355,35 @@ def test_standard_panels_open_to_the_engine_and_close_on_unregister():
         assert not hasattr(bpy.types.Scene, "ppm")
     finally:
         ppm_render.register()
+
+
+class RecordingLayout:
+    """Stands in for a panel's layout: records (owner, property) of every prop() drawn."""
+
+    def __init__(self, drawn=None):
+        self.drawn = [] if drawn is None else drawn
+        self.use_property_split = False
+
+    def column(self, **_):
+        return RecordingLayout(self.drawn)
+
+    def prop(self, owner, name, **_):
+        assert hasattr(owner, name), name
+        self.drawn.append((owner, name))
+
+
+def test_the_passes_panel_offers_every_pass_the_engine_writes():
+    from types import SimpleNamespace
+
+    from ppm_render import ui
+
+    panel = ui.VIEWLAYER_PT_ppm_passes
+    assert panel.bl_parent_id == "VIEWLAYER_PT_layer_passes" and panel.bl_parent_id in dir(bpy.types)
+    layout = RecordingLayout()
+    context = SimpleNamespace(view_layer=bpy.context.view_layer, scene=bpy.context.scene)
+    panel.draw(SimpleNamespace(layout=layout), context)
+    layer_flags = {name for owner, name in layout.drawn if owner == context.view_layer}
+    assert layer_flags == {"use_pass_z", "use_pass_normal", "use_pass_object_index", "use_pass_material_index",
+                           "use_pass_emit", "use_pass_environment"}
+    assert {name for owner, name in layout.drawn if owner == context.scene.ppm} == {"denoising_data",
+                                                                                    "error_passes"}
