@@ -20,6 +20,15 @@ double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock:
 // conversion is undefined behaviour in C++); NaN and inf stay visible.
 float to_float(double v) { return std::isfinite(v) && std::fabs(v) > FLT_MAX ? std::copysign(FLT_MAX, v) : static_cast<float>(v); }
 
+// Fills `out`, W x H pixels of `channels` floats with the top row first, by fill(p, o): p the
+// pixel's index with row 0 at the bottom (the estimators'), o its channels.
+template <class Fill>
+void fill_top_row_first(std::vector<float>& out, int W, int H, int channels, Fill&& fill) {
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x)
+      fill(static_cast<size_t>(y) * W + x, &out[(static_cast<size_t>(H - 1 - y) * W + x) * channels]);
+}
+
 void refuse_while_running(const std::atomic<bool>& running, const char* what) {
   if (running)
     throw std::runtime_error(std::string(what) +
@@ -98,16 +107,13 @@ std::vector<float> Renderer::error_image() const {
   const std::vector<float>& sampling = estimator_->sampling_variance();
   const ErrorPasses counts = estimator_->error_passes();
   StudentTByPasses t_of(context_.settings.error_confidence);
-  for (int y = 0; y < H; ++y)
-    for (int x = 0; x < W; ++x) {
-      const size_t p = static_cast<size_t>(y) * W + x;
-      const uint64_t n = counts.of(p);
-      const PixelError e = pixel_error(errors[p], n, t_of(n), sampling.empty() ? 0.0 : sampling[p]);
-      float* o = &out[(static_cast<size_t>(H - 1 - y) * W + x) * 3];  // top row first
-      o[0] = to_float(e.bias);
-      o[1] = to_float(e.noise);
-      o[2] = to_float(e.value);
-    }
+  fill_top_row_first(out, W, H, 3, [&](size_t p, float* o) {
+    const uint64_t n = counts.of(p);
+    const PixelError e = pixel_error(errors[p], n, t_of(n), sampling.empty() ? 0.0 : sampling[p]);
+    o[0] = to_float(e.bias);
+    o[1] = to_float(e.noise);
+    o[2] = to_float(e.value);
+  });
   return out;
 }
 
@@ -125,12 +131,9 @@ std::vector<float> Renderer::denoising_features(int samples_per_pixel, const std
   if (!ppm::denoising_features(context_, spp, features, poll ? poll : Poll([] { return true; }))) return {};
   const int W = width(), H = height();
   std::vector<float> out(static_cast<size_t>(W) * H * 6);
-  for (int y = 0; y < H; ++y)
-    for (int x = 0; x < W; ++x) {
-      const size_t p = static_cast<size_t>(y) * W + x;
-      float* o = &out[(static_cast<size_t>(H - 1 - y) * W + x) * 6];  // top row first
-      for (int k = 0; k < 3; ++k) o[k] = features.albedo[p][k], o[3 + k] = features.normal[p][k];
-    }
+  fill_top_row_first(out, W, H, 6, [&](size_t p, float* o) {
+    for (int k = 0; k < 3; ++k) o[k] = features.albedo[p][k], o[3 + k] = features.normal[p][k];
+  });
   return out;
 }
 
@@ -141,12 +144,10 @@ std::vector<float> Renderer::light_passes() const {
   const int W = width(), H = height();
   std::vector<float> out(static_cast<size_t>(W) * H * 6, 0.0f);
   if (!prepared_) return out;
-  for (int y = 0; y < H; ++y)
-    for (int x = 0; x < W; ++x) {
-      const SeenLight seen = estimator_->seen(static_cast<size_t>(y) * W + x);
-      float* o = &out[(static_cast<size_t>(H - 1 - y) * W + x) * 6];  // top row first
-      for (int k = 0; k < 3; ++k) o[k] = to_float(seen.emission[k]), o[3 + k] = to_float(seen.environment[k]);
-    }
+  fill_top_row_first(out, W, H, 6, [&](size_t p, float* o) {
+    const SeenLight seen = estimator_->seen(p);
+    for (int k = 0; k < 3; ++k) o[k] = to_float(seen.emission[k]), o[3 + k] = to_float(seen.environment[k]);
+  });
   return out;
 }
 
@@ -159,15 +160,13 @@ std::vector<float> Renderer::image() const {
     for (size_t i = 3; i < rgba.size(); i += 4) rgba[i] = 1.0f;
     return rgba;
   }
-  for (int y = 0; y < H; ++y)
-    for (int x = 0; x < W; ++x) {
-      const PixelValue v = estimator_->pixel(static_cast<size_t>(y) * W + x);
-      float* out = &rgba[(static_cast<size_t>(H - 1 - y) * W + x) * 4];  // top row first
-      out[0] = to_float(v.radiance.x);
-      out[1] = to_float(v.radiance.y);
-      out[2] = to_float(v.radiance.z);
-      out[3] = static_cast<float>(std::clamp(1.0 - v.transparency, 0.0, 1.0));  // RGB is premultiplied by it
-    }
+  fill_top_row_first(rgba, W, H, 4, [&](size_t p, float* out) {
+    const PixelValue v = estimator_->pixel(p);
+    out[0] = to_float(v.radiance.x);
+    out[1] = to_float(v.radiance.y);
+    out[2] = to_float(v.radiance.z);
+    out[3] = static_cast<float>(std::clamp(1.0 - v.transparency, 0.0, 1.0));  // RGB is premultiplied by it
+  });
   const std::vector<float>& depth_rows = context_.depth;
   if (context_.dof_post && depth_rows.size() == static_cast<size_t>(W) * H) {
     std::vector<float> depth(depth_rows.size());
