@@ -15,28 +15,21 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from blender_side import read_pass  # noqa: E402  (puts numpy and the add-on on the path first)
+from blender_side import (  # noqa: E402  (puts numpy and the add-on on the path first)
+    add_quad,
+    fresh_scene,
+    multilayer_output,
+    neighbourhood,
+    node_material,
+    plain_cycles,
+    read_pass,
+)
 
 # isort: split
 import bpy  # noqa: E402
 import numpy as np  # noqa: E402
 
-import ppm_render  # noqa: E402
-
 OBJECTS = {1: "floor", 2: "diffuse ball", 3: "mirror ball", 4: "glass ball"}
-
-
-def node_material(name, kind, colour, **inputs):
-    material = bpy.data.materials.new(name)
-    material.use_nodes = True
-    nodes = material.node_tree.nodes
-    nodes.clear()
-    shader, output = nodes.new(kind), nodes.new("ShaderNodeOutputMaterial")
-    shader.inputs["Color"].default_value = (*colour, 1.0)
-    for key, value in inputs.items():
-        shader.inputs[key].default_value = value
-    material.node_tree.links.new(shader.outputs[0], output.inputs["Surface"])
-    return material
 
 
 def ball(location, material, index):
@@ -48,20 +41,14 @@ def ball(location, material, index):
 
 
 def scene_with_balls():
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    if not hasattr(bpy.types.Scene, "ppm"):
-        ppm_render.register()
-    scene = bpy.context.scene
-    mesh = bpy.data.meshes.new("floor")
-    mesh.from_pydata([(-20, -20, 0), (20, -20, 0), (20, 20, 0), (-20, 20, 0)], [], [(0, 1, 2, 3)])
-    floor = bpy.data.objects.new("floor", mesh)
-    floor.pass_index = 1
-    floor.data.materials.append(node_material("floor", "ShaderNodeBsdfDiffuse", (0.3, 0.6, 0.4)))
-    scene.collection.objects.link(floor)
-    ball((-1.1, 0.6, 0.5), node_material("red", "ShaderNodeBsdfDiffuse", (0.8, 0.1, 0.1)), 2)
-    ball((0.0, 0.9, 0.5), node_material("mirror", "ShaderNodeBsdfGlossy", (0.9, 0.8, 0.5), Roughness=0.0), 3)
-    ball((1.1, 0.6, 0.5), node_material("glass", "ShaderNodeBsdfGlass", (1.0, 1.0, 1.0), Roughness=0.0,
-                                        IOR=1.45), 4)
+    scene = fresh_scene()
+    add_quad(scene, "floor", [(-20, -20, 0), (20, -20, 0), (20, 20, 0), (-20, 20, 0)],
+             node_material("floor", "ShaderNodeBsdfDiffuse", Color=(0.3, 0.6, 0.4, 1.0))).pass_index = 1
+    ball((-1.1, 0.6, 0.5), node_material("red", "ShaderNodeBsdfDiffuse", Color=(0.8, 0.1, 0.1, 1.0)), 2)
+    ball((0.0, 0.9, 0.5), node_material("mirror", "ShaderNodeBsdfGlossy", Color=(0.9, 0.8, 0.5, 1.0),
+                                        Roughness=0.0), 3)
+    ball((1.1, 0.6, 0.5), node_material("glass", "ShaderNodeBsdfGlass", Color=(1.0, 1.0, 1.0, 1.0),
+                                        Roughness=0.0, IOR=1.45), 4)
     lamp = bpy.data.objects.new("lamp", bpy.data.lights.new("lamp", "POINT"))
     lamp.location = (0.0, -1.0, 4.0)
     scene.collection.objects.link(lamp)
@@ -69,10 +56,7 @@ def scene_with_balls():
     cam.location, cam.rotation_euler = (0.0, -3.2, 2.2), (math.radians(62), 0.0, 0.0)
     scene.collection.objects.link(cam)
     scene.camera = cam
-    r = scene.render
-    r.resolution_x, r.resolution_y, r.resolution_percentage = 64, 48, 100
-    r.image_settings.file_format = "OPEN_EXR_MULTILAYER"
-    r.use_file_extension = False
+    multilayer_output(scene, 64, 48)
     layer = bpy.context.view_layer
     layer.use_pass_object_index = True
     layer.cycles.denoising_store_passes = True
@@ -82,9 +66,8 @@ def scene_with_balls():
 def render(scene, engine, path):
     scene.render.engine = engine
     if engine == "CYCLES":
+        plain_cycles(scene, 256)
         c = scene.cycles
-        c.samples, c.use_denoising, c.use_adaptive_sampling = 256, False, False
-        c.pixel_filter_type, c.filter_width = "BOX", 1.0  # the pixel's square, as our eye samples
         c.max_bounces = c.glossy_bounces = c.transmission_bounces = 12
     else:
         s = scene.ppm
@@ -97,10 +80,7 @@ def render(scene, engine, path):
 
 def interior(index):
     """Pixels whose 3 x 3 neighbourhood is one object (no silhouette in the pixel's footprint)."""
-    padded = np.pad(index, 1, mode="edge")
-    same = [padded[1 + dy:padded.shape[0] - 1 + dy, 1 + dx:padded.shape[1] - 1 + dx] == index
-            for dy in (-1, 0, 1) for dx in (-1, 0, 1)]
-    return np.logical_and.reduce(same)
+    return (neighbourhood(index) == index).all(axis=0)
 
 
 def main():

@@ -15,43 +15,27 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from blender_side import read_pass  # noqa: E402  (puts numpy and the add-on on the path first)
+from blender_side import (  # noqa: E402  (puts numpy and the add-on on the path first)
+    add_quad,
+    fresh_scene,
+    multilayer_output,
+    neighbourhood,
+    node_material,
+    plain_cycles,
+    read_pass,
+)
 
 # isort: split
 import bpy  # noqa: E402
 import numpy as np  # noqa: E402
 
-import ppm_render  # noqa: E402
-
-
-def node_material(name, kind, **inputs):
-    material = bpy.data.materials.new(name)
-    material.use_nodes = True
-    nodes = material.node_tree.nodes
-    nodes.clear()
-    shader, output = nodes.new(kind), nodes.new("ShaderNodeOutputMaterial")
-    for key, value in inputs.items():
-        shader.inputs[key].default_value = value
-    material.node_tree.links.new(shader.outputs[0], output.inputs["Surface"])
-    return material
-
 
 def scene_with_light_passes():
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    if not hasattr(bpy.types.Scene, "ppm"):
-        ppm_render.register()
-    scene = bpy.context.scene
-    mesh = bpy.data.meshes.new("floor")
-    mesh.from_pydata([(-6, -6, 0), (6, -6, 0), (6, 6, 0), (-6, 6, 0)], [], [(0, 1, 2, 3)])
-    floor = bpy.data.objects.new("floor", mesh)
-    floor.data.materials.append(node_material("floor", "ShaderNodeBsdfDiffuse", Color=(0.5, 0.5, 0.5, 1.0)))
-    scene.collection.objects.link(floor)
-    panel_mesh = bpy.data.meshes.new("panel")
-    panel_mesh.from_pydata([(-2.0, 2, 0.2), (-0.6, 2, 0.2), (-0.6, 2, 1.6), (-2.0, 2, 1.6)], [], [(0, 1, 2, 3)])
-    panel = bpy.data.objects.new("panel", panel_mesh)
-    panel.data.materials.append(node_material("glow", "ShaderNodeEmission", Color=(1.0, 0.6, 0.3, 1.0),
-                                              Strength=3.0))
-    scene.collection.objects.link(panel)
+    scene = fresh_scene()
+    add_quad(scene, "floor", [(-6, -6, 0), (6, -6, 0), (6, 6, 0), (-6, 6, 0)],
+             node_material("floor", "ShaderNodeBsdfDiffuse", Color=(0.5, 0.5, 0.5, 1.0)))
+    add_quad(scene, "panel", [(-2.0, 2, 0.2), (-0.6, 2, 0.2), (-0.6, 2, 1.6), (-2.0, 2, 1.6)],
+             node_material("glow", "ShaderNodeEmission", Color=(1.0, 0.6, 0.3, 1.0), Strength=3.0))
     bpy.ops.mesh.primitive_uv_sphere_add(radius=0.6, location=(0.9, 1.0, 0.6), segments=64, ring_count=32)
     bpy.ops.object.shade_smooth()
     bpy.context.object.data.materials.append(
@@ -63,10 +47,7 @@ def scene_with_light_passes():
     cam.location, cam.rotation_euler = (0.0, -3.0, 1.0), (math.radians(85), 0.0, 0.0)
     scene.collection.objects.link(cam)
     scene.camera = cam
-    r = scene.render
-    r.resolution_x, r.resolution_y, r.resolution_percentage = 64, 48, 100
-    r.image_settings.file_format = "OPEN_EXR_MULTILAYER"
-    r.use_file_extension = False
+    multilayer_output(scene, 64, 48)
     layer = bpy.context.view_layer
     layer.use_pass_emit = layer.use_pass_environment = layer.use_pass_z = True
     return scene
@@ -75,9 +56,7 @@ def scene_with_light_passes():
 def render(scene, engine, path):
     scene.render.engine = engine
     if engine == "CYCLES":
-        c = scene.cycles
-        c.samples, c.use_denoising, c.use_adaptive_sampling = 64, False, False
-        c.pixel_filter_type, c.filter_width = "BOX", 1.0  # the pixel's square, as our eye samples
+        plain_cycles(scene, 64)
     else:
         scene.ppm.passes, scene.ppm.photons_per_pass = 1, 1000
     scene.render.filepath = str(path)
@@ -91,10 +70,7 @@ def main():
     emit_c, env_c, depth_c = render(scene, "CYCLES", os.path.join(out, "cycles.exr"))
     emit_p, env_p, _ = render(scene, "PPM", os.path.join(out, "ppm.exr"))
     # Away from silhouettes (a pixel's samples straddling two surfaces, or a surface and the sky).
-    padded = np.pad(depth_c, 1, mode="edge")
-    neighbours = np.stack([padded[1 + dy:padded.shape[0] - 1 + dy, 1 + dx:padded.shape[1] - 1 + dx]
-                           for dy in (-1, 0, 1) for dx in (-1, 0, 1)])
-    interior = (np.abs(neighbours - depth_c) <= 0.05 * np.abs(depth_c)).all(axis=0)
+    interior = (np.abs(neighbourhood(depth_c) - depth_c) <= 0.05 * np.abs(depth_c)).all(axis=0)
     figures = {"shape": list(depth_c.shape), "interior_fraction": float(interior.mean())}
     for name, c, p in (("emit", emit_c, emit_p), ("env", env_c, env_p)):
         lit = interior & (c.max(axis=-1) > 0)

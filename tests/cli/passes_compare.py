@@ -15,24 +15,16 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from blender_side import read_pass  # noqa: E402  (puts numpy and the add-on on the path first)
+from blender_side import add_quad, fresh_scene, multilayer_output, read_pass  # noqa: E402  (numpy, add-on)
 
 # isort: split
 import bpy  # noqa: E402
 import numpy as np  # noqa: E402
 
-import ppm_render  # noqa: E402
-
 
 def scene_with_passes():
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    if not hasattr(bpy.types.Scene, "ppm"):
-        ppm_render.register()
-    scene = bpy.context.scene
-    mesh = bpy.data.meshes.new("floor")
-    mesh.from_pydata([(-20, -20, 0), (20, -20, 0), (20, 20, 0), (-20, 20, 0)], [], [(0, 1, 2, 3)])
-    floor = bpy.data.objects.new("floor", mesh)
-    scene.collection.objects.link(floor)
+    scene = fresh_scene()
+    floor = add_quad(scene, "floor", [(-20, -20, 0), (20, -20, 0), (20, 20, 0), (-20, 20, 0)])
     bpy.ops.mesh.primitive_uv_sphere_add(radius=0.6, location=(0.3, 0.8, 0.6), segments=64, ring_count=32)
     bpy.ops.object.shade_smooth()
     sphere = bpy.context.object
@@ -44,10 +36,7 @@ def scene_with_passes():
     cam.data.shift_x = 0.05
     scene.collection.objects.link(cam)
     scene.camera = cam
-    r = scene.render
-    r.resolution_x, r.resolution_y, r.resolution_percentage = 48, 36, 100
-    r.image_settings.file_format = "OPEN_EXR_MULTILAYER"
-    r.use_file_extension = False
+    multilayer_output(scene, 48, 36)
     layer = bpy.context.view_layer
     layer.use_pass_z = layer.use_pass_normal = True
     layer.use_pass_object_index = layer.use_pass_material_index = True
