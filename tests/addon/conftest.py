@@ -53,3 +53,29 @@ def render_file(scene, path, **ppm):
     scene.render.filepath = str(path)
     bpy.ops.render.render(write_still=True)
     return read_exr(str(path))
+
+
+def node_material(name="m"):
+    """A material with an empty node tree but its output: (material, tree, output node)."""
+    mat = bpy.data.materials.new(name)
+    if mat.node_tree is None or bpy.app.version < (5, 0, 0):
+        mat.use_nodes = True
+    tree = mat.node_tree
+    tree.nodes.clear()
+    out = tree.nodes.new("ShaderNodeOutputMaterial")
+    return mat, tree, out
+
+
+def add(tree, kind, **inputs):
+    """A node of `kind` in `tree` with these input values."""
+    node = tree.nodes.new(kind)
+    for key, value in inputs.items():
+        node.inputs[key].default_value = value
+    return node
+
+
+def shader_material(name, kind, **inputs):
+    """A material of one shader node of `kind` with these input values, into the output."""
+    mat, tree, out = node_material(name)
+    tree.links.new(add(tree, kind, **inputs).outputs[0], out.inputs["Surface"])
+    return mat

@@ -7,7 +7,7 @@ import sys
 import numpy as np
 import pytest
 
-from conftest import ROOT, bpy, read_exr, render_file
+from conftest import ROOT, bpy, read_exr, render_file, shader_material
 from ppm_render import core, denoise, engine, passes
 
 sys.path.insert(0, os.path.join(ROOT, "blend_scenes"))
@@ -24,15 +24,7 @@ def floor_scene():
     mesh.from_pydata([(-20, -20, 0), (20, -20, 0), (20, 20, 0), (-20, 20, 0)], [], [(0, 1, 2, 3)])
     floor = bpy.data.objects.new("floor", mesh)
     scene.collection.objects.link(floor)
-    material = bpy.data.materials.new("paint")
-    if material.node_tree is None:  # before Blender 5.0 (where use_nodes is deprecated)
-        material.use_nodes = True
-    nodes = material.node_tree.nodes
-    nodes.clear()
-    diffuse, output = nodes.new("ShaderNodeBsdfDiffuse"), nodes.new("ShaderNodeOutputMaterial")
-    diffuse.inputs["Color"].default_value = (*COLOUR, 1.0)
-    material.node_tree.links.new(diffuse.outputs[0], output.inputs["Surface"])
-    floor.data.materials.append(material)
+    floor.data.materials.append(shader_material("paint", "ShaderNodeBsdfDiffuse", Color=(*COLOUR, 1.0)))
     lamp = bpy.data.objects.new("lamp", bpy.data.lights.new("lamp", "POINT"))
     lamp.location = (0.3, 0.2, 2.0)
     scene.collection.objects.link(lamp)

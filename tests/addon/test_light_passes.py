@@ -3,7 +3,7 @@ the emission of surfaces and lights apart from the world (the core's Renderer.li
 
 import numpy as np
 
-from conftest import bpy, render_file
+from conftest import bpy, render_file, shader_material
 from ppm_render import passes
 
 GLOW, SKY = (1.0, 0.5, 0.25), (0.05, 0.1, 0.2)
@@ -16,15 +16,7 @@ def panel_and_sky():
     mesh = bpy.data.meshes.new("panel")
     mesh.from_pydata([(-10, -10, 0), (0, -10, 0), (0, 10, 0), (-10, 10, 0)], [], [(0, 1, 2, 3)])
     panel = bpy.data.objects.new("panel", mesh)
-    material = bpy.data.materials.new("glow")
-    if material.node_tree is None:  # before Blender 5.0 (where use_nodes is deprecated)
-        material.use_nodes = True
-    nodes = material.node_tree.nodes
-    nodes.clear()
-    emission, output = nodes.new("ShaderNodeEmission"), nodes.new("ShaderNodeOutputMaterial")
-    emission.inputs["Color"].default_value, emission.inputs["Strength"].default_value = (*GLOW, 1.0), 2.0
-    material.node_tree.links.new(emission.outputs[0], output.inputs["Surface"])
-    panel.data.materials.append(material)
+    panel.data.materials.append(shader_material("glow", "ShaderNodeEmission", Color=(*GLOW, 1.0), Strength=2.0))
     scene.collection.objects.link(panel)
     scene.world = bpy.data.worlds.new("sky")
     scene.world.color = SKY

@@ -6,26 +6,9 @@ import numpy as np
 import pytest
 
 import ppm_core
-from conftest import bpy
+from conftest import add, bpy, node_material
 from ppm_render.export import material as material_export
 from ppm_render.export import mesh
-
-
-def node_material(name="m"):
-    mat = bpy.data.materials.new(name)
-    if mat.node_tree is None or bpy.app.version < (5, 0, 0):
-        mat.use_nodes = True
-    tree = mat.node_tree
-    tree.nodes.clear()
-    out = tree.nodes.new("ShaderNodeOutputMaterial")
-    return mat, tree, out
-
-
-def add(tree, kind, **inputs):
-    node = tree.nodes.new(kind)
-    for key, value in inputs.items():
-        node.inputs[key].default_value = value
-    return node
 
 
 def describe(mat):
