@@ -92,9 +92,19 @@ bool Renderer::target_reached() const {
   if (!(s.target_error > 0.0) || !prepared_ || context_.stats.passes < static_cast<uint64_t>(s.error_min_passes) ||
       estimator_->pass_done() > 0.0)
     return false;
-  return image_error(estimator_->errors(), estimator_->error_passes(), s.error_confidence,
-                     estimator_->sampling_variance())
-             .bound <= s.target_error;
+  return current_error().bound <= s.target_error;
+}
+
+// The image's error after the passes so far, computed once per state of the passes: the render
+// loop's halting test and stats() after it ask for the same.
+const ImageError& Renderer::current_error() const {
+  const ErrorPasses passes = estimator_->error_passes();
+  const bool same = error_cache_ && error_cache_->passes.passes == passes.passes &&
+                    error_cache_->passes.ahead_end == passes.ahead_end;
+  if (!same)
+    error_cache_ = CachedError{passes, image_error(estimator_->errors(), passes, context_.settings.error_confidence,
+                                                   estimator_->sampling_variance())};
+  return error_cache_->error;
 }
 
 std::vector<float> Renderer::error_image() const {
@@ -190,8 +200,7 @@ RenderStats Renderer::stats() const {
   context_.add_memory(s.memory);
   estimator_->add_memory(s.memory);
   if (prepared_)
-    s.error = image_error(estimator_->errors(), estimator_->error_passes(), context_.settings.error_confidence,
-                          estimator_->sampling_variance());
+    s.error = current_error();
   return s;
 }
 

@@ -21,6 +21,7 @@
 #include <atomic>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <vector>
 
 namespace ppm {
@@ -72,6 +73,13 @@ class Renderer {
   RenderContext context_;
   std::unique_ptr<Estimator> estimator_;
   bool target_reached() const;
+  const ImageError& current_error() const;
+
+  struct CachedError {
+    ErrorPasses passes;
+    ImageError error;
+  };
+  mutable std::optional<CachedError> error_cache_;  // current_error()'s, for the passes it was made at
 
   bool prepared_ = false;             // Estimator::prepare has completed
   std::atomic<bool> running_{false};  // image()/stats() refuse to read while a pass writes
