@@ -21,7 +21,7 @@ struct FloatPhotonStats {
   uint32_t m;        // photons gathered at the current radius, not yet applied
   Vec3f tau, tau_m;  // flux at the current radius; flux of the m pending photons
 
-  HitPointStats in_double() const { return HitPointStats{n, m, 0.0f, Color(tau), Color(tau_m), Color(0.0), 0.0f}; }
+  HitPointStats in_double() const { return HitPointStats{n, m, 0.0f, Color(tau), Color(tau_m), Color(0.0), 0.0f, 0}; }
   // Adds a pass's photons (`found_m`, `found_tau`), then the progressive update with the
   // cross-generation threshold, in double.
   void fold(uint32_t found_m, const Vec3f& found_tau, double alpha, uint32_t threshold);
@@ -48,7 +48,7 @@ static_assert(sizeof(PixelPass) == 32, "PixelPass grew");
 constexpr double kMinPixelRadius2 = 1e-30;
 
 inline void FloatPhotonStats::fold(uint32_t found_m, const Vec3f& found_tau, double alpha, uint32_t threshold) {
-  HitPointStats s{n, m + found_m, 0.0f, Color(tau), Color(tau_m) + Color(found_tau), Color(0.0), 0.0f};
+  HitPointStats s{n, m + found_m, 0.0f, Color(tau), Color(tau_m) + Color(found_tau), Color(0.0), 0.0f, 0};
   double r2_double = r2;
   progressive_update(r2_double, s, alpha, threshold, kMinPixelRadius2);
   r2 = static_cast<float>(r2_double);

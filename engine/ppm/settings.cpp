@@ -25,6 +25,11 @@ void Settings::validate() const {
   if (!(target_error >= 0.0) || !std::isfinite(target_error)) fail("target_error must be >= 0 (0: off)");
   if (!(error_confidence > 0.0 && error_confidence < 1.0)) fail("error_confidence must be in (0, 1)");
   if (error_min_passes < 2 || error_min_passes > 1000000) fail("error_min_passes must be in [2, 1000000]");
+  if (radius_schedule == RadiusSchedule::Global && hit_points != HitPointMode::Stochastic)
+    fail("radius_schedule 'global' needs hit_points 'stochastic'");
+  if (first_pass > 0 && radius_schedule != RadiusSchedule::Global)
+    fail("first_pass > 0 (a share of a still's passes) needs radius_schedule 'global'");
+  if (first_pass > (1ull << 40)) fail("first_pass must be below 2^40");
   if (adaptive_samples < 1 || adaptive_samples > 64) fail("adaptive_samples must be in [1, 64]");
 }
 

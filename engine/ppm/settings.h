@@ -27,6 +27,11 @@ enum class HitPointStorage : uint8_t {
   Kept,      // every hit point kept for the whole render (about 360 bytes each)
   Streamed,  // made again band by band each pass; 48 bytes of statistics kept per hit point
 };
+// How stochastic hit points' gather radius shrinks over passes.
+enum class RadiusSchedule : uint8_t {
+  Progressive,  // per pixel, from its photon counts, with the cross-generation threshold (progressive.h)
+  Global,       // a factor of the pass index alone (radius_schedule.h): passes render apart and merge (share.h)
+};
 enum class DofMode : uint8_t { Off, Post, Lens };
 enum class DofPostPreset : uint8_t {
   ThinLens,      // circle of confusion from the thin-lens equation, depth-aware gather
@@ -79,6 +84,11 @@ struct Settings {
   // Keep what camera rays see at no bounce, emission and world apart (Renderer::light_passes,
   // Cycles' Emit and Env passes): 24 bytes a pixel more with stochastic hit points.
   bool light_passes = false;
+  // Stochastic hit points: the radius schedule, and the index of the first pass this renderer
+  // renders (0 for the first). Rendering a share of a still's passes (share.h) takes the global
+  // schedule; the random numbers of pass i are then those of pass i of one long render.
+  RadiusSchedule radius_schedule = RadiusSchedule::Progressive;
+  uint64_t first_pass = 0;
 
   // Scatterings a photon path or an eye chain may take.
   int path_bounces() const { return light_path_limits ? std::min(total_bounces, 1000) + 1 : max_bounces; }

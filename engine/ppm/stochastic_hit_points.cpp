@@ -5,6 +5,7 @@
 #include "ppm/direct_light.h"
 #include "ppm/memory_budget.h"
 #include "ppm/parallel.h"
+#include "ppm/radius_schedule.h"
 #include "ppm/scoped_seconds.h"
 
 #include <algorithm>
@@ -32,11 +33,11 @@ bool StochasticHitPoints::prepare(const Poll&) {
 
 bool StochasticHitPoints::pass(const Poll& poll) {
   RenderStats& stats = c_.stats;
-  const uint64_t pass = stats.passes;
+  const uint64_t pass = stats.passes;  // this renderer's count; index(pass) is the still's
   // Adaptive eye sampling (adaptive_samples.h) once the error estimate has passes enough to go on.
   const int max_samples = c_.settings.adaptive_samples;
   const bool adaptive = max_samples > 1 && pass >= static_cast<uint64_t>(c_.settings.error_min_passes);
-  EyePassOptions eye = c_.eye_options(pass + 1, adaptive ? max_samples : 1);
+  EyePassOptions eye = c_.eye_options(index(pass) + 1, adaptive ? max_samples : 1);
   eye.record_seen = c_.settings.light_passes;
   if (current_.next_row == 0) {
     current_ = PassInProgress{0, stats.photon, 0};
@@ -66,17 +67,24 @@ bool StochasticHitPoints::band(const EyePassOptions& eye, uint64_t pass, const P
   const size_t first_pixel = static_cast<size_t>(eye.row_begin) * c_.scene->camera().width;
   const bool first_band = eye.row_begin == 0;
   if (first_band && !c_.measure_photon_spacing_once(fresh, poll)) return false;
-  start_at_pixel_radii(first_pixel);
-  if (!gather_photons(first_band, pass, poll)) return false;
+  const bool global = c_.settings.radius_schedule == RadiusSchedule::Global;
+  if (global)
+    start_at_global_radii(first_pixel, index(pass) + 1);
+  else
+    start_at_pixel_radii(first_pixel);
+  if (!gather_photons(first_band, index(pass), poll)) return false;
   if (c_.analysis.sample_direct) {
     ScopedSeconds timer(stats.direct_seconds);
-    if (!direct_light_pass(*c_.scene, c_.lights, c_.settings, pass, c_.threads, fresh, c_.direct_scratch, c_.cancel,
-                           poll, current_.hit_points))
+    if (!direct_light_pass(*c_.scene, c_.lights, c_.settings, index(pass), c_.threads, fresh, c_.direct_scratch,
+                           c_.cancel, poll, current_.hit_points))
       return false;
   }
   {  // not polled: a band is folded whole or not at all
     ScopedSeconds timer(stats.update_seconds);
-    fold_band(first_pixel, pass + 1, eye.pixel_samples);
+    if (global)
+      fold_band_global(first_pixel, pass + 1);
+    else
+      fold_band(first_pixel, pass + 1, eye.pixel_samples);
     if (eye.record_depth) std::copy(fresh.depth.begin(), fresh.depth.end(), depth_.begin() + first_pixel);
   }
   current_.hit_points += fresh.size();
@@ -105,6 +113,23 @@ void StochasticHitPoints::start_at_pixel_radii(size_t first_pixel) {
         c_.stats.radii_widened += fresh.points[i].r2 < c_.min_initial_r2;
       }
       fresh.points[i].r2 = px.r2;
+    }
+  }
+}
+
+// The global schedule (radius_schedule.h): every hit point gathers at its own initial radius (as a
+// pixel's first, above) times the factor of pass `index` (1 for the still's first).
+void StochasticHitPoints::start_at_global_radii(size_t first_pixel, uint64_t index) {
+  HitPoints& fresh = hit_points_;
+  const double factor = global_radius_factor(index, c_.settings.alpha);
+  const size_t band_pixels = fresh.pixel_begin.size() - 1;
+  for (size_t p = 0; p < band_pixels; ++p) {
+    PixelStats& px = pixels_[first_pixel + p];
+    for (uint32_t i = fresh.pixel_begin[p]; i < fresh.pixel_begin[p + 1]; ++i) {
+      HitPoint& h = fresh.points[i];
+      c_.stats.radii_widened += px.r2 == 0.0f && h.r2 < c_.min_initial_r2;
+      h.r2 = std::max(h.r2, c_.min_initial_r2) * factor;
+      px.r2 = static_cast<float>(h.r2);  // the pixel's latest, for radius_mean()
     }
   }
 }
@@ -139,14 +164,45 @@ void StochasticHitPoints::fold_band(size_t first_pixel, uint64_t pass, const uin
       errors_[first_pixel + p].add(luminance(light) + scale * pass_flux, scale * pass_bias, pass);
       const PixelPass found{m, Vec3f(tau_m), Vec3f(light), static_cast<float>(fresh.transparency[p])};
       fold_pass(px, found, pass, c_.settings.alpha, c_.settings.threshold);
-      if (!seen_.empty()) {  // running means, as the pixel's light
-        SeenMeans& mean = seen_[first_pixel + p];
-        const float w = 1.0f / static_cast<float>(pass);
-        mean.emission += (Vec3f(fresh.seen[p].emission) - mean.emission) * w;
-        mean.environment += (Vec3f(fresh.seen[p].environment) - mean.environment) * w;
-      }
+      fold_seen(first_pixel + p, p, pass);
     }
   });
+}
+
+// The same with the global schedule: each hit point's photons are radiance at its own radius, and
+// the pixel keeps only the mean of its pass values (in `light`; tau stays 0), as Knaus & Zwicker's
+// image is the mean of the passes' estimates.
+void StochasticHitPoints::fold_band_global(size_t first_pixel, uint64_t pass) {
+  const HitPoints& fresh = hit_points_;
+  const size_t band_pixels = fresh.pixel_begin.size() - 1;
+  const double photons = static_cast<double>(current_.counters.emitted - c_.stats.photon.emitted);
+  parallel_for(c_.threads, band_pixels, [&](size_t begin, size_t end) {
+    for (size_t p = begin; p < end; ++p) {
+      Color light = fresh.emitted[p], photon_light(0.0);
+      double pass_value = 0.0, pass_bias = 0.0;
+      for (uint32_t i = fresh.pixel_begin[p]; i < fresh.pixel_begin[p + 1]; ++i) {
+        const HitPointStats& s = fresh.stats[i];
+        const double scale = c_.pass_radiance_scale(fresh.points[i].r2, photons);
+        light += s.direct;
+        photon_light += c_.photon_radiance(fresh.points[i].r2, s, photons);
+        pass_value += scale * s.pass_flux;
+        pass_bias += scale * s.pass_bias;
+      }
+      errors_[first_pixel + p].add(luminance(light) + pass_value, pass_bias, pass);
+      const PixelPass found{0, Vec3f(0.0f), Vec3f(light + photon_light), static_cast<float>(fresh.transparency[p])};
+      fold_pass(pixels_[first_pixel + p], found, pass, c_.settings.alpha, c_.settings.threshold);
+      fold_seen(first_pixel + p, p, pass);
+    }
+  });
+}
+
+// With light passes: band pixel `p`'s seen light into image pixel `pixel`'s running means.
+void StochasticHitPoints::fold_seen(size_t pixel, size_t p, uint64_t pass) {
+  if (seen_.empty()) return;
+  SeenMeans& mean = seen_[pixel];
+  const float w = 1.0f / static_cast<float>(pass);
+  mean.emission += (Vec3f(hit_points_.seen[p].emission) - mean.emission) * w;
+  mean.environment += (Vec3f(hit_points_.seen[p].environment) - mean.environment) * w;
 }
 
 PixelValue StochasticHitPoints::pixel(size_t p) const {

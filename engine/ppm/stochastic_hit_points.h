@@ -10,6 +10,9 @@
 // statistics (pixel_stats.h). The hit-point-indexed gather needs every hit
 // point before the photons fly: it takes the image as one band.
 //
+// With the global radius schedule (radius_schedule.h) a pixel keeps only the mean of its pass values,
+// and a renderer may start at any pass of a still (settings.first_pass): a share (share.h).
+//
 // A cancelled pass keeps the bands it completed and resumes at the next one
 // (the pass's photons stay indexed), so the image is the same as without the
 // cancel; meanwhile each pixel shows the passes folded into it.
@@ -48,7 +51,12 @@ class StochasticHitPoints : public Estimator {
   bool band(const EyePassOptions& eye, uint64_t pass, const Poll& poll);
   bool gather_photons(bool first_band, uint64_t pass, const Poll& poll);
   void start_at_pixel_radii(size_t first_pixel);
+  void start_at_global_radii(size_t first_pixel, uint64_t index);
   void fold_band(size_t first_pixel, uint64_t pass, const uint8_t* pixel_samples);
+  void fold_band_global(size_t first_pixel, uint64_t pass);
+  void fold_seen(size_t pixel, size_t band_pixel, uint64_t pass);
+  // The index in the still of this renderer's pass `pass` (its random numbers and global radius).
+  uint64_t index(uint64_t pass) const { return c_.settings.first_pass + pass; }
 
   RenderContext& c_;
   std::vector<PixelStats> pixels_;
