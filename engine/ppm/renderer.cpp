@@ -189,6 +189,32 @@ std::vector<float> Renderer::image() const {
   return rgba;
 }
 
+Share Renderer::share() const {
+  refuse_while_running(running_, "share()");
+  const Settings& s = context_.settings;
+  if (s.radius_schedule != RadiusSchedule::Global)
+    throw std::runtime_error("share(): make the renderer with radius_schedule='global' (passes that merge)");
+  if (context_.dof_post) throw std::runtime_error("share(): dof_mode 'post' blurs the finished image; use 'lens'");
+  if (estimator_->pass_done() > 0.0)
+    throw std::runtime_error("share(): a pass is in progress (paused between its bands); finish it with run()");
+  if (context_.stats.passes == 0) throw std::runtime_error("share(): no pass rendered yet");
+  Share out;
+  out.width = width();
+  out.height = height();
+  out.seed = s.seed;
+  out.photons_per_pass = s.photons_per_pass;
+  out.alpha = s.alpha;
+  out.ranges = {PassRange{s.first_pass, context_.stats.passes}};
+  out.image = image();
+  if (s.light_passes) out.seen = light_passes();
+  const std::vector<PixelErrorStats>& errors = estimator_->errors();
+  out.errors.resize(errors.size());
+  for (int y = 0; y < out.height; ++y)  // to top row first, like the image
+    std::copy_n(&errors[static_cast<size_t>(out.height - 1 - y) * out.width], out.width,
+                &out.errors[static_cast<size_t>(y) * out.width]);
+  return out;
+}
+
 RenderStats Renderer::stats() const {
   refuse_while_running(running_, "stats()");
   RenderStats s = context_.stats;

@@ -16,6 +16,7 @@
 #include "ppm/render_context.h"
 #include "ppm/render_stats.h"
 #include "ppm/settings.h"
+#include "ppm/share.h"
 #include "scene/scene.h"
 
 #include <atomic>
@@ -65,6 +66,10 @@ class Renderer {
   // With settings.light_passes: per pixel, rows from the top, what camera rays see at no bounce,
   // emission of surfaces and lights (Cycles' Emit) and the world (Env): 6 floats a pixel.
   std::vector<float> light_passes() const;
+  // The passes rendered so far as a share of a still (share.h), to merge with other machines'.
+  // Needs radius_schedule 'global', whole passes (not between the bands of one) and no POST depth of
+  // field (it blurs the finished image, not a pass).
+  Share share() const;
   const Settings& settings() const { return context_.settings; }
   int width() const { return context_.scene->camera().width; }
   int height() const { return context_.scene->camera().height; }

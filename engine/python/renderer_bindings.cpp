@@ -118,6 +118,14 @@ const std::map<std::string, SettingAccess>& setting_table() {
       {"adaptive_samples", number(&Settings::adaptive_samples,
                                   "stochastic hit points: up to this many eye samples a pixel each pass where the "
                                   "error estimate finds the pixel noisiest (1: one everywhere)")},
+      {"radius_schedule",
+       enumeration(&Settings::radius_schedule,
+                   {{"progressive", RadiusSchedule::Progressive}, {"global", RadiusSchedule::Global}},
+                   "stochastic hit points: 'progressive' (per pixel, with the threshold P) or 'global' (from the "
+                   "pass's index, Knaus & Zwicker 2011: passes render apart and merge, share())",
+                   "radius_schedule")},
+      {"first_pass", number(&Settings::first_pass,
+                            "with radius_schedule 'global': the index of the first pass this renderer renders")},
       {"grid", enumeration(&Settings::grid, {{"quantile", GridKind::Quantile}, {"hash", GridKind::Hash}},
                            "spatial index: 'quantile' grid or 'hash'ed uniform grid", "grid")},
   };
@@ -155,6 +163,22 @@ py::dict settings_dict(const Settings& s) {
   return d;
 }
 
+}  // namespace
+
+py::dict image_error_dict(const ImageError& e) {
+  py::dict error;
+  error["relative"] = e.relative;
+  error["bias"] = e.bias;
+  error["noise"] = e.noise;
+  error["anti_aliasing"] = e.anti_aliasing;
+  error["bound"] = e.bound;
+  error["pixel_p95"] = e.pixel_p95;
+  error["confidence"] = e.confidence;
+  return error;
+}
+
+namespace {
+
 py::dict stats_dict(const RenderStats& s) {
   py::dict d;
   d["passes"] = s.passes;
@@ -189,15 +213,7 @@ py::dict stats_dict(const RenderStats& s) {
   t["total"] = s.total_seconds;
   d["seconds"] = t;
   d["skipped"] = s.skipped;
-  py::dict error;
-  error["relative"] = s.error.relative;
-  error["bias"] = s.error.bias;
-  error["noise"] = s.error.noise;
-  error["anti_aliasing"] = s.error.anti_aliasing;
-  error["bound"] = s.error.bound;
-  error["pixel_p95"] = s.error.pixel_p95;
-  error["confidence"] = s.error.confidence;
-  d["error"] = error;
+  d["error"] = image_error_dict(s.error);
   d["target_error_reached"] = s.target_error_reached;
   return d;
 }
@@ -292,6 +308,9 @@ void bind_renderer(py::module_& m) {
           "stochastic pass still running that many seconds after the start returns at the end of its band "
           "of rows, its finished bands in the image (stats()['pass_done']); the next run() continues it. "
           "Returns the number of passes completed.")
+      .def("share", &Renderer::share, py::call_guard<py::gil_scoped_release>(),
+           "With radius_schedule='global': the passes so far as a Share, to merge with other renderers' "
+           "(merge_shares), e.g. on other machines with first_pass set to the passes before theirs.")
       .def("cancel", &Renderer::cancel, "Stops a run() in progress (callable from another thread).")
       .def("image",
            [](const Renderer& r) {
