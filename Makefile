@@ -85,10 +85,10 @@ addon: build
 	$(PY) addon/build_addon.py --out out
 
 # Add-on tests: bpy 5.0 (tests/addon), Debian's Blender 3.4 from a shell (tests/cli), the GUI under Xvfb
-# (tests/gui), the zip in every Blender version: 3.4, 4.2, 4.5, 5.0, 5.2 (tests/blenders), and the
-# add-on's own tests again in bpy 4.2, 4.5 and 5.2.
+# (tests/gui), the zip in every Blender version: 3.4, 4.2, 4.5, 5.0, 5.2 (tests/blenders), a still's
+# shares on a dask LocalCluster (tests/farm), and the add-on's own tests again in bpy 4.2, 4.5 and 5.2.
 test-addon: build
-	$(PY) $(PYTEST) tests/addon tests/cli tests/gui tests/blenders
+	$(PY) $(PYTEST) tests/addon tests/cli tests/gui tests/blenders tests/farm
 	.venvs/bpy-4.2/bin/python $(PYTEST) tests/addon
 	.venvs/bpy-4.5/bin/python $(PYTEST) tests/addon
 	$(PY313) $(PYTEST) tests/addon

@@ -62,7 +62,9 @@ class ProgramCompiler:
 
     def __init__(self, reader, texture, core):
         self.reader, self.texture, self.core = reader, texture, core
-        self.modes = sys.modules[type(core).__module__].node_modes()
+        # The module of the scene's class is ppm_core's; a recorded scene (farm/scene_record.py) names it.
+        module = getattr(core, "core_module", None) or sys.modules[type(core).__module__]
+        self.modes = module.node_modes()
         self.constants, self.constant_regs = [], {}
         self.code, self.data, self.outputs = [], [], []
         self.registers = 1

@@ -1,0 +1,164 @@
+"""A still's passes as shares on dask.distributed (addon/ppm_render/farm): the merge equals one
+render of all the passes, a killed worker's share runs again, a deadline returns what came back."""
+
+import dataclasses
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import numpy as np
+import pytest
+
+from ppm_render.farm import shares
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+from ppm_render.farm.merge import ProgressiveMerge, submit_shares
+
+
+def single_render(still, passes):
+    """All the passes in one renderer here, as a Share: what the merge must equal."""
+    return shares.render_share(still.calls, still.settings, 0, passes)[0]
+
+
+def read_exr_with_header(path):
+    import OpenImageIO as oiio
+
+    buf = oiio.ImageBuf(path)
+    assert not buf.has_error, buf.geterror()
+    spec = buf.spec()
+    header = {name: spec.getattribute(name) for name in ("ppm:passes", "ppm:shares", "ppm:error_relative")}
+    return buf.get_pixels(oiio.FLOAT), header
+
+
+def merged_image(client, still, passes, count, tmp_path, **collect):
+    lines = []
+    merge = ProgressiveMerge(str(tmp_path / "out.exr"), count, 1e9, lines.append)
+    futures = submit_shares(client, still, passes, count, threads=1)
+    merge.collect(futures, **collect)
+    return merge, lines
+
+
+def test_plan_covers_every_pass_once():
+    for total, count in [(10, 3), (64, 64), (5, 8), (1000, 7)]:
+        ranges = shares.plan(total, count)
+        assert [f for f, _ in ranges] == sorted(f for f, _ in ranges)
+        assert sum(n for _, n in ranges) == total and all(n >= 1 for _, n in ranges)
+        assert all(a + n == b for (a, n), (b, _) in zip(ranges, ranges[1:]))
+        assert max(n for _, n in ranges) - min(n for _, n in ranges) <= 1
+    with pytest.raises(ValueError):
+        shares.plan(0, 4)
+
+
+def test_the_export_is_a_share_render(still):
+    assert still.settings["radius_schedule"] == "global" and still.settings["hit_points"] == "stochastic"
+    assert (still.width, still.height) == (48, 36)
+    names = {call[0] for call in still.calls}
+    assert {"add_mesh", "add_material", "add_light", "set_camera"} <= names
+    assert not names & {"intersect", "run_program", "texture_info"}  # queries are not replayed
+
+
+def test_merged_shares_equal_one_render(ppm_core, still, cluster, tmp_path):
+    merge, lines = merged_image(cluster, still, 8, 4, tmp_path)
+    assert merge.finish()
+    assert merge.merged.passes == 8 and merge.merged.ranges == [(0, 2), (2, 2), (4, 2), (6, 2)]
+    single = single_render(still, 8)
+    np.testing.assert_allclose(merge.merged.image(), single.image(), rtol=1e-5, atol=1e-6 * single.image().max())
+    assert merge.merged.error_stats()["relative"] == pytest.approx(single.error_stats()["relative"], rel=1e-4)
+    assert any("4/4 shares" in line for line in lines)
+    pixels, header = read_exr_with_header(str(tmp_path / "out.exr"))
+    np.testing.assert_array_equal(pixels, merge.merged.image())
+    assert header["ppm:passes"] == 8 and header["ppm:shares"] == 4
+    assert header["ppm:error_relative"] == pytest.approx(merge.merged.error_stats()["relative"], rel=1e-6)
+
+
+def test_workers_need_no_blender(still, cluster):
+    futures = submit_shares(cluster, still, 2, 2, threads=1)
+    for future in futures:
+        _, facts = future.result()
+        assert facts["bpy_loaded"] is False
+    # Nor this add-on: its package imports bpy.
+    assert not any(cluster.run(lambda: __import__("sys").modules.get("ppm_render") is not None).values())
+
+
+def test_a_killed_workers_share_runs_again(ppm_core, still, cluster, tmp_path):
+    # Shares of 6 passes: kill the worker running the first one while it runs. (Adaptive eye sampling
+    # starts at a renderer's 8th pass, which shares of 6 never reach: off, for the single render to match.)
+    still = dataclasses.replace(still, settings={**still.settings, "adaptive_samples": 1})
+    passes, count = 24, 4
+    futures = submit_shares(cluster, still, passes, count, threads=1)
+    deadline = time.time() + 60
+    busy = {}
+    while time.time() < deadline and not busy:
+        busy = {w: keys for w, keys in cluster.processing().items() if keys}
+        time.sleep(0.05)
+    assert busy, "no share started"
+    victim = next(iter(busy))
+    pid = cluster.run(os.getpid, workers=[victim])[victim]
+    os.kill(pid, signal.SIGKILL)
+    lines = []
+    merge = ProgressiveMerge(str(tmp_path / "killed.exr"), count, 1e9, lines.append)
+    merge.collect(futures)
+    assert merge.finish()
+    assert merge.merged.passes == passes, lines
+    single = single_render(still, passes)
+    np.testing.assert_allclose(merge.merged.image(), single.image(), rtol=1e-5, atol=1e-6 * single.image().max())
+
+
+def test_shares_stop_at_their_deadline(still, cluster, tmp_path):
+    # A share of 100,000 passes with 3 s left stops there; its passes merge with a short share's.
+    until = time.time() + 3.0
+    futures = submit_shares(cluster, still, 2, 1, threads=1, until=until)
+    futures += submit_shares(cluster, still, 100_000, 1, threads=1, until=until, first_pass=2)
+    lines = []
+    merge = ProgressiveMerge(str(tmp_path / "late.exr"), 2, 1e9, lines.append)
+    merge.collect(futures, deadline=30.0)
+    assert time.time() < until + 15.0
+    assert merge.finish() and merge.merged.ranges[0] == (0, 2)
+    late = merge.merged.ranges[1]
+    assert late[0] == 2 and 1 <= late[1] < 100_000
+
+
+def test_shares_not_back_by_the_deadline_are_left_out(still, cluster, tmp_path):
+    # A share with no deadline of its own that outlasts the client's (a worker lost from view):
+    # cancelled, and the image holds the others. Last in the module: its worker stays busy.
+    futures = submit_shares(cluster, still, 2, 1, threads=1)
+    futures += submit_shares(cluster, still, 100_000, 1, threads=1, first_pass=2)
+    lines = []
+    merge = ProgressiveMerge(str(tmp_path / "lost.exr"), 2, 1e9, lines.append)
+    start = time.perf_counter()
+    merge.collect(futures, deadline=3.0)
+    assert time.perf_counter() - start < 10.0
+    assert merge.finish() and merge.merged.passes == 2
+    assert any("not back by the deadline" in line for line in lines)
+    assert futures[-1].status == "cancelled"
+
+
+def cli_environment():
+    """This process's environment with the add-on on PYTHONPATH (not all of sys.path: bpy adds
+    Blender's own script folders, whose bpy package would shadow the module)."""
+    paths = [os.path.join(ROOT, "addon"), *filter(None, os.environ.get("PYTHONPATH", "").split(os.pathsep))]
+    return {**os.environ, "PYTHONPATH": os.pathsep.join(paths)}
+
+
+def test_the_command_line_renders_a_still(tmp_path):
+    output = tmp_path / "still.exr"
+    scene = os.path.join(ROOT, "blend_scenes", "cornell_3spheres.blend")
+    run = subprocess.run([sys.executable, "-m", "ppm_render.farm", scene, "--local-workers", "2", "--shares", "3",
+                          "--passes", "6", "--resolution", "40", "30", "--output", str(output)],
+                         capture_output=True, text=True, timeout=300, check=False,
+                         env=cli_environment(), cwd=tmp_path)
+    assert run.returncode == 0, run.stdout[-3000:] + run.stderr[-3000:]
+    assert "3/3 shares" in run.stdout and "wrote" in run.stdout
+    pixels, header = read_exr_with_header(str(output))
+    assert pixels.shape == (30, 40, 4) and header["ppm:passes"] == 6 and header["ppm:shares"] == 3
+    assert 0.0 < header["ppm:error_relative"] < 1.0
+
+
+def test_the_command_line_fails_readably(tmp_path):
+    run = subprocess.run([sys.executable, "-m", "ppm_render.farm", str(tmp_path / "missing.blend"),
+                          "--output", str(tmp_path / "x.exr")],
+                         capture_output=True, text=True, timeout=300, check=False,
+                         env=cli_environment(), cwd=tmp_path)
+    assert run.returncode == 1 and "missing.blend' does not exist" in run.stderr
