@@ -4,6 +4,10 @@
             [--time-limit S] [--target-error E] [--resolution W H] [--photons N] [--seed N]
     python render.py scene.blend --output out.exr [...]        # with the bpy module (pip install bpy)
 
+A still in shares, rendered anywhere and merged (addon/ppm_render/farm/blender_task.py):
+    blender -b scene.blend --python-exit-code 1 -P render.py -- --first-pass 0 --passes 16 --share-output s0.npz
+    blender -b --python-exit-code 1 -P render.py -- --merge s0.npz s1.npz --output out.exr
+
 Registers the add-on from this checkout unless an installed PPM add-on is
 already active, renders the scene camera with write_still, prints progress
 and exits non-zero with a readable message on failure. The output format
@@ -12,6 +16,7 @@ follows the extension: .exr (32-bit float, linear) or .png (8-bit, view transfor
 
 import argparse
 import glob
+import importlib
 import os
 import sys
 
@@ -28,8 +33,8 @@ def make_core_importable():
 def parse_arguments(argv, need_blend):
     parser = argparse.ArgumentParser(prog="render.py", description="Render a .blend file with the PPM engine.")
     if need_blend:
-        parser.add_argument("blend", help=".blend file to render")
-    parser.add_argument("--output", required=True, help="output image (.exr or .png)")
+        parser.add_argument("blend", nargs="?", help=".blend file to render")
+    parser.add_argument("--output", help="output image (.exr or .png)")
     parser.add_argument("--passes", type=int, help="photon passes (default: the scene's setting)")
     parser.add_argument("--time-limit", type=float, help="seconds (default: the scene's setting)")
     parser.add_argument("--resolution", type=int, nargs=2, metavar=("W", "H"), help="image size in pixels")
@@ -39,7 +44,18 @@ def parse_arguments(argv, need_blend):
     parser.add_argument("--target-error", type=float,
                         help="stop once the estimated mean error is at most this share of the image's mean "
                              "brightness (e.g. 0.02), or at the passes or time limit")
-    return parser.parse_args(argv)
+    parser.add_argument("--first-pass", type=int, default=0,
+                        help="with --share-output: the first of the still's passes this share renders")
+    parser.add_argument("--share-output", help="render a share of the still's passes into this .npz file")
+    parser.add_argument("--merge", nargs="+", metavar="SHARE", help="merge these .npz shares into --output (.exr)")
+    args = parser.parse_args(argv)
+    if not args.share_output and not args.output:
+        parser.error("give --output (or --share-output)")
+    if args.merge and (args.share_output or not args.output.lower().endswith(".exr")):
+        parser.error("--merge writes an --output .exr")
+    if need_blend and not args.merge and not args.blend:
+        parser.error("give the .blend file to render")
+    return args
 
 
 def ensure_addon(bpy):
@@ -53,7 +69,8 @@ def ensure_addon(bpy):
     return ppm_render
 
 
-def configure(bpy, scene, args):
+def configure_settings(scene, args):
+    """The scene's PPM settings and size, with the command line's."""
     scene.render.engine = "PPM"
     settings = scene.ppm
     for name, value in (("passes", args.passes), ("time_limit", args.time_limit),
@@ -64,6 +81,10 @@ def configure(bpy, scene, args):
     if args.resolution:
         scene.render.resolution_x, scene.render.resolution_y = args.resolution
         scene.render.resolution_percentage = 100
+
+
+def configure(bpy, scene, args):
+    configure_settings(scene, args)
     output = os.path.abspath(args.output)
     os.makedirs(os.path.dirname(output), exist_ok=True)
     image = scene.render.image_settings
@@ -82,6 +103,8 @@ def render(argv, in_blender):
     import bpy
 
     args = parse_arguments(argv, need_blend=not in_blender)
+    if args.merge:
+        return merge(bpy, args)
     if in_blender and not bpy.data.filepath:
         raise ValueError("no .blend file was loaded (missing or unreadable file?): "
                          "blender -b scene.blend -P render.py -- --output out.exr")
@@ -93,6 +116,8 @@ def render(argv, in_blender):
     addon = ensure_addon(bpy)
     try:
         scene = bpy.context.scene
+        if args.share_output:
+            return render_share(bpy, scene, args)
         output = configure(bpy, scene, args)
         print(f"render.py: {bpy.data.filepath} -> {output} (Blender {bpy.app.version_string})", flush=True)
         bpy.ops.render.render(write_still=True)  # the engine's report({'ERROR'}) raises RuntimeError here
@@ -102,6 +127,37 @@ def render(argv, in_blender):
     if not os.path.isfile(output):
         raise RuntimeError(f"Blender wrote no image to {output}")
     print(f"render.py: wrote {output}", flush=True)
+
+
+def active_addon():
+    """The PPM add-on's package that is registered: an installed one (bl_ext.*.ppm_render in Blender
+    4.2+, ppm_render before) or this checkout's."""
+    name = next((n for n in sys.modules if n.split(".")[-1] == "ppm_render"), "ppm_render")
+    return importlib.import_module(name)
+
+
+def render_share(bpy, scene, args):
+    """Passes --first-pass .. of the still into --share-output (a share: farm/blender_task.py)."""
+    package = active_addon()
+    blender_task = importlib.import_module(package.__name__ + ".farm.blender_task")
+    configure_settings(scene, args)
+    share, facts = blender_task.render_share_file(bpy, package.core.load(), args.first_pass, args.passes,
+                                                  args.share_output,
+                                                  lambda message: print(f"render.py: warning: {message}", flush=True))
+    print(f"render.py: wrote {args.share_output}: passes {share.ranges} in {facts['render_seconds']:.1f} s",
+          flush=True)
+
+
+def merge(bpy, args):
+    make_core_importable()
+    sys.path.insert(0, os.path.join(HERE, "addon"))
+    from ppm_render import core
+    from ppm_render.farm.blender_task import merge_files
+
+    merged = merge_files(core.load(), args.merge, os.path.abspath(args.output), bpy)
+    error = merged.error_stats()
+    print(f"render.py: wrote {args.output}: {merged.passes} passes from {len(args.merge)} shares, est. error "
+          f"{100 * error['relative']:.2f}% (bound {100 * error['bound']:.2f}% at 95%)", flush=True)
 
 
 def main():

@@ -13,6 +13,8 @@ DEBIAN_PACKAGES=(build-essential cmake ninja-build libglm-dev libgtest-dev googl
 DEBIAN_PACKAGES+=(blender python3-numpy xvfb)
 # make test-cross: the C++ tests built for Linux aarch64 and run under qemu-user.
 DEBIAN_PACKAGES+=(g++-aarch64-linux-gnu qemu-user)
+# The Flamenco job type's test runs its JavaScript (addon/farm/flamenco) with Node.
+DEBIAN_PACKAGES+=(nodejs)
 
 missing=()
 for p in "${DEBIAN_PACKAGES[@]}"; do
