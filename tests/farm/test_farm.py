@@ -11,10 +11,54 @@ import time
 import numpy as np
 import pytest
 
-from ppm_render.farm import shares
-
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-from ppm_render.farm.merge import ProgressiveMerge, submit_shares
+sys.path.insert(0, os.path.join(ROOT, "addon"))
+
+import bpy  # noqa: E402  (installed by make setup; a missing bpy must fail, not skip)
+
+import ppm_render  # noqa: E402
+from ppm_render import core  # noqa: E402
+from ppm_render.farm import shares  # noqa: E402
+from ppm_render.farm.merge import ProgressiveMerge, submit_shares  # noqa: E402
+from ppm_render.farm.still_export import export_still  # noqa: E402
+
+# The fixtures are here, not in a conftest.py: tests/addon's tests import theirs by that module name,
+# and `make test` runs both folders in one session.
+
+
+@pytest.fixture(scope="session")
+def ppm_core():
+    return core.load()
+
+
+@pytest.fixture(scope="session")
+def still(ppm_core):
+    """cornell_diffuse.blend at 48x36, exported as the farm exports it; its warnings in `warnings`."""
+    registered_here = not hasattr(bpy.types.Scene, "ppm")  # tests/addon's fixtures may have registered it
+    if registered_here:
+        ppm_render.register()
+    try:
+        bpy.ops.wm.open_mainfile(filepath=os.path.join(ROOT, "blend_scenes", "cornell_diffuse.blend"))
+        render = bpy.context.scene.render
+        render.resolution_x, render.resolution_y, render.resolution_percentage = 48, 36, 100
+        bpy.context.scene.ppm.photons_per_pass = 20_000
+        warnings = []
+        exported = export_still(bpy, ppm_core, warnings.append)
+        exported.warnings = warnings
+        yield exported
+    finally:
+        if registered_here:  # bpy 4.2 crashes and 4.5 hangs at exit while a script's classes are registered
+            ppm_render.unregister()
+
+
+@pytest.fixture(scope="module")
+def cluster():
+    """Two worker processes with one thread each, as a farm's machines (no dashboard)."""
+    from dask.distributed import Client, LocalCluster
+
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as local, \
+            Client(local) as client:
+        yield client
 
 
 def single_render(still, passes):

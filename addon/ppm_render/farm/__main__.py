@@ -16,6 +16,7 @@ shares'); those not back shortly after (a lost or unreachable worker) are cancel
 from __future__ import annotations
 
 import argparse
+import contextlib
 import os
 import sys
 import time
@@ -65,21 +66,25 @@ def export(blend, resolution=None):
         unregister()  # bpy 4.2 crashes and 4.5 hangs at exit while a script's classes are registered
 
 
-def client_for(args):
+@contextlib.contextmanager
+def connected(args):
+    """A dask Client of the scheduler asked for, or of a LocalCluster made here (closed after)."""
     from dask.distributed import Client, LocalCluster
 
     if args.scheduler:
-        return Client(args.scheduler)
-    cluster = LocalCluster(n_workers=args.local_workers, threads_per_worker=1, processes=True,
-                           dashboard_address=None)
-    return Client(cluster)
+        with Client(args.scheduler) as client:
+            yield client
+        return
+    with LocalCluster(n_workers=args.local_workers, threads_per_worker=1, processes=True,
+                      dashboard_address=None) as cluster, Client(cluster) as client:
+        yield client
 
 
 def main(argv=None):
     args = parse_arguments(sys.argv[1:] if argv is None else argv)
     try:
         still = export(args.blend, args.resolution)
-        with client_for(args) as client:
+        with connected(args) as client:
             result = run(client, still, args)
     except Exception as error:  # noqa: BLE001 - a readable message and a failing exit code
         print(f"farm: error: {error}", file=sys.stderr, flush=True)

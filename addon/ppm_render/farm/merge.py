@@ -103,5 +103,5 @@ class ProgressiveMerge:
         error = self.merged.error_stats()
         self.report(f"wrote {self.output}: {self.merged.passes} passes from {self.count} shares, est. error "
                     f"{100 * error['relative']:.2f}% (bound {100 * error['bound']:.2f}% at 95%), "
-                    f"{time.perf_counter() - self.start:.1f} s")
+                    f"{time.perf_counter() - self.start:.1f} s ({self.worker_seconds:.1f} s on the workers)")
         return True
