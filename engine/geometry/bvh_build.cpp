@@ -1,19 +1,24 @@
 // Binned SAH build of a binary BVH (see bvh_build.h).
 #include "geometry/bvh_build.h"
 
+#include "math/float_bounds.h"
 #include "ppm/fill_vector.h"
 #include "ppm/parallel.h"
 
 #include <algorithm>
 #include <exception>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <thread>
+#include <utility>
 
 namespace ppm {
 namespace {
 
 constexpr int kBins = 16;
+// Nodes with more primitives bin a sample of about this many (split()).
+constexpr uint32_t kBinnedSample = 1u << 14;
 // Right subtrees this large, near the root, are built on a thread of their own (2 levels: up to 4
 // threads).
 constexpr uint32_t kParallelPrims = 1u << 16;
@@ -26,17 +31,51 @@ int build_threads() {
   return threads;
 }
 
-struct Bin {
-  Aabb box, cbox;  // of the primitives' boxes, and of their centroids
-  uint32_t count = 0;
+// A primitive as the build moves it: its box beside its index, so that the binning and the
+// partition read boxes in sequence (indices alone sent them to random ones: cache misses once the
+// arrays outgrow the caches). In float, rounded outwards (float_bounds.h): 28 bytes instead of 52,
+// and the Bvh keeps float boxes anyway, so its nodes' boxes are the same as from the double ones.
+struct BuildPrim {
+  Vec3f lo, hi;
+  uint32_t id;
+
+  static BuildPrim of(const Aabb& b, uint32_t id) {
+    return BuildPrim{Vec3f(float_down(b.lo.x), float_down(b.lo.y), float_down(b.lo.z)),
+                     Vec3f(float_up(b.hi.x), float_up(b.hi.y), float_up(b.hi.z)), id};
+  }
+  Aabb box() const { return Aabb{Vec3(lo), Vec3(hi)}; }
+  // In float: the binning's, and the centroid boxes' (so that every centroid is inside its node's).
+  Vec3f center() const { return 0.5f * (lo + hi); }
+};
+static_assert(sizeof(BuildPrim) == 28, "BuildPrim grew");
+
+// The boxes and centroids of a set of primitives, in float as they are.
+struct FloatBox {
+  Vec3f lo{std::numeric_limits<float>::infinity()}, hi{-std::numeric_limits<float>::infinity()};
+  Vec3f clo{std::numeric_limits<float>::infinity()}, chi{-std::numeric_limits<float>::infinity()};
+  bool any = false;
+  void add(const BuildPrim& p) {
+    lo = glm::min(lo, p.lo);
+    hi = glm::max(hi, p.hi);
+    const Vec3f c = p.center();
+    clo = glm::min(clo, c);
+    chi = glm::max(chi, c);
+    any = true;
+  }
+  Aabb box() const { return any ? Aabb{Vec3(lo), Vec3(hi)} : Aabb{}; }
+  Aabb centroid_box() const { return any ? Aabb{Vec3(clo), Vec3(chi)} : Aabb{}; }
 };
 
-// A primitive as the build moves it: its centroid beside its index, so that the binning and the
-// partition read centroids in sequence (indices alone sent them to random ones: cache misses once
-// the arrays outgrow the caches). The box stays in the input, read once per level.
-struct BuildPrim {
-  Vec3 center;
-  uint32_t id;
+// A bin of primitives' boxes, in float as they are.
+struct FloatBin {
+  Vec3f lo{std::numeric_limits<float>::infinity()}, hi{-std::numeric_limits<float>::infinity()};
+  uint32_t count = 0;
+  void add(const BuildPrim& p) {
+    lo = glm::min(lo, p.lo);
+    hi = glm::max(hi, p.hi);
+    ++count;
+  }
+  Aabb box() const { return count ? Aabb{Vec3(lo), Vec3(hi)} : Aabb{}; }
 };
 
 class Builder {
@@ -58,9 +97,9 @@ class Builder {
           block_bad[b] = i;
           return;
         }
-        refs_[i] = BuildPrim{box.center(), static_cast<uint32_t>(i)};
-        block_box[b].grow(box);
-        block_cbox[b].grow(box.center());
+        refs_[i] = BuildPrim::of(box, static_cast<uint32_t>(i));
+        block_box[b].grow(refs_[i].box());
+        block_cbox[b].grow(Vec3(refs_[i].center()));
       }
     };
     if (blocks > 1) {
@@ -141,41 +180,52 @@ class Builder {
     }
   }
 
-  // Partitions refs[begin, end) at the binned SAH split and returns the halves' boxes.
+  // Partitions refs[begin, end) at the binned SAH split and returns the halves' boxes. A large node
+  // bins a sample of its primitives (every stride-th: about kBinnedSample of them), which picks
+  // nearly the same split for a fraction of the memory traffic; the halves' boxes come from the
+  // partition's own pass over all of them, so they are exact either way.
   Split split(uint32_t begin, uint32_t end, const Aabb& cbox) {
     BuildPrim* prims = refs_.data();
-    const uint32_t count = end - begin;
-    // Bin centroids along all three axes in one pass; sweep each axis for the
-    // split with the lowest surface area heuristic cost.
-    Bin bins[3][kBins];
-    double scale[3];
+    const uint32_t stride = std::max(1u, (end - begin) / kBinnedSample);
+    const Vec3f origin(cbox.lo);
+    Vec3f scale(0.0f);
     for (int a = 0; a < 3; ++a) {
-      const double extent = cbox.hi[a] - cbox.lo[a];
-      scale[a] = extent > 0.0 ? kBins * (1.0 - 1e-9) / extent : 0.0;
+      const float extent = static_cast<float>(cbox.hi[a] - cbox.lo[a]);
+      scale[a] = extent > 0.0f ? kBins * (1.0f - 1e-6f) / extent : 0.0f;
     }
-    auto bin_of = [&](const Vec3& center, int a) {
-      return std::min(kBins - 1, static_cast<int>((center[a] - cbox.lo[a]) * scale[a]));
-    };
-    for (uint32_t i = begin; i < end; ++i) {
-      const Aabb& box = boxes_[prims[i].id];
-      const Vec3& center = prims[i].center;
-      for (int a = 0; a < 3; ++a) {
-        Bin& b = bins[a][bin_of(center, a)];
-        b.box.grow(box);
-        b.cbox.grow(center);
-        ++b.count;
-      }
+    FloatBin bins[3][kBins];
+    for (uint32_t i = begin; i < end; i += stride) {
+      const BuildPrim& p = prims[i];
+      const glm::ivec3 bin = bin_of(p.center(), origin, scale);
+      for (int a = 0; a < 3; ++a) bins[a][bin[a]].add(p);
     }
+    const auto [best_axis, best] = cheapest_split(bins, scale);
+    Split s;
+    if (best_axis >= 0) {
+      s.at = partition(begin, end, [&](const BuildPrim& p) { return bin_of(p.center(), origin, scale)[best_axis] < best; },
+                       s);
+      return s;
+    }
+    // When all centroids coincide (or the bins could not separate them) the split stays at the
+    // middle by index, so the tree stays balanced instead of making one huge leaf.
+    const uint32_t middle = begin + (end - begin) / 2;
+    s.at = partition(begin, end, [&](const BuildPrim& p) { return &p < prims + middle; }, s);
+    return s;
+  }
+
+  // The (axis, bin) of the lowest surface area heuristic cost: the left half takes the bins below
+  // it. (-1, -1) if no axis separates the centroids.
+  static std::pair<int, int> cheapest_split(const FloatBin (&bins)[3][kBins], const Vec3f& scale) {
     double best_cost = kInf;
     int best_axis = -1, best = -1;
     for (int a = 0; a < 3; ++a) {
-      if (scale[a] == 0.0) continue;
+      if (scale[a] == 0.0f) continue;
       double right_area[kBins];
       uint32_t right_count[kBins];
       Aabb acc;
       uint32_t n = 0;
       for (int i = kBins - 1; i > 0; --i) {
-        acc.grow(bins[a][i].box);
+        acc.grow(bins[a][i].box());
         n += bins[a][i].count;
         right_area[i] = acc.half_area();
         right_count[i] = n;
@@ -183,7 +233,7 @@ class Builder {
       acc = Aabb{};
       n = 0;
       for (int i = 1; i < kBins; ++i) {
-        acc.grow(bins[a][i - 1].box);
+        acc.grow(bins[a][i - 1].box());
         n += bins[a][i - 1].count;
         if (n == 0 || right_count[i] == 0) continue;
         const double cost = acc.half_area() * n + right_area[i] * right_count[i];
@@ -194,33 +244,35 @@ class Builder {
         }
       }
     }
-    Split s;
-    if (best_axis >= 0) {
-      s.at = static_cast<uint32_t>(
-          std::partition(prims + begin, prims + end,
-                         [&](const BuildPrim& p) { return bin_of(p.center, best_axis) < best; }) -
-          prims);
-      // The halves' boxes are their bins' (no second pass over the primitives).
-      for (int i = 0; i < kBins; ++i) {
-        const Bin& b = bins[best_axis][i];
-        (i < best ? s.left_box : s.right_box).grow(b.box);
-        (i < best ? s.left_cbox : s.right_cbox).grow(b.cbox);
-      }
-      return s;
+    return {best_axis, best};
+  }
+
+  // Moves the primitives of [begin, end) that go left before those that do not (Hoare's
+  // partition), growing each half's box and centroid box as it passes them; returns the first of
+  // the right half. The middle-by-index fallback's test reads the primitive's address: it holds
+  // because nothing moves when the halves are already in place.
+  template <class GoesLeft>
+  uint32_t partition(uint32_t begin, uint32_t end, GoesLeft&& goes_left, Split& s) {
+    BuildPrim* prims = refs_.data();
+    BuildPrim *lo = prims + begin, *hi = prims + end;
+    FloatBox left, right;
+    for (;;) {
+      while (lo < hi && goes_left(*lo)) left.add(*lo++);
+      while (lo < hi && !goes_left(hi[-1])) right.add(*--hi);
+      if (lo >= hi) break;
+      std::swap(*lo, hi[-1]);
     }
-    // When all centroids coincide (or the bins could not separate them) the
-    // split stays at the middle by index, so the tree stays balanced instead
-    // of making one huge leaf.
-    s.at = begin + count / 2;
-    for (uint32_t i = begin; i < s.at; ++i) {
-      s.left_box.grow(boxes_[prims[i].id]);
-      s.left_cbox.grow(prims[i].center);
-    }
-    for (uint32_t i = s.at; i < end; ++i) {
-      s.right_box.grow(boxes_[prims[i].id]);
-      s.right_cbox.grow(prims[i].center);
-    }
-    return s;
+    s.left_box = left.box();
+    s.left_cbox = left.centroid_box();
+    s.right_box = right.box();
+    s.right_cbox = right.centroid_box();
+    return static_cast<uint32_t>(lo - prims);
+  }
+
+  // A centroid's bin on each axis, clamped into the bins (rounding may put one a hair outside).
+  static glm::ivec3 bin_of(const Vec3f& center, const Vec3f& origin, const Vec3f& scale) {
+    const glm::ivec3 bin((center - origin) * scale);
+    return glm::clamp(bin, glm::ivec3(0), glm::ivec3(kBins - 1));
   }
 
   const std::vector<Aabb>& boxes_;

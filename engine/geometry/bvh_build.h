@@ -1,6 +1,7 @@
-// Binned SAH build (Wald 2007) of a binary BVH over primitive boxes, in
-// double precision. The result is only an intermediate: Bvh collapses it into
-// its 4-wide float-box nodes (see bvh.h).
+// Binned SAH build (Wald 2007) of a binary BVH over primitive boxes. The result is only an
+// intermediate: Bvh collapses it into its 4-wide float-box nodes (see bvh.h), so the build keeps
+// the boxes in float, rounded outwards (half the bytes to move), and its nodes' boxes are those
+// unions: they contain the double boxes' and round to the same float boxes.
 #pragma once
 
 #include "math/aabb.h"
