@@ -42,6 +42,7 @@ def still(ppm_core):
         render = bpy.context.scene.render
         render.resolution_x, render.resolution_y, render.resolution_percentage = 48, 36, 100
         bpy.context.scene.ppm.photons_per_pass = 20_000
+        bpy.context.scene.ppm.target_error = 0.05  # the merged image's: no share may stop on it
         warnings = []
         exported = export_still(bpy, ppm_core, warnings.append)
         exported.warnings = warnings
@@ -97,6 +98,7 @@ def test_plan_covers_every_pass_once():
 
 def test_the_export_is_a_share_render(still):
     assert still.settings["radius_schedule"] == "global" and still.settings["hit_points"] == "stochastic"
+    assert still.settings["target_error"] == 0.0 and still.target_error == pytest.approx(0.05)
     assert (still.width, still.height) == (48, 36)
     names = {call[0] for call in still.calls}
     assert {"add_mesh", "add_material", "add_light", "set_camera"} <= names

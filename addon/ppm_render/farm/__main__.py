@@ -35,7 +35,8 @@ def parse_arguments(argv):
     parser.add_argument("--threads", type=int, default=0, help="threads a share uses on its worker (0: all)")
     parser.add_argument("--deadline", type=float, default=0.0,
                         help="seconds: shares stop there with the passes they have (0: no deadline)")
-    parser.add_argument("--target-error", type=float, default=0.0, help="stop once the estimate is at most this")
+    parser.add_argument("--target-error", type=float, default=0.0,
+                        help="stop once the merged image's estimate is at most this (default: the scene's)")
     parser.add_argument("--write-every", type=float, default=30.0, help="seconds between rewrites of the output")
     args = parser.parse_args(argv)
     if not args.output.lower().endswith(".exr"):
@@ -103,7 +104,8 @@ def run(client, still, args):
     futures = submit_shares(client, still, passes, args.shares, args.threads, until)
     merge = ProgressiveMerge(args.output, len(futures), args.write_every,
                              report=lambda line: print(f"farm: {line}", flush=True))
-    merge.collect(futures, args.deadline * 1.1 + 5.0 if args.deadline > 0.0 else 0.0, args.target_error)
+    merge.collect(futures, args.deadline * 1.1 + 5.0 if args.deadline > 0.0 else 0.0,
+                  args.target_error or still.target_error)
     return merge.finish()
 
 

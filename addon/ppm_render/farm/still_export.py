@@ -14,12 +14,15 @@ class Still:
     passes: int      # the scene's pass count (scene.ppm.passes)
     width: int
     height: int
+    target_error: float = 0.0  # the scene's (scene.ppm.target_error): the merged image's, not a share's
 
 
 def share_settings(settings, warn):
     """The add-on's render settings made into a share's: passes of a still merge only with stochastic
     hit points and the global radius schedule (engine/ppm/radius_schedule.h)."""
-    out = {**settings, "hit_points": "stochastic", "radius_schedule": "global", "light_passes": False}
+    # A share renders all its passes: the scene's target error is the merged image's (the farm's).
+    out = {**settings, "hit_points": "stochastic", "radius_schedule": "global", "light_passes": False,
+           "target_error": 0.0}
     if settings.get("hit_points") == "fixed":
         warn("fixed hit points do not split into shares: rendering with stochastic ones")
     if settings.get("dof_mode") == "post":
@@ -43,4 +46,4 @@ def export_still(bpy, core_module, warn):
     export.build_scene(recorder, depsgraph, frame, warn)
     settings = {**core_settings(scene.ppm), **film_settings(scene), **light_path_settings(scene)}
     return Still(calls=recorder.scenes[0].calls, settings=share_settings(settings, warn), passes=scene.ppm.passes,
-                 width=frame.window_width, height=frame.window_height)
+                 width=frame.window_width, height=frame.window_height, target_error=scene.ppm.target_error)
