@@ -28,6 +28,13 @@ inline double max_abs(const Vec3& v) {
   return max_ignoring_nan(std::fabs(v.x), max_ignoring_nan(std::fabs(v.y), std::fabs(v.z)));
 }
 inline double max_component(const Color& c) { return max_ignoring_nan(c.x, max_ignoring_nan(c.y, c.z)); }
+// A finite value above float range saturates instead of becoming inf (the conversion is undefined
+// behaviour in C++); NaN and inf stay visible.
+inline float saturated_float(double v) {
+  return std::isfinite(v) && std::fabs(v) > std::numeric_limits<float>::max()
+             ? static_cast<float>(std::copysign(std::numeric_limits<float>::max(), v))
+             : static_cast<float>(v);
+}
 inline double luminance(const Color& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
 inline double mean(const Color& c) { return (c.x + c.y + c.z) / 3.0; }
 inline bool is_finite(const Vec3& v) {

@@ -95,6 +95,13 @@ struct PixelError {
   }
 };
 
+// A pixel's error as the 3 floats Renderer::error() and Share::error() give: bias, noise, luminance.
+inline void write_error_channels(const PixelError& e, float* out) {
+  out[0] = saturated_float(e.bias);
+  out[1] = saturated_float(e.noise);
+  out[2] = saturated_float(e.value);
+}
+
 // Two-sided quantile of Student's t with `dof` degrees of freedom: |T| <= t with probability
 // `confidence` (in (0, 1)). dof >= 1.
 double student_t_quantile(double confidence, double dof);

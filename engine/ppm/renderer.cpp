@@ -6,7 +6,6 @@
 #include "ppm/denoising_features.h"
 
 #include <algorithm>
-#include <cfloat>
 #include <chrono>
 #include <stdexcept>
 
@@ -15,10 +14,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-
-// A finite radiance above float range saturates instead of becoming inf (the
-// conversion is undefined behaviour in C++); NaN and inf stay visible.
-float to_float(double v) { return std::isfinite(v) && std::fabs(v) > FLT_MAX ? std::copysign(FLT_MAX, v) : static_cast<float>(v); }
 
 // Fills `out`, W x H pixels of `channels` floats with the top row first, by fill(p, o): p the
 // pixel's index with row 0 at the bottom (the estimators'), o its channels.
@@ -119,10 +114,7 @@ std::vector<float> Renderer::error_image() const {
   StudentTByPasses t_of(context_.settings.error_confidence);
   fill_top_row_first(out, W, H, 3, [&](size_t p, float* o) {
     const uint64_t n = counts.of(p);
-    const PixelError e = pixel_error(errors[p], n, t_of(n), sampling.empty() ? 0.0 : sampling[p]);
-    o[0] = to_float(e.bias);
-    o[1] = to_float(e.noise);
-    o[2] = to_float(e.value);
+    write_error_channels(pixel_error(errors[p], n, t_of(n), sampling.empty() ? 0.0 : sampling[p]), o);
   });
   return out;
 }
@@ -156,7 +148,7 @@ std::vector<float> Renderer::light_passes() const {
   if (!prepared_) return out;
   fill_top_row_first(out, W, H, 6, [&](size_t p, float* o) {
     const SeenLight seen = estimator_->seen(p);
-    for (int k = 0; k < 3; ++k) o[k] = to_float(seen.emission[k]), o[3 + k] = to_float(seen.environment[k]);
+    for (int k = 0; k < 3; ++k) o[k] = saturated_float(seen.emission[k]), o[3 + k] = saturated_float(seen.environment[k]);
   });
   return out;
 }
@@ -172,9 +164,9 @@ std::vector<float> Renderer::image() const {
   }
   fill_top_row_first(rgba, W, H, 4, [&](size_t p, float* out) {
     const PixelValue v = estimator_->pixel(p);
-    out[0] = to_float(v.radiance.x);
-    out[1] = to_float(v.radiance.y);
-    out[2] = to_float(v.radiance.z);
+    out[0] = saturated_float(v.radiance.x);
+    out[1] = saturated_float(v.radiance.y);
+    out[2] = saturated_float(v.radiance.z);
     out[3] = static_cast<float>(std::clamp(1.0 - v.transparency, 0.0, 1.0));  // RGB is premultiplied by it
   });
   const std::vector<float>& depth_rows = context_.depth;

@@ -83,12 +83,7 @@ std::vector<float> share_error_image(const Share& share, double confidence) {
   std::vector<float> out(share.pixels() * 3);
   const uint64_t n = share.passes();
   const double t = n >= kMinErrorPasses ? student_t_quantile(confidence, static_cast<double>(n) - 1.0) : 0.0;
-  for (size_t p = 0; p < share.pixels(); ++p) {
-    const PixelError e = pixel_error(share.errors[p], n, t);
-    out[3 * p] = static_cast<float>(e.bias);
-    out[3 * p + 1] = static_cast<float>(e.noise);
-    out[3 * p + 2] = static_cast<float>(e.value);
-  }
+  for (size_t p = 0; p < share.pixels(); ++p) write_error_channels(pixel_error(share.errors[p], n, t), &out[3 * p]);
   return out;
 }
 

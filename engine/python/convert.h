@@ -14,6 +14,26 @@
 namespace ppm::py_convert {
 
 namespace py = pybind11;
+
+// Named channels of an (H, W, channels) float image, top row first, as a dict of views: a part of
+// one channel is (H, W), of more (H, W, count). The values are copied once, into the views' base.
+struct ChannelPart {
+  const char* name;
+  int first, count;
+};
+inline py::dict channel_views(int height, int width, const std::vector<float>& values, int channels,
+                              std::initializer_list<ChannelPart> parts) {
+  py::array_t<float> all({py::ssize_t(height), py::ssize_t(width), py::ssize_t(channels)}, values.data());
+  const py::slice every(0, height, 1), columns(0, width, 1);
+  py::dict out;
+  for (const ChannelPart& part : parts) {
+    if (part.count == 1)
+      out[part.name] = all[py::make_tuple(every, columns, part.first)];
+    else
+      out[part.name] = all[py::make_tuple(every, columns, py::slice(part.first, part.first + part.count, 1))];
+  }
+  return out;
+}
 using DoubleArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
 
 [[noreturn]] inline void fail(const std::string& what, const std::string& msg) {

@@ -218,27 +218,6 @@ py::dict stats_dict(const RenderStats& s) {
   return d;
 }
 
-
-// Named channels of an (H, W, channels) float image, top row first, as a dict of views: a part of
-// one channel is (H, W), of more (H, W, count). The values are copied once, into the views' base.
-struct ChannelPart {
-  const char* name;
-  int first, count;
-};
-py::dict channel_views(const Renderer& r, const std::vector<float>& values, int channels,
-                       std::initializer_list<ChannelPart> parts) {
-  py::array_t<float> all({py::ssize_t(r.height()), py::ssize_t(r.width()), py::ssize_t(channels)}, values.data());
-  const py::slice every(0, r.height(), 1), columns(0, r.width(), 1);
-  py::dict out;
-  for (const ChannelPart& part : parts) {
-    if (part.count == 1)
-      out[part.name] = all[py::make_tuple(every, columns, part.first)];
-    else
-      out[part.name] = all[py::make_tuple(every, columns, py::slice(part.first, part.first + part.count, 1))];
-  }
-  return out;
-}
-
 }  // namespace
 
 void bind_renderer(py::module_& m) {
@@ -334,7 +313,7 @@ void bind_renderer(py::module_& m) {
                py::gil_scoped_release release;
                values = r.light_passes();
              }
-             return channel_views(r, values, 6, {{"Emit", 0, 3}, {"Env", 3, 3}});
+             return channel_views(r.height(), r.width(), values, 6, {{"Emit", 0, 3}, {"Env", 3, 3}});
            },
            "With light_passes=True: what camera rays see at no bounce, as Cycles' Emit and Env passes: dict of "
            "(H, W, 3) float32, top row first, 'Emit' (surfaces' and lights' emission) and 'Env' (the world). "
@@ -354,7 +333,7 @@ void bind_renderer(py::module_& m) {
                if (PyErr_Occurred()) throw py::error_already_set();
                throw std::runtime_error("denoising_features: cancelled");
              }
-             return channel_views(r, values, 6, {{"albedo", 0, 3}, {"normal", 3, 3}});
+             return channel_views(r.height(), r.width(), values, 6, {{"albedo", 0, 3}, {"normal", 3, 3}});
            },
            py::arg("samples_per_pixel") = 0,
            "Cycles' Denoising Albedo and Denoising Normal: dict of (H, W, 3) float32 arrays 'albedo' (linear "
@@ -369,7 +348,8 @@ void bind_renderer(py::module_& m) {
                py::gil_scoped_release release;
                values = r.error_image();
              }
-             return channel_views(r, values, 3, {{"bias", 0, 1}, {"noise", 1, 1}, {"luminance", 2, 1}});
+             return channel_views(r.height(), r.width(), values, 3,
+                                  {{"bias", 0, 1}, {"noise", 1, 1}, {"luminance", 2, 1}});
            },
            "The estimated error per pixel, (H, W) float32 arrays, top row first, in luminance: 'bias' (signed: "
            "the image minus the truth, expected), 'noise' (half-width at settings error_confidence), "

@@ -30,6 +30,13 @@ void read_floats(const py::dict& d, const char* key, const Share& s, int channel
   std::memcpy(out, a.data(), static_cast<size_t>(a.size()) * sizeof(float));
 }
 
+// (first, count) pairs.
+py::list ranges_list(const Share& s) {
+  py::list out;
+  for (const PassRange& r : s.ranges) out.append(py::make_tuple(r.first, r.count));
+  return out;
+}
+
 py::dict to_dict(const Share& s) {
   py::dict d;
   d["width"] = s.width;
@@ -37,9 +44,7 @@ py::dict to_dict(const Share& s) {
   d["seed"] = s.seed;
   d["photons_per_pass"] = s.photons_per_pass;
   d["alpha"] = s.alpha;
-  py::list ranges;
-  for (const PassRange& r : s.ranges) ranges.append(py::make_tuple(r.first, r.count));
-  d["ranges"] = ranges;
+  d["ranges"] = ranges_list(s);
   d["image"] = image_array(s, s.image, 4);
   std::vector<float> moments(s.pixels() * 4);
   std::memcpy(moments.data(), s.errors.data(), moments.size() * sizeof(float));
@@ -89,26 +94,14 @@ void bind_share(py::module_& m) {
       .def_readonly("height", &Share::height)
       .def_readonly("seed", &Share::seed)
       .def_property_readonly("passes", &Share::passes)
-      .def_property_readonly("ranges",
-                             [](const Share& s) {
-                               py::list out;
-                               for (const PassRange& r : s.ranges) out.append(py::make_tuple(r.first, r.count));
-                               return out;
-                             },
-                             "the passes it holds: (first, count) pairs")
+      .def_property_readonly("ranges", &ranges_list, "the passes it holds: (first, count) pairs")
       .def("image", [](const Share& s) { return image_array(s, s.image, 4); },
            "Linear RGBA float32 (H, W, 4), top row first, RGB premultiplied: the mean of the passes.")
       .def(
           "error",
           [](const Share& s, double confidence) {
-            const std::vector<float> v = share_error_image(s, confidence);
-            const py::array_t<float> all = image_array(s, v, 3);
-            const py::slice rows(0, s.height, 1), columns(0, s.width, 1);
-            py::dict d;
-            d["bias"] = all[py::make_tuple(rows, columns, 0)];
-            d["noise"] = all[py::make_tuple(rows, columns, 1)];
-            d["luminance"] = all[py::make_tuple(rows, columns, 2)];
-            return d;
+            return py_convert::channel_views(s.height, s.width, share_error_image(s, confidence), 3,
+                                             {{"bias", 0, 1}, {"noise", 1, 1}, {"luminance", 2, 1}});
           },
           py::arg("confidence") = 0.95, "Per pixel bias, noise and luminance, as Renderer.error().")
       .def(
@@ -117,12 +110,7 @@ void bind_share(py::module_& m) {
       .def("light_passes",
            [](const Share& s) -> py::object {
              if (s.seen.empty()) return py::none();
-             const py::array_t<float> all = image_array(s, s.seen, 6);
-             const py::slice rows(0, s.height, 1), columns(0, s.width, 1);
-             py::dict d;
-             d["Emit"] = all[py::make_tuple(rows, columns, py::slice(0, 3, 1))];
-             d["Env"] = all[py::make_tuple(rows, columns, py::slice(3, 6, 1))];
-             return d;
+             return py_convert::channel_views(s.height, s.width, s.seen, 6, {{"Emit", 0, 3}, {"Env", 3, 3}});
            },
            "With light_passes=True: the Emit and Env means, as Renderer.light_passes(); else None.")
       .def("to_dict", &to_dict, "Plain data: numbers, (first, count) pairs and float32 arrays.")
