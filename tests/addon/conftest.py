@@ -55,6 +55,17 @@ def render_file(scene, path, **ppm):
     return read_exr(str(path))
 
 
+def camera_looking_down(scene, height, width, pixels_high):
+    """The scene's camera: at (0, 0, height), looking down -Z (a new camera's direction), rendering
+    width x pixels_high pixels at 100%."""
+    cam = bpy.data.objects.new("cam", bpy.data.cameras.new("cam"))
+    cam.location = (0.0, 0.0, height)
+    scene.collection.objects.link(cam)
+    scene.camera = cam
+    scene.render.resolution_x, scene.render.resolution_y, scene.render.resolution_percentage = width, pixels_high, 100
+    return cam
+
+
 def node_material(name="m"):
     """A material with an empty node tree but its output: (material, tree, output node)."""
     mat = bpy.data.materials.new(name)

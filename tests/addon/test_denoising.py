@@ -7,7 +7,7 @@ import sys
 import numpy as np
 import pytest
 
-from conftest import ROOT, bpy, read_exr, render_file, shader_material
+from conftest import ROOT, bpy, camera_looking_down, read_exr, render_file, shader_material
 from ppm_render import core, denoise, engine, passes
 
 sys.path.insert(0, os.path.join(ROOT, "blend_scenes"))
@@ -28,11 +28,7 @@ def floor_scene():
     lamp = bpy.data.objects.new("lamp", bpy.data.lights.new("lamp", "POINT"))
     lamp.location = (0.3, 0.2, 2.0)
     scene.collection.objects.link(lamp)
-    cam = bpy.data.objects.new("cam", bpy.data.cameras.new("cam"))
-    cam.location = (0.0, 0.0, 4.0)
-    scene.collection.objects.link(cam)
-    scene.camera = cam
-    scene.render.resolution_x, scene.render.resolution_y, scene.render.resolution_percentage = 40, 30, 100
+    camera_looking_down(scene, 4.0, 40, 30)
     return scene
 
 

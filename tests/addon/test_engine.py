@@ -6,7 +6,7 @@ import time
 import numpy as np
 import pytest
 
-from conftest import bpy, render_file
+from conftest import bpy, camera_looking_down, render_file
 from ppm_render import core, engine, export, properties
 from ppm_render.export import material as material_export
 from ppm_render.properties import CORE_KEYS
@@ -25,11 +25,7 @@ def simple_scene(width=40, height=30):
     lamp = bpy.data.objects.new("lamp", bpy.data.lights.new("lamp", "POINT"))
     lamp.location = (0.5, 0.3, 1.0)
     scene.collection.objects.link(lamp)
-    cam = bpy.data.objects.new("cam", bpy.data.cameras.new("cam"))
-    cam.location = (0.0, 0.0, 3.0)
-    scene.collection.objects.link(cam)
-    scene.camera = cam
-    scene.render.resolution_x, scene.render.resolution_y, scene.render.resolution_percentage = width, height, 100
+    camera_looking_down(scene, 3.0, width, height)
     scene.render.engine = "PPM"
     return scene
 

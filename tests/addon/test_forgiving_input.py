@@ -6,7 +6,7 @@ import math
 import numpy as np
 import pytest
 
-from conftest import bpy, render_file
+from conftest import bpy, camera_looking_down, render_file
 from ppm_render import core, export
 from ppm_render.export.camera import Frame
 
@@ -20,11 +20,7 @@ def floor_scene():
     sun = bpy.data.objects.new("sun", bpy.data.lights.new("sun", "SUN"))
     sun.data.energy = 2.0
     scene.collection.objects.link(sun)
-    cam = bpy.data.objects.new("cam", bpy.data.cameras.new("cam"))
-    cam.location = (0.0, 0.0, 3.0)
-    scene.collection.objects.link(cam)
-    scene.camera = cam
-    scene.render.resolution_x, scene.render.resolution_y, scene.render.resolution_percentage = 32, 24, 100
+    camera_looking_down(scene, 3.0, 32, 24)
     scene.render.engine = "PPM"
     return scene
 

@@ -5,7 +5,7 @@ with Cycles' own passes is tests/cli/passes_compare.py's (Blender 3.4)."""
 import bpy
 import numpy as np
 
-from conftest import render_file
+from conftest import camera_looking_down, render_file
 from ppm_render import core, export, passes
 from ppm_render.export.camera import Frame
 
@@ -30,14 +30,10 @@ def indexed_scene():
     bpy.context.object.data.materials[0].pass_index = 5
     bpy.ops.mesh.primitive_cube_add(size=1.0, location=(1.0, 0.0, 0.5))
     bpy.context.object.pass_index = 4
-    cam = bpy.data.objects.new("cam", bpy.data.cameras.new("cam"))
-    cam.location = (0.0, 0.0, 6.0)
-    scene.collection.objects.link(cam)
-    scene.camera = cam
+    camera_looking_down(scene, 6.0, 40, 30)
     lamp = bpy.data.objects.new("lamp", bpy.data.lights.new("lamp", "POINT"))
     lamp.location = (0.0, 0.0, 3.0)
     scene.collection.objects.link(lamp)
-    scene.render.resolution_x, scene.render.resolution_y, scene.render.resolution_percentage = 40, 30, 100
     return scene
 
 

@@ -3,7 +3,7 @@ the emission of surfaces and lights apart from the world (the core's Renderer.li
 
 import numpy as np
 
-from conftest import bpy, render_file, shader_material
+from conftest import bpy, camera_looking_down, render_file, shader_material
 from ppm_render import passes
 
 GLOW, SKY = (1.0, 0.5, 0.25), (0.05, 0.1, 0.2)
@@ -22,11 +22,7 @@ def panel_and_sky():
     scene.world.color = SKY
     if scene.world.node_tree is not None:  # Blender 5.0 makes worlds with a Background node
         scene.world.node_tree.nodes["Background"].inputs["Color"].default_value = (*SKY, 1.0)
-    cam = bpy.data.objects.new("cam", bpy.data.cameras.new("cam"))
-    cam.location = (0.0, 0.0, 4.0)
-    scene.collection.objects.link(cam)
-    scene.camera = cam
-    scene.render.resolution_x, scene.render.resolution_y, scene.render.resolution_percentage = 40, 30, 100
+    camera_looking_down(scene, 4.0, 40, 30)
     return scene
 
 
