@@ -10,14 +10,18 @@ namespace {
 constexpr uint64_t kDirectStream = 1ull << 40;
 constexpr size_t kChunk = 4096;
 
-Color light_contribution(const Scene& scene, const Light& light, const HitPoint& hp,
-                         const HitPointShading& sh, double u1, double u2, int strategy = 0) {
+// One light sample's contribution to a hit point; with `classes`, added there split by class of lobe
+// as well, times `scale`.
+Color light_contribution(const Scene& scene, const Light& light, const HitPoint& hp, const HitPointShading& sh,
+                         double u1, double u2, int strategy, double scale, ClassColors* classes) {
   const Vec3 n(hp.normal);
   DirectSample ds;
   if (!sample_direct(light, hp.position, n, u1, u2, ds, strategy)) return Color(0.0);
   const Material& m = scene.material(sh.material);
   const SurfacePoint sp = scene.surface_point(surface_record(hp, sh));
-  const Color f = bsdf_eval(m, sp, Vec3(sh.wo), ds.wi);
+  ClassColors split;
+  if (classes) split = bsdf_eval_classes(m, sp, Vec3(sh.wo), ds.wi);
+  const Color f = classes ? split.total() : bsdf_eval(m, sp, Vec3(sh.wo), ds.wi);
   const double cos = std::fabs(glm::dot(Vec3(sh.shading_normal), ds.wi));
   const Color c = Color(sh.throughput) * f * (cos * ds.value);
   if (!(max_component(c) > 0.0)) return Color(0.0);
@@ -28,43 +32,54 @@ Color light_contribution(const Scene& scene, const Light& light, const HitPoint&
     dist = dist * (1.0 - 1e-9) - 2.0 * ray_offset(target, scene.offset_floor());  // stop short of an emitter's own surface
     if (!(dist > 0.0)) return Color(0.0);
   }
-  if (!light.cast_shadow) return c;
-  return scene.occluded(Ray{origin, ds.wi, kShadowRay}, dist) ? Color(0.0) : c;
+  if (light.cast_shadow && scene.occluded(Ray{origin, ds.wi, kShadowRay}, dist)) return Color(0.0);
+  if (classes)
+    for (int k = 0; k < kLightClasses; ++k) classes->c[k] += Color(sh.throughput) * split.c[k] * (cos * ds.value * scale);
+  return c;
 }
 
 }  // namespace
 
 bool direct_light_pass(const Scene& scene, const LightSampler& lights, const Settings& settings,
-                       uint64_t pass, int threads, HitPoints& hp, std::vector<Color>& sums,
+                       uint64_t pass, int threads, HitPoints& hp, DirectScratch& scratch,
                        std::atomic<bool>& cancel, const std::function<bool()>& poll, uint64_t first_index) {
   const size_t n = hp.size(), chunks = (n + kChunk - 1) / kChunk;
+  const bool split = !hp.components.empty();
+  std::vector<Color>& sums = scratch.sums;
   sums.resize(n);  // every entry is written below before any is added
+  scratch.classes.resize(split ? n : 0);
   const BounceLimits limits = BounceLimits::of(settings, scene);
   auto work = [&](int, size_t chunk) {
     for (size_t i = chunk * kChunk; i < std::min(n, (chunk + 1) * kChunk); ++i) {
       Rng rng(settings.seed, kDirectStream + pass, first_index + i);
       const int depth = limits.active ? hp.chain[i].total : 0;  // the eye chain's scatterings
       Color sum(0.0);
+      ClassColors* classes = split ? &scratch.classes[i] : nullptr;
+      if (classes) *classes = ClassColors{};
       for (uint32_t l : lights.analytic()) {
         const Light& light = scene.lights()[l];
         for (int strategy = 0; strategy < direct_samples(light); ++strategy) {
           const double u1 = rng.uniform(), u2 = rng.uniform();
           if (depth > light.max_bounces) continue;  // its own Max Bounces (the numbers are drawn all the same)
-          sum += light_contribution(scene, light, hp.points[i], hp.shading[i], u1, u2, strategy);
+          sum += light_contribution(scene, light, hp.points[i], hp.shading[i], u1, u2, strategy, 1.0, classes);
         }
       }
       if (lights.has_triangles()) {
         double pdf;
         const uint32_t l = lights.pick_triangle(rng.uniform(), pdf);
         const double u1 = rng.uniform(), u2 = rng.uniform();
-        sum += light_contribution(scene, scene.lights()[l], hp.points[i], hp.shading[i], u1, u2) / pdf;
+        sum += light_contribution(scene, scene.lights()[l], hp.points[i], hp.shading[i], u1, u2, 0, 1.0 / pdf, classes) / pdf;
       }
       sums[i] = sum;
     }
   };
   if (!parallel_chunks(threads, chunks, work, cancel, poll, settings.progress_interval)) return false;
   parallel_for(threads, n, [&](size_t begin, size_t end) {
-    for (size_t i = begin; i < end; ++i) hp.stats[i].direct += sums[i];
+    for (size_t i = begin; i < end; ++i) {
+      hp.stats[i].direct += sums[i];
+      if (split)
+        for (int k = 0; k < kLightClasses; ++k) hp.components[i].direct[k] += Vec3f(scratch.classes[i].c[k]);
+    }
   });
   return true;
 }

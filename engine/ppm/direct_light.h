@@ -15,12 +15,19 @@
 
 namespace ppm {
 
-// `scratch` holds the pass's sums until the pass completes (a cancelled pass
-// adds nothing); the caller keeps it across passes so that no pass allocates.
+// A pass's sums per hit point until the pass completes (a cancelled pass adds nothing); the caller
+// keeps them across passes so that no pass allocates. With light components (the hit points'
+// `components`), the sums by class of lobe as well.
+struct DirectScratch {
+  std::vector<Color> sums;
+  std::vector<ClassColors> classes;
+  size_t memory_bytes() const { return sums.capacity() * sizeof(Color) + classes.capacity() * sizeof(ClassColors); }
+};
+
 // Hit point i draws the random numbers of index `first_index + i` of the pass,
 // so that the bands of one pass (stochastic hit points) draw distinct ones.
 bool direct_light_pass(const Scene& scene, const LightSampler& lights, const Settings& settings,
-                       uint64_t pass, int threads, HitPoints& hit_points, std::vector<Color>& scratch,
+                       uint64_t pass, int threads, HitPoints& hit_points, DirectScratch& scratch,
                        std::atomic<bool>& cancel, const std::function<bool()>& poll, uint64_t first_index = 0);
 
 }  // namespace ppm

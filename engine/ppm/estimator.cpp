@@ -16,7 +16,8 @@ std::unique_ptr<Estimator> make_estimator(RenderContext& context) {
   if (storage == HitPointStorage::Streamed) return std::make_unique<StreamedHitPoints>(context);
   if (storage == HitPointStorage::Auto) {
     // Kept while they take at most half the memory available: the rest is the user's.
-    const double kept = kept_hit_point_bytes(context.scene->camera(), context.settings.samples_per_pixel);
+    const double kept = kept_hit_point_bytes(context.scene->camera(), context.settings.samples_per_pixel,
+                                             context.settings.component_passes);
     const double available = static_cast<double>(available_memory_bytes());
     if (available > 0.0 && kept > 0.5 * available) {
       char why[200];

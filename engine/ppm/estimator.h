@@ -31,6 +31,10 @@ class Estimator {
   virtual PixelValue pixel(size_t p) const = 0;
   // With settings.light_passes: what pixel p's camera rays see at no bounce (Cycles' Emit, Env).
   virtual SeenLight seen(size_t p) const = 0;
+  // With settings.component_passes: pixel p's light by component (light_components.h); where
+  // has_components() (streamed hit points keep none).
+  virtual ComponentLight components(size_t) const { return ComponentLight{}; }
+  virtual bool has_components() const { return false; }
   virtual double radius_mean() const = 0;
   // The share of the pass in progress already folded into the image (stochastic: its bands).
   virtual double pass_done() const { return 0.0; }

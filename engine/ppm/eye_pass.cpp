@@ -29,6 +29,25 @@ struct EyeVertex {
   // The chance that a single path (Cycles', which picks one branch where we split) comes this way:
   // what the denoising normal is weighted by.
   double share = 1.0;
+  uint8_t route = kNoBounce;  // the class of its chain's first bounce (light_components.h)
+};
+
+// The route after a bounce that sent a ray of `kind` from a vertex on `route`.
+uint8_t route_after(uint8_t route, uint8_t kind) {
+  if (route != kNoBounce) return route;
+  return kind == kTransmissionRay ? kTransmissionClass : kind == kGlossyRay ? kGlossyClass : kDiffuseClass;
+}
+
+// Files the emission a vertex past its chain's first bounce sees (what `emitted` gained while it
+// lived) into its route's Direct (after one bounce) or Indirect component.
+struct FileEmission {
+  ComponentLight* out;
+  const EyeVertex& v;
+  const Color& emitted;
+  const Color start;
+  ~FileEmission() {
+    if (out && v.depth > 0) out->light[2 * v.route + (v.depth == 1 ? 0 : 1)] += Vec3f(emitted - start);
+  }
 };
 
 using ChunkOutput = EyePassScratch::Chunk;
@@ -169,20 +188,24 @@ struct EyeTracer {
                         sp.tangent != Vec3(0.0) ? hit.tangent : glm::vec4(0.0f), hit.material, hit.object,
                         hit.primitive, pixel, path});
     if (limits.active) out.chain.push_back(v.chain);
+    if (options.record_components) out.route.push_back(v.route);
     if (features) features->add(v.throughput, denoising_albedo(m, sp, wo), ns, v.share);
   }
 
   // Adds what the path sees directly to `emitted` and what of it is transparent to `transparency`.
   // `features`: nullptr, or where this sample's denoising features go; `seen`: nullptr, or where
-  // what it sees at no bounce goes (as well as into `emitted`).
+  // what it sees at no bounce goes (as well as into `emitted`); `components`: nullptr, or where
+  // its light components go (emission after a bounce, the Color passes).
   void trace(const Ray& primary, const Color& weight, Rng& rng, uint32_t pixel, ChunkOutput& out,
-             Color& emitted, double& transparency, SampleFeatures* features, SeenLight* seen) const {
+             Color& emitted, double& transparency, SampleFeatures* features, SeenLight* seen,
+             ComponentLight* components) const {
     EyeVertex stack[2 * kSplitDepth + 4];
     int top = 0;
     stack[top++] = EyeVertex{primary, weight, 0, 0.0, true, Bounces{}, false};
     const double tmax0 = scene.camera().clip_end - scene.camera().clip_start;
     while (top > 0) {
       const EyeVertex v = stack[--top];
+      const FileEmission file{components, v, emitted, emitted};
       Hit hit;
       const bool found = scene.intersect(v.ray, hit, v.depth == 0 ? tmax0 : kInf);
       SeenLight* seen_here = v.depth == 0 ? seen : nullptr;  // Cycles' Emit and Env: no bounce
@@ -202,15 +225,22 @@ struct EyeTracer {
         if (seen_here) seen_here->emission += emission;
       }
       if (is_black(m) || v.emission_only) continue;
-      const EyeVertex here{v.ray, v.throughput, v.depth, v.length + hit.t, v.glass_only, v.chain, false, v.share};
+      const EyeVertex here{v.ray,   v.throughput, v.depth, v.length + hit.t, v.glass_only,
+                           v.chain, false,        v.share, v.route};
       const SurfacePoint sp = scene.surface_point(hit, -v.ray.direction, pixel_size(here.length), path_of(v, hit.t));
+      if (components && v.depth == 0) {  // Cycles' Color passes: at the surfaces the camera sees
+        const ClassColors albedo = bsdf_class_albedo(m, sp, -v.ray.direction);
+        for (int c = 0; c < kLightClasses; ++c) components->color[c] += Vec3f(v.throughput * albedo.c[c]);
+      }
       double followed = is_specular(m) ? 1.0 : 0.0;
       if (m.kind == MaterialKind::Mixture && followed == 0.0 && closure_has_followed(m.lobes))
         followed = closure_followed_share(m.lobes, sp, -v.ray.direction);
       // A mixture of followed and stored lobes: one or the other, divided by its probability.
       if (!(followed >= 1.0 || (followed > 0.0 && rng.uniform() < followed))) {
-        record(hit, sp, EyeVertex{here.ray, here.throughput / (1.0 - followed), here.depth, here.length,
-                                  here.glass_only, here.chain, false, here.share}, pixel, out, features);
+        record(hit, sp,
+               EyeVertex{here.ray, here.throughput / (1.0 - followed), here.depth, here.length, here.glass_only,
+                         here.chain, false, here.share, here.route},
+               pixel, out, features);
         continue;
       }
       // With Cycles' limits, one ray more than the total: it may still see emission.
@@ -244,11 +274,11 @@ struct EyeTracer {
         const bool emission_only = limits.by_kind && !within(chain, limits.max);
         if (branches[b].ray_kind == 0) {  // through a transparent lobe: no bounce, as Cycles counts it
           stack[top++] = EyeVertex{Ray{origin, wi, v.ray.kind}, thr, v.depth, here.length, v.glass_only, v.chain,
-                                   v.emission_only, share};
+                                   v.emission_only, share, v.route};
           continue;
         }
-        stack[top++] =
-            EyeVertex{Ray{origin, wi, kind}, thr, v.depth + 1, here.length, glass_only, chain, emission_only, share};
+        stack[top++] = EyeVertex{Ray{origin, wi, kind}, thr,   v.depth + 1, here.length,
+                                 glass_only,            chain, emission_only, share, route_after(v.route, kind)};
       }
     }
   }
@@ -268,7 +298,7 @@ size_t EyePassScratch::memory_bytes() const {
   size_t bytes = counts.capacity() * sizeof(uint32_t);
   for (const Chunk& c : chunks)
     bytes += c.points.capacity() * sizeof(HitPoint) + c.shading.capacity() * sizeof(HitPointShading) +
-             c.chain.capacity() * sizeof(Bounces);
+             c.chain.capacity() * sizeof(Bounces) + c.route.capacity();
   return bytes;
 }
 
@@ -303,6 +333,7 @@ bool eye_pass(const Scene& scene, const Settings& settings, const EyePassOptions
   out.sample_light.assign(options.record_samples ? pixels * spp : 0, 0.0f);
   out.seen.assign(options.record_seen ? pixels : 0, SeenLight{});
   out.albedo.assign(options.record_features ? pixels : 0, Vec3f(0.0f));
+  out.pixel_components.assign(options.record_components ? pixels : 0, ComponentLight{});
   out.feature_normal.assign(options.record_features ? pixels : 0, Vec3f(0.0f));
 
   auto work = [&](int, size_t chunk) {
@@ -311,6 +342,7 @@ bool eye_pass(const Scene& scene, const Settings& settings, const EyePassOptions
     o.shading.clear();
     o.chain.clear();
     o.sample.clear();
+    o.route.clear();
     // About one hit point per eye sample: reserving saves the regrowth copies and their page faults.
     o.points.reserve(size_t(kRowsPerChunk) * W * spp);
     o.shading.reserve(size_t(kRowsPerChunk) * W * spp);
@@ -346,7 +378,8 @@ bool eye_pass(const Scene& scene, const Settings& settings, const EyePassOptions
           SampleFeatures features;
           const double light_before = luminance(out.emitted[local]);
           tracer.trace(ray, Color(1.0 / samples), rng, pixel, o, out.emitted[local], out.transparency[local],
-                       options.record_features ? &features : nullptr, options.record_seen ? &out.seen[local] : nullptr);
+                       options.record_features ? &features : nullptr, options.record_seen ? &out.seen[local] : nullptr,
+                       options.record_components ? &out.pixel_components[local] : nullptr);
           if (options.record_samples) {
             o.sample.resize(o.points.size(), static_cast<uint16_t>(s));
             out.sample_light[local * spp + s] = static_cast<float>(luminance(out.emitted[local]) - light_before);
@@ -367,6 +400,8 @@ bool eye_pass(const Scene& scene, const Settings& settings, const EyePassOptions
   out.shading.resize(total);
   out.stats.resize(total);
   out.chain.resize(tracer.limits.active ? total : 0);
+  out.route.resize(options.record_components ? total : 0);
+  out.components.resize(options.record_components ? total : 0);
   parallel_each(options.threads, chunks, [&](size_t c) {
     ChunkOutput& o = outputs[c];
     for (size_t k = 0; k < o.points.size(); ++k) {
@@ -377,6 +412,10 @@ bool eye_pass(const Scene& scene, const Settings& settings, const EyePassOptions
       out.stats[first[c] + k] = HitPointStats{};
       if (options.record_samples) out.stats[first[c] + k].sample = o.sample[k];
       if (tracer.limits.active) out.chain[first[c] + k] = o.chain[k];
+      if (options.record_components) {
+        out.route[first[c] + k] = o.route[k];
+        out.components[first[c] + k] = HitPointComponents{};
+      }
     }
   });
   out.pixel_begin.assign(counts.size() + 1, 0);

@@ -23,6 +23,7 @@ struct EyePassOptions {
   bool record_features = false; // per-pixel denoising albedo and normal (HitPoints::albedo)
   bool record_samples = false;  // each hit point's eye sample, each sample's light (HitPoints::sample_light)
   bool record_seen = false;     // per pixel, the emission and world seen at no bounce (HitPoints::seen)
+  bool record_components = false;  // light components (HitPoints::route, components, pixel_components)
   // Optional, per pixel of the image (row 0 at the bottom): its own number of samples, at most
   // samples_per_pixel (the random streams' stride); nullptr: samples_per_pixel everywhere.
   const uint8_t* pixel_samples = nullptr;
@@ -42,6 +43,7 @@ struct EyePassScratch {
     std::vector<HitPointShading> shading;
     std::vector<Bounces> chain;  // with bounce limits
     std::vector<uint16_t> sample;  // with record_samples
+    std::vector<uint8_t> route;    // with record_components
   };
   std::vector<Chunk> chunks;
   std::vector<uint32_t> counts;  // hit points per pixel

@@ -15,18 +15,19 @@ namespace ppm {
 // Per eye sample a hit point twice while the chunks are joined, its statistics and a pass's sums,
 // and the light it saw directly; per pixel the pixel's records, the image read back and the error
 // estimate's.
-double kept_hit_point_bytes(const Camera& camera, int samples_per_pixel) {
+double kept_hit_point_bytes(const Camera& camera, int samples_per_pixel, bool components) {
   const double pixels = static_cast<double>(camera.width) * camera.height;
   const double per_sample = 2.0 * (sizeof(HitPoint) + sizeof(HitPointShading)) + sizeof(HitPointStats) +
-                            sizeof(uint32_t) + 2 * sizeof(Color) + sizeof(Bounces) + sizeof(uint16_t) + sizeof(float);
+                            sizeof(uint32_t) + 2 * sizeof(Color) + sizeof(Bounces) + sizeof(uint16_t) + sizeof(float) +
+                            (components ? 2.0 + sizeof(HitPointComponents) + sizeof(ClassColors) : 0.0);
   const double per_pixel = 2 * sizeof(uint32_t) + sizeof(Color) + sizeof(double) + 5 * sizeof(float) +
-                           sizeof(PixelErrorStats);
+                           sizeof(PixelErrorStats) + (components ? sizeof(ComponentLight) : 0);
   return pixels * (per_sample * samples_per_pixel + per_pixel);
 }
 
 void FixedHitPoints::check_memory_for_hit_points() const {
   const Camera& cam = c_.scene->camera();
-  const double needed = kept_hit_point_bytes(cam, c_.settings.samples_per_pixel);
+  const double needed = kept_hit_point_bytes(cam, c_.settings.samples_per_pixel, c_.settings.component_passes);
   check_memory(static_cast<size_t>(std::min(needed, 1e18)),
                "fixed hit points at " + std::to_string(cam.width) + "x" + std::to_string(cam.height) + " and " +
                    std::to_string(c_.settings.samples_per_pixel) + " samples per pixel",
@@ -42,6 +43,7 @@ bool FixedHitPoints::prepare(const Poll& poll) {
     EyePassOptions eye = c_.eye_options(0, c_.settings.samples_per_pixel);
     eye.record_samples = c_.settings.samples_per_pixel > 1;  // the error estimate's anti-aliasing term
     eye.record_seen = c_.settings.light_passes;
+    eye.record_components = c_.settings.component_passes;
     if (!eye_pass(*c_.scene, c_.settings, eye, hit_points_, scratch, c_.cancel, poll)) return false;
     if (!hit_points_.depth.empty()) c_.depth.swap(hit_points_.depth);
     if (!c_.measure_photon_spacing_once(hit_points_, poll)) return false;
@@ -112,11 +114,12 @@ void FixedHitPoints::update_pixels(bool direct_sampled) {
       for (uint32_t i = hit_points_.pixel_begin[p]; i < hit_points_.pixel_begin[p + 1]; ++i) {
         HitPointStats& s = hit_points_.stats[i];
         double& r2 = hit_points_.points[i].r2;
-        value += direct_sampled ? luminance(c_.direct_scratch[i]) : luminance(s.direct) * direct_scale;
+        value += direct_sampled ? luminance(c_.direct_scratch.sums[i]) : luminance(s.direct) * direct_scale;
         const double scale = c_.pass_radiance_scale(r2, photons);
         value += scale * s.pass_flux;
         bias += scale * s.pass_bias;
-        progressive_update(r2, s, alpha, threshold);
+        const double ratio = progressive_update(r2, s, alpha, threshold);
+        if (!hit_points_.components.empty()) hit_points_.components[i].fold(ratio);
       }
       errors_[p].add(value, bias, c_.stats.passes + 1);
     }
@@ -166,6 +169,17 @@ PixelValue FixedHitPoints::pixel(size_t p) const {
     c += c_.photon_radiance(hit_points_.points[i].r2, s, photons_emitted);
   }
   return PixelValue{c, hit_points_.transparency[p]};
+}
+
+ComponentLight FixedHitPoints::components(size_t p) const {
+  if (hit_points_.pixel_components.empty()) return ComponentLight{};
+  const double direct_scale = c_.stats.direct_samples > 0 ? 1.0 / c_.stats.direct_samples : 0.0;
+  const double photons_emitted = static_cast<double>(c_.stats.photon.emitted);
+  ComponentLight out = hit_points_.pixel_components[p];
+  for (uint32_t i = hit_points_.pixel_begin[p]; i < hit_points_.pixel_begin[p + 1]; ++i)
+    hit_points_.components[i].add_to(out, hit_points_.route[i], direct_scale,
+                                      c_.pass_radiance_scale(hit_points_.points[i].r2, photons_emitted));
+  return out;
 }
 
 double FixedHitPoints::radius_mean() const {

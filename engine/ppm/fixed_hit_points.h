@@ -10,7 +10,7 @@
 namespace ppm {
 
 // What kept fixed hit points will hold at their peak, all included (checked before the eye pass).
-double kept_hit_point_bytes(const Camera& camera, int samples_per_pixel);
+double kept_hit_point_bytes(const Camera& camera, int samples_per_pixel, bool components);
 
 class FixedHitPoints : public Estimator {
  public:
@@ -19,6 +19,8 @@ class FixedHitPoints : public Estimator {
   bool pass(const Poll& poll) override;
   PixelValue pixel(size_t p) const override;
   SeenLight seen(size_t p) const override { return hit_points_.seen.empty() ? SeenLight{} : hit_points_.seen[p]; }
+  ComponentLight components(size_t p) const override;
+  bool has_components() const override { return true; }
   double radius_mean() const override;
   ErrorPasses error_passes() const override { return ErrorPasses{c_.stats.passes, 0}; }
   const std::vector<float>& sampling_variance() const override;

@@ -10,6 +10,7 @@
 #include "scene/scene.h"
 #include "ppm/bounce_limits.h"
 #include "ppm/fill_vector.h"
+#include "ppm/light_components.h"
 
 #include <vector>
 
@@ -84,17 +85,24 @@ struct HitPoints {
   std::vector<float> sample_light;
   std::vector<SeenLight> seen;  // optional, per pixel (EyePassOptions::record_seen)
   FillVector<Bounces> chain;          // with bounce limits: each eye chain's scatterings (bounce_limits.h)
+  // Optional (EyePassOptions::record_components, light_components.h): per hit point its eye
+  // chain's route and its share of the components; per pixel the components of the emission its
+  // eye paths saw after a bounce, and its Color passes.
+  std::vector<uint8_t> route;
+  FillVector<HitPointComponents> components;
+  std::vector<ComponentLight> pixel_components;
   size_t size() const { return points.size(); }
   size_t memory_bytes() const {
     return points.capacity() * sizeof(HitPoint) + shading.capacity() * sizeof(HitPointShading) +
-           stats.capacity() * sizeof(HitPointStats) + chain.capacity() * sizeof(Bounces) + pixel_bytes();
+           stats.capacity() * sizeof(HitPointStats) + chain.capacity() * sizeof(Bounces) + route.capacity() +
+           components.capacity() * sizeof(HitPointComponents) + pixel_bytes();
   }
   // Of which per pixel.
   size_t pixel_bytes() const {
     return pixel_begin.capacity() * sizeof(uint32_t) + emitted.capacity() * sizeof(Color) +
            transparency.capacity() * sizeof(double) + depth.capacity() * sizeof(float) +
            (albedo.capacity() + feature_normal.capacity()) * sizeof(Vec3f) + sample_light.capacity() * sizeof(float) +
-           seen.capacity() * sizeof(SeenLight);
+           seen.capacity() * sizeof(SeenLight) + pixel_components.capacity() * sizeof(ComponentLight);
   }
 };
 

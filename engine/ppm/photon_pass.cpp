@@ -74,6 +74,21 @@ inline bool photon_weight(const Scene& scene, const HitPoints& hp, uint32_t i, c
   return weight.x > 0.0f || weight.y > 0.0f || weight.z > 0.0f;
 }
 
+// photon_weight split by class of lobe, for a glossy hit point with light components.
+inline bool photon_weight_classes(const Scene& scene, const HitPoints& hp, uint32_t i, const Vec3& pos,
+                                  const Vec3f& dir, const Vec3f& photon_normal, ClassColors& weight) {
+  const HitPoint& h = hp.points[i];
+  const Vec3 d = pos - h.position;
+  if (glm::dot(d, d) > h.r2) return false;
+  const HitPointShading& sh = hp.shading[h.shading];
+  const Material& m = scene.material(sh.material);
+  if (!transmits(m) && across_a_solid(d, Vec3(h.normal), h.normal, photon_normal)) return false;
+  const SurfacePoint sp = scene.surface_point(surface_record(h, sh));
+  weight = bsdf_eval_classes(m, sp, Vec3(sh.wo), -Vec3(dir));
+  for (Color& c : weight.c) c *= Color(sh.throughput);
+  return max_component(weight.total()) > 0.0;
+}
+
 // Bounce limits: does a photon whose path scattered `used` fit in what hit point i's eye chain left?
 inline bool within_budget(const BounceLimits& limits, const HitPoints& hp, uint32_t i, Bounces used,
                           const Vec3f& photon_normal) {
@@ -151,7 +166,7 @@ bool PhotonPass::run_hit_point_index(const Grid& grid, const Scene& scene, const
       deposits += trace_photons(
           scene, lights, settings_, limits_, begin, std::min(last, begin + kPhotonChunk),
           [&](uint64_t i) { return Rng(settings_.seed, kPhotonStream + pass, i); },
-          [&](const Vec3& pos, const Vec3& dir, const Vec3& normal, const Color& flux, const Bounces& used) {
+          [&](const Vec3& pos, const Vec3& dir, const Vec3& normal, const Color& flux, const Bounces& used, bool caustic) {
             const Vec3f d(dir), nf(normal), f(flux);
             grid.for_each_candidate_at(pos, [&](uint32_t h) {
               Vec3f w;
@@ -223,6 +238,8 @@ size_t PhotonPass::index_photons(Grid& grid, size_t chunks, double typical_r2) {
   positions_.resize(count);
   arrivals_.resize(count);
   arrival_bounces_.resize(limits_.active ? count : 0);
+  const bool tagged = settings_.component_passes;
+  arrival_caustic_.resize(tagged ? count : 0);
   parallel_each(threads_, chunks, [&](size_t c) {
     const std::vector<Photon>& buffer = chunk_photons_[c];
     const uint32_t* new_index = new_of_old_.data() + chunk_first_[c];
@@ -231,6 +248,7 @@ size_t PhotonPass::index_photons(Grid& grid, size_t chunks, double typical_r2) {
       positions_[new_index[k]] = p.position;
       arrivals_[new_index[k]] = Arrival{p.normal, p.flux, p.direction};
       if (limits_.active) arrival_bounces_[new_index[k]] = p.bounces;
+      if (tagged) arrival_caustic_[new_index[k]] = chunk_caustic_[c][k];
     }
   });
   return count;
@@ -270,6 +288,8 @@ bool PhotonPass::gather(const Scene& scene, HitPoints& hp, std::atomic<bool>& ca
       s.tau_m += gathered_tau_[i];
       s.pass_flux = static_cast<float>(luminance(gathered_tau_[i]));
       s.pass_bias = gathered_bias_[i];
+      if (!gathered_parts_.empty())
+        for (int k = 0; k < kPhotonParts; ++k) hp.components[i].tau_m[k] += gathered_parts_[i].flux[k];
     }
   });
   counters.gather_seconds += seconds_since(t0);
@@ -283,21 +303,100 @@ bool PhotonPass::trace_into_chunks(const Scene& scene, const LightSampler& light
                                    std::atomic<bool>& cancel, const std::function<bool()>& poll) {
   const uint64_t photons = settings_.photons_per_pass;
   if (chunk_photons_.size() < chunks) chunk_photons_.resize(chunks);
+  const bool tag = settings_.component_passes;
+  if (tag && chunk_caustic_.size() < chunks) chunk_caustic_.resize(chunks);
   auto trace = [&](int, size_t chunk) {
     auto& buffer = chunk_photons_[chunk];
     buffer.clear();
+    if (tag) chunk_caustic_[chunk].clear();
     trace_photons(
         scene, lights, settings_, limits_, chunk * kPhotonChunk,
         std::min<uint64_t>(photons, (chunk + 1) * kPhotonChunk),
         [&](uint64_t i) { return Rng(settings_.seed, kPhotonStream + pass, i); },
-        [&](const Vec3& pos, const Vec3& dir, const Vec3& normal, const Color& flux, const Bounces& used) {
+        [&](const Vec3& pos, const Vec3& dir, const Vec3& normal, const Color& flux, const Bounces& used, bool caustic) {
           buffer.push_back(Photon{pos, Vec3f(dir), Vec3f(normal), Vec3f(flux), used});
+          if (tag) chunk_caustic_[chunk].push_back(caustic);
         });
   };
   return parallel_chunks(threads_, chunks, trace, cancel, poll, settings_.progress_interval);
 }
 
-// Every hit point sums the indexed photons within its radius into gathered_m_ and gathered_tau_.
+// Diffuse hit point i: the weight is the same for every photon, so it sums the flux and weighs
+// once. Compiled for each case, so that the common loop has no test for limits or components.
+template <class Grid, bool kLimits, bool kParts>
+void PhotonPass::gather_diffuse(const Grid& grid, const HitPoints& hp, size_t i, Gathered& g,
+                                PhotonParts* parts) const {
+  const HitPoint& h = hp.points[i];
+  const Vec3 center = h.position;
+  const double r2 = h.r2, r = std::sqrt(r2);
+  const Vec3f normal_f = h.normal;
+  const Vec3 normal(normal_f);
+  const Bounces budget = kLimits ? limits_.budget(hp.chain[i]) : Bounces{};
+  const Vec3* position = positions_.data();
+  const Arrival* arrival = arrivals_.data();
+  Color flux(0.0), flux_d2(0.0), caustic_flux(0.0);
+  grid.for_each_run_in_box(center - r, center + r, [&](uint32_t begin, uint32_t end) {
+    for (uint32_t p = begin; p < end; ++p) {
+      // Most candidates fail the distance test, which reads positions only.
+      const Vec3 d = position[p] - center;
+      const double d2 = glm::dot(d, d);
+      if (d2 > r2) continue;
+      const Arrival& a = arrival[p];
+      if (!counts_for_diffuse(d, normal, normal_f, a.direction, a.normal)) continue;
+      if constexpr (kLimits) {
+        if (!within(arrival_bounces_[p], budget)) continue;
+      }
+      ++g.m;
+      flux += Color(a.flux);
+      flux_d2 += Color(a.flux) * d2;
+      if constexpr (kParts) {
+        if (arrival_caustic_[p]) caustic_flux += Color(a.flux);
+      }
+    }
+  });
+  g.tau = flux * Color(h.weight);
+  g.bias = luminance(bias_sum(flux, flux_d2, r2) * Color(h.weight));
+  if constexpr (kParts) {  // a diffuse hit point scatters by its diffuse lobe alone
+    parts->flux[kDiffuseClass] = Vec3f(g.tau);
+    parts->flux[kLightClasses] = Vec3f(caustic_flux * Color(h.weight));
+  }
+}
+
+// Glossy hit point i: the BSDF evaluated per photon (by class of lobe with components).
+template <class Grid, bool kParts>
+void PhotonPass::gather_glossy(const Grid& grid, const Scene& scene, const HitPoints& hp, size_t i, Gathered& g,
+                               PhotonParts* parts) const {
+  const HitPoint& h = hp.points[i];
+  const Vec3 center = h.position;
+  const double r2 = h.r2, r = std::sqrt(r2);
+  const uint32_t index = static_cast<uint32_t>(i);
+  grid.for_each_run_in_box(center - r, center + r, [&](uint32_t begin, uint32_t end) {
+    for (uint32_t p = begin; p < end; ++p) {
+      const Arrival& a = arrivals_[p];
+      ClassColors split;
+      Vec3f w;
+      if constexpr (kParts) {
+        if (!photon_weight_classes(scene, hp, index, positions_[p], a.direction, a.normal, split)) continue;
+        w = Vec3f(split.total());
+      } else {
+        if (!photon_weight(scene, hp, index, positions_[p], a.direction, a.normal, w)) continue;
+      }
+      if (limits_.active && !within_budget(limits_, hp, index, arrival_bounces_[p], a.normal)) continue;
+      ++g.m;
+      const Color wf(w * a.flux);
+      g.tau += wf;
+      const Vec3 d = positions_[p] - center;
+      g.bias += luminance(wf) * bias_weight(glm::dot(d, d), r2);
+      if constexpr (kParts) {
+        for (int c = 0; c < kLightClasses; ++c) parts->flux[c] += Vec3f(split.c[c] * Color(a.flux));
+        if (arrival_caustic_[p]) parts->flux[kLightClasses] += Vec3f(wf);
+      }
+    }
+  });
+}
+
+// Every hit point sums the indexed photons within its radius into gathered_m_ and gathered_tau_
+// (and by class into gathered_parts_ with light components).
 template <class Grid>
 bool PhotonPass::gather_at_hit_points(const Grid& grid, const Scene& scene, const HitPoints& hp,
                                       std::atomic<bool>& cancel, const std::function<bool()>& poll) {
@@ -305,77 +404,37 @@ bool PhotonPass::gather_at_hit_points(const Grid& grid, const Scene& scene, cons
   gathered_m_.resize(n);
   gathered_tau_.resize(n);
   gathered_bias_.resize(n);
-  auto gather = [&](int, size_t chunk) {
-    const Vec3* position = positions_.data();
-    const Arrival* arrival = arrivals_.data();
-    const Bounces* bounces = arrival_bounces_.data();
-    const bool limited = limits_.active;
-    for (size_t i = chunk * kHitPointChunk; i < std::min(n, (chunk + 1) * kHitPointChunk); ++i) {
-      const HitPoint& h = hp.points[i];
-      const Vec3 center = h.position;
-      const double r2 = h.r2, r = std::sqrt(r2);
-      uint32_t m = 0;
-      Color tau(0.0);
-      double bias = 0.0;  // luminance
-      if (!h.glossy) {
-        // Diffuse: the weight is the same for every photon, so sum the flux and weigh once.
-        const Vec3f normal_f = h.normal;
-        const Vec3 normal(normal_f);
-        const Bounces budget = limited ? limits_.budget(hp.chain[i]) : Bounces{};
-        Color flux(0.0), flux_d2(0.0);
-        // Compiled twice, so that the loop without bounce limits has no test for them.
-        auto sum = [&](auto with_limits) {
-          grid.for_each_run_in_box(center - r, center + r, [&](uint32_t begin, uint32_t end) {
-            for (uint32_t p = begin; p < end; ++p) {
-              // Most candidates fail the distance test, which reads positions only.
-              const Vec3 d = position[p] - center;
-              const double d2 = glm::dot(d, d);
-              if (d2 > r2) continue;
-              const Arrival& a = arrival[p];
-              if (!counts_for_diffuse(d, normal, normal_f, a.direction, a.normal)) continue;
-              if constexpr (decltype(with_limits)::value) {
-                if (!within(bounces[p], budget)) continue;
-              }
-              ++m;
-              flux += Color(a.flux);
-              flux_d2 += Color(a.flux) * d2;
-            }
-          });
-        };
-        if (limited)
-          sum(std::true_type{});
+  const bool split = !hp.components.empty();
+  gathered_parts_.resize(split ? n : 0);
+  auto gather = [&](auto with_parts) {
+    constexpr bool kParts = decltype(with_parts)::value;
+    return [&](int, size_t chunk) {
+      for (size_t i = chunk * kHitPointChunk; i < std::min(n, (chunk + 1) * kHitPointChunk); ++i) {
+        Gathered g;
+        PhotonParts* parts = kParts ? &gathered_parts_[i] : nullptr;
+        if constexpr (kParts) *parts = PhotonParts{};
+        if (hp.points[i].glossy)
+          gather_glossy<Grid, kParts>(grid, scene, hp, i, g, parts);
+        else if (limits_.active)
+          gather_diffuse<Grid, true, kParts>(grid, hp, i, g, parts);
         else
-          sum(std::false_type{});
-        tau = flux * Color(h.weight);
-        bias = luminance(bias_sum(flux, flux_d2, r2) * Color(h.weight));
-      } else {
-        grid.for_each_run_in_box(center - r, center + r, [&](uint32_t begin, uint32_t end) {
-          for (uint32_t p = begin; p < end; ++p) {
-            Vec3f w;
-            const Arrival& a = arrival[p];
-            if (!photon_weight(scene, hp, static_cast<uint32_t>(i), position[p], a.direction, a.normal, w)) continue;
-            if (limited && !within_budget(limits_, hp, static_cast<uint32_t>(i), bounces[p], a.normal)) continue;
-            ++m;
-            const Color wf(w * a.flux);
-            tau += wf;
-            const Vec3 d = position[p] - center;
-            bias += luminance(wf) * bias_weight(glm::dot(d, d), r2);
-          }
-        });
+          gather_diffuse<Grid, false, kParts>(grid, hp, i, g, parts);
+        gathered_m_[i] = g.m;
+        gathered_tau_[i] = g.tau;
+        gathered_bias_[i] = static_cast<float>(g.bias);
       }
-      gathered_m_[i] = m;
-      gathered_tau_[i] = tau;
-      gathered_bias_[i] = static_cast<float>(bias);
-    }
+    };
   };
-  return parallel_chunks(threads_, hchunks, gather, cancel, poll, settings_.progress_interval);
+  return split ? parallel_chunks(threads_, hchunks, gather(std::true_type{}), cancel, poll, settings_.progress_interval)
+               : parallel_chunks(threads_, hchunks, gather(std::false_type{}), cancel, poll, settings_.progress_interval);
 }
 
 size_t PhotonPass::photon_bytes() const {
   size_t bytes = 0;
   for (const auto& v : chunk_photons_) bytes += v.capacity() * sizeof(Photon);
   bytes += (traced_positions_.capacity() + positions_.capacity()) * sizeof(Vec3) + arrivals_.capacity() * sizeof(Arrival) +
-           arrival_bounces_.capacity() * sizeof(Bounces);
+           arrival_bounces_.capacity() * sizeof(Bounces) + arrival_caustic_.capacity();
+  for (const auto& v : chunk_caustic_) bytes += v.capacity();
   return bytes + (old_of_new_.capacity() + new_of_old_.capacity()) * sizeof(uint32_t);
 }
 
@@ -386,7 +445,7 @@ size_t PhotonPass::per_hit_point_bytes() const {
   for (const auto& v : m_acc_) bytes += v.capacity() * sizeof(uint32_t);
   for (const auto& v : tau_acc_) bytes += v.capacity() * sizeof(Vec3f);
   for (const auto& v : bias_acc_) bytes += v.capacity() * sizeof(float);
-  bytes += gathered_bias_.capacity() * sizeof(float);
+  bytes += gathered_bias_.capacity() * sizeof(float) + gathered_parts_.capacity() * sizeof(PhotonParts);
   bytes += gathered_m_.capacity() * sizeof(uint32_t) + gathered_tau_.capacity() * sizeof(Color);
   return bytes + centers_.capacity() * sizeof(Vec3) + radii_.capacity() * sizeof(double);
 }

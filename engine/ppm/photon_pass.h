@@ -81,6 +81,21 @@ class PhotonPass {
                          std::atomic<bool>& cancel, const std::function<bool()>& poll);
   template <class Grid>
   size_t index_photons(Grid& grid, size_t chunks, double typical_r2);
+  // One hit point's photons by class of lobe, the caustic ones last (light_components.h).
+  struct PhotonParts {
+    Vec3f flux[kPhotonParts];
+  };
+  // What one hit point gathers from a pass's indexed photons (luminance bias, error_estimate.h).
+  struct Gathered {
+    uint32_t m = 0;
+    Color tau{0.0};
+    double bias = 0.0;
+  };
+  template <class Grid, bool kLimits, bool kParts>
+  void gather_diffuse(const Grid& grid, const HitPoints& hp, size_t i, Gathered& g, PhotonParts* parts) const;
+  template <class Grid, bool kParts>
+  void gather_glossy(const Grid& grid, const Scene& scene, const HitPoints& hp, size_t i, Gathered& g,
+                     PhotonParts* parts) const;
   template <class Grid>
   bool gather_at_hit_points(const Grid& grid, const Scene& scene, const HitPoints& hp, std::atomic<bool>& cancel,
                             const std::function<bool()>& poll);
@@ -110,10 +125,15 @@ class PhotonPass {
   std::vector<Vec3> positions_;         // cell order
   std::vector<Arrival> arrivals_;       // cell order
   std::vector<Bounces> arrival_bounces_;  // cell order, with bounce limits only
+  // With light components (Settings::component_passes): whether each photon is a caustic one, per
+  // chunk as traced and in cell order.
+  std::vector<std::vector<uint8_t>> chunk_caustic_;
+  std::vector<uint8_t> arrival_caustic_;
   // One pass's gather per hit point, added to the statistics once the pass completes.
   std::vector<uint32_t> gathered_m_;
   std::vector<Color> gathered_tau_;
   std::vector<float> gathered_bias_;  // luminance (error_estimate.h)
+  std::vector<PhotonParts> gathered_parts_;  // with light components
   std::vector<Vec3> centers_;
   std::vector<double> radii_;
 };

@@ -30,6 +30,11 @@ struct PhotonPath {
   Ray ray;
   int bounce;
   Bounces used;  // scatterings after the first, plus the light's head start (bounce_limits.h)
+  // Whether every scattering so far was specular (a delta lobe, or a surface photons pass without
+  // depositing), and there was one: its deposits are caustics (light_components.h).
+  bool specular_only = false;
+  bool scattered = false;
+  bool caustic() const { return scattered && specular_only; }
 };
 
 // Emits a photon from a light picked in proportion to its flux.
@@ -48,10 +53,11 @@ inline PhotonPath emit_photon_path(const Scene& scene, const LightSampler& light
 
 // Takes the path one bounce on, given what its ray hit (nullptr: nothing):
 // deposits (counted in `deposits`), then scatters. False when the path ends.
-// `deposit(position, travel_direction, normal, flux, bounces)`, where `normal`
+// `deposit(position, travel_direction, normal, flux, bounces, caustic)`, where `normal`
 // is the surface's shading normal turned to the side the photon arrived on (as
-// hit points turn theirs to the viewer), and `bounces` the path's counts with
-// the hit point's own scattering (meaningful only when `limits.active`).
+// hit points turn theirs to the viewer), `bounces` the path's counts with
+// the hit point's own scattering (meaningful only when `limits.active`), and `caustic` whether
+// the path came by specular scatterings only (PhotonPath::caustic).
 template <class Deposit>
 bool bounce_photon(const Scene& scene, const Settings& settings, const BounceLimits& limits, PhotonPath& p,
                    const Hit* hit, Deposit&& deposit, uint64_t& deposits) {
@@ -68,7 +74,8 @@ bool bounce_photon(const Scene& scene, const Settings& settings, const BounceLim
   if (!is_specular(m) && (p.bounce > 0 || deposit_direct)) {
     const uint8_t here = scattering_ray_kind(m);
     const Bounces bounces = limits.active && p.bounce > 0 ? plus(p.used, here) : p.used;
-    deposit(hit->position, p.ray.direction, glm::dot(wo, sp.ng) >= 0.0 ? sp.ns : -sp.ns, p.flux, bounces);
+    deposit(hit->position, p.ray.direction, glm::dot(wo, sp.ng) >= 0.0 ? sp.ns : -sp.ns, p.flux, bounces,
+            p.caustic());
     ++deposits;
   }
   BsdfSample s;
@@ -79,6 +86,11 @@ bool bounce_photon(const Scene& scene, const Settings& settings, const BounceLim
   const double survive = std::fmin(1.0, max_component(s.weight));
   if (!(survive > 0.0) || p.rng.uniform() >= survive) return false;
   p.flux *= s.weight / survive;
+  if (s.ray_kind != 0) {  // transparency is no scattering
+    const bool specular = s.specular || is_specular(m);
+    p.specular_only = specular && (p.specular_only || !p.scattered);
+    p.scattered = true;
+  }
   p.ray = Ray{offset_point(hit->position, hit->geometric_normal, s.wi, scene.offset_floor()), s.wi,
               s.ray_kind ? s.ray_kind : p.ray.kind};  // 0: through a transparent surface
   if (limits.active) {

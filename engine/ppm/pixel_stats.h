@@ -24,7 +24,8 @@ struct FloatPhotonStats {
   HitPointStats in_double() const { return HitPointStats{n, m, 0.0f, Color(tau), Color(tau_m), Color(0.0), 0.0f, 0}; }
   // Adds a pass's photons (`found_m`, `found_tau`), then the progressive update with the
   // cross-generation threshold, in double.
-  void fold(uint32_t found_m, const Vec3f& found_tau, double alpha, uint32_t threshold);
+  // Returns progressive_update's ratio (0: the photons stay pending).
+  double fold(uint32_t found_m, const Vec3f& found_tau, double alpha, uint32_t threshold);
 };
 static_assert(sizeof(FloatPhotonStats) == 36, "FloatPhotonStats grew");
 
@@ -47,24 +48,26 @@ static_assert(sizeof(PixelPass) == 32, "PixelPass grew");
 // The smallest r^2 a float radius keeps: the update stops shrinking there (see kMinRadius2).
 constexpr double kMinPixelRadius2 = 1e-30;
 
-inline void FloatPhotonStats::fold(uint32_t found_m, const Vec3f& found_tau, double alpha, uint32_t threshold) {
+inline double FloatPhotonStats::fold(uint32_t found_m, const Vec3f& found_tau, double alpha, uint32_t threshold) {
   HitPointStats s{n, m + found_m, 0.0f, Color(tau), Color(tau_m) + Color(found_tau), Color(0.0), 0.0f, 0};
   double r2_double = r2;
-  progressive_update(r2_double, s, alpha, threshold, kMinPixelRadius2);
+  const double ratio = progressive_update(r2_double, s, alpha, threshold, kMinPixelRadius2);
   r2 = static_cast<float>(r2_double);
   n = static_cast<float>(s.n);
   m = s.m;
   tau = Vec3f(s.tau);
   tau_m = Vec3f(s.tau_m);
+  return ratio;
 }
 
 // Folds pass number `pass` (1 for the first) into `px`: the running means, then the progressive
 // update with the cross-generation threshold, in double.
-inline void fold_pass(PixelStats& px, const PixelPass& p, uint64_t pass, double alpha, uint32_t threshold) {
+// Returns progressive_update's ratio (0: the photons stay pending).
+inline double fold_pass(PixelStats& px, const PixelPass& p, uint64_t pass, double alpha, uint32_t threshold) {
   const float w = 1.0f / static_cast<float>(pass);  // a running mean keeps float error at sqrt(passes) ulps
   px.light += (p.light - px.light) * w;
   px.transparency += (p.transparency - px.transparency) * w;
-  px.fold(p.m, p.tau_m, alpha, threshold);
+  return px.fold(p.m, p.tau_m, alpha, threshold);
 }
 
 }  // namespace ppm

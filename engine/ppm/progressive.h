@@ -18,21 +18,25 @@ namespace ppm {
 // keeps the estimate tau / (pi r^2) consistent instead of dividing by zero.
 constexpr double kMinRadius2 = 1e-200;
 
-inline void progressive_update(double& r2, HitPointStats& s, double alpha, uint32_t threshold,
-                               double min_r2 = kMinRadius2) {
-  if (s.m < threshold || s.m == 0) return;
+// Returns the ratio the pending photons were folded in with (tau = (tau + tau_m) * ratio), or 0
+// if they stay pending: what the light components follow (light_components.h).
+inline double progressive_update(double& r2, HitPointStats& s, double alpha, uint32_t threshold,
+                                 double min_r2 = kMinRadius2) {
+  if (s.m < threshold || s.m == 0) return 0.0;
   const double m = static_cast<double>(s.m);
-  const double ratio = (s.n + alpha * m) / (s.n + m);
+  double ratio = (s.n + alpha * m) / (s.n + m);
   if (r2 * ratio >= min_r2) {
     r2 *= ratio;
     s.tau = (s.tau + s.tau_m) * ratio;
     s.n += alpha * m;
   } else {
+    ratio = 1.0;
     s.tau += s.tau_m;
     s.n += m;
   }
   s.m = 0;
   s.tau_m = Color(0.0);
+  return ratio;
 }
 
 // Photon part of the radiance: flux per area per emitted photon. The pending

@@ -147,7 +147,7 @@ Color RenderContext::photon_radiance(double r2, const HitPointStats& s, double p
 void RenderContext::add_memory(MemoryUse& use) const {
   use.scene += scene->memory_bytes();
   use.pixels += depth.capacity() * sizeof(float);
-  use.hit_points += photon_pass.per_hit_point_bytes() + direct_scratch.capacity() * sizeof(Color);
+  use.hit_points += photon_pass.per_hit_point_bytes() + direct_scratch.memory_bytes();
   use.photons += photon_pass.photon_bytes();
   use.index += photon_pass.index_bytes();
 }

@@ -3,6 +3,7 @@
 // pass machinery, and the statistics they report.
 #pragma once
 
+#include "ppm/direct_light.h"
 #include "ppm/eye_pass.h"
 #include "ppm/photon_pass.h"
 #include "ppm/render_stats.h"
@@ -65,7 +66,7 @@ struct RenderContext {
   LightSampler lights;
   SceneAnalysis analysis;
   PhotonPass photon_pass;
-  std::vector<Color> direct_scratch;  // direct_light_pass's sums, kept so that no pass allocates
+  DirectScratch direct_scratch;  // direct_light_pass's sums, kept so that no pass allocates
   bool dof_post = false, dof_lens = false;
   std::vector<float> depth;  // per pixel, bottom row first like the eye pass (POST depth of field)
   double min_initial_r2 = 0.0;  // floor for automatic initial radii (photon_density_radius.h)

@@ -153,6 +153,27 @@ std::vector<float> Renderer::light_passes() const {
   return out;
 }
 
+std::vector<float> Renderer::component_passes() const {
+  refuse_while_running(running_, "component_passes()");
+  if (!context_.settings.component_passes)
+    throw std::runtime_error("component_passes(): make the renderer with component_passes=True");
+  if (!estimator_->has_components())
+    throw std::runtime_error("component_passes(): streamed hit points keep no light components; use stochastic "
+                             "hit points or hit_point_storage='kept'");
+  constexpr int kChannels = 3 * (kLightComponents + kLightClasses);
+  const int W = width(), H = height();
+  std::vector<float> out(static_cast<size_t>(W) * H * kChannels, 0.0f);
+  if (!prepared_) return out;
+  fill_top_row_first(out, W, H, kChannels, [&](size_t p, float* o) {
+    const ComponentLight c = estimator_->components(p);
+    for (int k = 0; k < kLightComponents; ++k)
+      for (int j = 0; j < 3; ++j) *o++ = saturated_float(c.light[k][j]);
+    for (int k = 0; k < kLightClasses; ++k)
+      for (int j = 0; j < 3; ++j) *o++ = saturated_float(c.color[k][j]);
+  });
+  return out;
+}
+
 std::vector<float> Renderer::image() const {
   refuse_while_running(running_, "image()");
   const Camera& cam = context_.scene->camera();

@@ -30,6 +30,10 @@ void Settings::validate() const {
   if (first_pass > 0 && radius_schedule != RadiusSchedule::Global)
     fail("first_pass > 0 (a share of a still's passes) needs radius_schedule 'global'");
   if (first_pass > (1ull << 40)) fail("first_pass must be below 2^40");
+  if (component_passes && direct_light != DirectLight::Sampled)
+    fail("component_passes needs direct_light 'sampled' (Direct is the light sampled at the first surface)");
+  if (component_passes && gather != GatherOrganisation::Photons)
+    fail("component_passes needs gather 'photons'");
   if (adaptive_samples < 1 || adaptive_samples > 64) fail("adaptive_samples must be in [1, 64]");
 }
 

@@ -84,6 +84,10 @@ struct Settings {
   // Keep what camera rays see at no bounce, emission and world apart (Renderer::light_passes,
   // Cycles' Emit and Env passes): 24 bytes a pixel more with stochastic hit points.
   bool light_passes = false;
+  // Keep the light apart by Cycles' Diffuse, Glossy and Transmission Direct, Indirect and Color,
+  // and the caustic part (light_components.h, Renderer::component_passes): 132 bytes per fixed hit
+  // point, 216 a pixel with stochastic hit points.
+  bool component_passes = false;
   // Stochastic hit points: the radius schedule, and the index of the first pass this renderer
   // renders (0 for the first). Rendering a share of a still's passes (share.h) takes the global
   // schedule; the random numbers of pass i are then those of pass i of one long render.

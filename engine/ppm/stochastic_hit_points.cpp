@@ -19,7 +19,8 @@ bool StochasticHitPoints::prepare(const Poll&) {
   // The pixels' statistics, a depth buffer and the image read back, before any of it is made; the
   // light passes' and adaptive sampling's where asked for.
   const double pixels = static_cast<double>(cam.width) * cam.height;
-  const size_t optional = (c_.settings.light_passes ? sizeof(SeenMeans) : 0) + (c_.settings.adaptive_samples > 1);
+  const size_t optional = (c_.settings.light_passes ? sizeof(SeenMeans) : 0) + (c_.settings.adaptive_samples > 1) +
+                          (c_.settings.component_passes ? sizeof(PixelComponents) : 0);
   check_memory(static_cast<size_t>(pixels * (sizeof(PixelStats) + sizeof(PixelErrorStats) + 2 * sizeof(float) +
                                               4 * sizeof(float) + optional)),
                "stochastic hit points at " + std::to_string(cam.width) + "x" + std::to_string(cam.height),
@@ -27,6 +28,7 @@ bool StochasticHitPoints::prepare(const Poll&) {
   pixels_.assign(static_cast<size_t>(cam.width) * cam.height, PixelStats{});
   errors_.assign(pixels_.size(), PixelErrorStats{});
   seen_.assign(c_.settings.light_passes ? pixels_.size() : 0, SeenMeans{Vec3f(0.0f), Vec3f(0.0f)});
+  components_.assign(c_.settings.component_passes ? pixels_.size() : 0, PixelComponents{});
   current_ = PassInProgress{};
   return true;
 }
@@ -39,6 +41,7 @@ bool StochasticHitPoints::pass(const Poll& poll) {
   const bool adaptive = max_samples > 1 && pass >= static_cast<uint64_t>(c_.settings.error_min_passes);
   EyePassOptions eye = c_.eye_options(index(pass) + 1, adaptive ? max_samples : 1);
   eye.record_seen = c_.settings.light_passes;
+  eye.record_components = c_.settings.component_passes;
   if (current_.next_row == 0) {
     current_ = PassInProgress{0, stats.photon, 0};
     if (eye.record_depth) depth_.assign(pixels_.size(), std::numeric_limits<float>::infinity());
@@ -134,6 +137,26 @@ void StochasticHitPoints::start_at_global_radii(size_t first_pixel, uint64_t ind
   }
 }
 
+// Band pixel p's light components from this pass: in `light`, what needs no photons (its eye paths'
+// emission after a bounce and Color passes, its hit points' direct light); in `photons`, its hit
+// points' photon flux by slot (light_components.h), hit point i's times `photon_scale(i)`.
+template <class Scale>
+void StochasticHitPoints::pass_components(size_t p, ComponentLight& light, Vec3f photons[], Scale&& photon_scale) const {
+  const HitPoints& fresh = hit_points_;
+  light = fresh.pixel_components[p];
+  for (int k = 0; k < kPhotonParts; ++k) photons[k] = Vec3f(0.0f);
+  for (uint32_t i = fresh.pixel_begin[p]; i < fresh.pixel_begin[p + 1]; ++i) {
+    const HitPointComponents& h = fresh.components[i];
+    const uint8_t route = fresh.route[i];
+    const float scale = static_cast<float>(photon_scale(i));
+    for (int c = 0; c < kLightClasses; ++c) {
+      light.light[direct_component(route, c)] += h.direct[c];
+      photons[indirect_component(route, c) / 2] += h.tau_m[c] * scale;
+    }
+    photons[kLightClasses] += h.tau_m[kLightClasses] * scale;
+  }
+}
+
 // The band's findings into its pixels (pass number `pass`, 1 for the first), with the same
 // cross-generation rule as fixed hit points, per pixel. With several eye samples in a pixel
 // (`pixel_samples`, adaptive_samples.h) the pass's value is their mean (each hit point carries 1 /
@@ -163,8 +186,14 @@ void StochasticHitPoints::fold_band(size_t first_pixel, uint64_t pass, const uin
       const double scale = c_.pass_radiance_scale(px.r2, photons);
       errors_[first_pixel + p].add(luminance(light) + scale * pass_flux, scale * pass_bias, pass);
       const PixelPass found{m, Vec3f(tau_m), Vec3f(light), static_cast<float>(fresh.transparency[p])};
-      fold_pass(px, found, pass, c_.settings.alpha, c_.settings.threshold);
+      const double ratio = fold_pass(px, found, pass, c_.settings.alpha, c_.settings.threshold);
       fold_seen(first_pixel + p, p, pass);
+      if (!components_.empty()) {
+        ComponentLight light_parts;
+        Vec3f photon_parts[kPhotonParts];
+        pass_components(p, light_parts, photon_parts, [](uint32_t) { return 1.0; });
+        components_[first_pixel + p].fold(light_parts, photon_parts, pass, ratio);
+      }
     }
   });
 }
@@ -192,6 +221,15 @@ void StochasticHitPoints::fold_band_global(size_t first_pixel, uint64_t pass) {
       const PixelPass found{0, Vec3f(0.0f), Vec3f(light + photon_light), static_cast<float>(fresh.transparency[p])};
       fold_pass(pixels_[first_pixel + p], found, pass, c_.settings.alpha, c_.settings.threshold);
       fold_seen(first_pixel + p, p, pass);
+      if (!components_.empty()) {  // the photons' radiance joins the means, as the pixel's does
+        ComponentLight light_parts;
+        Vec3f photon_parts[kPhotonParts];
+        pass_components(p, light_parts, photon_parts,
+                        [&](uint32_t i) { return c_.pass_radiance_scale(fresh.points[i].r2, photons); });
+        for (int k = 0; k < kPhotonParts; ++k) light_parts.light[photon_slot_component(k)] += photon_parts[k];
+        for (Vec3f& f : photon_parts) f = Vec3f(0.0f);
+        components_[first_pixel + p].fold(light_parts, photon_parts, pass, 0.0);
+      }
     }
   });
 }
@@ -213,6 +251,13 @@ PixelValue StochasticHitPoints::pixel(size_t p) const {
   return PixelValue{Color(px.light) + c_.photon_radiance(px.r2, px.in_double(), emitted), px.transparency};
 }
 
+ComponentLight StochasticHitPoints::components(size_t p) const {
+  if (components_.empty()) return ComponentLight{};
+  const bool in_pass = p < static_cast<size_t>(current_.next_row) * c_.scene->camera().width;
+  const double emitted = static_cast<double>(in_pass ? current_.counters.emitted : c_.stats.photon.emitted);
+  return components_[p].value(c_.pass_radiance_scale(pixels_[p].r2, emitted));
+}
+
 SeenLight StochasticHitPoints::seen(size_t p) const {
   if (seen_.empty()) return SeenLight{};
   return SeenLight{Color(seen_[p].emission), Color(seen_[p].environment)};
@@ -232,7 +277,8 @@ double StochasticHitPoints::radius_mean() const {
 
 void StochasticHitPoints::add_memory(MemoryUse& use) const {
   use.pixels += pixels_.capacity() * sizeof(PixelStats) + errors_.capacity() * sizeof(PixelErrorStats) +
-                depth_.capacity() * sizeof(float) + eye_samples_.capacity() + seen_.capacity() * sizeof(SeenMeans);
+                depth_.capacity() * sizeof(float) + eye_samples_.capacity() + seen_.capacity() * sizeof(SeenMeans) +
+                components_.capacity() * sizeof(PixelComponents);
   use.hit_points += hit_points_.memory_bytes() + eye_scratch_.memory_bytes();
 }
 

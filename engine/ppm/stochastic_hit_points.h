@@ -32,6 +32,8 @@ class StochasticHitPoints : public Estimator {
   bool pass(const Poll& poll) override;
   PixelValue pixel(size_t p) const override;
   SeenLight seen(size_t p) const override;
+  ComponentLight components(size_t p) const override;
+  bool has_components() const override { return true; }
   double radius_mean() const override;
   ErrorPasses error_passes() const override {
     return ErrorPasses{c_.stats.passes, static_cast<size_t>(current_.next_row) * c_.scene->camera().width};
@@ -55,6 +57,8 @@ class StochasticHitPoints : public Estimator {
   void fold_band(size_t first_pixel, uint64_t pass, const uint8_t* pixel_samples);
   void fold_band_global(size_t first_pixel, uint64_t pass);
   void fold_seen(size_t pixel, size_t band_pixel, uint64_t pass);
+  template <class Scale>
+  void pass_components(size_t p, ComponentLight& light, Vec3f photons[], Scale&& photon_scale) const;
   // The index in the still of this renderer's pass `pass` (its random numbers and global radius).
   uint64_t index(uint64_t pass) const { return c_.settings.first_pass + pass; }
 
@@ -68,6 +72,7 @@ class StochasticHitPoints : public Estimator {
     Vec3f emission, environment;
   };
   std::vector<SeenMeans> seen_;
+  std::vector<PixelComponents> components_;  // with settings.component_passes (light_components.h)
   HitPoints hit_points_;      // the band being made, reused: no pass allocates once sizes settle
   EyePassScratch eye_scratch_;
 };

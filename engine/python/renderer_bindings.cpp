@@ -115,6 +115,10 @@ const std::map<std::string, SettingAccess>& setting_table() {
       {"error_min_passes", number(&Settings::error_min_passes, "passes before target_error can stop a run")},
       {"light_passes", number(&Settings::light_passes,
                               "keep the emission and the world camera rays see at no bounce apart (light_passes())")},
+      {"component_passes",
+       number(&Settings::component_passes,
+              "keep Diffuse, Glossy and Transmission Direct, Indirect and Color and the caustic part apart "
+              "(component_passes())")},
       {"adaptive_samples", number(&Settings::adaptive_samples,
                                   "stochastic hit points: up to this many eye samples a pixel each pass where the "
                                   "error estimate finds the pixel noisiest (1: one everywhere)")},
@@ -319,6 +323,23 @@ void bind_renderer(py::module_& m) {
            "(H, W, 3) float32, top row first, 'Emit' (surfaces' and lights' emission) and 'Env' (the world). "
            "What is seen through mirrors and glass is in neither (Cycles counts it as glossy or transmission "
            "light).")
+      .def("component_passes",
+           [](const Renderer& r) {
+             std::vector<float> values;
+             {
+               py::gil_scoped_release release;
+               values = r.component_passes();
+             }
+             return channel_views(r.height(), r.width(), values, 30,
+                                  {{"DiffDir", 0, 3}, {"DiffInd", 3, 3}, {"GlossDir", 6, 3}, {"GlossInd", 9, 3},
+                                   {"TransDir", 12, 3}, {"TransInd", 15, 3}, {"Caustic", 18, 3},
+                                   {"DiffCol", 21, 3}, {"GlossCol", 24, 3}, {"TransCol", 27, 3}});
+           },
+           "With component_passes=True: the light by Cycles' passes, dict of (H, W, 3) float32, top row first. "
+           "DiffDir, DiffInd, GlossDir, GlossInd, TransDir and TransInd are radiance (with light_passes' Emit and "
+           "Env they add up to image()); Cycles stores them divided by DiffCol, GlossCol and TransCol, the albedo "
+           "of each class at the first surface. Caustic: the light of photons that came by mirrors and glass "
+           "only, part of the Indirect ones.")
       .def("denoising_features",
            [](Renderer& r, int samples_per_pixel) {
              std::vector<float> values;

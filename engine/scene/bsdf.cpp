@@ -2,6 +2,7 @@
 #include "scene/bsdf.h"
 
 #include "shading/lobes.h"
+#include "shading/microfacet.h"
 
 namespace ppm {
 namespace {
@@ -26,6 +27,35 @@ Color bsdf_eval(const Material& m, const SurfacePoint& sp, const Vec3& wo, const
     case MaterialKind::Holdout: return Color(0.0);
   }
   return Color(0.0);
+}
+
+ClassColors bsdf_eval_classes(const Material& m, const SurfacePoint& sp, const Vec3& wo, const Vec3& wi) {
+  if (m.kind == MaterialKind::Mixture) return closure_eval_classes(m.lobes, sp, wo, wi);
+  ClassColors f;
+  const bool reflected = glm::dot(wo, sp.ng) * glm::dot(wi, sp.ng) > 0.0;
+  const int c = m.kind == MaterialKind::Diffuse ? kDiffuseClass : reflected ? kGlossyClass : kTransmissionClass;
+  f.c[c] = bsdf_eval(m, sp, wo, wi);
+  return f;
+}
+
+ClassColors bsdf_class_albedo(const Material& m, const SurfacePoint& sp, const Vec3& wo) {
+  ClassColors albedo;
+  switch (m.kind) {
+    case MaterialKind::Diffuse: albedo.c[kDiffuseClass] = sp.albedo; break;
+    case MaterialKind::Mirror:
+    case MaterialKind::Metal: albedo.c[kGlossyClass] = sp.albedo; break;
+    case MaterialKind::Glass: {
+      const double mu = glm::clamp(std::fabs(glm::dot(wo, sp.ns)), 0.0, 1.0);
+      const double F = glm::dot(wo, sp.ng) < 0.0 ? fresnel_dielectric(mu, m.ior, 1.0) : fresnel_dielectric(mu, 1.0, m.ior);
+      albedo.c[kGlossyClass] = Color(F);
+      albedo.c[kTransmissionClass] = m.base_color * (1.0 - F);
+      break;
+    }
+    case MaterialKind::Mixture: return closure_class_albedo(m.lobes, sp, wo);
+    case MaterialKind::Emission:
+    case MaterialKind::Holdout: break;
+  }
+  return albedo;
 }
 
 bool bsdf_sample(const Material& m, const SurfacePoint& sp, const Vec3& wo, double u1, double u2, double u3,

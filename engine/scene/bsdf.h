@@ -12,6 +12,13 @@ namespace ppm {
 // f(wo, wi), without the cosine. Zero for delta lobes.
 Color bsdf_eval(const Material& m, const SurfacePoint& sp, const Vec3& wo, const Vec3& wi);
 
+// bsdf_eval split by the class of lobe that scatters (shading/light_class.h).
+ClassColors bsdf_eval_classes(const Material& m, const SurfacePoint& sp, const Vec3& wo, const Vec3& wi);
+
+// Cycles' Diffuse, Glossy and Transmission Color passes at a surface seen from wo: each class's
+// albedo, delta lobes included.
+ClassColors bsdf_class_albedo(const Material& m, const SurfacePoint& sp, const Vec3& wo);
+
 // Samples wi given wo; u4 picks a mixture's lobe. `adjoint`: a photon (see closure_sample and
 // dielectric_sample).
 // Returns false when the path should end (absorbed, or a sample below the surface).

@@ -312,6 +312,21 @@ Color closure_eval(const std::vector<Lobe>& lobes, const SurfacePoint& sp, const
   return f;
 }
 
+ClassColors closure_eval_classes(const std::vector<Lobe>& lobes, const SurfacePoint& sp, const Vec3& wo,
+                                 const Vec3& wi) {
+  Color eff[kMaxLobes];
+  effective_weights(lobes, sp, wo, eff);
+  const bool reflected = glm::dot(wo, sp.ng) * glm::dot(wi, sp.ng) > 0.0;
+  ClassColors f;
+  for (size_t i = 0; i < lobes.size(); ++i) {
+    const Lobe& l = lobes[i];
+    if (l.followed(sp)) continue;
+    const int c = l.diffuse() || l.sheen() ? kDiffuseClass : reflected ? kGlossyClass : kTransmissionClass;
+    f.c[c] += eff[i] * lobe_eval(l, sp, wo, wi) * bump_shadowing(l, sp, wo, wi, true);
+  }
+  return f;
+}
+
 bool closure_sample(const std::vector<Lobe>& lobes, const SurfacePoint& sp, const Vec3& wo, double u_pick,
                     double u1, double u2, double u3, bool adjoint, BsdfSample& out) {
   Color eff[kMaxLobes];
@@ -342,6 +357,31 @@ Color closure_albedo(const std::vector<Lobe>& lobes, const SurfacePoint& sp, con
       albedo += eff[i] * tint * fresnel_dielectric(mu, 1.0, l.ior);
     else
       albedo += eff[i] * tint;
+  }
+  return albedo;
+}
+
+ClassColors closure_class_albedo(const std::vector<Lobe>& lobes, const SurfacePoint& sp, const Vec3& wo) {
+  Color eff[kMaxLobes];
+  effective_weights(lobes, sp, wo, eff);
+  const double mu = glm::clamp(std::fabs(glm::dot(wo, sp.ns)), 0.0, 1.0);
+  ClassColors albedo;
+  for (size_t i = 0; i < lobes.size(); ++i) {
+    const Lobe& l = lobes[i];
+    if (l.kind == LobeKind::Transparent) continue;
+    if (l.diffuse() || l.sheen()) {
+      albedo.c[kDiffuseClass] += eff[i] * l.color_at(sp);
+      continue;
+    }
+    if (l.kind != LobeKind::Dielectric) {
+      albedo.c[kGlossyClass] += eff[i] * l.color_at(sp) * (l.layer ? layer_albedo(l, sp, mu) : 1.0);
+      continue;
+    }
+    const bool inside = glm::dot(wo, sp.ng) < 0.0;
+    const double F = inside ? fresnel_dielectric(mu, l.ior, 1.0) : fresnel_dielectric(mu, 1.0, l.ior);
+    if (l.parts & kReflection) albedo.c[kGlossyClass] += eff[i] * l.tint * (l.layer ? layer_albedo(l, sp, mu) : F);
+    if (l.parts & kRefraction)
+      albedo.c[kTransmissionClass] += eff[i] * l.color_at(sp) * (l.parts == kRefraction ? 1.0 : 1.0 - F);
   }
   return albedo;
 }

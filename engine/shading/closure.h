@@ -8,6 +8,7 @@
 // lobe needs a pdf.
 #pragma once
 
+#include "shading/light_class.h"
 #include "shading/lobe.h"
 
 #include <vector>
@@ -19,6 +20,10 @@ void prepare_lobe(Lobe& lobe);
 
 // f(wo, wi) of the lobes hit points store (all but the followed ones), without the cosine.
 Color closure_eval(const std::vector<Lobe>& lobes, const SurfacePoint& sp, const Vec3& wo, const Vec3& wi);
+
+// closure_eval split by the class of the lobes (light_class.h).
+ClassColors closure_eval_classes(const std::vector<Lobe>& lobes, const SurfacePoint& sp, const Vec3& wo,
+                                 const Vec3& wi);
 
 // Samples the next direction. `adjoint`: a photon, which arrived along -wo; its layers attenuate
 // by the albedo towards where it leaves (the viewer's side of its reversed path), so that photons
@@ -38,6 +43,11 @@ int closure_followed_branches(const std::vector<Lobe>& lobes, const SurfacePoint
 // Cycles' Denoising Albedo of the lobes hit points store: each lobe's colour (a layer's and a
 // dielectric's: their reflectance towards wo, tinted) times its weight after the layers above.
 Color closure_albedo(const std::vector<Lobe>& lobes, const SurfacePoint& sp, const Vec3& wo);
+
+// Cycles' Diffuse, Glossy and Transmission Color of all the lobes, the followed ones too: each
+// lobe's colour times its weight, a dielectric's reflection by its Fresnel reflectance towards wo
+// and its refraction by the rest.
+ClassColors closure_class_albedo(const std::vector<Lobe>& lobes, const SurfacePoint& sp, const Vec3& wo);
 
 bool closure_has_followed(const std::vector<Lobe>& lobes);
 bool closure_is_followed(const std::vector<Lobe>& lobes);

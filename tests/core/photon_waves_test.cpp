@@ -15,7 +15,7 @@
 namespace ppm {
 namespace {
 
-using Deposit = std::array<double, 12>;  // position, direction, normal, flux
+using Deposit = std::array<double, 13>;  // position, direction, normal, flux, caustic
 
 // A closed room of 4 large quads plus a soup of 40,000 small triangles (a
 // BVH beyond kInterleaveBytes), a glass ball and a point light.
@@ -69,8 +69,8 @@ TEST(PhotonWaves, SameDepositsAsOnePhotonAtATime) {
 
     std::vector<Deposit> waves;
     auto record = [](std::vector<Deposit>& out) {
-      return [&out](const Vec3& p, const Vec3& d, const Vec3& n, const Color& f, const Bounces&) {
-        out.push_back({p.x, p.y, p.z, d.x, d.y, d.z, n.x, n.y, n.z, f.x, f.y, f.z});
+      return [&out](const Vec3& p, const Vec3& d, const Vec3& n, const Color& f, const Bounces&, bool caustic) {
+        out.push_back({p.x, p.y, p.z, d.x, d.y, d.z, n.x, n.y, n.z, f.x, f.y, f.z, caustic ? 1.0 : 0.0});
       };
     };
     const BounceLimits limits = BounceLimits::of(settings, scene);
