@@ -190,8 +190,10 @@ class PPMRenderEngine(bpy.types.RenderEngine):
         ppm_scene = exported[0]
         scene = depsgraph.scene
         layer = depsgraph.view_layer
+        components = passes.component_passes_wanted(layer, scene.ppm)
         settings = {**core_settings(scene.ppm), **film_settings(scene), **light_path_settings(scene),
-                    "light_passes": layer.use_pass_emit or layer.use_pass_environment}
+                    "light_passes": layer.use_pass_emit or layer.use_pass_environment,
+                    "component_passes": bool(components)}
         try:
             renderer = ppm_core.Renderer(ppm_scene, **settings)
         except Exception as error:  # noqa: BLE001 - every failure must reach the user
@@ -213,7 +215,8 @@ class PPMRenderEngine(bpy.types.RenderEngine):
                 self.warn(f"{error}; rendering with stochastic hit points instead")
                 renderer = ppm_core.Renderer(ppm_scene, **{**settings, "hit_points": "stochastic"})
                 line = self.run(renderer, result, scene.ppm)
-            self.write_passes_of_the_render(renderer, result, scene.ppm, settings["light_passes"], exported[1], line)
+            self.write_passes_of_the_render(renderer, result, scene.ppm, settings["light_passes"], components,
+                                            exported[1], line)
             return True
         except Exception as error:  # noqa: BLE001
             self.fail(error)
@@ -298,6 +301,8 @@ class PPMRenderEngine(bpy.types.RenderEngine):
             self.register_pass(scene, renderlayer, "Emit", 3, "RGB", "COLOR")
         if renderlayer.use_pass_environment:
             self.register_pass(scene, renderlayer, "Env", 3, "RGB", "COLOR")
+        for name in passes.component_passes_wanted(renderlayer, scene.ppm):
+            self.register_pass(scene, renderlayer, name, 3, "RGB", "COLOR")
         if scene.ppm.error_passes:
             for name in passes.ERROR_PASSES:
                 self.register_pass(scene, renderlayer, name, 1, "X", "VALUE")
@@ -321,16 +326,28 @@ class PPMRenderEngine(bpy.types.RenderEngine):
             passes.write_pass(result, "IndexOB", objects)
             passes.write_pass(result, "IndexMA", materials)
 
-    def write_passes_of_the_render(self, renderer, result, settings, light_passes, camera_args, line):
-        """The passes made from the finished render, as asked: the error estimate's, Emit and Env, and
-        the denoising ones; `line` is the render's final stats line."""
+    def write_passes_of_the_render(self, renderer, result, settings, light_passes, components, camera_args, line):
+        """The passes made from the finished render, as asked: the error estimate's, Emit and Env, the
+        `components` (Cycles' Diffuse, Glossy and Transmission ones, Caustic) and the denoising ones;
+        `line` is the render's final stats line."""
         if settings.error_passes:
             for name, pixels in passes.error_passes(renderer.error()).items():
                 passes.write_pass(result, name, pixels)
         if light_passes:
             for name, pixels in renderer.light_passes().items():
                 passes.write_pass(result, name, pixels[::-1])  # passes run bottom-up
+        if components:
+            self.write_component_passes(renderer, result, components)
         self.write_denoising(renderer, result, settings, camera_args, line)
+
+    def write_component_passes(self, renderer, result, wanted):
+        try:
+            parts = renderer.component_passes()
+        except RuntimeError as error:  # streamed hit points keep none: the frame is rendered all the same
+            self.warn(f"light passes skipped: {error}")
+            return
+        for name, pixels in passes.component_passes(parts, wanted).items():
+            passes.write_pass(result, name, pixels)
 
     def write_denoising(self, renderer, result, settings, camera_args, line):
         """Denoising Albedo and Normal passes, and the denoised Combined (denoise.py), as asked;

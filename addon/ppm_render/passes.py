@@ -1,7 +1,8 @@
 """Depth, Normal, Object Index and Material Index render passes, when the view
 layer enables them; the error estimate's passes when scene.ppm.error_passes asks for them;
 Denoising Albedo and Normal (scene.ppm.denoising_data) from the core's
-Renderer.denoising_features, the normal in Cycles' camera space.
+Renderer.denoising_features, the normal in Cycles' camera space; Cycles' Diffuse, Glossy and
+Transmission light passes and the Caustic pass from Renderer.component_passes.
 
 All come from the core's own primary ray through each pixel centre
 (`Scene.camera_rays`) and its batch ray caster (`Scene.intersect`, camera rays),
@@ -18,6 +19,32 @@ MISS_DEPTH = 1e10  # what Cycles writes for the background
 ERROR_PASSES = ("Error", "Bias", "Noise")
 DENOISING_PASSES = (("Denoising Normal", 3, "XYZ", "VECTOR"), ("Denoising Albedo", 3, "RGB", "COLOR"))
 NOISY_PASS = ("Noisy Image", 4, "RGBA", "COLOR")
+# Cycles' light passes: (pass name, the view layer's toggle).
+COMPONENT_PASSES = tuple((prefix + part, f"use_pass_{kind}_{word}")
+                         for prefix, kind in (("Diff", "diffuse"), ("Gloss", "glossy"), ("Trans", "transmission"))
+                         for part, word in (("Dir", "direct"), ("Ind", "indirect"), ("Col", "color")))
+CAUSTIC_PASS = "Caustic"
+
+
+def component_passes_wanted(view_layer, settings):
+    """The light passes the view layer asks for, and the Caustic pass if scene.ppm asks for it."""
+    wanted = [name for name, toggle in COMPONENT_PASSES if getattr(view_layer, toggle, False)]
+    return wanted + ([CAUSTIC_PASS] if settings.caustic_pass else [])
+
+
+def component_passes(parts, wanted):
+    """The core's Renderer.component_passes (radiance, top row first) as Blender's passes, bottom row
+    first: as Cycles, each Direct and Indirect pass is divided by its Color pass (0 where the colour
+    is), so that (Dir + Ind) * Col is the light again. Caustic stays radiance."""
+    out = {}
+    for name in wanted:
+        light = np.asarray(parts[name], dtype=np.float32)
+        if name[-3:] in ("Dir", "Ind"):
+            color = np.asarray(parts[name[:-3] + "Col"], dtype=np.float32)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                light = np.where(color > 0.0, light / color, 0.0).astype(np.float32)
+        out[name] = light[::-1]
+    return out
 
 
 def camera_hits(core_scene):

@@ -29,6 +29,12 @@ class PPMSceneSettings(bpy.types.PropertyGroup):
         description="Write the error estimate as render passes: Error (each pixel's bound at the confidence, "
                     "relative to its brightness), Bias (signed: the image minus the truth, expected) and Noise "
                     "(the noise's bound), both in luminance")
+    caustic_pass: BoolProperty(
+        name="Caustic",
+        description="Write a Caustic pass: the light of photons that came to the surface by mirrors and glass "
+                    "only (part of the Indirect light), e.g. to grade caustics in the compositor",
+        default=False,
+    )
     denoising_data: BoolProperty(
         name="Denoising Data", default=False,
         description="Write Denoising Albedo and Denoising Normal passes, as Cycles' Denoising Data: the guides "

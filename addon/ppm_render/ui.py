@@ -143,8 +143,13 @@ class VIEWLAYER_PT_ppm_passes(PPMRenderPanel, bpy.types.Panel):
         col.prop(layer, "use_pass_material_index")
         col.prop(settings, "denoising_data")
         col = layout.column(heading="Light", align=True)
+        for kind, heading in (("diffuse", "Diffuse"), ("glossy", "Glossy"), ("transmission", "Transmission")):
+            row = col.row(heading=heading, align=True)
+            for part in ("direct", "indirect", "color"):
+                row.prop(layer, f"use_pass_{kind}_{part}", text=part.capitalize(), toggle=True)
         col.prop(layer, "use_pass_emit", text="Emission")
         col.prop(layer, "use_pass_environment")
+        col.prop(settings, "caustic_pass")
         col = layout.column(heading="Error", align=True)
         col.prop(settings, "error_passes")
 

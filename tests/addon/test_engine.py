@@ -59,7 +59,8 @@ def test_settings_reach_the_core(spy, tmp_path):
     for key, value in values.items():
         assert renderer.settings[key] == pytest.approx(value), key
     assert set(spy.kwargs[-1]) == set(CORE_KEYS) | {"dof_mode", "hit_points", "transparent_background",
-                                                    "transparent_glass", "light_path_limits", "light_passes"}
+                                                    "transparent_glass", "light_path_limits", "light_passes",
+                                                    "component_passes"}
     assert spy.kwargs[-1]["light_path_limits"] is False
     assert renderer.settings["dof_mode"] == "off" and renderer.settings["hit_points"] == "stochastic"
     stats = renderer.stats()
@@ -363,6 +364,9 @@ class RecordingLayout:
     def column(self, **_):
         return RecordingLayout(self.drawn)
 
+    def row(self, **_):
+        return RecordingLayout(self.drawn)
+
     def prop(self, owner, name, **_):
         assert hasattr(owner, name), name
         self.drawn.append((owner, name))
@@ -379,7 +383,9 @@ def test_the_passes_panel_offers_every_pass_the_engine_writes():
     context = SimpleNamespace(view_layer=bpy.context.view_layer, scene=bpy.context.scene)
     panel.draw(SimpleNamespace(layout=layout), context)
     layer_flags = {name for owner, name in layout.drawn if owner == context.view_layer}
+    light = {f"use_pass_{kind}_{part}" for kind in ("diffuse", "glossy", "transmission")
+             for part in ("direct", "indirect", "color")}
     assert layer_flags == {"use_pass_z", "use_pass_normal", "use_pass_object_index", "use_pass_material_index",
-                           "use_pass_emit", "use_pass_environment"}
+                           "use_pass_emit", "use_pass_environment"} | light
     assert {name for owner, name in layout.drawn if owner == context.scene.ppm} == {"denoising_data",
-                                                                                    "error_passes"}
+                                                                                    "error_passes", "caustic_pass"}

@@ -44,3 +44,44 @@ def test_emit_and_env_are_written_when_the_view_layer_asks(monkeypatch, tmp_path
     written.clear()
     render_file(scene, tmp_path / "m.exr", passes=1, photons_per_pass=1000)
     assert "Emit" not in written and "Env" not in written
+
+
+def test_diffuse_glossy_and_transmission_passes_are_cycles_light_over_colour(monkeypatch, tmp_path):
+    """A diffuse floor under a sun: Diffuse Direct is the light (Cycles divides it by Diffuse Color),
+    DiffCol the floor's colour, and (Dir + Ind) * Col with Emit and Env give the image back."""
+    written = {}
+    monkeypatch.setattr(passes, "write_pass", lambda result, name, pixels: written.setdefault(
+        name, (np.array(pixels), result.layers[0].passes.get(name) is not None)))
+    scene = bpy.context.scene
+    mesh = bpy.data.meshes.new("floor")
+    mesh.from_pydata([(-10, -10, 0), (10, -10, 0), (10, 10, 0), (-10, 10, 0)], [], [(0, 1, 2, 3)])
+    floor = bpy.data.objects.new("floor", mesh)
+    floor.data.materials.append(shader_material("paint", "ShaderNodeBsdfDiffuse", Color=(0.5, 0.25, 0.125, 1.0)))
+    scene.collection.objects.link(floor)
+    sun = bpy.data.objects.new("sun", bpy.data.lights.new("sun", "SUN"))
+    sun.data.energy = 3.0
+    scene.collection.objects.link(sun)
+    scene.world = bpy.data.worlds.new("black")
+    scene.world.color = (0.0, 0.0, 0.0)
+    if scene.world.node_tree is not None:
+        scene.world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.0
+    camera_looking_down(scene, 4.0, 40, 30)
+    layer = bpy.context.view_layer
+    names = [name for name, _ in passes.COMPONENT_PASSES]
+    for _, toggle in passes.COMPONENT_PASSES:
+        setattr(layer, toggle, True)
+    scene.ppm.caustic_pass = True
+    try:
+        image = render_file(scene, tmp_path / "c.exr", passes=2, photons_per_pass=1000)
+    finally:
+        for _, toggle in passes.COMPONENT_PASSES:
+            setattr(layer, toggle, False)
+        scene.ppm.caustic_pass = False
+    assert all(written[name][1] for name in names + ["Caustic"])
+    get = {name: written[name][0] for name in names + ["Caustic"]}
+    np.testing.assert_allclose(get["DiffCol"], np.broadcast_to((0.5, 0.25, 0.125), (30, 40, 3)), rtol=1e-5)
+    # A sun of strength 3 straight down: irradiance 3, radiance 3 / pi per unit of colour.
+    np.testing.assert_allclose(get["DiffDir"], 3.0 / np.pi, rtol=1e-4)
+    assert not get["Caustic"].any() and not get["GlossDir"].any() and not get["TransCol"].any()
+    rebuilt = sum((get[k + "Dir"] + get[k + "Ind"]) * get[k + "Col"] for k in ("Diff", "Gloss", "Trans"))
+    np.testing.assert_allclose(rebuilt[::-1], image[..., :3], rtol=1e-4, atol=1e-6)

@@ -1,8 +1,8 @@
 """What the scripts Blender 3.4 runs here share (passes_compare.py, denoising_compare.py,
-light_passes_compare.py): this checkout's .venv packages (numpy, OpenImageIO, ppm_core; the same
-Python 3.11) and its add-on on the path, a factory-fresh scene with the add-on registered, the
-scene pieces and render settings the comparisons build from, and reading one pass of a multilayer
-EXR."""
+light_passes_compare.py, component_passes_compare.py): this checkout's .venv packages (numpy,
+OpenImageIO, ppm_core; the same Python 3.11) and its add-on on the path, a factory-fresh scene
+with the add-on registered, the scene pieces and render settings the comparisons build from, and
+reading one pass of a multilayer EXR."""
 
 import glob
 import os
