@@ -80,7 +80,9 @@ bool FixedHitPoints::pass(const Poll& poll) {
   const uint64_t pass = stats.passes;
   // Photons first: a pass cancelled inside the photon pass leaves no trace.
   PhotonPassCounters counters = stats.photon;
+  c_.weigh_pixels_for_guide(errors_, error_passes());
   if (!c_.run_photon_pass(hit_points_, pass, poll, counters)) return false;
+  c_.learn_guide();
   stats.photon = counters;
   // Direct light adds its sums only when complete, so a cancel here keeps the image consistent.
   bool completed = true, direct_sampled = false;

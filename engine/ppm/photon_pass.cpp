@@ -166,7 +166,7 @@ bool PhotonPass::run_hit_point_index(const Grid& grid, const Scene& scene, const
       deposits += trace_photons(
           scene, lights, settings_, limits_, begin, std::min(last, begin + kPhotonChunk),
           [&](uint64_t i) { return Rng(settings_.seed, kPhotonStream + pass, i); },
-          [&](const Vec3& pos, const Vec3& dir, const Vec3& normal, const Color& flux, const Bounces& used, bool caustic) {
+          [&](const Vec3& pos, const Vec3& dir, const Vec3& normal, const Color& flux, const Bounces& used, PhotonTag tag) {
             const Vec3f d(dir), nf(normal), f(flux);
             grid.for_each_candidate_at(pos, [&](uint32_t h) {
               Vec3f w;
@@ -238,8 +238,9 @@ size_t PhotonPass::index_photons(Grid& grid, size_t chunks, double typical_r2) {
   positions_.resize(count);
   arrivals_.resize(count);
   arrival_bounces_.resize(limits_.active ? count : 0);
-  const bool tagged = settings_.component_passes;
-  arrival_caustic_.resize(tagged ? count : 0);
+  const bool caustics = settings_.component_passes, guided = settings_.photon_guiding;
+  arrival_caustic_.resize(caustics ? count : 0);
+  arrival_origin_.resize(guided ? count : 0);
   parallel_each(threads_, chunks, [&](size_t c) {
     const std::vector<Photon>& buffer = chunk_photons_[c];
     const uint32_t* new_index = new_of_old_.data() + chunk_first_[c];
@@ -248,7 +249,8 @@ size_t PhotonPass::index_photons(Grid& grid, size_t chunks, double typical_r2) {
       positions_[new_index[k]] = p.position;
       arrivals_[new_index[k]] = Arrival{p.normal, p.flux, p.direction};
       if (limits_.active) arrival_bounces_[new_index[k]] = p.bounces;
-      if (tagged) arrival_caustic_[new_index[k]] = chunk_caustic_[c][k];
+      if (caustics) arrival_caustic_[new_index[k]] = chunk_caustic_[c][k];
+      if (guided) arrival_origin_[new_index[k]] = chunk_origin_[c][k];
     }
   });
   return count;
@@ -258,6 +260,10 @@ bool PhotonPass::trace_and_index(const Scene& scene, const LightSampler& lights,
                                  std::atomic<bool>& cancel, const std::function<bool()>& poll,
                                  PhotonPassCounters& counters) {
   limits_ = BounceLimits::of(settings_, scene);
+  if (settings_.photon_guiding && !guide_ready_) {
+    guide_.reset(scene.lights());
+    guide_ready_ = true;
+  }
   const size_t chunks = (settings_.photons_per_pass + kPhotonChunk - 1) / kPhotonChunk;
   auto t0 = std::chrono::steady_clock::now();
   if (!trace_into_chunks(scene, lights, pass, chunks, cancel, poll)) return false;
@@ -303,29 +309,33 @@ bool PhotonPass::trace_into_chunks(const Scene& scene, const LightSampler& light
                                    std::atomic<bool>& cancel, const std::function<bool()>& poll) {
   const uint64_t photons = settings_.photons_per_pass;
   if (chunk_photons_.size() < chunks) chunk_photons_.resize(chunks);
-  const bool tag = settings_.component_passes;
-  if (tag && chunk_caustic_.size() < chunks) chunk_caustic_.resize(chunks);
+  const bool caustics = settings_.component_passes, guided = settings_.photon_guiding;
+  if (caustics && chunk_caustic_.size() < chunks) chunk_caustic_.resize(chunks);
+  if (guided && chunk_origin_.size() < chunks) chunk_origin_.resize(chunks);
   auto trace = [&](int, size_t chunk) {
     auto& buffer = chunk_photons_[chunk];
     buffer.clear();
-    if (tag) chunk_caustic_[chunk].clear();
+    if (caustics) chunk_caustic_[chunk].clear();
+    if (guided) chunk_origin_[chunk].clear();
     trace_photons(
         scene, lights, settings_, limits_, chunk * kPhotonChunk,
         std::min<uint64_t>(photons, (chunk + 1) * kPhotonChunk),
         [&](uint64_t i) { return Rng(settings_.seed, kPhotonStream + pass, i); },
-        [&](const Vec3& pos, const Vec3& dir, const Vec3& normal, const Color& flux, const Bounces& used, bool caustic) {
+        [&](const Vec3& pos, const Vec3& dir, const Vec3& normal, const Color& flux, const Bounces& used, PhotonTag tag) {
           buffer.push_back(Photon{pos, Vec3f(dir), Vec3f(normal), Vec3f(flux), used});
-          if (tag) chunk_caustic_[chunk].push_back(caustic);
-        });
+          if (caustics) chunk_caustic_[chunk].push_back(tag.caustic);
+          if (guided) chunk_origin_[chunk].push_back(tag.origin);
+        },
+        guided ? &guide_ : nullptr);
   };
   return parallel_chunks(threads_, chunks, trace, cancel, poll, settings_.progress_interval);
 }
 
 // Diffuse hit point i: the weight is the same for every photon, so it sums the flux and weighs
 // once. Compiled for each case, so that the common loop has no test for limits or components.
-template <class Grid, bool kLimits, bool kParts>
-void PhotonPass::gather_diffuse(const Grid& grid, const HitPoints& hp, size_t i, Gathered& g,
-                                PhotonParts* parts) const {
+template <class Grid, bool kLimits, bool kTagged>
+void PhotonPass::gather_diffuse(const Grid& grid, const HitPoints& hp, size_t i, Gathered& g, PhotonParts* parts,
+                                double* credit) const {
   const HitPoint& h = hp.points[i];
   const Vec3 center = h.position;
   const double r2 = h.r2, r = std::sqrt(r2);
@@ -335,6 +345,7 @@ void PhotonPass::gather_diffuse(const Grid& grid, const HitPoints& hp, size_t i,
   const Vec3* position = positions_.data();
   const Arrival* arrival = arrivals_.data();
   Color flux(0.0), flux_d2(0.0), caustic_flux(0.0);
+  const double credit_weight = kTagged && credit ? guide_weight(hp, i) * luminance(Color(h.weight)) : 0.0;
   grid.for_each_run_in_box(center - r, center + r, [&](uint32_t begin, uint32_t end) {
     for (uint32_t p = begin; p < end; ++p) {
       // Most candidates fail the distance test, which reads positions only.
@@ -349,33 +360,36 @@ void PhotonPass::gather_diffuse(const Grid& grid, const HitPoints& hp, size_t i,
       ++g.m;
       flux += Color(a.flux);
       flux_d2 += Color(a.flux) * d2;
-      if constexpr (kParts) {
-        if (arrival_caustic_[p]) caustic_flux += Color(a.flux);
+      if constexpr (kTagged) {
+        if (parts && arrival_caustic_[p]) caustic_flux += Color(a.flux);
+        if (credit_weight > 0.0 && arrival_origin_[p] >= 0)
+          credit[arrival_origin_[p]] += credit_weight * luminance(Color(a.flux));
       }
     }
   });
   g.tau = flux * Color(h.weight);
   g.bias = luminance(bias_sum(flux, flux_d2, r2) * Color(h.weight));
-  if constexpr (kParts) {  // a diffuse hit point scatters by its diffuse lobe alone
+  if (parts) {  // a diffuse hit point scatters by its diffuse lobe alone
     parts->flux[kDiffuseClass] = Vec3f(g.tau);
     parts->flux[kLightClasses] = Vec3f(caustic_flux * Color(h.weight));
   }
 }
 
 // Glossy hit point i: the BSDF evaluated per photon (by class of lobe with components).
-template <class Grid, bool kParts>
+template <class Grid, bool kTagged>
 void PhotonPass::gather_glossy(const Grid& grid, const Scene& scene, const HitPoints& hp, size_t i, Gathered& g,
-                               PhotonParts* parts) const {
+                               PhotonParts* parts, double* credit) const {
   const HitPoint& h = hp.points[i];
   const Vec3 center = h.position;
   const double r2 = h.r2, r = std::sqrt(r2);
   const uint32_t index = static_cast<uint32_t>(i);
+  const double credit_weight = kTagged && credit ? guide_weight(hp, i) : 0.0;
   grid.for_each_run_in_box(center - r, center + r, [&](uint32_t begin, uint32_t end) {
     for (uint32_t p = begin; p < end; ++p) {
       const Arrival& a = arrivals_[p];
       ClassColors split;
       Vec3f w;
-      if constexpr (kParts) {
+      if (kTagged && parts) {
         if (!photon_weight_classes(scene, hp, index, positions_[p], a.direction, a.normal, split)) continue;
         w = Vec3f(split.total());
       } else {
@@ -387,9 +401,12 @@ void PhotonPass::gather_glossy(const Grid& grid, const Scene& scene, const HitPo
       g.tau += wf;
       const Vec3 d = positions_[p] - center;
       g.bias += luminance(wf) * bias_weight(glm::dot(d, d), r2);
-      if constexpr (kParts) {
-        for (int c = 0; c < kLightClasses; ++c) parts->flux[c] += Vec3f(split.c[c] * Color(a.flux));
-        if (arrival_caustic_[p]) parts->flux[kLightClasses] += Vec3f(wf);
+      if constexpr (kTagged) {
+        if (parts) {
+          for (int c = 0; c < kLightClasses; ++c) parts->flux[c] += Vec3f(split.c[c] * Color(a.flux));
+          if (arrival_caustic_[p]) parts->flux[kLightClasses] += Vec3f(wf);
+        }
+        if (credit_weight > 0.0 && arrival_origin_[p] >= 0) credit[arrival_origin_[p]] += credit_weight * luminance(wf);
       }
     }
   });
@@ -406,35 +423,63 @@ bool PhotonPass::gather_at_hit_points(const Grid& grid, const Scene& scene, cons
   gathered_bias_.resize(n);
   const bool split = !hp.components.empty();
   gathered_parts_.resize(split ? n : 0);
-  auto gather = [&](auto with_parts) {
-    constexpr bool kParts = decltype(with_parts)::value;
+  const bool crediting = !arrival_origin_.empty() && guide_weights_ != nullptr;
+  if (crediting && chunk_credit_.size() < hchunks) chunk_credit_.resize(hchunks);
+  auto gather = [&](auto tagged) {
+    constexpr bool kTagged = decltype(tagged)::value;
     return [&](int, size_t chunk) {
+      double* credit = nullptr;
+      if (crediting) {
+        chunk_credit_[chunk].assign(static_cast<size_t>(guide_.slots()) * PhotonGuide::kBins, 0.0);
+        credit = chunk_credit_[chunk].data();
+      }
       for (size_t i = chunk * kHitPointChunk; i < std::min(n, (chunk + 1) * kHitPointChunk); ++i) {
         Gathered g;
-        PhotonParts* parts = kParts ? &gathered_parts_[i] : nullptr;
-        if constexpr (kParts) *parts = PhotonParts{};
+        PhotonParts* parts = split ? &gathered_parts_[i] : nullptr;
+        if (parts) *parts = PhotonParts{};
         if (hp.points[i].glossy)
-          gather_glossy<Grid, kParts>(grid, scene, hp, i, g, parts);
+          gather_glossy<Grid, kTagged>(grid, scene, hp, i, g, parts, credit);
         else if (limits_.active)
-          gather_diffuse<Grid, true, kParts>(grid, hp, i, g, parts);
+          gather_diffuse<Grid, true, kTagged>(grid, hp, i, g, parts, credit);
         else
-          gather_diffuse<Grid, false, kParts>(grid, hp, i, g, parts);
+          gather_diffuse<Grid, false, kTagged>(grid, hp, i, g, parts, credit);
         gathered_m_[i] = g.m;
         gathered_tau_[i] = g.tau;
         gathered_bias_[i] = static_cast<float>(g.bias);
       }
     };
   };
-  return split ? parallel_chunks(threads_, hchunks, gather(std::true_type{}), cancel, poll, settings_.progress_interval)
-               : parallel_chunks(threads_, hchunks, gather(std::false_type{}), cancel, poll, settings_.progress_interval);
+  const bool tagged = split || crediting;
+  if (!(tagged ? parallel_chunks(threads_, hchunks, gather(std::true_type{}), cancel, poll, settings_.progress_interval)
+               : parallel_chunks(threads_, hchunks, gather(std::false_type{}), cancel, poll, settings_.progress_interval)))
+    return false;
+  if (crediting) {  // chunk order: the same sums whichever thread gathered which chunk
+    pass_credit_.resize(static_cast<size_t>(guide_.slots()) * PhotonGuide::kBins, 0.0);
+    for (size_t c = 0; c < hchunks; ++c)
+      for (size_t k = 0; k < pass_credit_.size(); ++k) pass_credit_[k] += chunk_credit_[c][k];
+  }
+  return true;
+}
+
+double PhotonPass::guide_weight(const HitPoints& hp, size_t i) const {
+  const uint32_t pixel = hp.shading[hp.points[i].shading].pixel;
+  return pixel < guide_weights_->size() ? (*guide_weights_)[pixel] : 0.0;
+}
+
+void PhotonPass::learn_guide() {
+  if (!guide_ready_ || pass_credit_.empty()) return;
+  guide_.learn(pass_credit_);
+  std::fill(pass_credit_.begin(), pass_credit_.end(), 0.0);
 }
 
 size_t PhotonPass::photon_bytes() const {
   size_t bytes = 0;
   for (const auto& v : chunk_photons_) bytes += v.capacity() * sizeof(Photon);
   bytes += (traced_positions_.capacity() + positions_.capacity()) * sizeof(Vec3) + arrivals_.capacity() * sizeof(Arrival) +
-           arrival_bounces_.capacity() * sizeof(Bounces) + arrival_caustic_.capacity();
+           arrival_bounces_.capacity() * sizeof(Bounces) + arrival_caustic_.capacity() +
+           arrival_origin_.capacity() * sizeof(int32_t);
   for (const auto& v : chunk_caustic_) bytes += v.capacity();
+  for (const auto& v : chunk_origin_) bytes += v.capacity() * sizeof(int32_t);
   return bytes + (old_of_new_.capacity() + new_of_old_.capacity()) * sizeof(uint32_t);
 }
 
@@ -446,6 +491,7 @@ size_t PhotonPass::per_hit_point_bytes() const {
   for (const auto& v : tau_acc_) bytes += v.capacity() * sizeof(Vec3f);
   for (const auto& v : bias_acc_) bytes += v.capacity() * sizeof(float);
   bytes += gathered_bias_.capacity() * sizeof(float) + gathered_parts_.capacity() * sizeof(PhotonParts);
+  for (const auto& v : chunk_credit_) bytes += v.capacity() * sizeof(double);
   bytes += gathered_m_.capacity() * sizeof(uint32_t) + gathered_tau_.capacity() * sizeof(Color);
   return bytes + centers_.capacity() * sizeof(Vec3) + radii_.capacity() * sizeof(double);
 }

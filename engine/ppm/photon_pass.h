@@ -14,6 +14,7 @@
 #include "ppm/bounce_limits.h"
 #include "ppm/hash_grid.h"
 #include "ppm/hit_point.h"
+#include "ppm/photon_guide.h"
 #include "ppm/quantile_grid.h"
 #include "ppm/settings.h"
 #include "scene/light_sampler.h"
@@ -56,6 +57,13 @@ class PhotonPass {
   // The hit points changed (stochastic PPM): rebuild the hit-point index before the next pass.
   void reset_index() { index_built_ = false; }
 
+  // Photon guiding (Settings::photon_guiding, photon_guide.h): each pixel's weight for the gathers
+  // to come (bottom row first; kept by the caller), and the end of a pass, which folds what its
+  // gathers credited into the guide.
+  void set_guide_weights(const std::vector<float>* pixel_weights) { guide_weights_ = pixel_weights; }
+  void learn_guide();
+  const PhotonGuide& guide() const { return guide_; }
+
  private:
   struct Photon {
     Vec3 position;
@@ -91,11 +99,15 @@ class PhotonPass {
     Color tau{0.0};
     double bias = 0.0;
   };
-  template <class Grid, bool kLimits, bool kParts>
-  void gather_diffuse(const Grid& grid, const HitPoints& hp, size_t i, Gathered& g, PhotonParts* parts) const;
-  template <class Grid, bool kParts>
+  // kTagged: photons carry tags to read (caustic flags with light components, guide origins).
+  template <class Grid, bool kLimits, bool kTagged>
+  void gather_diffuse(const Grid& grid, const HitPoints& hp, size_t i, Gathered& g, PhotonParts* parts,
+                      double* credit) const;
+  template <class Grid, bool kTagged>
   void gather_glossy(const Grid& grid, const Scene& scene, const HitPoints& hp, size_t i, Gathered& g,
-                     PhotonParts* parts) const;
+                     PhotonParts* parts, double* credit) const;
+  // Hit point i's guide credit per unit of luminance it gathers (0: none to give).
+  double guide_weight(const HitPoints& hp, size_t i) const;
   template <class Grid>
   bool gather_at_hit_points(const Grid& grid, const Scene& scene, const HitPoints& hp, std::atomic<bool>& cancel,
                             const std::function<bool()>& poll);
@@ -129,6 +141,16 @@ class PhotonPass {
   // chunk as traced and in cell order.
   std::vector<std::vector<uint8_t>> chunk_caustic_;
   std::vector<uint8_t> arrival_caustic_;
+  // Photon guiding: the guide, each photon's origin (per chunk as traced, then in cell order), the
+  // pixels' weights, and the credits of the pass so far (per chunk of hit points, summed in
+  // chunk order: the same whichever thread gathered which).
+  PhotonGuide guide_;
+  bool guide_ready_ = false;
+  std::vector<std::vector<int32_t>> chunk_origin_;
+  std::vector<int32_t> arrival_origin_;
+  const std::vector<float>* guide_weights_ = nullptr;
+  std::vector<std::vector<double>> chunk_credit_;
+  std::vector<double> pass_credit_;
   // One pass's gather per hit point, added to the statistics once the pass completes.
   std::vector<uint32_t> gathered_m_;
   std::vector<Color> gathered_tau_;

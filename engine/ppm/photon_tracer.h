@@ -15,6 +15,7 @@
 
 #include "math/rng.h"
 #include "ppm/bounce_limits.h"
+#include "ppm/photon_guide.h"
 #include "ppm/settings.h"
 #include "scene/light_sampler.h"
 #include "scene/scene.h"
@@ -34,30 +35,53 @@ struct PhotonPath {
   // depositing), and there was one: its deposits are caustics (light_components.h).
   bool specular_only = false;
   bool scattered = false;
+  int32_t origin = -1;  // with guiding (photon_guide.h): slot * kBins + the bin it left in
   bool caustic() const { return scattered && specular_only; }
 };
 
-// Emits a photon from a light picked in proportion to its flux.
+// What a deposit tells of its photon's path besides its flux.
+struct PhotonTag {
+  bool caustic;    // it came by specular scatterings only (PhotonPath::caustic)
+  int32_t origin;  // PhotonPath::origin
+};
+
+// Emits a photon from a light picked in proportion to its flux; with a guide, a guided light's
+// direction comes from its histogram (photon_guide.h).
 inline PhotonPath emit_photon_path(const Scene& scene, const LightSampler& lights, const BounceLimits& limits,
-                                   Rng rng) {
+                                   Rng rng, const PhotonGuide* guide = nullptr) {
   double pick_pdf;
-  const Light& light = scene.lights()[lights.pick_emitter(rng.uniform(), pick_pdf)];
+  const uint32_t index = lights.pick_emitter(rng.uniform(), pick_pdf);
+  const Light& light = scene.lights()[index];
   const double u1 = rng.uniform(), u2 = rng.uniform(), u3 = rng.uniform(), u4 = rng.uniform(), u5 = rng.uniform();
-  PhotonEmission e = emit_photon(light, u1, u2, u3, u4, u5);
+  PhotonEmission e;
+  int32_t origin = -1;
+  const int slot = guide ? guide->slot(index) : -1;
+  if (slot >= 0) {
+    uint32_t bin;
+    double ratio;
+    const Vec3 d = guide->sample(slot, u3, u4, bin, ratio);
+    e = emit_photon_towards(light, d, u1, u2);
+    e.flux /= ratio;
+    origin = slot * PhotonGuide::kBins + static_cast<int32_t>(bin);
+  } else {
+    e = emit_photon(light, u1, u2, u3, u4, u5);
+  }
   // On its way from the light a photon carries direct light, which Cycles
   // traces with shadow rays: it passes through what casts no shadow.
   e.ray.kind = kShadowRay;
   const Bounces start = limits.active ? limits.start(light) : Bounces{};
-  return PhotonPath{rng, e.flux / (pick_pdf * lights.flux_unit()), e.ray, 0, start};  // its share of the total
+  PhotonPath path{rng, e.flux / (pick_pdf * lights.flux_unit()), e.ray, 0, start};  // its share of the total
+  path.origin = origin;
+  return path;
 }
 
 // Takes the path one bounce on, given what its ray hit (nullptr: nothing):
 // deposits (counted in `deposits`), then scatters. False when the path ends.
-// `deposit(position, travel_direction, normal, flux, bounces, caustic)`, where `normal`
+// `deposit(position, travel_direction, normal, flux, bounces, tag)`, where `normal`
 // is the surface's shading normal turned to the side the photon arrived on (as
 // hit points turn theirs to the viewer), `bounces` the path's counts with
-// the hit point's own scattering (meaningful only when `limits.active`), and `caustic` whether
-// the path came by specular scatterings only (PhotonPath::caustic).
+// the hit point's own scattering (meaningful only when `limits.active`), and `tag` what else
+// the deposit tells of the path (PhotonTag).
 template <class Deposit>
 bool bounce_photon(const Scene& scene, const Settings& settings, const BounceLimits& limits, PhotonPath& p,
                    const Hit* hit, Deposit&& deposit, uint64_t& deposits) {
@@ -75,7 +99,7 @@ bool bounce_photon(const Scene& scene, const Settings& settings, const BounceLim
     const uint8_t here = scattering_ray_kind(m);
     const Bounces bounces = limits.active && p.bounce > 0 ? plus(p.used, here) : p.used;
     deposit(hit->position, p.ray.direction, glm::dot(wo, sp.ng) >= 0.0 ? sp.ns : -sp.ns, p.flux, bounces,
-            p.caustic());
+            PhotonTag{p.caustic(), p.origin});
     ++deposits;
   }
   BsdfSample s;
@@ -104,14 +128,15 @@ bool bounce_photon(const Scene& scene, const Settings& settings, const BounceLim
 constexpr int kPhotonWave = 64;  // paths live at a time in a wave
 
 // Traces photons [first, last), photon i with the random numbers of
-// `rng_of(i)`; returns the number of deposits.
+// `rng_of(i)`, guided by `guide` if given; returns the number of deposits.
 template <class RngOf, class Deposit>
 uint64_t trace_photons(const Scene& scene, const LightSampler& lights, const Settings& settings,
-                       const BounceLimits& limits, uint64_t first, uint64_t last, RngOf&& rng_of, Deposit&& deposit) {
+                       const BounceLimits& limits, uint64_t first, uint64_t last, RngOf&& rng_of, Deposit&& deposit,
+                       const PhotonGuide* guide = nullptr) {
   uint64_t deposits = 0;
   if (!scene.interleaves_walks()) {  // a BVH in cache gains nothing from waves: one photon after the other
     for (uint64_t i = first; i < last; ++i) {
-      PhotonPath p = emit_photon_path(scene, lights, limits, rng_of(i));
+      PhotonPath p = emit_photon_path(scene, lights, limits, rng_of(i), guide);
       Hit hit;
       while (scene.intersect(p.ray, hit) && bounce_photon(scene, settings, limits, p, &hit, deposit, deposits)) {
       }
@@ -124,7 +149,7 @@ uint64_t trace_photons(const Scene& scene, const LightSampler& lights, const Set
   int live = 0;
   uint64_t next = first;
   for (;;) {
-    for (; live < kPhotonWave && next < last; ++next) paths[live++] = emit_photon_path(scene, lights, limits, rng_of(next));
+    for (; live < kPhotonWave && next < last; ++next) paths[live++] = emit_photon_path(scene, lights, limits, rng_of(next), guide);
     if (live == 0) return deposits;
     for (int k = 0; k < live; ++k) rays[k] = paths[k].ray;
     scene.intersect_many(rays, live, hits);

@@ -6,6 +6,7 @@
 #include "ppm/progressive.h"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 #include <thread>
 
@@ -94,6 +95,30 @@ bool RenderContext::measure_photon_spacing_once(double mean_radius, const Poll& 
   return true;
 }
 
+void RenderContext::weigh_pixels_for_guide(const std::vector<PixelErrorStats>& errors, const ErrorPasses& passes) {
+  if (!settings.photon_guiding) return;
+  if (passes.passes < kMinErrorPasses) {  // no noise estimate yet: the guide stays uniform
+    photon_pass.set_guide_weights(nullptr);
+    return;
+  }
+  guide_weights.resize(errors.size());
+  std::vector<PixelError> pixel(errors.size());
+  double sum = 0.0;
+  for (size_t p = 0; p < errors.size(); ++p) {
+    pixel[p] = pixel_error(errors[p], passes.of(p), 1.0);
+    sum += std::fabs(pixel[p].value);
+  }
+  // A pixel's error counts alike wherever it is (the mean absolute error target_error halts on):
+  // a photon bringing a share of a pixel's light is worth that share of its noise. Dark pixels'
+  // shares are taken against a floor, so that no black pixel makes its few photons precious.
+  const double floor = 0.05 * sum / std::max<size_t>(errors.size(), 1);
+  for (size_t p = 0; p < errors.size(); ++p) {
+    const double w = pixel[p].sd / std::max(std::fabs(pixel[p].value), floor);
+    guide_weights[p] = std::isfinite(w) && floor > 0.0 ? static_cast<float>(w) : 0.0f;
+  }
+  photon_pass.set_guide_weights(&guide_weights);
+}
+
 bool RenderContext::run_photon_pass(HitPoints& hp, uint64_t pass, const Poll& poll, PhotonPassCounters& counters) {
   if (!analysis.trace_photons) {
     counters.emitted += settings.photons_per_pass;  // an empty pass still counts its photons
@@ -146,7 +171,7 @@ Color RenderContext::photon_radiance(double r2, const HitPointStats& s, double p
 
 void RenderContext::add_memory(MemoryUse& use) const {
   use.scene += scene->memory_bytes();
-  use.pixels += depth.capacity() * sizeof(float);
+  use.pixels += depth.capacity() * sizeof(float) + guide_weights.capacity() * sizeof(float);
   use.hit_points += photon_pass.per_hit_point_bytes() + direct_scratch.memory_bytes();
   use.photons += photon_pass.photon_bytes();
   use.index += photon_pass.index_bytes();

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "ppm/direct_light.h"
+#include "ppm/error_estimate.h"
 #include "ppm/eye_pass.h"
 #include "ppm/photon_pass.h"
 #include "ppm/render_stats.h"
@@ -58,6 +59,13 @@ struct RenderContext {
     return lights.flux_unit() / (kPi * r2 * photons);
   }
   void add_memory(MemoryUse& use) const;
+  // Photon guiding (photon_guide.h), at the start of a pass: each pixel's weight from the error
+  // estimate so far (its noise over its luminance, no credit before kMinErrorPasses). Then at the
+  // pass's end: learn_guide() folds the pass's credits into the guide.
+  void weigh_pixels_for_guide(const std::vector<PixelErrorStats>& errors, const ErrorPasses& passes);
+  void learn_guide() {
+    if (settings.photon_guiding) photon_pass.learn_guide();
+  }
 
   std::shared_ptr<const Scene> scene;
   Settings settings;
@@ -69,6 +77,7 @@ struct RenderContext {
   DirectScratch direct_scratch;  // direct_light_pass's sums, kept so that no pass allocates
   bool dof_post = false, dof_lens = false;
   std::vector<float> depth;  // per pixel, bottom row first like the eye pass (POST depth of field)
+  std::vector<float> guide_weights;  // per pixel, with photon guiding
   double min_initial_r2 = 0.0;  // floor for automatic initial radii (photon_density_radius.h)
   bool spacing_measured = false;
   std::atomic<bool> cancel{false};

@@ -174,6 +174,11 @@ std::vector<float> Renderer::component_passes() const {
   return out;
 }
 
+PhotonGuide Renderer::photon_guide() const {
+  refuse_while_running(running_, "photon_guide()");
+  return context_.photon_pass.guide();
+}
+
 std::vector<float> Renderer::image() const {
   refuse_while_running(running_, "image()");
   const Camera& cam = context_.scene->camera();

@@ -76,6 +76,8 @@ class Renderer {
   // field (it blurs the finished image, not a pass).
   Share share() const;
   const Settings& settings() const { return context_.settings; }
+  // With settings.photon_guiding: what the guide has learned (photon_guide.h).
+  PhotonGuide photon_guide() const;
   int width() const { return context_.scene->camera().width; }
   int height() const { return context_.scene->camera().height; }
 

@@ -34,6 +34,9 @@ void Settings::validate() const {
     fail("component_passes needs direct_light 'sampled' (Direct is the light sampled at the first surface)");
   if (component_passes && gather != GatherOrganisation::Photons)
     fail("component_passes needs gather 'photons'");
+  if (photon_guiding && gather != GatherOrganisation::Photons) fail("photon_guiding needs gather 'photons'");
+  if (photon_guiding && radius_schedule == RadiusSchedule::Global)
+    fail("photon_guiding ties each pass to the ones before; radius_schedule 'global' needs passes apart");
   if (adaptive_samples < 1 || adaptive_samples > 64) fail("adaptive_samples must be in [1, 64]");
 }
 

@@ -88,6 +88,9 @@ struct Settings {
   // and the caustic part (light_components.h, Renderer::component_passes): 132 bytes per fixed hit
   // point, 216 a pixel with stochastic hit points.
   bool component_passes = false;
+  // Guide point, sphere and spot lights' photons towards where the error estimate finds the image
+  // noisiest (photon_guide.h).
+  bool photon_guiding = false;
   // Stochastic hit points: the radius schedule, and the index of the first pass this renderer
   // renders (0 for the first). Rendering a share of a still's passes (share.h) takes the global
   // schedule; the random numbers of pass i are then those of pass i of one long render.

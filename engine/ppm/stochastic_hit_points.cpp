@@ -46,12 +46,14 @@ bool StochasticHitPoints::pass(const Poll& poll) {
     current_ = PassInProgress{0, stats.photon, 0};
     if (eye.record_depth) depth_.assign(pixels_.size(), std::numeric_limits<float>::infinity());
     if (adaptive) allocate_eye_samples(errors_, pass, max_samples, eye_samples_);
+    c_.weigh_pixels_for_guide(errors_, error_passes());
   }
   if (adaptive) eye.pixel_samples = eye_samples_.data();
   if (!c_.run_bands(current_.next_row, c_.band_rows(adaptive ? max_samples : 1), eye,
                     [&](const EyePassOptions& e) { return band(e, pass, poll); }))
     return false;
   if (eye.record_depth) c_.depth.swap(depth_);
+  c_.learn_guide();
   stats.photon = current_.counters;
   if (c_.analysis.sample_direct) ++stats.direct_samples;
   stats.hit_points = current_.hit_points;

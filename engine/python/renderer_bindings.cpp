@@ -119,6 +119,9 @@ const std::map<std::string, SettingAccess>& setting_table() {
        number(&Settings::component_passes,
               "keep Diffuse, Glossy and Transmission Direct, Indirect and Color and the caustic part apart "
               "(component_passes())")},
+      {"photon_guiding", number(&Settings::photon_guiding,
+                                "guide point, sphere and spot lights' photons towards the pixels the error "
+                                "estimate finds noisiest")},
       {"adaptive_samples", number(&Settings::adaptive_samples,
                                   "stochastic hit points: up to this many eye samples a pixel each pass where the "
                                   "error estimate finds the pixel noisiest (1: one everywhere)")},
@@ -323,6 +326,21 @@ void bind_renderer(py::module_& m) {
            "(H, W, 3) float32, top row first, 'Emit' (surfaces' and lights' emission) and 'Env' (the world). "
            "What is seen through mirrors and glass is in neither (Cycles counts it as glossy or transmission "
            "light).")
+      .def("photon_guide",
+           [](const Renderer& r) {
+             const PhotonGuide guide = r.photon_guide();
+             py::list out;
+             for (int s = 0; s < guide.slots(); ++s) {
+               const std::vector<double> p = guide.probabilities(s);
+               py::array_t<double> a({PhotonGuide::kRings, PhotonGuide::kSectors});
+               std::copy(p.begin(), p.end(), a.mutable_data());
+               out.append(a);
+             }
+             return out;
+           },
+           "With photon_guiding=True: per guided light (point, sphere, spot and area lights, in the "
+           "scene's order), the probability of each direction bin (rings of cos(theta) from -1, or 0 for an area "
+           "light in its frame, to 1; sectors of phi); uniform (1/512 each) before the guide has learned.")
       .def("component_passes",
            [](const Renderer& r) {
              std::vector<float> values;

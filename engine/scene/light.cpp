@@ -259,6 +259,38 @@ Color radiance_at(const Light& l, const Vec2& b) {
   return l.emission * Color(values[l.program_output]);
 }
 
+bool guidable(const Light& l) {
+  return l.kind == LightKind::Point || l.kind == LightKind::Sphere || (l.kind == LightKind::Spot && l.radius > 0.0) ||
+         emits_into_hemisphere(l);
+}
+
+PhotonEmission emit_photon_towards(const Light& l, const Vec3& d, double u1, double u2) {
+  PhotonEmission e;
+  e.flux = l.flux;
+  switch (l.kind) {
+    case LightKind::Point: e.ray = {l.position, d}; break;
+    case LightKind::Sphere:
+    case LightKind::Spot: {
+      // The sphere's photons leave point n in direction d with density cos(n, d) / pi about d: its
+      // own emission (uniform points, cosine directions) seen from the direction's side.
+      const Vec3 n = to_world(sample_cosine_hemisphere(u1, u2), d);
+      e.ray = {l.position + l.radius * n, d};
+      if (l.kind == LightKind::Spot) e.flux = l.power * spot_attenuation(l, d);
+      break;
+    }
+    case LightKind::Rectangle:
+    case LightKind::Disk: {
+      // Own density cos / pi against the uniform hemisphere's 1 / (2 pi).
+      const double cos_d = std::max(0.0, glm::dot(d, l.direction));
+      e.ray = {sample_area_point(l, u1, u2), d};
+      e.flux = l.flux * (spread_attenuation(l, cos_d) * 2.0 * cos_d);
+      break;
+    }
+    default: e.ray = {l.position, d}, e.flux = Color(0.0); break;
+  }
+  return e;
+}
+
 PhotonEmission emit_photon(const Light& l, double u1, double u2, double u3, double u4, double u5) {
   PhotonEmission e;
   e.flux = l.flux;

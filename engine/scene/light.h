@@ -117,6 +117,19 @@ void prepare_light(Light& light, const Aabb& scene_bounds);
 
 PhotonEmission emit_photon(const Light& light, double u1, double u2, double u3, double u4, double u5);
 
+// Photon guiding (ppm/photon_guide.h): lights whose photons' directions can be drawn from elsewhere.
+// Their emission is the same in every direction (point lights, sphere and spot lights of a radius:
+// over the sphere) or a cosine lobe about their direction (area lights: over its hemisphere).
+bool guidable(const Light& light);
+inline bool emits_into_hemisphere(const Light& light) {
+  return light.kind == LightKind::Rectangle || light.kind == LightKind::Disk;
+}
+// A guidable light's photon leaving in direction `d` (unit; for an area light, on its front side),
+// from a point drawn with (u1, u2) as the light's own emission draws it given d. Its flux is the
+// light's emission in d over a uniform density of directions on the sphere or hemisphere: drawn
+// from a density that is `ratio` times the uniform one, flux / ratio is unbiased.
+PhotonEmission emit_photon_towards(const Light& light, const Vec3& d, double u1, double u2);
+
 // An emissive triangle's radiance at barycentric coordinates (b1, b2) (its texture looked up there).
 Color radiance_at(const Light& light, const Vec2& b);
 

@@ -69,8 +69,8 @@ TEST(PhotonWaves, SameDepositsAsOnePhotonAtATime) {
 
     std::vector<Deposit> waves;
     auto record = [](std::vector<Deposit>& out) {
-      return [&out](const Vec3& p, const Vec3& d, const Vec3& n, const Color& f, const Bounces&, bool caustic) {
-        out.push_back({p.x, p.y, p.z, d.x, d.y, d.z, n.x, n.y, n.z, f.x, f.y, f.z, caustic ? 1.0 : 0.0});
+      return [&out](const Vec3& p, const Vec3& d, const Vec3& n, const Color& f, const Bounces&, PhotonTag tag) {
+        out.push_back({p.x, p.y, p.z, d.x, d.y, d.z, n.x, n.y, n.z, f.x, f.y, f.z, tag.caustic ? 1.0 : 0.0});
       };
     };
     const BounceLimits limits = BounceLimits::of(settings, scene);
