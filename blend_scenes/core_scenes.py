@@ -118,6 +118,22 @@ def cornell_diffuse(width=640, height=480, light="area") -> ppm_core.Scene:
     return scene
 
 
+def open_caustic(width=640, height=480) -> ppm_core.Scene:
+    """A glass ball under a small sphere light on a 40 m floor before a far wall, the camera close on
+    the ball and its caustic: most of the light's photons land where the camera does not look (the
+    case photon guiding is for, photon_guide.h)."""
+    scene = ppm_core.Scene()
+    floor = scene.add_material("floor", "diffuse", base_color=(0.7, 0.7, 0.7))
+    wall = scene.add_material("wall", "diffuse", base_color=(0.6, 0.5, 0.4))
+    glass = scene.add_material("glass", "glass", base_color=(1.0, 1.0, 1.0), ior=1.5)
+    quad(scene, "floor", [(-20, -20, 0), (20, -20, 0), (20, 20, 0), (-20, 20, 0)], floor)
+    quad(scene, "wall", [(-20, 15, 0), (20, 15, 0), (20, 15, 10), (-20, 15, 10)], wall)
+    scene.add_sphere("ball", (0.0, 0.0, 0.6), 0.4, glass)
+    scene.add_light("sphere", name="lamp", power=300.0, position=(0.3, 0.2, 2.5), radius=0.05)
+    scene.set_camera(look_at((0.0, -2.0, 1.6), (0.0, 0.1, 0.2)), width, height, fov=math.radians(45))
+    return scene
+
+
 def closed_sphere_with_point_light(radius=1.0, albedo=0.5, power=100.0, width=32, height=32):
     """Analytic test scene: a point light at the centre of a closed diffuse sphere.
 

@@ -94,6 +94,7 @@ class RENDER_PT_ppm_sampling(PPMRenderPanel, bpy.types.Panel):
         sub = col.column()
         sub.active = settings.hit_points != 'FIXED'
         sub.prop(settings, "adaptive_samples")
+        col.prop(settings, "photon_guiding")
 
 
 class RENDER_PT_ppm_viewport(PPMRenderPanel, bpy.types.Panel):

@@ -208,3 +208,19 @@ def test_the_command_line_fails_readably(tmp_path):
                          capture_output=True, text=True, timeout=300, check=False,
                          env=cli_environment(), cwd=tmp_path)
     assert run.returncode == 1 and "missing.blend' does not exist" in run.stderr
+
+
+def test_share_settings_drop_what_does_not_split_into_shares():
+    from ppm_render.farm.still_export import share_settings
+
+    warnings = []
+    out = share_settings({"hit_points": "fixed", "photon_guiding": True, "dof_mode": "post", "threads": 3,
+                          "light_passes": True, "target_error": 0.02}, warnings.append)
+    assert out["hit_points"] == "stochastic" and out["radius_schedule"] == "global"
+    assert out["photon_guiding"] is False and out["dof_mode"] == "lens" and "threads" not in out
+    assert out["light_passes"] is False and out["target_error"] == 0.0
+    assert len(warnings) == 3 and any("guiding" in w for w in warnings)
+    ppm_core = core.load()
+    scene = ppm_core.Scene()
+    scene.set_camera(np.eye(4), 8, 6)
+    ppm_core.Renderer(scene, **out)  # the core takes them (it refuses guiding with shares)

@@ -25,6 +25,9 @@ def share_settings(settings, warn):
            "target_error": 0.0}
     if settings.get("hit_points") == "fixed":
         warn("fixed hit points do not split into shares: rendering with stochastic ones")
+    if settings.get("photon_guiding"):
+        warn("photon guiding learns from the passes before: shares render without it")
+        out["photon_guiding"] = False
     if settings.get("dof_mode") == "post":
         warn("depth of field 'Post Process' blurs a finished image, not a share: rendering it as 'Lens'")
         out["dof_mode"] = "lens"
