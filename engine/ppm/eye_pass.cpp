@@ -46,7 +46,7 @@ struct FileEmission {
   const Color& emitted;
   const Color start;
   ~FileEmission() {
-    if (out && v.depth > 0) out->light[2 * v.route + (v.depth == 1 ? 0 : 1)] += Vec3f(emitted - start);
+    if (out && v.depth > 0) out->light[emission_component(v.route, v.depth)] += Vec3f(emitted - start);
   }
 };
 

@@ -19,7 +19,8 @@ double kept_hit_point_bytes(const Camera& camera, int samples_per_pixel, bool co
   const double pixels = static_cast<double>(camera.width) * camera.height;
   const double per_sample = 2.0 * (sizeof(HitPoint) + sizeof(HitPointShading)) + sizeof(HitPointStats) +
                             sizeof(uint32_t) + 2 * sizeof(Color) + sizeof(Bounces) + sizeof(uint16_t) + sizeof(float) +
-                            (components ? 2.0 + sizeof(HitPointComponents) + sizeof(ClassColors) : 0.0);
+                            (components ? 2.0 + sizeof(HitPointComponents) + sizeof(ClassColors) + 4 * sizeof(Vec3f)
+                                        : 0.0);
   const double per_pixel = 2 * sizeof(uint32_t) + sizeof(Color) + sizeof(double) + 5 * sizeof(float) +
                            sizeof(PixelErrorStats) + (components ? sizeof(ComponentLight) : 0);
   return pixels * (per_sample * samples_per_pixel + per_pixel);

@@ -42,6 +42,10 @@ inline LightComponent direct_component(uint8_t route, int c) {
 inline LightComponent indirect_component(uint8_t route, int c) {
   return static_cast<LightComponent>(2 * (route == kNoBounce ? c : route) + 1);
 }
+// Where emission an eye chain on `route` (a bounce's class) sees after `depth` >= 1 bounces goes.
+inline LightComponent emission_component(uint8_t route, int depth) {
+  return static_cast<LightComponent>(2 * route + (depth == 1 ? 0 : 1));
+}
 
 // A pixel's light by component, and its Color passes.
 struct ComponentLight {

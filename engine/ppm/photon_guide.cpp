@@ -14,7 +14,7 @@ void PhotonGuide::reset(const std::vector<Light>& lights) {
   for (size_t i = 0; i < lights.size(); ++i) {
     if (!guidable(lights[i])) continue;
     slot_of_[i] = slots();
-    Frame f{emits_into_hemisphere(lights[i]), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)};
+    Frame f{emits_into_hemisphere(lights[i]), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1), false};
     if (f.hemisphere) {
       f.n = lights[i].direction;
       make_basis(f.n, f.t, f.b);
@@ -44,6 +44,17 @@ Vec3 PhotonGuide::sample(int slot, double u1, double u2, uint32_t& bin, double& 
   return glm::normalize(s * std::cos(phi) * f.t + s * std::sin(phi) * f.b + z * f.n);
 }
 
+uint32_t PhotonGuide::bin_of(int slot, const Vec3& d) const {
+  const Frame& f = frames_[slot];
+  const double z_low = f.hemisphere ? 0.0 : -1.0;
+  const double z = std::clamp(glm::dot(d, f.n), z_low, 1.0);
+  const int ring = std::min(kRings - 1, static_cast<int>((z - z_low) / (1.0 - z_low) * kRings));
+  double phi = std::atan2(glm::dot(d, f.b), glm::dot(d, f.t));
+  if (phi < 0.0) phi += 2.0 * kPi;
+  const int sector = std::min(kSectors - 1, static_cast<int>(phi / (2.0 * kPi) * kSectors));
+  return static_cast<uint32_t>(ring * kSectors + sector);
+}
+
 void PhotonGuide::learn(const std::vector<double>& credit) {
   for (int s = 0; s < slots(); ++s) {
     const double* c = &credit[static_cast<size_t>(s) * kBins];
@@ -59,6 +70,7 @@ void PhotonGuide::learn(const std::vector<double>& credit) {
     for (int b = 0; b < kBins; ++b)
       cdf[b + 1] = cdf[b] + (1.0 - kUniformShare) * importance[b] / sum + kUniformShare / kBins;
     cdf[kBins] = 1.0;
+    frames_[s].learned = true;
   }
 }
 

@@ -31,10 +31,15 @@ class PhotonGuide {
   // The histogram of light `light`, or -1 if it is not guided.
   int slot(uint32_t light) const { return light < slot_of_.size() ? slot_of_[light] : -1; }
   int slots() const { return static_cast<int>(frames_.size()); }
+  // Whether slot's histogram has learned anything: until then its light emits as it would unguided
+  // (an area light's own cosine lobe beats a uniform hemisphere).
+  bool learned(int slot) const { return frames_[slot].learned; }
 
   // A world direction drawn with (u1, u2) from slot's histogram, its bin, and the ratio of its
   // density to the uniform one over the slot's sphere or hemisphere.
   Vec3 sample(int slot, double u1, double u2, uint32_t& bin, double& ratio) const;
+  // The bin of slot's histogram a world direction falls in.
+  uint32_t bin_of(int slot, const Vec3& direction) const;
 
   // Adds one pass's credits (slots() * kBins, slot by slot) to the importance and draws the
   // histograms anew. A slot without credit keeps its histogram.
@@ -43,11 +48,16 @@ class PhotonGuide {
   // The probability of each bin of `slot`, ring by ring from cos(theta) = -1 (0 for a hemisphere)
   // to 1, in the light's frame for an area light.
   std::vector<double> probabilities(int slot) const;
+  size_t memory_bytes() const {
+    return slot_of_.capacity() * sizeof(int) + frames_.capacity() * sizeof(Frame) +
+           (importance_.capacity() + cdf_.capacity()) * sizeof(double);
+  }
 
  private:
   struct Frame {
     bool hemisphere;  // an area light's: its front side, about its direction
     Vec3 t, b, n;     // the world axes of the histogram's x, y and z
+    bool learned;
   };
   std::vector<int> slot_of_;
   std::vector<Frame> frames_;

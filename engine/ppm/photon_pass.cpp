@@ -138,8 +138,11 @@ bool PhotonPass::run(const Scene& scene, const LightSampler& lights, uint64_t pa
                ? run_hit_point_index(quantile_, scene, lights, pass, hp, cancel, poll, counters)
                : run_hit_point_index(hash_, scene, lights, pass, hp, cancel, poll, counters);
   }
-  return trace_and_index(scene, lights, pass, mean_r2(hp), cancel, poll, counters) &&
-         gather(scene, hp, cancel, poll, counters);
+  if (!trace_and_index(scene, lights, pass, mean_r2(hp), cancel, poll, counters) ||
+      !gather(scene, hp, cancel, poll, counters))
+    return false;
+  keep_band_credit();
+  return true;
 }
 
 template <class Grid>
@@ -345,7 +348,7 @@ void PhotonPass::gather_diffuse(const Grid& grid, const HitPoints& hp, size_t i,
   const Vec3* position = positions_.data();
   const Arrival* arrival = arrivals_.data();
   Color flux(0.0), flux_d2(0.0), caustic_flux(0.0);
-  const double credit_weight = kTagged && credit ? guide_weight(hp, i) * luminance(Color(h.weight)) : 0.0;
+  const double credit_weight = kTagged && credit ? guide_weight(hp, i) : 0.0;
   grid.for_each_run_in_box(center - r, center + r, [&](uint32_t begin, uint32_t end) {
     for (uint32_t p = begin; p < end; ++p) {
       // Most candidates fail the distance test, which reads positions only.
@@ -363,7 +366,7 @@ void PhotonPass::gather_diffuse(const Grid& grid, const HitPoints& hp, size_t i,
       if constexpr (kTagged) {
         if (parts && arrival_caustic_[p]) caustic_flux += Color(a.flux);
         if (credit_weight > 0.0 && arrival_origin_[p] >= 0)
-          credit[arrival_origin_[p]] += credit_weight * luminance(Color(a.flux));
+          credit[arrival_origin_[p]] += credit_weight * luminance(Color(a.flux) * Color(h.weight));
       }
     }
   });
@@ -413,7 +416,8 @@ void PhotonPass::gather_glossy(const Grid& grid, const Scene& scene, const HitPo
 }
 
 // Every hit point sums the indexed photons within its radius into gathered_m_ and gathered_tau_
-// (and by class into gathered_parts_ with light components).
+// (by class into gathered_parts_ with light components; with guiding, the band's credits into
+// band_credit_).
 template <class Grid>
 bool PhotonPass::gather_at_hit_points(const Grid& grid, const Scene& scene, const HitPoints& hp,
                                       std::atomic<bool>& cancel, const std::function<bool()>& poll) {
@@ -454,16 +458,26 @@ bool PhotonPass::gather_at_hit_points(const Grid& grid, const Scene& scene, cons
                : parallel_chunks(threads_, hchunks, gather(std::false_type{}), cancel, poll, settings_.progress_interval)))
     return false;
   if (crediting) {  // chunk order: the same sums whichever thread gathered which chunk
-    pass_credit_.resize(static_cast<size_t>(guide_.slots()) * PhotonGuide::kBins, 0.0);
+    band_credit_.assign(static_cast<size_t>(guide_.slots()) * PhotonGuide::kBins, 0.0);
     for (size_t c = 0; c < hchunks; ++c)
-      for (size_t k = 0; k < pass_credit_.size(); ++k) pass_credit_[k] += chunk_credit_[c][k];
+      for (size_t k = 0; k < band_credit_.size(); ++k) band_credit_[k] += chunk_credit_[c][k];
   }
   return true;
 }
 
+void PhotonPass::keep_band_credit() {
+  if (band_credit_.empty()) return;
+  pass_credit_.resize(band_credit_.size(), 0.0);
+  for (size_t k = 0; k < band_credit_.size(); ++k) pass_credit_[k] += band_credit_[k];
+  band_credit_.clear();
+}
+
+// The pixel's weight over the gather disc's area: a photon's luminance times it is proportional to
+// the share of the pixel's noise its light is part of (radiance is flux over pi r^2).
 double PhotonPass::guide_weight(const HitPoints& hp, size_t i) const {
-  const uint32_t pixel = hp.shading[hp.points[i].shading].pixel;
-  return pixel < guide_weights_->size() ? (*guide_weights_)[pixel] : 0.0;
+  const HitPoint& h = hp.points[i];
+  const uint32_t pixel = hp.shading[h.shading].pixel;
+  return pixel < guide_weights_->size() && h.r2 > 0.0 ? (*guide_weights_)[pixel] / h.r2 : 0.0;
 }
 
 void PhotonPass::learn_guide() {
@@ -492,6 +506,7 @@ size_t PhotonPass::per_hit_point_bytes() const {
   for (const auto& v : bias_acc_) bytes += v.capacity() * sizeof(float);
   bytes += gathered_bias_.capacity() * sizeof(float) + gathered_parts_.capacity() * sizeof(PhotonParts);
   for (const auto& v : chunk_credit_) bytes += v.capacity() * sizeof(double);
+  bytes += (band_credit_.capacity() + pass_credit_.capacity()) * sizeof(double) + guide_.memory_bytes();
   bytes += gathered_m_.capacity() * sizeof(uint32_t) + gathered_tau_.capacity() * sizeof(Color);
   return bytes + centers_.capacity() * sizeof(Vec3) + radii_.capacity() * sizeof(double);
 }

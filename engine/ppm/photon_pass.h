@@ -61,6 +61,9 @@ class PhotonPass {
   // to come (bottom row first; kept by the caller), and the end of a pass, which folds what its
   // gathers credited into the guide.
   void set_guide_weights(const std::vector<float>* pixel_weights) { guide_weights_ = pixel_weights; }
+  // A band's credits count once it is folded into the image (a band cancelled after its gather is
+  // gathered again; run() keeps its one band's at once).
+  void keep_band_credit();
   void learn_guide();
   const PhotonGuide& guide() const { return guide_; }
 
@@ -142,15 +145,15 @@ class PhotonPass {
   std::vector<std::vector<uint8_t>> chunk_caustic_;
   std::vector<uint8_t> arrival_caustic_;
   // Photon guiding: the guide, each photon's origin (per chunk as traced, then in cell order), the
-  // pixels' weights, and the credits of the pass so far (per chunk of hit points, summed in
-  // chunk order: the same whichever thread gathered which).
+  // pixels' weights, and the credits (per chunk of hit points, summed in chunk order: the same
+  // whichever thread gathered which) of the last band gathered and of the pass's bands kept.
   PhotonGuide guide_;
   bool guide_ready_ = false;
   std::vector<std::vector<int32_t>> chunk_origin_;
   std::vector<int32_t> arrival_origin_;
   const std::vector<float>* guide_weights_ = nullptr;
   std::vector<std::vector<double>> chunk_credit_;
-  std::vector<double> pass_credit_;
+  std::vector<double> band_credit_, pass_credit_;
   // One pass's gather per hit point, added to the statistics once the pass completes.
   std::vector<uint32_t> gathered_m_;
   std::vector<Color> gathered_tau_;

@@ -56,7 +56,7 @@ inline PhotonPath emit_photon_path(const Scene& scene, const LightSampler& light
   PhotonEmission e;
   int32_t origin = -1;
   const int slot = guide ? guide->slot(index) : -1;
-  if (slot >= 0) {
+  if (slot >= 0 && guide->learned(slot)) {
     uint32_t bin;
     double ratio;
     const Vec3 d = guide->sample(slot, u3, u4, bin, ratio);
@@ -65,6 +65,8 @@ inline PhotonPath emit_photon_path(const Scene& scene, const LightSampler& light
     origin = slot * PhotonGuide::kBins + static_cast<int32_t>(bin);
   } else {
     e = emit_photon(light, u1, u2, u3, u4, u5);
+    // Not guided yet: its bin all the same, for the credits the guide first learns from.
+    if (slot >= 0) origin = slot * PhotonGuide::kBins + static_cast<int32_t>(guide->bin_of(slot, e.ray.direction));
   }
   // On its way from the light a photon carries direct light, which Cycles
   // traces with shadow rays: it passes through what casts no shadow.

@@ -2,6 +2,7 @@
 #include "ppm/render_context.h"
 
 #include "post/dof_post.h"
+#include "ppm/parallel.h"
 #include "ppm/photon_density_radius.h"
 #include "ppm/progressive.h"
 
@@ -102,20 +103,19 @@ void RenderContext::weigh_pixels_for_guide(const std::vector<PixelErrorStats>& e
     return;
   }
   guide_weights.resize(errors.size());
-  std::vector<PixelError> pixel(errors.size());
   double sum = 0.0;
-  for (size_t p = 0; p < errors.size(); ++p) {
-    pixel[p] = pixel_error(errors[p], passes.of(p), 1.0);
-    sum += std::fabs(pixel[p].value);
-  }
+  for (size_t p = 0; p < errors.size(); ++p) sum += std::fabs(pixel_error(errors[p], passes.of(p), 1.0).value);
   // A pixel's error counts alike wherever it is (the mean absolute error target_error halts on):
   // a photon bringing a share of a pixel's light is worth that share of its noise. Dark pixels'
   // shares are taken against a floor, so that no black pixel makes its few photons precious.
   const double floor = 0.05 * sum / std::max<size_t>(errors.size(), 1);
-  for (size_t p = 0; p < errors.size(); ++p) {
-    const double w = pixel[p].sd / std::max(std::fabs(pixel[p].value), floor);
-    guide_weights[p] = std::isfinite(w) && floor > 0.0 ? static_cast<float>(w) : 0.0f;
-  }
+  parallel_for(threads, errors.size(), [&](size_t begin, size_t end) {
+    for (size_t p = begin; p < end; ++p) {
+      const PixelError e = pixel_error(errors[p], passes.of(p), 1.0);
+      const double w = e.sd / std::max(std::fabs(e.value), floor);
+      guide_weights[p] = std::isfinite(w) && floor > 0.0 ? static_cast<float>(w) : 0.0f;
+    }
+  });
   photon_pass.set_guide_weights(&guide_weights);
 }
 

@@ -69,7 +69,8 @@ class Renderer {
   // With settings.component_passes: per pixel, rows from the top, the light by component
   // (light_components.h) in LightComponent order, then the Diffuse, Glossy and Transmission Color:
   // 30 floats a pixel. The light is each component's radiance: the six Direct and Indirect ones,
-  // Emit and Env add up to the image (the caustic part is within the Indirect ones).
+  // Emit and Env add up to the image before a POST depth-of-field blur (the caustic part is within
+  // the Indirect ones).
   std::vector<float> component_passes() const;
   // The passes rendered so far as a share of a still (share.h), to merge with other machines'.
   // Needs radius_schedule 'global', whole passes (not between the bands of one) and no POST depth of

@@ -85,11 +85,12 @@ struct Settings {
   // Cycles' Emit and Env passes): 24 bytes a pixel more with stochastic hit points.
   bool light_passes = false;
   // Keep the light apart by Cycles' Diffuse, Glossy and Transmission Direct, Indirect and Color,
-  // and the caustic part (light_components.h, Renderer::component_passes): 132 bytes per fixed hit
-  // point, 216 a pixel with stochastic hit points.
+  // and the caustic part (light_components.h, Renderer::component_passes): 134 bytes more per fixed
+  // hit point kept, 216 a pixel with stochastic hit points, and 120 per hit point of a pass's
+  // scratch (its direct light and photons by class).
   bool component_passes = false;
-  // Guide point, sphere and spot lights' photons towards where the error estimate finds the image
-  // noisiest (photon_guide.h).
+  // Guide point, sphere, spot (of a radius) and area lights' photons towards where the error
+  // estimate finds the image noisiest (photon_guide.h).
   bool photon_guiding = false;
   // Stochastic hit points: the radius schedule, and the index of the first pass this renderer
   // renders (0 for the first). Rendering a share of a still's passes (share.h) takes the global

@@ -92,6 +92,7 @@ bool StochasticHitPoints::band(const EyePassOptions& eye, uint64_t pass, const P
       fold_band(first_pixel, pass + 1, eye.pixel_samples);
     if (eye.record_depth) std::copy(fresh.depth.begin(), fresh.depth.end(), depth_.begin() + first_pixel);
   }
+  c_.photon_pass.keep_band_credit();
   current_.hit_points += fresh.size();
   return true;
 }

@@ -120,7 +120,7 @@ const std::map<std::string, SettingAccess>& setting_table() {
               "keep Diffuse, Glossy and Transmission Direct, Indirect and Color and the caustic part apart "
               "(component_passes())")},
       {"photon_guiding", number(&Settings::photon_guiding,
-                                "guide point, sphere and spot lights' photons towards the pixels the error "
+                                "guide point, sphere, spot and area lights' photons towards the pixels the error "
                                 "estimate finds noisiest")},
       {"adaptive_samples", number(&Settings::adaptive_samples,
                                   "stochastic hit points: up to this many eye samples a pixel each pass where the "
@@ -338,7 +338,7 @@ void bind_renderer(py::module_& m) {
              }
              return out;
            },
-           "With photon_guiding=True: per guided light (point, sphere, spot and area lights, in the "
+           "With photon_guiding=True: per guided light (point, sphere and area lights, spots of a radius, in the "
            "scene's order), the probability of each direction bin (rings of cos(theta) from -1, or 0 for an area "
            "light in its frame, to 1; sectors of phi); uniform (1/512 each) before the guide has learned.")
       .def("component_passes",
@@ -355,7 +355,7 @@ void bind_renderer(py::module_& m) {
            },
            "With component_passes=True: the light by Cycles' passes, dict of (H, W, 3) float32, top row first. "
            "DiffDir, DiffInd, GlossDir, GlossInd, TransDir and TransInd are radiance (with light_passes' Emit and "
-           "Env they add up to image()); Cycles stores them divided by DiffCol, GlossCol and TransCol, the albedo "
+           "Env they add up to image(), but for a 'post' depth-of-field blur); Cycles stores them divided by DiffCol, GlossCol and TransCol, the albedo "
            "of each class at the first surface. Caustic: the light of photons that came by mirrors and glass "
            "only, part of the Indirect ones.")
       .def("denoising_features",

@@ -260,8 +260,10 @@ Color radiance_at(const Light& l, const Vec2& b) {
 }
 
 bool guidable(const Light& l) {
+  // An area light of a narrower spread sends nothing into most of its hemisphere: drawn uniformly
+  // there, its few photons inside would carry large weights.
   return l.kind == LightKind::Point || l.kind == LightKind::Sphere || (l.kind == LightKind::Spot && l.radius > 0.0) ||
-         emits_into_hemisphere(l);
+         (emits_into_hemisphere(l) && !(l.spread < kPi));
 }
 
 PhotonEmission emit_photon_towards(const Light& l, const Vec3& d, double u1, double u2) {

@@ -119,7 +119,8 @@ PhotonEmission emit_photon(const Light& light, double u1, double u2, double u3, 
 
 // Photon guiding (ppm/photon_guide.h): lights whose photons' directions can be drawn from elsewhere.
 // Their emission is the same in every direction (point lights, sphere and spot lights of a radius:
-// over the sphere) or a cosine lobe about their direction (area lights: over its hemisphere).
+// over the sphere) or a cosine lobe about their direction (area lights of the full spread: over
+// its hemisphere).
 bool guidable(const Light& light);
 inline bool emits_into_hemisphere(const Light& light) {
   return light.kind == LightKind::Rectangle || light.kind == LightKind::Disk;
