@@ -35,13 +35,18 @@ enum LightComponent : uint8_t {
   kLightComponents
 };
 
-// Where a hit point with eye-chain route `route` files light of class `c`.
+// Where a hit point on eye-chain route `route` files the light it samples through lobes of class
+// `c`: that class's Direct when the camera sees it, else its route's Indirect.
 inline LightComponent direct_component(uint8_t route, int c) {
   return static_cast<LightComponent>(route == kNoBounce ? 2 * c : 2 * route + 1);
 }
-inline LightComponent indirect_component(uint8_t route, int c) {
-  return static_cast<LightComponent>(2 * (route == kNoBounce ? c : route) + 1);
+// Photon flux kept by Indirect component: slot k < kLightClasses is that class's Indirect, the
+// last slot the caustic part.
+inline LightComponent photon_slot_component(int k) {
+  return k < kLightClasses ? static_cast<LightComponent>(2 * k + 1) : kCaustic;
 }
+// The slot of the photons a hit point on `route` gathers through lobes of class `c`: their Indirect.
+inline int photon_slot(uint8_t route, int c) { return route == kNoBounce ? c : route; }
 // Where emission an eye chain on `route` (a bounce's class) sees after `depth` >= 1 bounces goes.
 inline LightComponent emission_component(uint8_t route, int depth) {
   return static_cast<LightComponent>(2 * route + (depth == 1 ? 0 : 1));
@@ -75,18 +80,13 @@ struct HitPointComponents {
   void add_to(ComponentLight& out, uint8_t route, double direct_scale, double photon_scale) const {
     for (int c = 0; c < kLightClasses; ++c) {
       out.light[direct_component(route, c)] += direct[c] * static_cast<float>(direct_scale);
-      out.light[indirect_component(route, c)] += (tau[c] + tau_m[c]) * static_cast<float>(photon_scale);
+      out.light[photon_slot_component(photon_slot(route, c))] += (tau[c] + tau_m[c]) * static_cast<float>(photon_scale);
     }
     out.light[kCaustic] += (tau[kLightClasses] + tau_m[kLightClasses]) * static_cast<float>(photon_scale);
   }
 };
 static_assert(sizeof(HitPointComponents) == 132, "HitPointComponents grew");
 
-// Photon flux kept by Indirect component: slot k < kLightClasses is that class's Indirect, the
-// last slot the caustic part.
-inline LightComponent photon_slot_component(int k) {
-  return k < kLightClasses ? static_cast<LightComponent>(2 * k + 1) : kCaustic;
-}
 
 // A pixel's light components across passes (stochastic hit points): the running means of the light
 // that needs no photons and of the Color passes, and its photon flux by slot, folded as the pixel's

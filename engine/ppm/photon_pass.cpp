@@ -53,38 +53,43 @@ inline bool counts_for_diffuse(const Vec3& d, const Vec3& normal, const Vec3f& n
   return !across_a_solid(d, normal, normal_f, photon_normal);
 }
 
+// Whether a photon at `pos`, arrived on the side `photon_normal` faces, counts for glossy hit point i:
+// within its radius and on a side its material scatters from (glass and translucent lobes
+// transmit: photons that arrived on the other side count through the BSDF).
+inline bool reaches_glossy(const Scene& scene, const HitPoints& hp, uint32_t i, const Vec3& pos,
+                           const Vec3f& photon_normal) {
+  const HitPoint& h = hp.points[i];
+  const Vec3 d = pos - h.position;
+  if (glm::dot(d, d) > h.r2) return false;
+  return transmits(scene.material(hp.shading[h.shading].material)) ||
+         !across_a_solid(d, Vec3(h.normal), h.normal, photon_normal);
+}
+
 // Does a photon at `pos` travelling along `dir` count for hit point i, and with what weight?
 inline bool photon_weight(const Scene& scene, const HitPoints& hp, uint32_t i, const Vec3& pos, const Vec3f& dir,
                           const Vec3f& photon_normal, Vec3f& weight) {
   const HitPoint& h = hp.points[i];
-  const Vec3 d = pos - h.position;
-  if (glm::dot(d, d) > h.r2) return false;
-  const Vec3 normal(h.normal);
   if (!h.glossy) {
-    if (!counts_for_diffuse(d, normal, h.normal, dir, photon_normal)) return false;
+    const Vec3 d = pos - h.position;
+    if (glm::dot(d, d) > h.r2 || !counts_for_diffuse(d, Vec3(h.normal), h.normal, dir, photon_normal)) return false;
     weight = h.weight;
     return true;
   }
+  if (!reaches_glossy(scene, hp, i, pos, photon_normal)) return false;
   const HitPointShading& sh = hp.shading[h.shading];
-  const Material& m = scene.material(sh.material);
-  // Glass and translucent lobes transmit: photons that arrived on the other side count through the BSDF.
-  if (!transmits(m) && across_a_solid(d, normal, h.normal, photon_normal)) return false;
   const SurfacePoint sp = scene.surface_point(surface_record(h, sh));
-  weight = sh.throughput * Vec3f(bsdf_eval(m, sp, Vec3(sh.wo), -Vec3(dir)));
+  weight = sh.throughput * Vec3f(bsdf_eval(scene.material(sh.material), sp, Vec3(sh.wo), -Vec3(dir)));
   return weight.x > 0.0f || weight.y > 0.0f || weight.z > 0.0f;
 }
 
 // photon_weight split by class of lobe, for a glossy hit point with light components.
 inline bool photon_weight_classes(const Scene& scene, const HitPoints& hp, uint32_t i, const Vec3& pos,
                                   const Vec3f& dir, const Vec3f& photon_normal, ClassColors& weight) {
+  if (!reaches_glossy(scene, hp, i, pos, photon_normal)) return false;
   const HitPoint& h = hp.points[i];
-  const Vec3 d = pos - h.position;
-  if (glm::dot(d, d) > h.r2) return false;
   const HitPointShading& sh = hp.shading[h.shading];
-  const Material& m = scene.material(sh.material);
-  if (!transmits(m) && across_a_solid(d, Vec3(h.normal), h.normal, photon_normal)) return false;
   const SurfacePoint sp = scene.surface_point(surface_record(h, sh));
-  weight = bsdf_eval_classes(m, sp, Vec3(sh.wo), -Vec3(dir));
+  weight = bsdf_eval_classes(scene.material(sh.material), sp, Vec3(sh.wo), -Vec3(dir));
   for (Color& c : weight.c) c *= Color(sh.throughput);
   return max_component(weight.total()) > 0.0;
 }

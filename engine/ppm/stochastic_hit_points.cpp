@@ -154,7 +154,7 @@ void StochasticHitPoints::pass_components(size_t p, ComponentLight& light, Vec3f
     const float scale = static_cast<float>(photon_scale(i));
     for (int c = 0; c < kLightClasses; ++c) {
       light.light[direct_component(route, c)] += h.direct[c];
-      photons[indirect_component(route, c) / 2] += h.tau_m[c] * scale;
+      photons[photon_slot(route, c)] += h.tau_m[c] * scale;
     }
     photons[kLightClasses] += h.tau_m[kLightClasses] * scale;
   }

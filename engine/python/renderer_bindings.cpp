@@ -186,6 +186,13 @@ py::dict image_error_dict(const ImageError& e) {
 
 namespace {
 
+// A readback of every pixel (image, passes, error), made with the GIL released.
+template <class Read>
+std::vector<float> read_released(Read&& read) {
+  py::gil_scoped_release release;
+  return read();
+}
+
 py::dict stats_dict(const RenderStats& s) {
   py::dict d;
   d["passes"] = s.passes;
@@ -300,11 +307,7 @@ void bind_renderer(py::module_& m) {
       .def("cancel", &Renderer::cancel, "Stops a run() in progress (callable from another thread).")
       .def("image",
            [](const Renderer& r) {
-             std::vector<float> rgba;
-             {
-               py::gil_scoped_release release;
-               rgba = r.image();
-             }
+             std::vector<float> rgba = read_released([&] { return r.image(); });
              // The array takes the pixels over (no copy: at 4K a copy is another 130 MB).
              auto* owned = new std::vector<float>(std::move(rgba));
              py::capsule owner(owned, [](void* p) { delete static_cast<std::vector<float>*>(p); });
@@ -315,11 +318,7 @@ void bind_renderer(py::module_& m) {
       .def("stats", [](const Renderer& r) { return stats_dict(r.stats()); })
       .def("light_passes",
            [](const Renderer& r) {
-             std::vector<float> values;
-             {
-               py::gil_scoped_release release;
-               values = r.light_passes();
-             }
+             std::vector<float> values = read_released([&] { return r.light_passes(); });
              return channel_views(r.height(), r.width(), values, 6, {{"Emit", 0, 3}, {"Env", 3, 3}});
            },
            "With light_passes=True: what camera rays see at no bounce, as Cycles' Emit and Env passes: dict of "
@@ -343,11 +342,7 @@ void bind_renderer(py::module_& m) {
            "light in its frame, to 1; sectors of phi); uniform (1/512 each) before the guide has learned.")
       .def("component_passes",
            [](const Renderer& r) {
-             std::vector<float> values;
-             {
-               py::gil_scoped_release release;
-               values = r.component_passes();
-             }
+             std::vector<float> values = read_released([&] { return r.component_passes(); });
              return channel_views(r.height(), r.width(), values, 30,
                                   {{"DiffDir", 0, 3}, {"DiffInd", 3, 3}, {"GlossDir", 6, 3}, {"GlossInd", 9, 3},
                                    {"TransDir", 12, 3}, {"TransInd", 15, 3}, {"Caustic", 18, 3},
@@ -355,8 +350,8 @@ void bind_renderer(py::module_& m) {
            },
            "With component_passes=True: the light by Cycles' passes, dict of (H, W, 3) float32, top row first. "
            "DiffDir, DiffInd, GlossDir, GlossInd, TransDir and TransInd are radiance (with light_passes' Emit and "
-           "Env they add up to image(), but for a 'post' depth-of-field blur); Cycles stores them divided by DiffCol, GlossCol and TransCol, the albedo "
-           "of each class at the first surface. Caustic: the light of photons that came by mirrors and glass "
+           "Env they add up to image(), but for a 'post' depth-of-field blur); Cycles stores them divided by "
+           "DiffCol, GlossCol and TransCol, the albedo of each class at the first surface. Caustic: the light of photons that came by mirrors and glass "
            "only, part of the Indirect ones.")
       .def("denoising_features",
            [](Renderer& r, int samples_per_pixel) {
@@ -382,11 +377,7 @@ void bind_renderer(py::module_& m) {
            "background or emitters.")
       .def("error",
            [](const Renderer& r) {
-             std::vector<float> values;
-             {
-               py::gil_scoped_release release;
-               values = r.error_image();
-             }
+             std::vector<float> values = read_released([&] { return r.error_image(); });
              return channel_views(r.height(), r.width(), values, 3,
                                   {{"bias", 0, 1}, {"noise", 1, 1}, {"luminance", 2, 1}});
            },
