@@ -3,6 +3,7 @@
 
 #include "geometry/bvh_build.h"
 #include "math/float_bounds.h"
+#include "ppm/parallel.h"
 
 #include <cfloat>
 #include <cmath>
@@ -13,23 +14,55 @@ namespace {
 
 constexpr float kFloatInf = std::numeric_limits<float>::infinity();
 
+// Binary subtrees the collapse emits on their own (in parallel), and where each one's root goes.
+struct DeferredSubtree {
+  uint32_t binary;  // its root in the binary tree
+  uint32_t end;     // one past its last binary node (the tree is depth-first)
+  uint32_t parent;  // the 4-wide node that points at it ...
+  int slot;         // ... in this child slot
+};
+
 class Collapser {
  public:
-  Collapser(const BinaryBvh& tree, HugePageVector<BvhNode>& nodes) : tree_(tree), nodes_(nodes) {}
+  explicit Collapser(const BinaryBvh& tree) : tree_(tree) {}
 
-  // Emits a 4-wide node for binary node `b`, then its inner children.
-  uint32_t emit(uint32_t b) {
-    // Greedily open the inner child with the largest surface area until
-    // there are four: the children most rays would enter anyway are the
-    // ones worth replacing by their own children.
-    uint32_t kids[4];
+  // Emits into `out` a 4-wide node for binary node `b` (whose subtree ends before binary node
+  // `end`), then its inner children. Given `deferred`, inner children kDeferredDepth levels below
+  // the first node are left to it instead.
+  uint32_t emit(uint32_t b, uint32_t end, HugePageVector<BvhNode>& out, int depth = 0,
+                std::vector<DeferredSubtree>* deferred = nullptr) const {
+    uint32_t kids[4], ends[4];
+    const int n = open_children(b, end, kids, ends);
+    const uint32_t index = static_cast<uint32_t>(out.size());
+    out.push_back(node_of(kids, n));
+    for (int k = 0; k < n; ++k) {
+      if (tree_.nodes[kids[k]].is_leaf()) continue;
+      if (deferred && depth + 1 >= kDeferredDepth) {
+        deferred->push_back(DeferredSubtree{kids[k], ends[k], index, k});
+        continue;
+      }
+      const uint32_t child = emit(kids[k], ends[k], out, depth + 1, deferred);  // may reallocate out
+      out[index].child[k] = child;
+    }
+    return index;
+  }
+
+  // 4-wide levels emitted before the rest is deferred: up to 4^2 subtrees for the threads to share.
+  static constexpr int kDeferredDepth = 2;
+
+ private:
+  // Greedily opens the inner child with the largest surface area until there are four: the
+  // children most rays would enter anyway are the ones worth replacing by their own children.
+  // Returns how many children `b` gets; kids/ends: their binary nodes and subtree ends.
+  int open_children(uint32_t b, uint32_t end, uint32_t (&kids)[4], uint32_t (&ends)[4]) const {
     int n = 0;
     if (tree_.nodes[b].is_leaf()) {
-      kids[n++] = b;  // a single-leaf tree: the root holds the leaf
-    } else {
-      kids[n++] = b + 1;
-      kids[n++] = tree_.nodes[b].first;
+      kids[0] = b;  // a single-leaf tree: the root holds the leaf
+      ends[0] = end;
+      return 1;
     }
+    kids[n] = b + 1, ends[n++] = tree_.nodes[b].first;
+    kids[n] = tree_.nodes[b].first, ends[n++] = end;
     while (n < 4) {
       int widest = -1;
       double area = -1.0;
@@ -42,13 +75,16 @@ class Collapser {
       }
       if (widest < 0) break;
       const uint32_t open = kids[widest];
-      kids[widest] = open + 1;
-      kids[n++] = tree_.nodes[open].first;
+      kids[n] = tree_.nodes[open].first, ends[n++] = ends[widest];
+      kids[widest] = open + 1, ends[widest] = tree_.nodes[open].first;
     }
+    return n;
+  }
 
-    const uint32_t index = static_cast<uint32_t>(nodes_.size());
-    nodes_.emplace_back();
-    BvhNode& node = nodes_[index];
+  // The node over binary nodes kids[0, n): their boxes, and leaf children's slots; inner children's
+  // indices are the caller's to set.
+  BvhNode node_of(const uint32_t (&kids)[4], int n) const {
+    BvhNode node;
     for (int k = 0; k < 4; ++k) {
       for (int a = 0; a < 3; ++a) {
         node.box[2 * a][k] = kFloatInf;
@@ -60,26 +96,29 @@ class Collapser {
     for (int k = 0; k < n; ++k) {
       const BinaryBvhNode& c = tree_.nodes[kids[k]];
       for (int a = 0; a < 3; ++a) {
-        node.box[2 * a][k] = float_down(c.box.lo[a]);
-        node.box[2 * a + 1][k] = float_up(c.box.hi[a]);
+        node.box[2 * a][k] = c.box.lo[a];
+        node.box[2 * a + 1][k] = c.box.hi[a];
       }
       if (c.is_leaf()) {
         node.child[k] = c.first;
         node.count[k] = c.count;
       }
     }
-    for (int k = 0; k < n; ++k) {
-      if (tree_.nodes[kids[k]].is_leaf()) continue;
-      const uint32_t child = emit(kids[k]);  // may reallocate nodes_
-      nodes_[index].child[k] = child;
-    }
-    return index;
+    return node;
   }
 
- private:
   const BinaryBvh& tree_;
-  HugePageVector<BvhNode>& nodes_;
 };
+
+// Appends `part` (a subtree emitted on its own, its root at 0) at `offset` of `nodes`.
+void place_subtree(const HugePageVector<BvhNode>& part, uint32_t offset, HugePageFillVector<BvhNode>& nodes) {
+  for (size_t i = 0; i < part.size(); ++i) {
+    BvhNode node = part[i];
+    for (int k = 0; k < 4; ++k)
+      if (node.count[k] == 0 && node.child[k] != 0) node.child[k] += offset;  // an inner child
+    nodes[offset + i] = node;
+  }
+}
 
 }  // namespace
 
@@ -107,6 +146,10 @@ BvhRay::BvhRay(const Vec3& origin, const Vec3& dir) {
 
 void Bvh::build(const std::vector<Aabb>& boxes) { build_from_tree(build_binary_bvh(boxes, kBinaryLeafSize)); }
 
+void Bvh::build(size_t count, const std::function<Aabb(size_t)>& box_of) {
+  build_from_tree(build_binary_bvh(count, box_of, kBinaryLeafSize));
+}
+
 void Bvh::build_from_tree(BinaryBvh tree) {
   nodes_.clear();
   bounds_ = Aabb{};
@@ -114,11 +157,40 @@ void Bvh::build_from_tree(BinaryBvh tree) {
   prim_order_ = std::move(tree.order);
   slots_ = static_cast<uint32_t>(prim_order_.size());
   if (tree.nodes.empty()) return;
-  bounds_ = tree.nodes[0].box;
+  bounds_ = tree.nodes[0].box.to_double();
   in_float_range_ = max_abs(bounds_.lo) <= kFloatRange && max_abs(bounds_.hi) <= kFloatRange;
-  nodes_.reserve(tree.nodes.size() / 2 + 1);  // at most this many; a third of it is typical
-  Collapser(tree, nodes_).emit(0);
-  nodes_.shrink_to_fit();
+  collapse(tree);
+}
+
+// The top levels on this thread, then their subtrees on all threads, each into a list of its own
+// (a binary subtree of k nodes makes at most k/2 4-wide nodes; a third is typical); then the lists
+// are placed after the top, in order, so the layout does not depend on which thread ran what.
+// Small trees (a dynamic scene's objects) stay on this thread.
+void Bvh::collapse(const BinaryBvh& tree) {
+  const Collapser collapser(tree);
+  const uint32_t size = static_cast<uint32_t>(tree.nodes.size());
+  HugePageVector<BvhNode> top;
+  std::vector<DeferredSubtree> deferred;
+  constexpr uint32_t kParallelNodes = 1u << 17;
+  collapser.emit(0, size, top, 0, size >= kParallelNodes ? &deferred : nullptr);
+  std::vector<HugePageVector<BvhNode>> parts(deferred.size());
+  parallel_each(hardware_threads(), deferred.size(), [&](size_t i) {
+    parts[i].reserve((deferred[i].end - deferred[i].binary) / 2 + 1);
+    collapser.emit(deferred[i].binary, deferred[i].end, parts[i]);
+  });
+  std::vector<uint32_t> offset(parts.size());
+  size_t total = top.size();
+  for (size_t i = 0; i < parts.size(); ++i) {
+    offset[i] = static_cast<uint32_t>(total);
+    total += parts[i].size();
+    top[deferred[i].parent].child[deferred[i].slot] = offset[i];
+  }
+  nodes_.resize(total);  // unwritten (HugePageFillVector): the copies' page faults on every thread
+  std::copy(top.begin(), top.end(), nodes_.begin());
+  parallel_each(hardware_threads(), parts.size(), [&](size_t i) {
+    place_subtree(parts[i], offset[i], nodes_);
+    HugePageVector<BvhNode>().swap(parts[i]);
+  });
 }
 
 }  // namespace ppm

@@ -22,6 +22,7 @@
 #include "math/float_bounds.h"
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 namespace ppm {
@@ -67,10 +68,12 @@ class Bvh {
  public:
   // Builds over `boxes` (one per primitive). Boxes must be finite.
   void build(const std::vector<Aabb>& boxes);
+  // Builds over `count` primitives whose boxes box_of(i) gives (asked on the build's threads).
+  void build(size_t count, const std::function<Aabb(size_t)>& box_of);
   // Collapses a binary tree built elsewhere (an ObjectBvh's, at most kMaxBvhDepth deep).
   void build_from_tree(BinaryBvh tree);
 
-  const HugePageVector<BvhNode>& nodes() const { return nodes_; }
+  const HugePageFillVector<BvhNode>& nodes() const { return nodes_; }
   // prim_order()[slot] is the primitive at a leaf slot (empty after release_prim_order).
   const std::vector<uint32_t>& prim_order() const { return prim_order_; }
   // For a caller that has laid its primitives out by slot: 4 bytes a primitive less.
@@ -126,7 +129,9 @@ class Bvh {
   template <class Test, class Prefetch>
   bool step(ClosestWalk& w, const BvhRay& r, double& tmax, Test&& test, Prefetch&& prefetch) const;
 
-  HugePageVector<BvhNode> nodes_;  // root at 0
+  void collapse(const BinaryBvh& tree);
+
+  HugePageFillVector<BvhNode> nodes_;  // root at 0
   std::vector<uint32_t> prim_order_;
   uint32_t slots_ = 0;  // leaf slots: primitives
   Aabb bounds_;

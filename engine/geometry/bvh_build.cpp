@@ -24,13 +24,6 @@ constexpr uint32_t kBinnedSample = 1u << 14;
 constexpr uint32_t kParallelPrims = 1u << 16;
 constexpr int kParallelDepth = 2;
 
-// Asked once: hardware_concurrency reads /sys on Linux, 10 us a call, and a dynamic scene builds
-// thousands of small trees.
-int build_threads() {
-  static const int threads = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
-  return threads;
-}
-
 // A primitive as the build moves it: its box beside its index, so that the binning and the
 // partition read boxes in sequence (indices alone sent them to random ones: cache misses once the
 // arrays outgrow the caches). In float, rounded outwards (float_bounds.h): 28 bytes instead of 52,
@@ -43,7 +36,7 @@ struct BuildPrim {
     return BuildPrim{Vec3f(float_down(b.lo.x), float_down(b.lo.y), float_down(b.lo.z)),
                      Vec3f(float_up(b.hi.x), float_up(b.hi.y), float_up(b.hi.z)), id};
   }
-  Aabb box() const { return Aabb{Vec3(lo), Vec3(hi)}; }
+  FloatAabb box() const { return FloatAabb{lo, hi}; }
   // In float: the binning's, and the centroid boxes' (so that every centroid is inside its node's).
   Vec3f center() const { return 0.5f * (lo + hi); }
 };
@@ -62,7 +55,7 @@ struct FloatBox {
     chi = glm::max(chi, c);
     any = true;
   }
-  Aabb box() const { return any ? Aabb{Vec3(lo), Vec3(hi)} : Aabb{}; }
+  FloatAabb box() const { return FloatAabb{lo, hi}; }
   Aabb centroid_box() const { return any ? Aabb{Vec3(clo), Vec3(chi)} : Aabb{}; }
 };
 
@@ -80,19 +73,20 @@ struct FloatBin {
 
 class Builder {
  public:
-  Builder(const std::vector<Aabb>& boxes, uint32_t max_leaf, int max_depth, BinaryBvh& out)
-      : boxes_(boxes), max_leaf_(max_leaf), max_depth_(max_depth), out_(out) {}
+  Builder(size_t count, const std::function<Aabb(size_t)>& box_of, uint32_t max_leaf, int max_depth, BinaryBvh& out)
+      : count_(count), box_of_(box_of), max_leaf_(max_leaf), max_depth_(max_depth), out_(out) {}
 
   void run() {
-    const size_t n = boxes_.size();
+    const size_t n = count_;
     refs_.resize(n);  // written below, on every thread: the pages' faults too
     constexpr size_t kBlock = 65536;
     const size_t blocks = (n + kBlock - 1) / kBlock;
-    std::vector<Aabb> block_box(blocks), block_cbox(blocks);
+    std::vector<FloatAabb> block_box(blocks);
+    std::vector<Aabb> block_cbox(blocks);
     std::vector<size_t> block_bad(blocks, n);  // each block's first non-finite box
     auto fill = [&](size_t b) {
       for (size_t i = b * kBlock; i < std::min(n, (b + 1) * kBlock); ++i) {
-        const Aabb& box = boxes_[i];
+        const Aabb box = box_of_(i);
         if (!is_finite(box.lo) || !is_finite(box.hi)) {
           block_bad[b] = i;
           return;
@@ -103,11 +97,12 @@ class Builder {
       }
     };
     if (blocks > 1) {
-      parallel_each(build_threads(), blocks, fill);
+      parallel_each(hardware_threads(), blocks, fill);
     } else if (blocks == 1) {
       fill(0);  // small trees (a dynamic scene's objects, one by one) start no thread
     }
-    Aabb box, cbox;
+    FloatAabb box;
+    Aabb cbox;
     for (size_t b = 0; b < blocks; ++b) {
       if (block_bad[b] < n)
         throw std::invalid_argument("BVH: primitive " + std::to_string(block_bad[b]) +
@@ -118,7 +113,7 @@ class Builder {
     out_.nodes.reserve(2 * n / std::max(1u, max_leaf_ / 2) + 2);
     node(out_.nodes, 0, static_cast<uint32_t>(n), box, cbox, 0);
     out_.order.resize(n);
-    parallel_for(build_threads(), n, [&](size_t begin, size_t end) {
+    parallel_for(hardware_threads(), n, [&](size_t begin, size_t end) {
       for (size_t i = begin; i < end; ++i) out_.order[i] = refs_[i].id;
     });
   }
@@ -126,12 +121,13 @@ class Builder {
  private:
   struct Split {
     uint32_t at;
-    Aabb left_box, left_cbox, right_box, right_cbox;
+    FloatAabb left_box, right_box;
+    Aabb left_cbox, right_cbox;
   };
 
   // Builds the subtree over order[begin, end) whose box and centroid box are given, appending its
   // nodes depth-first to `nodes` (whose indices it uses); returns the index of its root.
-  uint32_t node(std::vector<BinaryBvhNode>& nodes, uint32_t begin, uint32_t end, const Aabb& box, const Aabb& cbox,
+  uint32_t node(std::vector<BinaryBvhNode>& nodes, uint32_t begin, uint32_t end, const FloatAabb& box, const Aabb& cbox,
                 int depth) {
     const uint32_t index = static_cast<uint32_t>(nodes.size());
     nodes.push_back(BinaryBvhNode{box, begin, end - begin});
@@ -275,7 +271,8 @@ class Builder {
     return glm::clamp(bin, glm::ivec3(0), glm::ivec3(kBins - 1));
   }
 
-  const std::vector<Aabb>& boxes_;
+  const size_t count_;
+  const std::function<Aabb(size_t)>& box_of_;
   const uint32_t max_leaf_;
   const int max_depth_;
   BinaryBvh& out_;
@@ -284,12 +281,17 @@ class Builder {
 
 }  // namespace
 
-BinaryBvh build_binary_bvh(const std::vector<Aabb>& boxes, uint32_t max_leaf, int max_depth) {
+BinaryBvh build_binary_bvh(size_t count, const std::function<Aabb(size_t)>& box_of, uint32_t max_leaf,
+                           int max_depth) {
   BinaryBvh out;
-  if (boxes.empty()) return out;
+  if (count == 0) return out;
   if (max_depth < 0 || max_depth > kMaxBuildDepth) throw std::invalid_argument("BVH: depth limit out of range");
-  Builder(boxes, std::max(1u, max_leaf), max_depth, out).run();
+  Builder(count, box_of, std::max(1u, max_leaf), max_depth, out).run();
   return out;
+}
+
+BinaryBvh build_binary_bvh(const std::vector<Aabb>& boxes, uint32_t max_leaf, int max_depth) {
+  return build_binary_bvh(boxes.size(), [&](size_t i) { return boxes[i]; }, max_leaf, max_depth);
 }
 
 }  // namespace ppm

@@ -7,12 +7,13 @@
 #include "math/aabb.h"
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 namespace ppm {
 
 struct BinaryBvhNode {
-  Aabb box;
+  FloatAabb box;
   uint32_t first;  // leaf: first index into order; inner: index of the right child (left is next)
   uint32_t count;  // leaf: primitive count; inner: 0
   bool is_leaf() const { return count > 0; }
@@ -36,5 +37,9 @@ constexpr int kMaxBvhDepth = 24 + 24 + kMaxBuildDepth;
 // input gives an empty tree. Leaves hold at most `max_leaf` primitives unless
 // the depth limit (edges from the root) forces more.
 BinaryBvh build_binary_bvh(const std::vector<Aabb>& boxes, uint32_t max_leaf, int max_depth = kMaxBuildDepth);
+// The same over `count` primitives whose boxes box_of(i) gives, asked once each on the build's
+// threads (so they need not be stored: 48 bytes a primitive).
+BinaryBvh build_binary_bvh(size_t count, const std::function<Aabb(size_t)>& box_of, uint32_t max_leaf,
+                           int max_depth = kMaxBuildDepth);
 
 }  // namespace ppm

@@ -45,9 +45,9 @@ void ObjectBvh::refit(uint32_t object, const std::vector<Aabb>& slot_boxes) {
   if (slot_boxes.size() != tree.order.size()) throw std::invalid_argument("BVH refit: one box per slot expected");
   for (size_t i = tree.nodes.size(); i-- > 0;) {
     BinaryBvhNode& n = tree.nodes[i];
-    n.box = Aabb{};
+    n.box = FloatAabb{};
     if (n.is_leaf()) {
-      for (uint32_t k = n.first; k < n.first + n.count; ++k) n.box.grow(slot_boxes[k]);
+      for (uint32_t k = n.first; k < n.first + n.count; ++k) n.box.grow(FloatAabb::around(slot_boxes[k]));
     } else {
       n.box.grow(tree.nodes[i + 1].box);
       n.box.grow(tree.nodes[n.first].box);
@@ -62,7 +62,7 @@ BinaryBvh ObjectBvh::joined() const {
   roots.reserve(objects_.size());
   size_t nodes = 0;
   for (const Object& o : objects_) {
-    roots.push_back(o.tree.nodes[0].box);
+    roots.push_back(o.tree.nodes[0].box.to_double());
     nodes += o.tree.nodes.size();
   }
   const BinaryBvh top = build_binary_bvh(roots, 1, kTopDepth);
@@ -95,7 +95,7 @@ uint32_t ObjectBvh::append_top(const BinaryBvh& top, uint32_t top_node, BinaryBv
 uint32_t ObjectBvh::append_objects(const BinaryBvh& top, uint32_t first, uint32_t count, BinaryBvh& out) const {
   const uint32_t index = static_cast<uint32_t>(out.nodes.size());
   if (count > 1) {
-    Aabb box;
+    FloatAabb box;
     for (uint32_t k = first; k < first + count; ++k) box.grow(objects_[top.order[k]].tree.nodes[0].box);
     out.nodes.push_back(BinaryBvhNode{box, 0, 0});
     const uint32_t half = count / 2;

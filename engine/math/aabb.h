@@ -1,9 +1,11 @@
 // Axis-aligned bounding box and the slab test used by the BVH.
 #pragma once
 
+#include "math/float_bounds.h"
 #include "math/types.h"
 
 #include <algorithm>
+#include <limits>
 
 namespace ppm {
 
@@ -31,6 +33,28 @@ struct Aabb {
     const Vec3 e = extent();
     return e.x > e.y ? (e.x > e.z ? 0 : 2) : (e.y > e.z ? 1 : 2);
   }
+};
+
+// A box in float that contains the double box it was made from (its bounds rounded outwards,
+// float_bounds.h): half the bytes, for what ends in the BVH's float boxes anyway.
+struct FloatAabb {
+  Vec3f lo{std::numeric_limits<float>::infinity()};
+  Vec3f hi{-std::numeric_limits<float>::infinity()};
+
+  static FloatAabb around(const Aabb& b) {
+    FloatAabb f;
+    for (int a = 0; a < 3; ++a) {
+      f.lo[a] = b.lo[a] == kInf ? f.lo[a] : float_down(b.lo[a]);  // an empty box stays empty
+      f.hi[a] = b.hi[a] == -kInf ? f.hi[a] : float_up(b.hi[a]);
+    }
+    return f;
+  }
+  void grow(const FloatAabb& b) {
+    lo = glm::min(lo, b.lo);
+    hi = glm::max(hi, b.hi);
+  }
+  Aabb to_double() const { return Aabb{Vec3(lo), Vec3(hi)}; }
+  double half_area() const { return to_double().half_area(); }
 };
 
 // Slab test with precomputed reciprocal direction. Returns the entry distance

@@ -25,6 +25,13 @@
 
 namespace ppm {
 
+// The machine's threads, asked once: hardware_concurrency reads /sys on Linux, 10 us a call, and a
+// dynamic scene builds thousands of small trees.
+inline int hardware_threads() {
+  static const int threads = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  return threads;
+}
+
 // Returns false if cancelled (by `poll` returning false or the flag being set
 // already). Exceptions from workers are rethrown on the calling thread.
 inline bool parallel_chunks(int threads, size_t chunks, const std::function<void(int, size_t)>& work,

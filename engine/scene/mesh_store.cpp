@@ -1,6 +1,7 @@
 // A scene's triangle meshes (see mesh_store.h).
 #include "scene/mesh_store.h"
 
+#include "ppm/parallel.h"
 #include "scene/input_checks.h"
 
 #include <type_traits>
@@ -143,8 +144,10 @@ void MeshStore::append_copy(const MeshStore& from, const MeshRecord& record) {
 }
 
 void MeshStore::reorder_vertices(const std::vector<uint32_t>& position) {
-  HugePageVector<Vec3> moved(vertices.size());
-  for (size_t v = 0; v < vertices.size(); ++v) moved[position[v]] = vertices[v];
+  HugePageFillVector<Vec3> moved(vertices.size());  // unwritten: the loop's page faults on every thread
+  parallel_for(hardware_threads(), vertices.size(), [&](size_t begin, size_t end) {
+    for (size_t v = begin; v < end; ++v) moved[position[v]] = vertices[v];
+  });
   vertices.swap(moved);
   auto reorder = [&](auto& values, const AttributeRange& range, const MeshRecord& mesh) {
     if (!range.per_vertex) return;

@@ -56,7 +56,7 @@ struct TriangleInfo {
 };
 
 struct MeshStore {
-  HugePageVector<Vec3> vertices;  // random rays read them all over (see huge_pages.h)
+  HugePageFillVector<Vec3> vertices;  // random rays read them all over (see huge_pages.h)
   // In triangle order. The scene moves them into its BVH leaf records once built (then this is empty).
   std::vector<TriangleVertices> triangles;
   std::vector<TriangleInfo> info;

@@ -13,7 +13,6 @@
 #include <cmath>
 #include <type_traits>
 #include <stdexcept>
-#include <thread>
 
 #if defined(__GLIBC__)
 #include <malloc.h>
@@ -397,7 +396,6 @@ void Scene::release_triangles() {
   for (uint32_t slot = 0; slot < leaf_prims_.size(); ++slot)
     if (leaf_prims_[slot].kind == PrimitiveKind::Triangle) slot_of_triangle_[leaf_prims_[slot].index] = slot;
   std::vector<TriangleVertices>().swap(meshes_.triangles);
-  std::vector<PrimRef>().swap(prims_);
   meshes_.shrink_to_fit();
 #if defined(__GLIBC__)
   malloc_trim(0);
@@ -417,42 +415,27 @@ void Scene::build() {
 
 void Scene::build_geometry() {
   restore_triangles();
-  prims_.clear();
-  std::vector<Aabb> boxes;
   const std::vector<TriangleVertices>& triangles = meshes_.triangles;
-  boxes.reserve(triangles.size() + spheres_.size() + revolve_segments_.size());
-  for (uint32_t i = 0; i < triangles.size(); ++i) {
-    boxes.push_back(triangle_box(meshes_.triangle(triangles[i])));
-    prims_.push_back({PrimitiveKind::Triangle, i});
-  }
-  for (uint32_t i = 0; i < spheres_.size(); ++i) {
-    const SpherePrim& s = spheres_[i].sphere;
-    boxes.push_back(Aabb{s.center - Vec3(s.radius), s.center + Vec3(s.radius)});
-    prims_.push_back({PrimitiveKind::Sphere, i});
-  }
-  for (uint32_t i = 0; i < revolve_segments_.size(); ++i) {
-    const RevolveSegment& r = revolve_segments_[i];
-    boxes.push_back(revolves_[r.revolve]->segment_bounds(r.segment));
-    prims_.push_back({PrimitiveKind::BezierRevolve, i});
-  }
+  const auto box_of = [&](size_t i) { return primitive_box(prim_ref(static_cast<uint32_t>(i))); };
   if (dynamic_) {
+    std::vector<Aabb> boxes(primitive_count());
+    for (size_t i = 0; i < boxes.size(); ++i) boxes[i] = box_of(i);
     build_object_bvh(boxes, geometry_built_);
   } else {
     object_bvh_.reset();
-    bvh_.build(boxes);
+    bvh_.build(primitive_count(), box_of);  // the boxes made on the build's threads, never stored
   }
   moved_objects_.clear();
   changed_objects_.clear();
   const std::vector<uint32_t>& order = bvh_.prim_order();
-  leaf_prims_.resize(order.size());
-  for (size_t slot = 0; slot < order.size(); ++slot) {
-    const PrimRef ref = prims_[order[slot]];
-    LeafPrim& p = leaf_prims_[slot];
-    p.kind = ref.kind;
-    p.index = ref.index;
-    p.visibility = visibility_of(ref);
-    p.vertices = ref.kind == PrimitiveKind::Triangle ? triangles[ref.index] : TriangleVertices{};
-  }
+  leaf_prims_.resize(order.size());  // unwritten (HugePageFillVector)
+  parallel_for(hardware_threads(), order.size(), [&](size_t begin, size_t end) {
+    for (size_t slot = begin; slot < end; ++slot) {
+      const PrimRef ref = prim_ref(order[slot]);
+      const TriangleVertices vertices = ref.kind == PrimitiveKind::Triangle ? triangles[ref.index] : TriangleVertices{};
+      leaf_prims_[slot] = LeafPrim{vertices, ref.index, ref.kind, visibility_of(ref)};
+    }
+  });
   bvh_.release_prim_order();  // the leaf records are in slot order
   if (copies_triangles()) {
     copy_leaf_triangles();
@@ -474,8 +457,7 @@ bool Scene::copies_triangles() const {
 // 960 MB of copies at 10^7 triangles took 1.5-2.1 s to resize on one thread.
 void Scene::copy_leaf_triangles() {
   copied_leaves_.resize(leaf_prims_.size());  // unwritten (HugePageFillVector)
-  const int threads = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
-  parallel_for(threads, leaf_prims_.size(), [&](size_t begin, size_t end) {
+  parallel_for(hardware_threads(), leaf_prims_.size(), [&](size_t begin, size_t end) {
     for (size_t slot = begin; slot < end; ++slot) {
       const LeafPrim& p = leaf_prims_[slot];
       copied_leaves_[slot] =
@@ -512,9 +494,11 @@ void Scene::order_vertices_by_leaf() {
       if (position[v] == kUnseen) position[v] = next[m]++;
   }
   meshes_.reorder_vertices(position);
-  for (LeafPrim& p : leaf_prims_)
-    if (p.kind == PrimitiveKind::Triangle)
-      for (uint32_t& v : p.vertices.v) v = position[v];
+  parallel_for(hardware_threads(), leaf_prims_.size(), [&](size_t begin, size_t end) {
+    for (size_t slot = begin; slot < end; ++slot)
+      if (leaf_prims_[slot].kind == PrimitiveKind::Triangle)
+        for (uint32_t& v : leaf_prims_[slot].vertices.v) v = position[v];
+  });
 }
 
 // Groups the primitives by object id and builds their BVH object by object; with `reuse_unchanged`
@@ -522,9 +506,9 @@ void Scene::order_vertices_by_leaf() {
 void Scene::build_object_bvh(const std::vector<Aabb>& boxes, bool reuse_unchanged) {
   std::unordered_map<uint32_t, uint32_t> previous;
   previous.swap(object_group_);
-  std::vector<uint32_t> group(prims_.size());
-  for (size_t i = 0; i < prims_.size(); ++i) {
-    const PrimRef ref = prims_[i];
+  std::vector<uint32_t> group(boxes.size());
+  for (uint32_t i = 0; i < group.size(); ++i) {
+    const PrimRef ref = prim_ref(i);
     const uint32_t object = ref.kind == PrimitiveKind::Triangle ? meshes_.meshes[meshes_.info[ref.index].mesh].object
                             : ref.kind == PrimitiveKind::Sphere ? spheres_[ref.index].object
                                                                 : revolve_segments_[ref.index].object;
@@ -706,6 +690,29 @@ bool Scene::is_holdout(const Hit& hit) const {
   return id < revolve_segments_.size() && (revolve_segments_[id].visibility & kHoldoutFlag);
 }
 
+// Primitive i of a build: the triangles in order, then the spheres, then the revolve segments.
+Scene::PrimRef Scene::prim_ref(uint32_t i) const {
+  const uint32_t triangles = static_cast<uint32_t>(meshes_.info.size());
+  const uint32_t spheres = static_cast<uint32_t>(spheres_.size());
+  if (i < triangles) return {PrimitiveKind::Triangle, i};
+  if (i < triangles + spheres) return {PrimitiveKind::Sphere, i - triangles};
+  return {PrimitiveKind::BezierRevolve, i - triangles - spheres};
+}
+
+Aabb Scene::primitive_box(const PrimRef& ref) const {
+  switch (ref.kind) {
+    case PrimitiveKind::Triangle: return triangle_box(meshes_.triangle(meshes_.triangles[ref.index]));
+    case PrimitiveKind::Sphere: {
+      const SpherePrim& s = spheres_[ref.index].sphere;
+      return Aabb{s.center - Vec3(s.radius), s.center + Vec3(s.radius)};
+    }
+    default: {
+      const RevolveSegment& r = revolve_segments_[ref.index];
+      return revolves_[r.revolve]->segment_bounds(r.segment);
+    }
+  }
+}
+
 uint8_t Scene::visibility_of(const PrimRef& ref) const {
   switch (ref.kind) {
     case PrimitiveKind::Triangle: return meshes_.meshes[meshes_.info[ref.index].mesh].visibility;
@@ -761,8 +768,7 @@ bool Scene::intersect_non_triangle(uint32_t slot, const Ray& ray, double& tmax, 
 size_t Scene::memory_bytes() const {
   auto bytes = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
   size_t b = meshes_.memory_bytes() + bytes(copied_leaves_) + bytes(spheres_) + bytes(revolve_segments_) +
-             bytes(prims_) + bytes(slot_of_triangle_) + bytes(leaf_prims_) + bytes(bvh_.nodes()) +
-             bytes(bvh_.prim_order()) +
+             bytes(slot_of_triangle_) + bytes(leaf_prims_) + bytes(bvh_.nodes()) + bytes(bvh_.prim_order()) +
              bytes(materials_) + bytes(lights_) + bytes(user_lights_) + bytes(objects_);
   if (object_bvh_) b += object_bvh_->memory_bytes();
   for (const Texture& t : textures_) b += sizeof(Texture) + t.memory_bytes();

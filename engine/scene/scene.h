@@ -273,6 +273,8 @@ class Scene {
   const LeafPrim& leaf(uint32_t slot) const {
     return copied_leaves_.empty() ? leaf_prims_[slot] : copied_leaves_[slot].leaf;
   }
+  PrimRef prim_ref(uint32_t primitive) const;
+  Aabb primitive_box(const PrimRef& ref) const;  // while meshes_.triangles are restored
   uint8_t visibility_of(const PrimRef& ref) const;
 
   // Tests the primitive at a leaf slot; on a closer hit lowers tmax and
@@ -314,10 +316,9 @@ class Scene {
   Camera camera_;
   bool has_camera_ = false;
 
-  std::vector<PrimRef> prims_;             // during the build
   std::vector<uint32_t> slot_of_triangle_;  // once built: each triangle's leaf slot (meshes_.triangles is then empty)
   Bvh bvh_;
-  HugePageVector<LeafPrim> leaf_prims_;
+  HugePageFillVector<LeafPrim> leaf_prims_;
   // A leaf slot's record with its triangle's corners copied (GeometryLayout::Copies): all the ray
   // test and fill_hit read, a leaf's in one stretch of memory (leaf_prims_ are kept for the rest).
   struct CopiedLeaf {

@@ -66,6 +66,38 @@ TEST(Bvh, SubtreesBuiltInParallelJoinIntoOneDepthFirstTree) {
   expect_valid_binary_tree(build_binary_bvh(boxes, 4), boxes);
 }
 
+// Over 2^17 binary nodes the collapse emits its subtrees on all threads and places them after the
+// top levels: every 4-wide node must be reached exactly once from the root (none left over, none
+// shared), every leaf slot named once, and the hits must be brute force's.
+TEST(Bvh, SubtreesCollapsedInParallelFormOneTree) {
+  Rng rng(12, 0, 0);
+  TriangleSoup soup;
+  for (int i = 0; i < 200000; ++i) {
+    const Vec3 c = random_point(rng, 100.0);
+    soup.tris.push_back({c, random_point(rng, 1.0), random_point(rng, 1.0)});
+  }
+  soup.build();
+  const auto& nodes = soup.bvh.nodes();
+  std::vector<int> reached(nodes.size(), 0), slots(soup.tris.size(), 0);
+  std::vector<uint32_t> stack{0};
+  while (!stack.empty()) {
+    const uint32_t i = stack.back();
+    stack.pop_back();
+    ASSERT_LT(i, nodes.size());
+    if (++reached[i] > 1) continue;  // counted; its children were already walked
+    for (int k = 0; k < 4; ++k) {
+      if (nodes[i].count[k] > 0) {
+        for (uint32_t s = nodes[i].child[k]; s < nodes[i].child[k] + nodes[i].count[k]; ++s) ++slots.at(s);
+      } else if (nodes[i].box[0][k] <= nodes[i].box[1][k]) {
+        stack.push_back(nodes[i].child[k]);  // an inner child (an unused one has an empty box)
+      }
+    }
+  }
+  EXPECT_TRUE(std::all_of(reached.begin(), reached.end(), [](int k) { return k == 1; }));
+  EXPECT_TRUE(std::all_of(slots.begin(), slots.end(), [](int k) { return k == 1; }));
+  expect_agree(soup, rng, 100.0, 300);
+}
+
 TEST(Bvh, CoincidentCentroidsAndFlatSheet) {
   Rng rng(3, 4, 5);
   TriangleSoup soup;

@@ -51,15 +51,15 @@ inline int expect_valid_binary_tree(const BinaryBvh& tree, const std::vector<Aab
         ++seen[tree.order[k]];
         expected.grow(boxes[tree.order[k]]);
       }
-      expect_contains_within_float_rounding(n.box, expected);
+      expect_contains_within_float_rounding(n.box.to_double(), expected);
       return i + 1;
     }
     const uint32_t left_end = check(i + 1, level + 1);
     EXPECT_EQ(left_end, n.first) << "the right child follows the left subtree";
     const uint32_t end = check(n.first, level + 1);
-    expected.grow(tree.nodes[i + 1].box);
-    expected.grow(tree.nodes[n.first].box);
-    expect_contains_within_float_rounding(n.box, expected);
+    expected.grow(tree.nodes[i + 1].box.to_double());
+    expected.grow(tree.nodes[n.first].box.to_double());
+    expect_contains_within_float_rounding(n.box.to_double(), expected);
     return end;
   };
   EXPECT_EQ(check(0, 0), tree.nodes.size());
