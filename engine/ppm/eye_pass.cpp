@@ -225,61 +225,72 @@ struct EyeTracer {
         if (seen_here) seen_here->emission += emission;
       }
       if (is_black(m) || v.emission_only) continue;
-      const EyeVertex here{v.ray,   v.throughput, v.depth, v.length + hit.t, v.glass_only,
-                           v.chain, false,        v.share, v.route};
-      const SurfacePoint sp = scene.surface_point(hit, -v.ray.direction, pixel_size(here.length), path_of(v, hit.t));
+      const double length = v.length + hit.t;
+      const SurfacePoint sp = scene.surface_point(hit, -v.ray.direction, pixel_size(length), path_of(v, hit.t));
       if (components && v.depth == 0) {  // Cycles' Color passes: at the surfaces the camera sees
         const ClassColors albedo = bsdf_class_albedo(m, sp, -v.ray.direction);
         for (int c = 0; c < kLightClasses; ++c) components->color[c] += Vec3f(v.throughput * albedo.c[c]);
       }
-      double followed = is_specular(m) ? 1.0 : 0.0;
-      if (m.kind == MaterialKind::Mixture && followed == 0.0 && closure_has_followed(m.lobes))
-        followed = closure_followed_share(m.lobes, sp, -v.ray.direction);
+      const double followed = followed_share(m, sp, -v.ray.direction);
       // A mixture of followed and stored lobes: one or the other, divided by its probability.
       if (!(followed >= 1.0 || (followed > 0.0 && rng.uniform() < followed))) {
-        record(hit, sp,
-               EyeVertex{here.ray, here.throughput / (1.0 - followed), here.depth, here.length, here.glass_only,
-                         here.chain, false, here.share, here.route},
-               pixel, out, features);
+        EyeVertex stored = v;
+        stored.length = length;
+        stored.throughput /= 1.0 - followed;
+        record(hit, sp, stored, pixel, out, features);
         continue;
       }
       // With Cycles' limits, one ray more than the total: it may still see emission.
       if (!options.follow_specular || v.depth + 1 >= settings.path_bounces() + (limits.by_kind ? 1 : 0)) continue;
-      BsdfSample branches[2];
-      double u[4] = {0.5, 0.5, 0.5, 0.5};  // only a mixture draws: other scenes keep their random streams
-      if (m.kind == MaterialKind::Mixture)
-        for (double& x : u) x = rng.uniform();
-      int count = specular_branches(m, sp, -v.ray.direction, u[0], u[1], u[2], u[3], branches);
-      for (int b = 0; b < count; ++b) branches[b].weight /= followed;
-      if (count == 2 && v.depth >= kSplitDepth) {  // past the split depth: follow one branch
-        const double w0 = luminance(branches[0].weight), w1 = luminance(branches[1].weight);
-        const double p0 = w0 + w1 > 0.0 ? w0 / (w0 + w1) : 0.5;
-        const int pick = rng.uniform() < p0 ? 0 : 1;
-        branches[0] = branches[pick];
-        branches[0].weight /= pick == 0 ? p0 : 1.0 - p0;
-        count = 1;
+      follow_specular(v, length, hit, m, sp, followed, rng, stack, top);
+    }
+  }
+
+  // The share of m's scattering at sp that eye paths follow: its mirror and smooth glass lobes'.
+  static double followed_share(const Material& m, const SurfacePoint& sp, const Vec3& wo) {
+    if (is_specular(m)) return 1.0;
+    if (m.kind == MaterialKind::Mixture && closure_has_followed(m.lobes)) return closure_followed_share(m.lobes, sp, wo);
+    return 0.0;
+  }
+
+  // Pushes the rays v follows from a mirror or glass at `hit` (their share `followed` of its
+  // scattering) onto `stack`: both branches of a split up to kSplitDepth, one chosen past it.
+  void follow_specular(const EyeVertex& v, double length, const Hit& hit, const Material& m, const SurfacePoint& sp,
+                       double followed, Rng& rng, EyeVertex* stack, int& top) const {
+    BsdfSample branches[2];
+    double u[4] = {0.5, 0.5, 0.5, 0.5};  // only a mixture draws: other scenes keep their random streams
+    if (m.kind == MaterialKind::Mixture)
+      for (double& x : u) x = rng.uniform();
+    int count = specular_branches(m, sp, -v.ray.direction, u[0], u[1], u[2], u[3], branches);
+    for (int b = 0; b < count; ++b) branches[b].weight /= followed;
+    if (count == 2 && v.depth >= kSplitDepth) {  // past the split depth: follow one branch
+      const double w0 = luminance(branches[0].weight), w1 = luminance(branches[1].weight);
+      const double p0 = w0 + w1 > 0.0 ? w0 / (w0 + w1) : 0.5;
+      const int pick = rng.uniform() < p0 ? 0 : 1;
+      branches[0] = branches[pick];
+      branches[0].weight /= pick == 0 ? p0 : 1.0 - p0;
+      count = 1;
+    }
+    const double split = count == 2 ? luminance(branches[0].weight) + luminance(branches[1].weight) : 0.0;
+    for (int b = 0; b < count; ++b) {
+      const Color thr = v.throughput * branches[b].weight;
+      const double share = v.share * (split > 0.0 ? luminance(branches[b].weight) / split : 1.0);
+      if (!(max_component(thr) > 0.0)) continue;
+      const Vec3 wi = branches[b].wi;
+      const Vec3 origin = offset_point(hit.position, hit.geometric_normal, wi, scene.offset_floor());
+      const uint8_t kind = branches[b].ray_kind ? branches[b].ray_kind : v.ray.kind;  // 0: transparency
+      const bool through = branches[b].ray_kind == 0 || branches[b].ray_kind == kTransmissionRay;
+      const bool glass_only =
+          v.glass_only && through && (m.kind == MaterialKind::Glass || m.kind == MaterialKind::Mixture);
+      const Bounces chain = plus(v.chain, kind);
+      const bool emission_only = limits.by_kind && !within(chain, limits.max);
+      if (branches[b].ray_kind == 0) {  // through a transparent lobe: no bounce, as Cycles counts it
+        stack[top++] = EyeVertex{Ray{origin, wi, v.ray.kind}, thr, v.depth, length, v.glass_only, v.chain,
+                                 v.emission_only, share, v.route};
+        continue;
       }
-      const double split = count == 2 ? luminance(branches[0].weight) + luminance(branches[1].weight) : 0.0;
-      for (int b = 0; b < count; ++b) {
-        const Color thr = v.throughput * branches[b].weight;
-        const double share = v.share * (split > 0.0 ? luminance(branches[b].weight) / split : 1.0);
-        if (!(max_component(thr) > 0.0)) continue;
-        const Vec3 wi = branches[b].wi;
-        const Vec3 origin = offset_point(hit.position, hit.geometric_normal, wi, scene.offset_floor());
-        const uint8_t kind = branches[b].ray_kind ? branches[b].ray_kind : v.ray.kind;  // 0: transparency
-        const bool through = branches[b].ray_kind == 0 || branches[b].ray_kind == kTransmissionRay;
-        const bool glass_only =
-            v.glass_only && through && (m.kind == MaterialKind::Glass || m.kind == MaterialKind::Mixture);
-        const Bounces chain = plus(v.chain, kind);
-        const bool emission_only = limits.by_kind && !within(chain, limits.max);
-        if (branches[b].ray_kind == 0) {  // through a transparent lobe: no bounce, as Cycles counts it
-          stack[top++] = EyeVertex{Ray{origin, wi, v.ray.kind}, thr, v.depth, here.length, v.glass_only, v.chain,
-                                   v.emission_only, share, v.route};
-          continue;
-        }
-        stack[top++] = EyeVertex{Ray{origin, wi, kind}, thr,   v.depth + 1, here.length,
-                                 glass_only,            chain, emission_only, share, route_after(v.route, kind)};
-      }
+      stack[top++] = EyeVertex{Ray{origin, wi, kind}, thr,   v.depth + 1, length,
+                               glass_only,            chain, emission_only, share, route_after(v.route, kind)};
     }
   }
 };
