@@ -3,6 +3,7 @@
 
 #include "math/rng.h"
 #include "ppm/denoising_features.h"
+#include "ppm/freed_memory.h"
 #include "ppm/parallel.h"
 
 #include <algorithm>
@@ -413,7 +414,7 @@ bool eye_pass(const Scene& scene, const Settings& settings, const EyePassOptions
   out.chain.resize(tracer.limits.active ? total : 0);
   out.route.resize(options.record_components ? total : 0);
   out.components.resize(options.record_components ? total : 0);
-  parallel_each(options.threads, chunks, [&](size_t c) {
+  auto join = [&](size_t c) {
     ChunkOutput& o = outputs[c];
     for (size_t k = 0; k < o.points.size(); ++k) {
       HitPoint hp = o.points[k];
@@ -428,7 +429,16 @@ bool eye_pass(const Scene& scene, const Settings& settings, const EyePassOptions
         out.components[first[c] + k] = HitPointComponents{};
       }
     }
-  });
+    if (options.release_chunks) o = ChunkOutput();
+  };
+  // Released chunks go back to the system a batch at a time (malloc keeps small blocks otherwise),
+  // while `out`'s pages are first written as the chunks are joined.
+  const size_t batch = options.release_chunks ? 64 : chunks;
+  for (size_t begin = 0; begin < chunks; begin += batch) {
+    const size_t n = std::min(batch, chunks - begin);
+    parallel_each(options.threads, n, [&](size_t c) { join(begin + c); });
+    if (options.release_chunks) return_freed_memory();
+  }
   out.pixel_begin.assign(counts.size() + 1, 0);
   for (size_t p = 0; p < counts.size(); ++p) out.pixel_begin[p + 1] = out.pixel_begin[p] + counts[p];
   return true;

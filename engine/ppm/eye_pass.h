@@ -24,6 +24,9 @@ struct EyePassOptions {
   bool record_samples = false;  // each hit point's eye sample, each sample's light (HitPoints::sample_light)
   bool record_seen = false;     // per pixel, the emission and world seen at no bounce (HitPoints::seen)
   bool record_components = false;  // light components (HitPoints::route, components, pixel_components)
+  // Free each chunk of the scratch once it is joined into `out`, for a single eye pass whose scratch
+  // is not kept: the chunks and `out` then never both hold every hit point.
+  bool release_chunks = false;
   // Optional, per pixel of the image (row 0 at the bottom): its own number of samples, at most
   // samples_per_pixel (the random streams' stride); nullptr: samples_per_pixel everywhere.
   const uint8_t* pixel_samples = nullptr;

@@ -12,12 +12,12 @@
 
 namespace ppm {
 
-// Per eye sample a hit point twice while the chunks are joined, its statistics and a pass's sums,
-// and the light it saw directly; per pixel the pixel's records, the image read back and the error
-// estimate's.
+// Per eye sample a hit point (the eye pass frees its chunks as it joins them: EyePassOptions::
+// release_chunks), its statistics and a pass's sums, and the light it saw directly; per pixel the
+// pixel's records, the image read back and the error estimate's.
 double kept_hit_point_bytes(const Camera& camera, int samples_per_pixel, bool components) {
   const double pixels = static_cast<double>(camera.width) * camera.height;
-  const double per_sample = 2.0 * (sizeof(HitPoint) + sizeof(HitPointShading)) + sizeof(HitPointStats) +
+  const double per_sample = sizeof(HitPoint) + sizeof(HitPointShading) + sizeof(HitPointStats) +
                             sizeof(uint32_t) + 2 * sizeof(Color) + sizeof(Bounces) + sizeof(uint16_t) + sizeof(float) +
                             (components ? 2.0 + sizeof(HitPointComponents) + sizeof(ClassColors) + 4 * sizeof(Vec3f)
                                         : 0.0);
@@ -45,6 +45,7 @@ bool FixedHitPoints::prepare(const Poll& poll) {
     eye.record_samples = c_.settings.samples_per_pixel > 1;  // the error estimate's anti-aliasing term
     eye.record_seen = c_.settings.light_passes;
     eye.record_components = c_.settings.component_passes;
+    eye.release_chunks = true;
     if (!eye_pass(*c_.scene, c_.settings, eye, hit_points_, scratch, c_.cancel, poll)) return false;
     if (!hit_points_.depth.empty()) c_.depth.swap(hit_points_.depth);
     if (!c_.measure_photon_spacing_once(hit_points_, poll)) return false;

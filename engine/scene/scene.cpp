@@ -4,6 +4,7 @@
 #include "geometry/bezier_revolve.h"
 #include "geometry/object_bvh.h"
 #include "math/sampling.h"
+#include "ppm/freed_memory.h"
 #include "ppm/parallel.h"
 #include "scene/input_checks.h"
 #include "shading/valid_reflection.h"
@@ -14,9 +15,6 @@
 #include <type_traits>
 #include <stdexcept>
 
-#if defined(__GLIBC__)
-#include <malloc.h>
-#endif
 
 namespace ppm {
 using namespace scene_input;
@@ -397,9 +395,7 @@ void Scene::release_triangles() {
     if (leaf_prims_[slot].kind == PrimitiveKind::Triangle) slot_of_triangle_[leaf_prims_[slot].index] = slot;
   std::vector<TriangleVertices>().swap(meshes_.triangles);
   meshes_.shrink_to_fit();
-#if defined(__GLIBC__)
-  malloc_trim(0);
-#endif
+  return_freed_memory();
 }
 
 void Scene::build() {
