@@ -1,8 +1,8 @@
 """A 4K render (3840 x 2160) in bounded memory: stochastic hit points keep 52 bytes a pixel (68 with
 the error estimate's 16) and one band's hit points (engine/ppm/stochastic_hit_points.h), streamed
 fixed hit points 36 bytes a hit point and 20 a pixel (36 with the error estimate's;
-streamed_hit_points.h); kept fixed hit points peak at what the render keeps. Each render runs in a fresh process, so that its peak resident set is its
-own."""
+streamed_hit_points.h); kept fixed hit points peak at what the render keeps. Each render runs in a
+fresh process, so that its peak resident set is its own."""
 
 import json
 import os
