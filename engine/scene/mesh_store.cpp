@@ -63,12 +63,6 @@ void shrink(V& v) {
 
 }  // namespace
 
-Vec3 origin_of(const std::vector<Vec3>& positions) {
-  Aabb bounds;
-  for (const Vec3& p : positions) bounds.grow(p);
-  return bounds.empty() ? Vec3(0.0) : bounds.center();
-}
-
 bool normals_fit_per_vertex(const MeshInput& mesh) {
   Vec3 unit;
   for (const Vec3& n : mesh.normals)
@@ -95,12 +89,10 @@ void MeshStore::append(const MeshInput& mesh) {
   r.object = mesh.object_id;
   r.visibility = mesh.visibility;
   const uint32_t index = static_cast<uint32_t>(meshes.size());
-  origins.push_back(origin_of(mesh.positions));
-  for (const Vec3& p : mesh.positions) vertices.push_back(Vec3f(p - origins.back()));
+  vertices.insert(vertices.end(), mesh.positions.begin(), mesh.positions.end());
   for (size_t t = 0; t < nt; ++t) {
     const uint32_t* idx = &mesh.triangles[3 * t];
-    triangles.push_back(
-        TriangleVertices{{r.first_vertex + idx[0], r.first_vertex + idx[1], r.first_vertex + idx[2]}, index});
+    triangles.push_back(TriangleVertices{{r.first_vertex + idx[0], r.first_vertex + idx[1], r.first_vertex + idx[2]}});
     info.push_back(TriangleInfo{mesh.materials.size() == 1 ? mesh.materials[0] : mesh.materials[t], index});
   }
   if (r.normals.present() && !r.normals.per_vertex) {  // per corner: a corner's own, or its triangle's
@@ -129,19 +121,16 @@ void MeshStore::append(const MeshInput& mesh) {
   by_object_made_ = false;
 }
 
-void MeshStore::append_copy(const MeshStore& from, uint32_t mesh) {
-  const MeshRecord& record = from.meshes[mesh];
+void MeshStore::append_copy(const MeshStore& from, const MeshRecord& record) {
   MeshRecord r = record;
   const uint32_t index = static_cast<uint32_t>(meshes.size());
   r.first_triangle = triangle_count();
   r.first_vertex = static_cast<uint32_t>(vertices.size());
   vertices.insert(vertices.end(), from.vertices.begin() + record.first_vertex,
                   from.vertices.begin() + record.first_vertex + record.vertex_count);
-  origins.push_back(from.origins[mesh]);
   for (uint32_t t = record.first_triangle; t < record.first_triangle + record.triangle_count; ++t) {
     TriangleVertices tv = from.triangles[t];
     for (uint32_t& v : tv.v) v = v - record.first_vertex + r.first_vertex;
-    tv.mesh = index;
     triangles.push_back(tv);
     info.push_back(TriangleInfo{from.info[t].material, index});
   }
@@ -155,7 +144,7 @@ void MeshStore::append_copy(const MeshStore& from, uint32_t mesh) {
 }
 
 void MeshStore::reorder_vertices(const std::vector<uint32_t>& position) {
-  HugePageFillVector<Vec3f> moved(vertices.size());  // unwritten: the loop's page faults on every thread
+  HugePageFillVector<Vec3> moved(vertices.size());  // unwritten: the loop's page faults on every thread
   parallel_for(hardware_threads(), vertices.size(), [&](size_t begin, size_t end) {
     for (size_t v = begin; v < end; ++v) moved[position[v]] = vertices[v];
   });
@@ -186,13 +175,12 @@ const std::vector<uint32_t>& MeshStore::meshes_of(uint32_t object) const {
 }
 
 size_t MeshStore::memory_bytes() const {
-  return bytes(vertices) + bytes(origins) + bytes(triangles) + bytes(info) + bytes(meshes) + bytes(normals) +
-         bytes(uvs) + bytes(tangents) + bytes(colors);
+  return bytes(vertices) + bytes(triangles) + bytes(info) + bytes(meshes) + bytes(normals) + bytes(uvs) +
+         bytes(tangents) + bytes(colors);
 }
 
 void MeshStore::shrink_to_fit() {
   shrink(vertices);
-  shrink(origins);
   shrink(info);
   shrink(meshes);
   shrink(normals);

@@ -1,13 +1,8 @@
-// A scene's triangle meshes: each add_mesh's vertices (shared by its triangles), its triangles in
-// the order they were added (their vertices, material and mesh), and what their corners carry
-// (normals, UVs, tangents, an attribute), kept per vertex where the input gives them so and per
-// corner otherwise. A triangle costs its three vertex indices, its material and mesh, and its share
-// of the vertices, instead of its own copy of three double corners.
-//
-// A vertex is its mesh's origin (in double: the centre of its bounds) plus a float offset, so it
-// costs 12 bytes and keeps float's precision relative to its mesh's size, not to its distance from
-// the scene's origin (a millimetre part a kilometre away keeps its shape). Every use of a vertex
-// reads it as that one double sum, so triangles sharing an edge share it exactly.
+// A scene's triangle meshes: each add_mesh's vertices (world space, in double, shared by its
+// triangles), its triangles in the order they were added (their vertices, material and mesh), and
+// what their corners carry (normals, UVs, tangents, an attribute), kept per vertex where the input
+// gives them so and per corner otherwise. A triangle costs its three vertex indices, its material
+// and mesh, and its share of the vertices, instead of its own copy of three double corners.
 #pragma once
 
 #include "geometry/huge_pages.h"
@@ -38,7 +33,6 @@ struct MeshInput {
 
 struct TriangleVertices {
   uint32_t v[3];  // indices into MeshStore::vertices
-  uint32_t mesh;  // whose origin they are offsets from
 };
 
 // Where one mesh's values of an attribute are: from `first` in its array, one a vertex of the mesh
@@ -62,8 +56,7 @@ struct TriangleInfo {
 };
 
 struct MeshStore {
-  HugePageFillVector<Vec3f> vertices;  // offsets from their mesh's origin; random rays read them all over
-  std::vector<Vec3> origins;           // by mesh
+  HugePageFillVector<Vec3> vertices;  // random rays read them all over (see huge_pages.h)
   // In triangle order. The scene moves them into its BVH leaf records once built (then this is empty).
   std::vector<TriangleVertices> triangles;
   std::vector<TriangleInfo> info;
@@ -75,8 +68,8 @@ struct MeshStore {
 
   // Appends a mesh the scene has checked.
   void append(const MeshInput& mesh);
-  // Appends mesh `mesh` of `from` (whose `triangles` are restored) as it is there.
-  void append_copy(const MeshStore& from, uint32_t mesh);
+  // Appends mesh `record` of `from` (whose `triangles` are restored) as it is there.
+  void append_copy(const MeshStore& from, const MeshRecord& record);
   // The attribute layouts append would give `mesh` (the ranges' first is 0 where present).
   static MeshRecord layout_of(const MeshInput& mesh);
   // Writes `mesh` over mesh `index`, which has as many triangles and vertices and the same layouts;
@@ -85,12 +78,9 @@ struct MeshStore {
   void rewrite(uint32_t index, const MeshInput& mesh, TriangleAt&& triangle_at);
 
   uint32_t triangle_count() const { return static_cast<uint32_t>(info.size()); }
-  TrianglePrim triangle(const TriangleVertices& t) const { return triangle_from(origins[t.mesh], vertices, t.v); }
-  // The triangle whose corners are `origin` plus corners[v[k]] (the vertices, or a leaf's copies).
-  template <class Corners>
-  static TrianglePrim triangle_from(const Vec3& origin, const Corners& corners, const uint32_t (&v)[3]) {
-    const Vec3 a = origin + Vec3(corners[v[0]]);
-    return TrianglePrim{a, (origin + Vec3(corners[v[1]])) - a, (origin + Vec3(corners[v[2]])) - a};
+  TrianglePrim triangle(const TriangleVertices& t) const {
+    const Vec3& a = vertices[t.v[0]];
+    return TrianglePrim{a, vertices[t.v[1]] - a, vertices[t.v[2]] - a};
   }
   // The value of attribute `range` of `mesh` at corner k (vertex `vertex`) of `triangle`.
   template <class T>
@@ -114,9 +104,6 @@ struct MeshStore {
   mutable bool by_object_made_ = false;
 };
 
-// A mesh's origin: the centre of its vertices' bounds.
-Vec3 origin_of(const std::vector<Vec3>& positions);
-
 // The normal at a mesh's vertex or corner as stored: normalised, or (where the input's cannot be) the
 // triangle's own normal, which a per-vertex layout cannot hold (such meshes keep theirs per corner).
 bool normals_fit_per_vertex(const MeshInput& mesh);
@@ -125,9 +112,7 @@ template <class TriangleAt>
 void MeshStore::rewrite(uint32_t index, const MeshInput& mesh, TriangleAt&& triangle_at) {
   MeshRecord& record = meshes[index];
   record.visibility = mesh.visibility;
-  origins[index] = origin_of(mesh.positions);
-  for (uint32_t i = 0; i < record.vertex_count; ++i)
-    vertices[record.first_vertex + i] = Vec3f(mesh.positions[i] - origins[index]);
+  for (uint32_t i = 0; i < record.vertex_count; ++i) vertices[record.first_vertex + i] = mesh.positions[i];
   MeshStore values;  // this mesh's values, made as append makes them, then written over the old ones
   values.append(mesh);
   auto copy = [](auto& to, const AttributeRange& at, const auto& from) {

@@ -454,16 +454,12 @@ bool Scene::copies_triangles() const {
 void Scene::copy_leaf_triangles() {
   copied_leaves_.resize(leaf_prims_.size());  // unwritten (HugePageFillVector)
   parallel_for(hardware_threads(), leaf_prims_.size(), [&](size_t begin, size_t end) {
-    for (size_t slot = begin; slot < end; ++slot) copied_leaves_[slot] = copy_of(leaf_prims_[slot]);
+    for (size_t slot = begin; slot < end; ++slot) {
+      const LeafPrim& p = leaf_prims_[slot];
+      copied_leaves_[slot] =
+          CopiedLeaf{p.kind == PrimitiveKind::Triangle ? meshes_.triangle(p.vertices) : TrianglePrim{}, p};
+    }
   });
-}
-
-Scene::CopiedLeaf Scene::copy_of(const LeafPrim& p) const {
-  CopiedLeaf c;
-  for (int k = 0; k < 3; ++k)
-    c.corners[k] = p.kind == PrimitiveKind::Triangle ? meshes_.vertices[p.vertices.v[k]] : Vec3f(0.0f);
-  c.leaf = p;
-  return c;
 }
 
 void Scene::set_geometry_layout(GeometryLayout layout) {
@@ -484,7 +480,7 @@ void Scene::order_vertices_by_leaf() {
   for (size_t m = 0; m < next.size(); ++m) next[m] = meshes_.meshes[m].first_vertex;
   for (const LeafPrim& p : leaf_prims_) {
     if (p.kind != PrimitiveKind::Triangle) continue;
-    const uint32_t mesh = p.vertices.mesh;
+    const uint32_t mesh = meshes_.info[p.index].mesh;
     for (uint32_t v : p.vertices.v)
       if (position[v] == kUnseen) position[v] = next[mesh]++;
   }
@@ -542,8 +538,9 @@ void Scene::refit_moved_objects() {
     const uint32_t first = object_bvh_->first_slot(g);
     boxes.resize(object_bvh_->slot_count(g));
     for (size_t k = 0; k < boxes.size(); ++k) {
-      if (!copied_leaves_.empty()) copied_leaves_[first + k] = copy_of(leaf_prims_[first + k]);
-      boxes[k] = triangle_box(meshes_.triangle(leaf_prims_[first + k].vertices));
+      const TrianglePrim t = meshes_.triangle(leaf_prims_[first + k].vertices);
+      if (!copied_leaves_.empty()) copied_leaves_[first + k] = CopiedLeaf{t, leaf_prims_[first + k]};
+      boxes[k] = triangle_box(t);
     }
     object_bvh_->refit(g, boxes);
   }
@@ -556,7 +553,7 @@ void Scene::refit_moved_objects() {
 
 void Scene::finish_geometry() {
   const size_t leaves = copied_leaves_.empty()
-                            ? leaf_prims_.size() * sizeof(LeafPrim) + meshes_.vertices.size() * sizeof(Vec3f)
+                            ? leaf_prims_.size() * sizeof(LeafPrim) + meshes_.vertices.size() * sizeof(Vec3)
                             : copied_leaves_.size() * sizeof(CopiedLeaf);
   interleave_ = bvh_.nodes().size() * sizeof(BvhNode) + leaves > kInterleaveBytes;  // what a walk reads
   const Aabb bounds = bvh_.bounds();
@@ -725,7 +722,7 @@ inline bool Scene::intersect_slot(uint32_t slot, const Ray& ray, double& tmax, H
     const CopiedLeaf& c = copied_leaves_[slot];
     if (!(c.leaf.visibility & ray.kind)) return false;
     if (c.leaf.kind != PrimitiveKind::Triangle) return intersect_non_triangle(slot, ray, tmax, scratch);
-    return record_triangle_hit(slot, c.leaf.index, c.triangle(meshes_), ray, tmax, scratch);
+    return record_triangle_hit(slot, c.leaf.index, c.tri, ray, tmax, scratch);
   }
   const LeafPrim& p = leaf_prims_[slot];
   if (!(p.visibility & ray.kind)) return false;

@@ -253,8 +253,8 @@ class Scene {
   void copy_leaf_triangles();
   // The triangle at a leaf slot, from its copy or its vertices (`scratch` holds the latter).
   const TrianglePrim& leaf_triangle(uint32_t slot, TrianglePrim& scratch) const {
-    scratch = copied_leaves_.empty() ? meshes_.triangle(leaf_prims_[slot].vertices)
-                                     : copied_leaves_[slot].triangle(meshes_);
+    if (!copied_leaves_.empty()) return copied_leaves_[slot].tri;
+    scratch = meshes_.triangle(leaf_prims_[slot].vertices);
     return scratch;
   }
   bool record_triangle_hit(uint32_t slot, uint32_t triangle, const TrianglePrim& tri, const Ray& ray, double& tmax,
@@ -320,16 +320,11 @@ class Scene {
   Bvh bvh_;
   HugePageFillVector<LeafPrim> leaf_prims_;
   // A leaf slot's record with its triangle's corners copied (GeometryLayout::Copies): all the ray
-  // test and fill_hit read, a leaf's in one stretch of memory and each in one cache line (with its
-  // mesh's origin; leaf_prims_ are kept for the rest).
-  struct alignas(64) CopiedLeaf {
-    Vec3f corners[3];  // triangles only: as in MeshStore::vertices, offsets from the mesh's origin
+  // test and fill_hit read, a leaf's in one stretch of memory (leaf_prims_ are kept for the rest).
+  struct CopiedLeaf {
+    TrianglePrim tri;  // triangles only
     LeafPrim leaf;
-    TrianglePrim triangle(const MeshStore& meshes) const {
-      return MeshStore::triangle_from(meshes.origins[leaf.vertices.mesh], corners, {0, 1, 2});
-    }
   };
-  CopiedLeaf copy_of(const LeafPrim& p) const;
   HugePageFillVector<CopiedLeaf> copied_leaves_;  // by slot; empty: the Compact layout
   GeometryLayout layout_ = GeometryLayout::Auto;
   bool dynamic_ = false;

@@ -116,9 +116,9 @@ void Scene::rebuild_meshes(uint32_t object, const MeshInput* replacement) {
   restore_triangles();
   MeshStore next;
   bool placed = replacement == nullptr;
-  for (uint32_t m = 0; m < meshes_.meshes.size(); ++m) {
-    if (meshes_.meshes[m].object != object) {
-      next.append_copy(meshes_, m);
+  for (const MeshRecord& record : meshes_.meshes) {
+    if (record.object != object) {
+      next.append_copy(meshes_, record);
     } else if (!placed) {
       next.append(*replacement);
       placed = true;
