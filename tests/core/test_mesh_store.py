@@ -93,7 +93,8 @@ def test_separate_meshes_that_share_edges_leave_no_crack(layout, seed):
     share must be the same number in both."""
     rng = np.random.default_rng(seed)
     lo, hi = rng.uniform(-3.0, -0.1, 3), rng.uniform(0.1, 3.0, 3)
-    corner = np.array([[(lo, hi)[x][0], (lo, hi)[y][1], (lo, hi)[z][2]] for x in (0, 1) for y in (0, 1) for z in (0, 1)])
+    bounds = (lo, hi)
+    corner = np.array([[bounds[x][0], bounds[y][1], bounds[z][2]] for x in (0, 1) for y in (0, 1) for z in (0, 1)])
     s = ppm_core.Scene()
     s.geometry_layout = layout
     m = s.add_material("grey")
