@@ -151,7 +151,7 @@ void Bvh::build(size_t count, const std::function<Aabb(size_t)>& box_of) {
 }
 
 void Bvh::build_from_tree(BinaryBvh tree) {
-  nodes_.clear();
+  HugePageFillVector<BvhNode>().swap(nodes_);  // sized to this tree below, not to a larger earlier one
   bounds_ = Aabb{};
   in_float_range_ = true;
   prim_order_ = std::move(tree.order);
@@ -174,10 +174,11 @@ void Bvh::collapse(const BinaryBvh& tree) {
   constexpr uint32_t kParallelNodes = 1u << 17;
   collapser.emit(0, size, top, 0, size >= kParallelNodes ? &deferred : nullptr);
   std::vector<HugePageVector<BvhNode>> parts(deferred.size());
-  parallel_each(hardware_threads(), deferred.size(), [&](size_t i) {
-    parts[i].reserve((deferred[i].end - deferred[i].binary) / 2 + 1);
-    collapser.emit(deferred[i].binary, deferred[i].end, parts[i]);
-  });
+  if (!deferred.empty())  // (parallel_each starts a thread even for nothing)
+    parallel_each(hardware_threads(), deferred.size(), [&](size_t i) {
+      parts[i].reserve((deferred[i].end - deferred[i].binary) / 2 + 1);
+      collapser.emit(deferred[i].binary, deferred[i].end, parts[i]);
+    });
   std::vector<uint32_t> offset(parts.size());
   size_t total = top.size();
   for (size_t i = 0; i < parts.size(); ++i) {
@@ -187,10 +188,11 @@ void Bvh::collapse(const BinaryBvh& tree) {
   }
   nodes_.resize(total);  // unwritten (HugePageFillVector): the copies' page faults on every thread
   std::copy(top.begin(), top.end(), nodes_.begin());
-  parallel_each(hardware_threads(), parts.size(), [&](size_t i) {
-    place_subtree(parts[i], offset[i], nodes_);
-    HugePageVector<BvhNode>().swap(parts[i]);
-  });
+  if (!parts.empty())
+    parallel_each(hardware_threads(), parts.size(), [&](size_t i) {
+      place_subtree(parts[i], offset[i], nodes_);
+      HugePageVector<BvhNode>().swap(parts[i]);
+    });
 }
 
 }  // namespace ppm

@@ -78,7 +78,7 @@ class Bvh {
   const std::vector<uint32_t>& prim_order() const { return prim_order_; }
   // For a caller that has laid its primitives out by slot: 4 bytes a primitive less.
   void release_prim_order() { std::vector<uint32_t>().swap(prim_order_); }
-  Aabb bounds() const { return bounds_; }  // exact (double) bounds of all primitives
+  Aabb bounds() const { return bounds_; }  // bounds of all primitives, rounded outwards to float
 
   // Closest-hit traversal, nearest child first. `test(slot, tmax)` intersects
   // the primitive at that slot and, on a closer hit, lowers tmax.
