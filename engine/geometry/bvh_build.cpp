@@ -1,13 +1,11 @@
 // Binned SAH build of a binary BVH (see bvh_build.h).
 #include "geometry/bvh_build.h"
 
-#include "math/float_bounds.h"
 #include "ppm/fill_vector.h"
 #include "ppm/parallel.h"
 
 #include <algorithm>
 #include <exception>
-#include <limits>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -33,8 +31,8 @@ struct BuildPrim {
   uint32_t id;
 
   static BuildPrim of(const Aabb& b, uint32_t id) {
-    return BuildPrim{Vec3f(float_down(b.lo.x), float_down(b.lo.y), float_down(b.lo.z)),
-                     Vec3f(float_up(b.hi.x), float_up(b.hi.y), float_up(b.hi.z)), id};
+    const FloatAabb f = FloatAabb::around(b);
+    return BuildPrim{f.lo, f.hi, id};
   }
   FloatAabb box() const { return FloatAabb{lo, hi}; }
   // In float: the binning's, and the centroid boxes' (so that every centroid is inside its node's).
@@ -44,31 +42,22 @@ static_assert(sizeof(BuildPrim) == 28, "BuildPrim grew");
 
 // The boxes and centroids of a set of primitives, in float as they are.
 struct FloatBox {
-  Vec3f lo{std::numeric_limits<float>::infinity()}, hi{-std::numeric_limits<float>::infinity()};
-  Vec3f clo{std::numeric_limits<float>::infinity()}, chi{-std::numeric_limits<float>::infinity()};
-  bool any = false;
+  FloatAabb box, centroids;
   void add(const BuildPrim& p) {
-    lo = glm::min(lo, p.lo);
-    hi = glm::max(hi, p.hi);
+    box.grow(p.box());
     const Vec3f c = p.center();
-    clo = glm::min(clo, c);
-    chi = glm::max(chi, c);
-    any = true;
+    centroids.grow(FloatAabb{c, c});
   }
-  FloatAabb box() const { return FloatAabb{lo, hi}; }
-  Aabb centroid_box() const { return any ? Aabb{Vec3(clo), Vec3(chi)} : Aabb{}; }
 };
 
 // A bin of primitives' boxes, in float as they are.
 struct FloatBin {
-  Vec3f lo{std::numeric_limits<float>::infinity()}, hi{-std::numeric_limits<float>::infinity()};
+  FloatAabb box;
   uint32_t count = 0;
   void add(const BuildPrim& p) {
-    lo = glm::min(lo, p.lo);
-    hi = glm::max(hi, p.hi);
+    box.grow(p.box());
     ++count;
   }
-  Aabb box() const { return count ? Aabb{Vec3(lo), Vec3(hi)} : Aabb{}; }
 };
 
 class Builder {
@@ -221,7 +210,7 @@ class Builder {
       Aabb acc;
       uint32_t n = 0;
       for (int i = kBins - 1; i > 0; --i) {
-        acc.grow(bins[a][i].box());
+        acc.grow(bins[a][i].box.to_double());
         n += bins[a][i].count;
         right_area[i] = acc.half_area();
         right_count[i] = n;
@@ -229,7 +218,7 @@ class Builder {
       acc = Aabb{};
       n = 0;
       for (int i = 1; i < kBins; ++i) {
-        acc.grow(bins[a][i - 1].box());
+        acc.grow(bins[a][i - 1].box.to_double());
         n += bins[a][i - 1].count;
         if (n == 0 || right_count[i] == 0) continue;
         const double cost = acc.half_area() * n + right_area[i] * right_count[i];
@@ -258,10 +247,10 @@ class Builder {
       if (lo >= hi) break;
       std::swap(*lo, hi[-1]);
     }
-    s.left_box = left.box();
-    s.left_cbox = left.centroid_box();
-    s.right_box = right.box();
-    s.right_cbox = right.centroid_box();
+    s.left_box = left.box;
+    s.left_cbox = left.centroids.to_double();
+    s.right_box = right.box;
+    s.right_cbox = right.centroids.to_double();
     return static_cast<uint32_t>(lo - prims);
   }
 
