@@ -250,7 +250,8 @@ struct EyeTracer {
   // The share of m's scattering at sp that eye paths follow: its mirror and smooth glass lobes'.
   static double followed_share(const Material& m, const SurfacePoint& sp, const Vec3& wo) {
     if (is_specular(m)) return 1.0;
-    if (m.kind == MaterialKind::Mixture && closure_has_followed(m.lobes)) return closure_followed_share(m.lobes, sp, wo);
+    if (m.kind == MaterialKind::Mixture && closure_has_followed(m.lobes))
+      return closure_followed_share(m.lobes, sp, wo);
     return 0.0;
   }
 

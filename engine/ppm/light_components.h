@@ -87,7 +87,6 @@ struct HitPointComponents {
 };
 static_assert(sizeof(HitPointComponents) == 132, "HitPointComponents grew");
 
-
 // A pixel's light components across passes (stochastic hit points): the running means of the light
 // that needs no photons and of the Color passes, and its photon flux by slot, folded as the pixel's
 // own flux is.

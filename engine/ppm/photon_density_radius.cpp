@@ -36,7 +36,9 @@ bool trace_pilot(const Scene& scene, const LightSampler& lights, const Settings&
     trace_photons(
         scene, lights, settings, limits, c * kPhotonChunk, std::min<uint64_t>(photons, (c + 1) * kPhotonChunk),
         [&](uint64_t i) { return Rng(settings.seed, kPilotStream, i); },
-        [&](const Vec3& pos, const Vec3&, const Vec3&, const Color&, const Bounces&, PhotonTag) { buffers[c].push_back(pos); });
+        [&](const Vec3& pos, const Vec3&, const Vec3&, const Color&, const Bounces&, PhotonTag) {
+          buffers[c].push_back(pos);
+        });
   };
   if (!parallel_chunks(threads, chunks, trace, cancel, poll, settings.progress_interval)) return false;
   for (const std::vector<Vec3>& b : buffers) positions.insert(positions.end(), b.begin(), b.end());

@@ -174,7 +174,8 @@ bool PhotonPass::run_hit_point_index(const Grid& grid, const Scene& scene, const
       deposits += trace_photons(
           scene, lights, settings_, limits_, begin, std::min(last, begin + kPhotonChunk),
           [&](uint64_t i) { return Rng(settings_.seed, kPhotonStream + pass, i); },
-          [&](const Vec3& pos, const Vec3& dir, const Vec3& normal, const Color& flux, const Bounces& used, PhotonTag tag) {
+          [&](const Vec3& pos, const Vec3& dir, const Vec3& normal, const Color& flux, const Bounces& used,
+              PhotonTag tag) {
             const Vec3f d(dir), nf(normal), f(flux);
             grid.for_each_candidate_at(pos, [&](uint32_t h) {
               Vec3f w;
@@ -329,7 +330,8 @@ bool PhotonPass::trace_into_chunks(const Scene& scene, const LightSampler& light
         scene, lights, settings_, limits_, chunk * kPhotonChunk,
         std::min<uint64_t>(photons, (chunk + 1) * kPhotonChunk),
         [&](uint64_t i) { return Rng(settings_.seed, kPhotonStream + pass, i); },
-        [&](const Vec3& pos, const Vec3& dir, const Vec3& normal, const Color& flux, const Bounces& used, PhotonTag tag) {
+        [&](const Vec3& pos, const Vec3& dir, const Vec3& normal, const Color& flux, const Bounces& used,
+            PhotonTag tag) {
           buffer.push_back(Photon{pos, Vec3f(dir), Vec3f(normal), Vec3f(flux), used});
           if (caustics) chunk_caustic_[chunk].push_back(tag.caustic);
           if (guided) chunk_origin_[chunk].push_back(tag.origin);
@@ -458,9 +460,10 @@ bool PhotonPass::gather_at_hit_points(const Grid& grid, const Scene& scene, cons
       }
     };
   };
+  const double interval = settings_.progress_interval;
   const bool tagged = split || crediting;
-  if (!(tagged ? parallel_chunks(threads_, hchunks, gather(std::true_type{}), cancel, poll, settings_.progress_interval)
-               : parallel_chunks(threads_, hchunks, gather(std::false_type{}), cancel, poll, settings_.progress_interval)))
+  if (!(tagged ? parallel_chunks(threads_, hchunks, gather(std::true_type{}), cancel, poll, interval)
+               : parallel_chunks(threads_, hchunks, gather(std::false_type{}), cancel, poll, interval)))
     return false;
   if (crediting) {  // chunk order: the same sums whichever thread gathered which chunk
     band_credit_.assign(static_cast<size_t>(guide_.slots()) * PhotonGuide::kBins, 0.0);

@@ -151,7 +151,8 @@ uint64_t trace_photons(const Scene& scene, const LightSampler& lights, const Set
   int live = 0;
   uint64_t next = first;
   for (;;) {
-    for (; live < kPhotonWave && next < last; ++next) paths[live++] = emit_photon_path(scene, lights, limits, rng_of(next), guide);
+    for (; live < kPhotonWave && next < last; ++next)
+      paths[live++] = emit_photon_path(scene, lights, limits, rng_of(next), guide);
     if (live == 0) return deposits;
     for (int k = 0; k < live; ++k) rays[k] = paths[k].ray;
     scene.intersect_many(rays, live, hits);

@@ -351,8 +351,8 @@ void bind_renderer(py::module_& m) {
            "With component_passes=True: the light by Cycles' passes, dict of (H, W, 3) float32, top row first. "
            "DiffDir, DiffInd, GlossDir, GlossInd, TransDir and TransInd are radiance (with light_passes' Emit and "
            "Env they add up to image(), but for a 'post' depth-of-field blur); Cycles stores them divided by "
-           "DiffCol, GlossCol and TransCol, the albedo of each class at the first surface. Caustic: the light of photons that came by mirrors and glass "
-           "only, part of the Indirect ones.")
+           "DiffCol, GlossCol and TransCol, the albedo of each class at the first surface. Caustic: the light of "
+           "photons that came by mirrors and glass only, part of the Indirect ones.")
       .def("denoising_features",
            [](Renderer& r, int samples_per_pixel) {
              std::vector<float> values;
