@@ -239,6 +239,26 @@ def test_border_and_resolution_percentage(tmp_path):
     np.testing.assert_allclose(crop[..., :3], full[:15, 10:30, :3], rtol=0.02, atol=1e-4)
 
 
+@pytest.mark.parametrize("width, height, percentage, border", [
+    (50, 40, 58, None), (1280, 720, 70, None), (720, 64, 100, (0.35, 0.5, 0.0, 1.0)),
+    (1280, 48, 100, (0.5, 0.7, 0.0, 1.0)), (1920, 32, 100, (0.25, 0.95, 0.0, 1.0)),
+    (64, 720, 100, (0.0, 1.0, 0.35, 0.5)), (333, 211, 37, (0.1, 0.9, 0.45, 0.95))])
+def test_every_pixel_of_blenders_result_is_rendered(tmp_path, width, height, percentage, border):
+    """Sizes where Blender's integer percentage and float32 border edges round otherwise than double
+    precision does: the frame is rendered, opaque to its last row and column."""
+    scene = simple_scene(width, height)
+    scene.render.resolution_percentage = percentage
+    scene.render.use_crop_to_border = True
+    if border:
+        scene.render.use_border = True
+        (scene.render.border_min_x, scene.render.border_max_x,
+         scene.render.border_min_y, scene.render.border_max_y) = border
+    pixels = render_file(scene, tmp_path / "x.exr", passes=1, photons_per_pass=1000)
+    frame = engine.Frame.from_render_settings(scene.render)
+    assert pixels.shape[:2] == (frame.window_height, frame.window_width)  # Blender's result, as the export sized it
+    assert np.all(pixels[..., 3] == 1.0)
+
+
 def test_core_messages_keep_their_numbers_with_bpy_loaded():
     """Numbers written into the core's messages vanished in bpy while the core's static C++ runtime
     exported its symbols (they bound to the runtime Blender had loaded)."""

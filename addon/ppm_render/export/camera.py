@@ -38,14 +38,22 @@ class Frame:
 
     @classmethod
     def from_render_settings(cls, render):
-        scale = render.resolution_percentage / 100.0
-        width = max(1, int(render.resolution_x * scale))
-        height = max(1, int(render.resolution_y * scale))
+        """The sizes of Blender's render result, in Blender's own arithmetic (render_init_from_main):
+        the percentage in integers, the border's edges as float32 products truncated, so that the
+        image always fills the result Blender made."""
+        width = max(1, render.resolution_x * render.resolution_percentage // 100)
+        height = max(1, render.resolution_y * render.resolution_percentage // 100)
         if not render.use_border:
             return cls(width, height)
-        x0, x1 = int(render.border_min_x * width), int(render.border_max_x * width)
-        y0, y1 = int(render.border_min_y * height), int(render.border_max_y * height)
+        x0, x1 = _border_pixel(render.border_min_x, width), _border_pixel(render.border_max_x, width)
+        y0, y1 = _border_pixel(render.border_min_y, height), _border_pixel(render.border_max_y, height)
         return cls(width, height, x0, y0, max(1, x1 - x0), max(1, y1 - y0))
+
+
+def _border_pixel(fraction, size):
+    """Blender's `(int)(border * size)` with a float border: the product rounded to float32 first
+    (0.35 * 720 is 251.99999 in double and 252 in float)."""
+    return int(np.float32(fraction) * np.float32(size))
 
 
 def _fit_horizontal(sensor_fit, width, height):
