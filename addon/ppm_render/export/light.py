@@ -27,6 +27,7 @@ SPOT_COSINE_FALLOFF = bpy.app.version < (4, 0, 0)
 # Cycles 3.4 renders a sun of Blender's largest angle (180 degrees) as no light, 4.2 and later as a
 # hemisphere (both measured, tests/blenders/cycles_compare.py; 3.5-4.1 not tested).
 SUN_OF_180_DEGREES_IS_DARK = bpy.app.version < (4, 0, 0)
+MAX_POWER = 1e20  # the core's limit of a light's power, irradiance or flux (scene.h: kMaxPower)
 
 
 def _soft_falloff(light):
@@ -38,6 +39,15 @@ def _strength(light):
     """Blender's colour * energy * 2^exposure as an RGB triple."""
     scale = light.energy * 2.0 ** getattr(light, "exposure", 0.0)
     return tuple(float(c) * scale for c in light.color)
+
+
+def _clamped(power, name, warn):
+    """`power` (a light's power, irradiance or flux) at most the core's MAX_POWER, with a warning where it
+    was above: Cycles renders such a light, and so does PPM, as bright as it can (as emission is)."""
+    if not max(power) > MAX_POWER:
+        return power
+    warn(f"light '{name}': its power {max(power):g} is above the supported {MAX_POWER:g}; clamped to it")
+    return tuple(min(c, MAX_POWER) for c in power)
 
 
 def _normalized(light):
@@ -135,12 +145,12 @@ def add_light(core_scene, item, warn):
                          "render negative lights)")
     if kind == "POINT":
         radius = float(light.shadow_soft_size)
-        core_scene.add_light("point", name=name, power=_sphere_power(light, radius), matrix=m, radius=radius,
-                             soft_falloff=_soft_falloff(light), **seen)
+        core_scene.add_light("point", name=name, power=_clamped(_sphere_power(light, radius), name, warn), matrix=m,
+                             radius=radius, soft_falloff=_soft_falloff(light), **seen)
     elif kind == "SPOT":
         radius = float(light.shadow_soft_size)
-        core_scene.add_light("spot", name=name, power=_sphere_power(light, radius), matrix=m, radius=radius,
-                             spot_angle=float(light.spot_size), spot_blend=float(light.spot_blend),
+        core_scene.add_light("spot", name=name, power=_clamped(_sphere_power(light, radius), name, warn), matrix=m,
+                             radius=radius, spot_angle=float(light.spot_size), spot_blend=float(light.spot_blend),
                              spot_cosine_falloff=SPOT_COSINE_FALLOFF, soft_falloff=_soft_falloff(light), **seen)
     elif kind == "AREA":
         try:
@@ -149,14 +159,14 @@ def add_light(core_scene, item, warn):
             raise ValueError(f"light '{name}': {error}") from None
         # Blender's largest spread, pi in float32, is a hair above pi in double.
         spread = min(float(getattr(light, "spread", math.pi)), math.pi)
-        core_scene.add_light("disk" if disk else "rectangle", name=name, power=flux, matrix=m, size=size,
+        core_scene.add_light("disk" if disk else "rectangle", name=name, power=_clamped(flux, name, warn), matrix=m, size=size,
                              spread=spread, **seen)
     elif kind == "SUN":
         if SUN_OF_180_DEGREES_IS_DARK and light.angle >= math.pi - 1e-6:
             raise ValueError("its angle is 180 degrees, for which Cycles of this Blender emits no light; left "
                              "out as Cycles does")
         # Blender's largest angle, pi in float32, is a hair above pi in double.
-        core_scene.add_light("sun", name=name, power=_sun_irradiance(light), matrix=m,
+        core_scene.add_light("sun", name=name, power=_clamped(_sun_irradiance(light), name, warn), matrix=m,
                              angle=min(float(light.angle), math.pi), **seen)
     else:
         warn(f"light '{name}': type {kind} is not supported; skipped")
