@@ -386,7 +386,7 @@ def _image(c, node, ctx):
     try:
         index = c.texture(image, _premultiplied(node))
     except ValueError as error:
-        raise Unsupported(f"image '{image.name}': {error}") from error
+        return _missing_image(c, node, image, error)
     interpolation = {"Linear": 0, "Closest": 1, "Cubic": 2, "Smart": 2}.get(node.interpolation, 0)
     extension = {"REPEAT": 0, "EXTEND": 1, "CLIP": 2, "MIRROR": 3}.get(node.extension, 0)
     vector = c.vector_or(node, ctx, "uv")
@@ -405,6 +405,12 @@ def _image(c, node, ctx):
     return {"Color": color, "Alpha": alpha}
 
 
+def _missing_image(c, node, image, error):
+    """What Cycles reads from an image it cannot load: magenta, opaque (TEX_IMAGE_MISSING_R/G/B/A)."""
+    c.reader.warn(node, f"image '{image.name}': {error}; it reads magenta, as in Cycles")
+    return {"Color": c.constant((1.0, 0.0, 1.0)), "Alpha": c.constant(1.0)}
+
+
 def _environment(c, node, ctx):
     """An Environment Texture: the image at its Vector's equirectangular or mirror-ball coordinates; by
     default the position, as Cycles (for a world, the direction)."""
@@ -414,7 +420,7 @@ def _environment(c, node, ctx):
     try:
         index = c.texture(image, False)
     except ValueError as error:
-        raise Unsupported(f"image '{image.name}': {error}") from error
+        return _missing_image(c, node, image, error)
     uv = c.emit("environment_uv", [c.vector_or(node, ctx, "position")], kinds=("vector",),
                 mode=int(node.projection == "MIRROR_BALL"))[0]
     interpolation = {"Linear": 0, "Closest": 1, "Cubic": 2, "Smart": 2}.get(node.interpolation, 0)
