@@ -278,3 +278,121 @@ def test_a_light_node_driven_by_another_node_uses_its_own_value_with_a_warning()
     _, warnings = export_scene(scene)
     assert len(warnings) == 1 and "light 'lamp'" in warnings[0] and "'Color'" in warnings[0]
 
+
+
+def test_a_light_above_the_cores_power_is_clamped_not_left_out(tmp_path):
+    """Raising a light's power never darkens the scene: above the core's 1e20 it is clamped, as emission is."""
+    scene = floor_scene()
+    bpy.data.objects["sun"].data.energy = 0.0
+    lamp = add_light("lamp", "POINT", energy=1e19)
+    below = renders(scene, tmp_path).mean()
+    lamp.data.energy = 1e25
+    core_scene, warnings = export_scene(scene)
+    assert warnings == ["light 'lamp': its power 1e+25 is above the supported 1e+20; clamped to it"], warnings
+    assert renders(scene, tmp_path).mean() > 5.0 * below
+
+
+def unrendered_objects(scene):
+    """A hair Curves object, a point cloud (Geometry Nodes' Mesh to Points) and a Volume object."""
+    hair = bpy.data.objects.new("hair", bpy.data.hair_curves.new("hair"))
+    volume = bpy.data.objects.new("smoke", bpy.data.volumes.new("smoke"))
+    points = cube("points")
+    modifier = points.modifiers.new("to points", "NODES")
+    tree = bpy.data.node_groups.new("to points", "GeometryNodeTree")
+    if hasattr(tree, "interface"):
+        tree.interface.new_socket("Geometry", in_out="INPUT", socket_type="NodeSocketGeometry")
+        tree.interface.new_socket("Geometry", in_out="OUTPUT", socket_type="NodeSocketGeometry")
+    else:
+        tree.inputs.new("NodeSocketGeometry", "Geometry")
+        tree.outputs.new("NodeSocketGeometry", "Geometry")
+    group_in, group_out = tree.nodes.new("NodeGroupInput"), tree.nodes.new("NodeGroupOutput")
+    to_points = tree.nodes.new("GeometryNodeMeshToPoints")
+    tree.links.new(group_in.outputs[0], to_points.inputs["Mesh"])
+    tree.links.new(to_points.outputs["Points"], group_out.inputs[0])
+    modifier.node_group = tree
+    for obj in (hair, volume):
+        scene.collection.objects.link(obj)
+
+
+def test_hair_curves_point_clouds_and_volume_objects_are_left_out_with_a_warning_each(tmp_path):
+    scene = floor_scene()
+    unrendered_objects(scene)
+    _, warnings = export_scene(scene)
+    for name, what in (("hair", "hair curves"), ("points", "point clouds"), ("smoke", "Volume objects")):
+        assert sum(f"object '{name}': {what}" in w and "not rendered yet" in w for w in warnings) == 1, warnings
+    renders(scene, tmp_path)  # refused the whole frame before ("Object does not have geometry data")
+
+
+def test_a_volume_only_material_leaves_its_surface_transparent_with_a_warning(tmp_path):
+    """Cycles renders a material with only a Volume output as a surface light passes through."""
+    scene = floor_scene()
+    lid = add_mesh("lid", [(-6, -6, 1), (6, -6, 1), (6, 6, 1), (-6, 6, 1)], [(0, 1, 2, 3)])
+    open_floor = renders(scene, tmp_path).mean()
+    mat = bpy.data.materials.new("fog")
+    if mat.node_tree is None or bpy.app.version < (5, 0, 0):
+        mat.use_nodes = True
+    tree = mat.node_tree
+    tree.nodes.clear()
+    output = tree.nodes.new("ShaderNodeOutputMaterial")
+    tree.links.new(tree.nodes.new("ShaderNodeVolumeScatter").outputs[0], output.inputs["Volume"])
+    lid.data.materials.append(mat)
+    _, warnings = export_scene(scene)
+    assert len(warnings) == 1 and "material 'fog'" in warnings[0] and "Volume output" in warnings[0], warnings
+    assert "transparent" in warnings[0]
+    assert renders(scene, tmp_path).mean() == pytest.approx(open_floor, rel=0.1)  # black before
+
+
+def test_a_missing_image_reads_magenta_as_in_cycles(tmp_path):
+    scene = floor_scene()
+    mat, bsdf = principled_material("painted")
+    image = bpy.data.images.new("gone", 4, 4)
+    image.source, image.filepath = "FILE", str(tmp_path / "gone.png")
+    texture = mat.node_tree.nodes.new("ShaderNodeTexImage")
+    texture.image = image
+    mat.node_tree.links.new(texture.outputs["Color"], bsdf.inputs["Base Color"])
+    bpy.data.objects["floor"].data.materials.append(mat)
+    _, warnings = export_scene(scene)
+    assert len(warnings) == 1 and "image 'gone'" in warnings[0] and "magenta" in warnings[0], warnings
+    red, green, blue = renders(scene, tmp_path).reshape(-1, 3).mean(axis=0)
+    assert green < 0.2 * red and blue == pytest.approx(red, rel=0.05)  # grey before (the sheen is white)
+
+
+def test_settings_not_rendered_yet_are_each_named_once(tmp_path):
+    scene = floor_scene()
+    floor = bpy.data.objects["floor"]
+    floor.is_shadow_catcher = True
+    layer = bpy.context.view_layer
+    layer.aovs.add().name = "dirt"
+    layer.use_pass_cryptomatte_object = True
+    if hasattr(floor, "light_linking"):  # Blender 4.0+
+        bpy.data.objects["sun"].light_linking.receiver_collection = bpy.data.collections.new("lit")
+    if hasattr(layer, "lightgroups"):  # Blender 3.5+
+        layer.lightgroups.add(name="key")
+    _, warnings = export_scene(scene)
+    expected = ["object 'floor': shadow catcher", "shader AOVs (dirt)", "Cryptomatte (object)"]
+    expected += ["light 'sun': light linking"] if hasattr(floor, "light_linking") else []
+    expected += ["light groups (key)"] if hasattr(layer, "lightgroups") else []
+    for part in expected:
+        assert sum(part in w for w in warnings) == 1, (part, warnings)
+    assert len(warnings) == len(expected), warnings
+    renders(scene, tmp_path)
+
+
+def test_a_displacement_output_and_a_world_volume_are_each_named_once(tmp_path):
+    scene = floor_scene()
+    mat, bsdf = principled_material("bumpy")
+    output = next(n for n in mat.node_tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial")
+    displacement = mat.node_tree.nodes.new("ShaderNodeDisplacement")
+    mat.node_tree.links.new(displacement.outputs[0], output.inputs["Displacement"])
+    bpy.data.objects["floor"].data.materials.append(mat)
+    world = bpy.data.worlds.new("hazy")
+    if world.node_tree is None or bpy.app.version < (5, 0, 0):
+        world.use_nodes = True
+    world_output = next(n for n in world.node_tree.nodes if n.bl_idname == "ShaderNodeOutputWorld")
+    world.node_tree.links.new(world.node_tree.nodes.new("ShaderNodeVolumeScatter").outputs[0],
+                              world_output.inputs["Volume"])
+    scene.world = world
+    _, warnings = export_scene(scene)
+    assert sum("material 'bumpy'" in w and "Displacement output" in w for w in warnings) == 1, warnings
+    assert sum("world 'hazy'" in w and "Volume output" in w for w in warnings) == 1, warnings
+    assert len(warnings) == 2, warnings

@@ -21,11 +21,19 @@ import re
 
 import numpy as np
 
-from . import bezier, camera, light, material, mesh, object_info, world
+from . import bezier, camera, light, material, mesh, object_info, unrendered, world
 from .instance import Instance
 
-GEOMETRY_TYPES = {"MESH", "CURVE", "SURFACE", "META", "FONT", "CURVES", "POINTCLOUD", "VOLUME"}
+GEOMETRY_TYPES = {"MESH", "CURVE", "SURFACE", "META", "FONT"}
 CURVE_TYPES = {"CURVE", "SURFACE", "FONT"}
+# Object types with no mesh to read (to_mesh() raises on them): left out, each with a warning.
+UNRENDERED_TYPES = {
+    "CURVES": "hair curves are not rendered yet; left out",
+    "POINTCLOUD": "point clouds are not rendered yet; left out",
+    "VOLUME": "Volume objects (OpenVDB grids, smoke) are not rendered yet; left out",
+    "GREASEPENCIL": "Grease Pencil is not rendered; left out",
+    "GPENCIL": "Grease Pencil is not rendered; left out",
+}
 
 
 class Cancelled(Exception):
@@ -178,7 +186,8 @@ class Exporter:
     def role(self, instance):
         """What a depsgraph instance is to the export: "light", "mesh", "revolve", "curve" (a curve whose
         geometry may come as a MESH instance of its own: finish_curves), "none" (a revolve's Screw
-        preview) or None (nothing: a camera, an empty, an object not shown)."""
+        preview), "unrendered" (a kind of geometry the core has not: UNRENDERED_TYPES) or None (nothing:
+        a camera, an empty, an object not shown)."""
         obj = instance.object
         # For an instance: the object instanced (a curve lists its own evaluated mesh so) and the
         # object instancing it (an empty with a collection, a particle or Geometry Nodes host).
@@ -193,8 +202,11 @@ class Exporter:
             return "revolve"
         if obj.type in CURVE_TYPES and instanced is None:
             return "curve"
-        if obj.type in GEOMETRY_TYPES and (instanced is not None or getattr(instance, "show_self", True)):
+        shown = instanced is not None or getattr(instance, "show_self", True)
+        if obj.type in GEOMETRY_TYPES and shown:
             return "mesh"
+        if obj.type in UNRENDERED_TYPES and shown:
+            return "unrendered"
         return None
 
     def instance_item(self, instance):
@@ -217,11 +229,16 @@ class Exporter:
         role = role or self.role(instance)
         item = self.instance_item(instance)
         obj, identity = instance.object, identity_of(instance)
+        if role is not None and (self.lights if role == "light" else self.objects):
+            for message in unrendered.object_features(obj):
+                self.skip(obj, message)
         if role == "light":
             if self.lights:
                 self.guarded(obj, light.add_light, self.scene, item, self.warn)
         elif role is None or not self.objects:
             return
+        elif role == "unrendered":
+            self.skip(obj, UNRENDERED_TYPES[obj.type])
         elif role == "curve":
             self.plain_curves.append((identity, item))  # exported later unless a MESH instance shows up
         elif role == "none":
@@ -302,7 +319,9 @@ class Exporter:
         try:
             for instance in depsgraph.object_instances:
                 role = self.role(instance)
-                if role in (None, "light"):
+                if role == "unrendered":
+                    self.skip(instance.object, UNRENDERED_TYPES[instance.object.type])
+                if role in (None, "light", "unrendered"):
                     continue
                 identity = identity_of(instance)
                 if identity in seen or (identity in self.exported and self.exported[identity] is None):
@@ -358,6 +377,8 @@ def build_scene(core_module, depsgraph, frame, warn, cancelled=lambda: False):
     if scene.render.use_motion_blur:
         warn("motion blur is not rendered: objects and the camera stand where they are at the frame "
              "(Cycles blurs them over the shutter)")
+    for message in unrendered.view_layer_features(depsgraph.view_layer, scene):
+        warn(message)
     exporter = scene_exporter(core_module, depsgraph, warn, cancelled)
     camera_object = scene.camera.evaluated_get(depsgraph)
     camera_args = camera.camera_arguments(camera_object, frame, warn, scene.ppm.dof_mode)

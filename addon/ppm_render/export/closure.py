@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 import bpy
 import numpy as np
 
-from . import nodes
+from . import nodes, unrendered
 from .node_program import ProgramCompiler, Unsupported
 
 MAX_DEPTH = 256  # links followed from one socket: a deeper chain is a cycle through node groups
@@ -763,6 +763,11 @@ def read_surface(material, warn, texture=None, core=None, attributes=None):
         return None
     reader = ClosureReader(material.name, warn, texture, core, attributes=attributes)
     reader.closure(active[0].inputs["Surface"], (), Weight(np.ones(3)))
+    for message in unrendered.material_outputs(active[0]):
+        reader.warn(None, message)
+    if unrendered.output_driven(active[0].inputs.get("Volume")) and \
+            not unrendered.output_driven(active[0].inputs["Surface"]):
+        reader.out.add(Weight(np.ones(3)), kind="transparent", color=(1.0, 1.0, 1.0))  # a volume's boundary
     if reader.program is not None and reader.program.outputs:
         reader.out.program = reader.program.program()
         reader.out.simple_images = reader.program.output_images()
