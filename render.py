@@ -1,8 +1,12 @@
 """Renders a .blend file with the PPM engine, from a shell.
 
-    blender -b scene.blend --python-exit-code 1 -P render.py -- --output out.exr [--passes N]
+    blender -b --python-exit-code 1 -P render.py -- scene.blend --output out.exr [--passes N]
             [--time-limit S] [--target-error E] [--resolution W H] [--photons N] [--seed N]
     python render.py scene.blend --output out.exr [...]        # with the bpy module (pip install bpy)
+
+`blender -b scene.blend -P render.py -- --output out.exr` works too, but Blender then reads the file
+before this script registers the engine and reports "Engine 'PPM' not available" first (harmless):
+given after `--`, the file is read once the engine is registered.
 
 A still in shares, rendered anywhere and merged (addon/ppm_render/farm/blender_task.py):
     blender -b scene.blend --python-exit-code 1 -P render.py -- --first-pass 0 --passes 16 --share-output s0.npz
@@ -32,8 +36,8 @@ def make_core_importable():
 
 def parse_arguments(argv, need_blend):
     parser = argparse.ArgumentParser(prog="render.py", description="Render a .blend file with the PPM engine.")
-    if need_blend:
-        parser.add_argument("blend", nargs="?", help=".blend file to render")
+    parser.add_argument("blend", nargs="?", help=".blend file to render (inside Blender: the file Blender "
+                                                 "opened, if not given)")
     parser.add_argument("--output", help="output image (.exr or .png)")
     parser.add_argument("--passes", type=int, help="photon passes (default: the scene's setting)")
     parser.add_argument("--time-limit", type=float, help="seconds (default: the scene's setting)")
@@ -55,6 +59,8 @@ def parse_arguments(argv, need_blend):
         parser.error("--merge writes an --output .exr")
     if need_blend and not args.merge and not args.blend:
         parser.error("give the .blend file to render")
+    if args.merge and args.blend:
+        parser.error("--merge takes no .blend file")
     return args
 
 
@@ -105,15 +111,17 @@ def render(argv, in_blender):
     args = parse_arguments(argv, need_blend=not in_blender)
     if args.merge:
         return merge(bpy, args)
-    if in_blender and not bpy.data.filepath:
+    if args.blend is None and not bpy.data.filepath:
         raise ValueError("no .blend file was loaded (missing or unreadable file?): "
-                         "blender -b scene.blend -P render.py -- --output out.exr")
-    if not in_blender:
-        if not os.path.isfile(args.blend):
-            raise ValueError(f"'{args.blend}' does not exist")
-        bpy.ops.wm.open_mainfile(filepath=os.path.abspath(args.blend))
+                         "blender -b --python-exit-code 1 -P render.py -- scene.blend --output out.exr")
+    if args.blend is not None and not os.path.isfile(args.blend):
+        raise ValueError(f"'{args.blend}' does not exist")
     make_core_importable()
+    # Registered before the file is read, so that Blender finds the scene's engine (reading it first
+    # reports "Engine 'PPM' not available", an ERROR a user takes for a failure).
     addon = ensure_addon(bpy)
+    if args.blend is not None:
+        bpy.ops.wm.open_mainfile(filepath=os.path.abspath(args.blend))
     try:
         scene = bpy.context.scene
         if args.share_output:

@@ -32,9 +32,11 @@ def read_exr(path):
 
 def test_blender_34_renders_a_bundled_scene(tmp_path):
     out = tmp_path / "cornell.exr"
-    run = blender(SCENE, "--python-exit-code", "1", "-P", RENDER, "--", "--output", str(out), *ARGS)
+    run = blender("--python-exit-code", "1", "-P", RENDER, "--", SCENE, "--output", str(out), *ARGS)
     assert run.returncode == 0, run.stdout[-2000:] + run.stderr[-2000:]
     assert "Blender 3.4" in run.stdout and "render.py: wrote" in run.stdout
+    # The file is read once the engine is registered: no "Engine 'PPM' not available" error first.
+    assert "not available" not in run.stdout + run.stderr, run.stdout[-2000:] + run.stderr[-2000:]
     image = read_exr(out)
     assert image.shape == (48, 64, 4)
     assert np.isfinite(image).all() and 0.02 < image[..., :3].mean() < 10
@@ -43,6 +45,7 @@ def test_blender_34_renders_a_bundled_scene(tmp_path):
     run5 = subprocess.run([sys.executable, RENDER, SCENE, "--output", str(out5), *ARGS], check=False,
                           capture_output=True, text=True, timeout=300, cwd=ROOT)
     assert run5.returncode == 0, run5.stderr[-2000:]
+    assert "not available" not in run5.stdout + run5.stderr, run5.stdout[-2000:] + run5.stderr[-2000:]
     image5 = read_exr(out5)
     assert image[..., :3].mean() == pytest.approx(image5[..., :3].mean(), rel=0.02)
 
