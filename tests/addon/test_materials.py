@@ -27,13 +27,16 @@ def added(mat):
 def input_channels(params):
     """What each material input is: 'rgb', 'alpha' or 'grey' of an image, else the name of the
     program operation that computes it."""
-    writer = {reg: (ins, k) for ins in params["program"]["code"] for k, reg in enumerate(ins["out"]) if reg}
+    writer = {}  # register -> (the instruction that wrote it last, which output, what wrote its first input)
+    for ins in params["program"]["code"]:  # registers are reused: read in order
+        source = writer.get(ins["in"][0]) if ins["in"] else None
+        writer.update({reg: (ins, k, source) for k, reg in enumerate(ins["out"]) if reg})
 
     def kind(reg):
-        ins, k = writer[reg]
+        ins, k, source = writer[reg]
         if ins["op"] == "image":
             return ("rgb", "alpha")[k]
-        if ins["op"] == "convert" and writer[ins["in"][0]][0]["op"] == "image":
+        if ins["op"] == "convert" and source is not None and source[0]["op"] == "image":
             return "grey"
         return ins["op"]
 
@@ -550,3 +553,60 @@ def test_light_path_drives_a_mix_by_the_kind_of_ray_and_transparent_depth_warns(
     assert factor == {"camera": 0.0, "shadow": 1.0, "diffuse": 0.0}
     tree.links.new(path.outputs["Transparent Depth"], mix.inputs["Fac"])
     assert any("Transparent Depth is not counted" in w for w in describe(mat)[1])
+
+
+def test_a_chain_of_400_math_nodes_compiles_and_computes_as_blender():
+    """Compiled without Python recursion growing with the chain, in a few registers (it refused the
+    frame at ~250 nodes with a RecursionError, and ran out of the core's 256 registers)."""
+    mat, tree, out = node_material("long chain")
+    bsdf = add(tree, "ShaderNodeBsdfDiffuse")
+    tree.links.new(bsdf.outputs[0], out.inputs["Surface"])
+    separate = tree.nodes.new("ShaderNodeSeparateXYZ")
+    tree.links.new(tree.nodes.new("ShaderNodeNewGeometry").outputs["Position"], separate.inputs[0])
+    value, count = separate.outputs["X"], 400
+    for _ in range(count):
+        math_node = tree.nodes.new("ShaderNodeMath")
+        math_node.operation = "MULTIPLY_ADD"
+        math_node.inputs[1].default_value, math_node.inputs[2].default_value = 0.999, 0.0001
+        tree.links.new(value, math_node.inputs[0])
+        value = math_node.outputs[0]
+    tree.links.new(value, bsdf.inputs["Roughness"])
+    params, warnings = describe(mat)
+    assert warnings == [] and params["program"]["registers"] < 16
+    x = np.array([0.1, 0.5, 0.9])
+    computed = ppm_core.Scene().run_program(params["program"], np.stack([x, 0 * x, 0 * x], axis=1))[:, 0, 0]
+    a = np.float32(0.999)
+    expected = x * a ** count + np.float32(0.0001) * (1 - a ** count) / (1 - a)
+    np.testing.assert_allclose(computed, expected, rtol=1e-3)
+
+
+def test_deeply_nested_groups_and_long_reroute_chains_are_followed():
+    """Groups nested 60 deep and 300 reroutes in a row are no cycle (they were reported as one and
+    rendered black)."""
+    inner = None
+    for depth in range(60):
+        group = bpy.data.node_groups.new(f"level {depth}", "ShaderNodeTree")
+        if hasattr(group, "interface"):
+            group.interface.new_socket("Shader", in_out="OUTPUT", socket_type="NodeSocketShader")
+        else:
+            group.outputs.new("NodeSocketShader", "Shader")
+        group_out = group.nodes.new("NodeGroupOutput")
+        if inner is None:
+            shader = add(group, "ShaderNodeBsdfDiffuse", Color=(0.2, 0.7, 0.3, 1.0))
+        else:
+            shader = group.nodes.new("ShaderNodeGroup")
+            shader.node_tree = inner
+        group.links.new(shader.outputs[0], group_out.inputs[0])
+        inner = group
+    mat, tree, out = node_material("nested")
+    outer = tree.nodes.new("ShaderNodeGroup")
+    outer.node_tree = inner
+    socket = outer.outputs[0]
+    for _ in range(300):
+        reroute = tree.nodes.new("NodeReroute")
+        tree.links.new(socket, reroute.inputs[0])
+        socket = reroute.outputs[0]
+    tree.links.new(socket, out.inputs["Surface"])
+    params, warnings = describe(mat)
+    assert warnings == [] and params["kind"] == "diffuse"
+    assert params["base_color"] == pytest.approx((0.2, 0.7, 0.3))

@@ -24,7 +24,6 @@ import numpy as np
 from . import nodes, unrendered
 from .node_program import ProgramCompiler, Unsupported
 
-MAX_DEPTH = 256  # links followed from one socket: a deeper chain is a cycle through node groups
 MAX_LOBES = 8  # the core's limit
 MAX_WEIGHT_INPUTS = 2  # the core's limit of textured factors per lobe weight
 MAX_NESTING = 64  # Mix and Add shaders inside each other
@@ -103,7 +102,9 @@ class ClosureReader:
         """(output socket, its group context, the last input socket reached) for an input socket:
         through reroutes, muted nodes, node groups and group inputs. The output is None when nothing
         drives the socket: its value is then the last input's own."""
-        for _ in range(MAX_DEPTH):
+        visited = set()  # (socket, group context) pairs: a repeat is a cycle
+        while (place := (socket.as_pointer(), tuple(g.as_pointer() for g in ctx))) not in visited:
+            visited.add(place)
             links = [link for link in socket.links if nodes.link_renders(link)]
             if not links:
                 return None, ctx, socket
@@ -129,7 +130,7 @@ class ClosureReader:
                     return None, ctx, socket
             else:
                 return out, ctx, socket
-        self.warn(socket.node, "its links form a cycle (through node groups); left out")
+        self.warn(socket.node, "its links form a cycle (through node groups); left out")  # Blender allows none
         return None, ctx, socket
 
     def enter_group(self, group, out, ctx):
@@ -139,7 +140,7 @@ class ClosureReader:
         if tree is None:
             self.warn(group, "its node group is missing; left out")
             return None
-        if any(g.node_tree == tree for g in ctx) or len(ctx) > 32:
+        if any(g.node_tree == tree for g in ctx):  # however deep groups nest, only this is a cycle
             self.warn(group, f"node group '{tree.name}' contains itself; left out")
             return None
         outputs = [n for n in tree.nodes if n.bl_idname == "NodeGroupOutput"]

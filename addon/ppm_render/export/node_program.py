@@ -23,6 +23,9 @@ import numpy as np
 
 MAX_REGISTERS = 256  # the core's limit
 MAX_OUTPUTS = 8  # the core's limit of inputs per material
+# Nodes compiled inside each other (a handler compiles its inputs first) before the compile turns to the
+# deepest one on its own: a chain of any length then needs no more of Python's stack than this.
+MAX_NESTED_NODES = 40
 RAMP_TABLE = 257 if bpy.app.version >= (4, 0, 0) else 256  # Cycles' baked ColorRamp (i / (size - 1))
 LEGACY_TEXTURES = bpy.app.version < (4, 0, 0)  # Blender 3.x's Noise and Wave distortion
 MAGIC_WRAPPED = bpy.app.version >= (4, 0, 0)
@@ -33,6 +36,14 @@ GREY = 0 if bpy.app.version >= (5, 0, 0) else 2  # colour -> float weights (meas
 
 class Unsupported(Exception):
     """A node the program cannot take; the socket it drives keeps its own value (warned)."""
+
+
+class _TooDeep(Exception):  # noqa: N818 - not an error: a node to compile before the one being compiled
+    """A node reached MAX_NESTED_NODES inside the node being compiled: it is compiled first, on its own."""
+
+    def __init__(self, out, ctx):
+        super().__init__()
+        self.out, self.ctx = out, ctx
 
 
 @dataclass(frozen=True)
@@ -49,6 +60,37 @@ def _triple(raw):
         values = [float(raw)]
     values = [v if np.isfinite(v) else 0.0 for v in values]
     return tuple(values * 3)[:3] if len(values) == 1 else tuple(values + [0.0] * (3 - len(values)))
+
+
+def _writes(instruction):
+    """The registers an instruction writes (a Voronoi writes its W output into the one its data names)."""
+    return instruction["out"] + ([instruction["data"]] if instruction["op"] == "voronoi" else [])
+
+
+def _allocate(code, registers, outputs):
+    """(code, register of each value, register count): `code` with each value written in a register
+    freed by a value no longer read (`registers` maps the constants and 0; the `outputs` live to the
+    end). An instruction's results never share a register with its own inputs."""
+    registers = dict(registers)
+    last_read = {reg: i for i, ins in enumerate(code) for reg in ins["in"]}
+    last_read.update({reg: len(code) for reg in outputs})
+    fixed, free, count, allocated = set(registers), [], len(registers), []
+    for i, ins in enumerate(code):
+        renamed = dict(ins, **{"in": [registers[r] for r in ins["in"]]})
+        for reg in _writes(ins):
+            if reg == 0:
+                continue
+            if free:
+                registers[reg] = free.pop()
+            else:
+                registers[reg], count = count, count + 1
+        renamed["out"] = [registers[r] for r in ins["out"]]
+        if ins["op"] == "voronoi":
+            renamed["data"] = registers[ins["data"]]
+        allocated.append(renamed)
+        dead = {r for r in ins["in"] + _writes(ins) if r not in fixed and last_read.get(r, -1) <= i}
+        free += sorted(registers[r] for r in dead)
+    return allocated, registers, count
 
 
 def socket_kind(socket):
@@ -70,6 +112,7 @@ class ProgramCompiler:
         self.registers = 1
         self.cache = {}
         self.variant = 0  # which of a Bump node's three heights is being compiled (0: none)
+        self.nested = 0  # nodes being compiled inside each other
         self.simple_images = {}  # output index -> texture index of a plain UV image colour
 
     # ------------------------------------------------------------ registers and instructions
@@ -77,18 +120,14 @@ class ProgramCompiler:
     def constant(self, value):
         key = _triple(value)
         if key not in self.constant_regs:
-            if self.registers >= MAX_REGISTERS:
-                raise Unsupported(f"more than {MAX_REGISTERS} values in one material")
-            # Constants live in registers 1.. in order: the program's registers follow them, so a
-            # constant added late takes a fresh register and is listed at its place.
+            # Constants are numbered among the values as they come; program() puts those it reads first.
             self.constant_regs[key] = self.registers
             self.constants.append((self.registers, key))
             self.registers += 1
         return Value(self.constant_regs[key], "float" if len(set(key)) == 1 else "color", False)
 
     def register(self):
-        if self.registers >= MAX_REGISTERS:
-            raise Unsupported(f"more than {MAX_REGISTERS} values in one material")
+        """A new value's number (program() gives it a core register where it is live)."""
         self.registers += 1
         return self.registers - 1
 
@@ -115,31 +154,19 @@ class ProgramCompiler:
         return [self.constant(tuple(float(c) for c in result[i])) for i in range(len(values))]
 
     def program(self, outputs=None):
-        """The dict for Scene.add_material(program=...)."""
-        constants = [None] * len(self.constants)
-        # Registers 1..n must be the constants, in order: renumber the program if one came late.
-        order = sorted(self.constants)
-        remap = {reg: i + 1 for i, (reg, _) in enumerate(order)}
-        for i, (_, key) in enumerate(order):
-            constants[i] = key
-        free = len(order) + 1
-        for reg in range(1, self.registers):
-            if reg not in remap:
-                remap[reg] = free
-                free += 1
-        remap[0] = 0
-
-        def renumber(ins):
-            out = dict(ins)
-            out["in"] = [remap[r] for r in ins["in"]]
-            out["out"] = [remap[r] for r in ins["out"]]
-            if ins["op"] == "voronoi":
-                out["data"] = remap[ins["data"]]
-            return out
-
-        return {"constants": constants, "code": [renumber(i) for i in self.code], "data": list(self.data),
-                "outputs": [remap[r] for r in (outputs if outputs is not None else self.outputs)],
-                "registers": self.registers}
+        """The dict for Scene.add_material(program=...): the constants it reads in registers 1.., then
+        each value in a register only while it is live (a chain of any length needs a few). Unsupported
+        if it needs more than the core's MAX_REGISTERS."""
+        outputs = list(outputs if outputs is not None else self.outputs)
+        read = {reg for ins in self.code for reg in ins["in"]} | set(outputs)
+        constants = [(reg, key) for reg, key in sorted(self.constants) if reg in read]
+        registers = {reg: i + 1 for i, (reg, _) in enumerate(constants)}
+        registers[0] = 0
+        code, registers, count = _allocate(self.code, registers, outputs)
+        if count > MAX_REGISTERS:
+            raise Unsupported(f"more than {MAX_REGISTERS} values live at once in one material")
+        return {"constants": [key for _, key in constants], "code": code, "data": list(self.data),
+                "outputs": [registers[r] for r in outputs], "registers": count}
 
     def convert(self, value, kind):
         """`value` as a socket of `kind` reads it (colour -> float: luminance; vector -> float: mean;
@@ -157,15 +184,22 @@ class ProgramCompiler:
         return key[0] if value.kind == "float" else np.array(key)
 
     def mark(self):
-        return len(self.code), set(self.cache), len(self.outputs)
+        return len(self.code), set(self.cache), len(self.outputs), len(self.constants), self.registers
 
     def rewind(self, mark):
-        """Forgets what was compiled since `mark` (a network that turned out unusable)."""
-        length, cached, outputs = mark
+        """Forgets what was compiled since `mark` (a network that turned out unusable), and frees its
+        registers and constants."""
+        length, cached, outputs, constants, registers = mark
         del self.code[length:]
         del self.outputs[outputs:]
         for key in set(self.cache) - cached:
             del self.cache[key]
+        for _, key in self.constants[constants:]:
+            del self.constant_regs[key]
+        del self.constants[constants:]
+        self.registers = registers  # the numbers of what was undone are given out again
+        for reg in [reg for reg in self.simple_images if reg >= registers]:
+            del self.simple_images[reg]
 
     def output_images(self):
         """Per output: the core texture when it is an image's colour read at the UV, else None."""
@@ -194,7 +228,26 @@ class ProgramCompiler:
         if out is None:
             own = self.constant(getattr(last, "default_value", 0.0))
             return self.convert(Value(own.reg, socket_kind(last), False), kind)
+        if self.nested == 0:
+            return self.convert(self.deepest_first(out, inner), kind)
         return self.convert(self.node_output(out, inner), kind)
+
+    def deepest_first(self, out, ctx):
+        """node_output(out, ctx), the nodes of a long chain compiled from its far end: where the compile
+        reaches MAX_NESTED_NODES, what it did is undone and the node reached is compiled first, on its own
+        (then cached), without Python recursion that grows with the chain."""
+        pending = [(out, ctx)]
+        while True:
+            mark = self.mark()
+            try:
+                value = self.node_output(*pending[-1])
+            except _TooDeep as deeper:
+                self.rewind(mark)
+                pending.append((deeper.out, deeper.ctx))
+                continue
+            pending.pop()
+            if not pending:
+                return value
 
     def node_output(self, out, ctx):
         node = out.node
@@ -203,7 +256,15 @@ class ProgramCompiler:
             handler = NODES.get(node.bl_idname)
             if handler is None:
                 raise Unsupported(f"'{node.name}' ({node.bl_idname}) is not supported yet")
-            self.cache[key] = handler(self, node, ctx)
+            if self.nested >= MAX_NESTED_NODES and self.variant == 0:  # (a Bump's heights follow its offsets)
+                raise _TooDeep(out, ctx)
+            self.nested += 1
+            try:
+                self.cache[key] = handler(self, node, ctx)
+            except RecursionError:
+                raise Unsupported("its node network is nested too deeply inside a Bump's Height") from None
+            finally:
+                self.nested -= 1
         outputs = self.cache[key]
         value = outputs.get(out.identifier, outputs.get(out.name))
         if value is None:
@@ -216,6 +277,7 @@ class ProgramCompiler:
             return self.outputs.index(value.reg)
         if len(self.outputs) >= MAX_OUTPUTS:
             raise Unsupported(f"more than {MAX_OUTPUTS} textured sockets in one material")
+        self.program(self.outputs + [value.reg])  # fits the core's registers (Unsupported if not)
         self.outputs.append(value.reg)
         return len(self.outputs) - 1
 
