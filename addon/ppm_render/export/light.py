@@ -159,8 +159,8 @@ def add_light(core_scene, item, warn):
             raise ValueError(f"light '{name}': {error}") from None
         # Blender's largest spread, pi in float32, is a hair above pi in double.
         spread = min(float(getattr(light, "spread", math.pi)), math.pi)
-        core_scene.add_light("disk" if disk else "rectangle", name=name, power=_clamped(flux, name, warn), matrix=m, size=size,
-                             spread=spread, **seen)
+        core_scene.add_light("disk" if disk else "rectangle", name=name, power=_clamped(flux, name, warn), matrix=m,
+                             size=size, spread=spread, **seen)
     elif kind == "SUN":
         if SUN_OF_180_DEGREES_IS_DARK and light.angle >= math.pi - 1e-6:
             raise ValueError("its angle is 180 degrees, for which Cycles of this Blender emits no light; left "
