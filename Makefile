@@ -3,6 +3,8 @@
 PY := .venv/bin/python
 # Python 3.13 with bpy 5.2: builds and tests the core for Blender 5.1 and later.
 PY313 := .venvs/bpy-5.2/bin/python
+# Python 3.10, as blender.org's Blender 3.4 to 4.0 embed it: the core is built and tested for it too.
+PY310 := .venvs/py-3.10/bin/python
 ENGINE_SOURCES := $(shell find engine -name '*.cpp' -o -name '*.h') CMakeLists.txt pyproject.toml
 JOBS ?= $(shell nproc)
 # The slowest tests of each run are listed, so that a CI log shows where the time goes.
@@ -16,7 +18,7 @@ setup: .venv/.setup-done build
 	tools/setup.sh
 	touch $@
 
-# Build ppm_core (Release, -O3) for both Pythons Blender embeds, 3.11 and 3.13, and install it into
+# Build ppm_core (Release, -O3) for every Python Blender embeds, 3.10, 3.11 and 3.13, and install it into
 # every virtual environment (tools/build_cores.sh).
 build: build/.cores-installed
 build/.cores-installed: .venv/.setup-done tools/build_cores.sh $(ENGINE_SOURCES)
@@ -48,12 +50,13 @@ test-cross: .venv/.setup-done
 	cmake --build build/aarch64 -j $(JOBS)
 	PPM_TEST_SAMPLE_DIVISOR=4 ctest --test-dir build/aarch64 --output-on-failure -j $(JOBS)
 
-# The core's Python tests under both Pythons (3.13 also brings numpy 2, as Blender 5.2 does). Renders
-# checked against answers (marker `accuracy`, pyproject.toml) check the C++ core's arithmetic, the same
-# code under either Python: they run under 3.11 only.
+# The core's Python tests under every Python Blender embeds (3.13 also brings numpy 2, as Blender 5.2
+# does; 3.10 is blender.org's Blender 3.4 to 4.0). Renders checked against answers (marker `accuracy`,
+# pyproject.toml) check the C++ core's arithmetic, the same code under any Python: they run under 3.11 only.
 test-python: build
 	$(PY) $(PYTEST) tests/core tests/bench
 	$(PY313) $(PYTEST) -m "not accuracy" tests/core
+	$(PY310) $(PYTEST) -m "not accuracy" tests/core
 
 # Benchmarks: figures and the commands behind them are in bench/README.md; every experiment is
 # `$(PY) bench/run.py NAME` (bench/experiments/NAME.toml); these are the speed ones.

@@ -7,8 +7,9 @@ The zip holds one folder, ppm_render/, with the add-on's Python files, its
 blender_manifest.toml (an extension for Blender 4.2+, which accepts the manifest
 inside a single top folder; `platforms` names the zip's platform) and bl_info (a
 legacy add-on for 3.4 to 4.1), plus one compiled core per Python that Blender
-embeds, in ppm_render/lib/: CPython 3.11 (Blender 3.4 to 5.0) and 3.13 (5.1 and
-later). ppm_render/core.py loads the one that matches the running Python.
+embeds, in ppm_render/lib/: CPython 3.10 (blender.org's Blender 3.4 to 4.0), 3.11
+(Debian's 3.4, 4.1 to 5.0) and 3.13 (5.1 and later). ppm_render/core.py loads the
+one that matches the running Python.
 
 By default the cores are the wheels `make build` left in build/wheels/
 (tools/build_cores.sh). `--core` takes other core files or wheels, e.g. those
@@ -25,7 +26,7 @@ import zipfile
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 PACKAGE = os.path.join(HERE, "ppm_render")
-BLENDER_PYTHONS = ("3.11", "3.13")  # Blender 3.4-5.0, and 5.1+
+BLENDER_PYTHONS = ("3.10", "3.11", "3.13")  # blender.org's 3.4-4.0; Debian's 3.4 and 4.1-5.0; 5.1+
 
 # Blender's platform names, from the tail of a core's file name or a wheel's platform tag.
 PLATFORM_PATTERNS = (

@@ -7,7 +7,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-DEBIAN_PACKAGES=(build-essential cmake ninja-build libglm-dev libgtest-dev googletest)
+# ccache: the engine's objects are the same for every Python's core (tools/build_cores.sh), compiled once.
+DEBIAN_PACKAGES=(build-essential cmake ninja-build ccache libglm-dev libgtest-dev googletest)
 # The add-on's tests: Debian's Blender 3.4 (embeds the system Python 3.11, so it gets numpy from
 # python3-numpy) and Xvfb for the GUI test.
 DEBIAN_PACKAGES+=(blender python3-numpy xvfb)
@@ -61,6 +62,23 @@ find_python313() {
 }
 PYTHON313=$(find_python313)
 
+# blender.org's own builds of Blender 3.4 to 4.0 (3.6 LTS among them) embed Python 3.10: the core is
+# built for it too (no bpy module of those versions is served for 3.10, so only the core is tested).
+find_python310() {
+  local candidate
+  for candidate in "${PYTHON310:-}" python3.10 "$(pyenv root 2>/dev/null)"/versions/3.10*/bin/python3.10; do
+    if [ -n "$candidate" ] && "$candidate" -c 'import sys; sys.exit(sys.version_info[:2] != (3, 10))' 2>/dev/null
+    then
+      echo "$candidate"
+      return
+    fi
+  done
+  echo "setup: Python 3.10 not found (blender.org's Blender 3.4-4.0 embed it; the add-on's core is built for it)." >&2
+  echo "setup: install it, e.g. 'pyenv install 3.10', or set PYTHON310=/path/to/python3.10" >&2
+  exit 1
+}
+PYTHON310=$(find_python310)
+
 if [ ! -x .venv/bin/python ]; then
   "$PYTHON" -m venv .venv
 fi
@@ -80,4 +98,7 @@ blender_venv .venvs/bpy-4.5 "$PYTHON" "bpy==4.5.15" "numpy<2" "pytest>=8" "openi
 # Blender 5.2 LTS; this Python 3.13 environment also builds the core for 3.13 and runs its tests.
 blender_venv .venvs/bpy-5.2 "$PYTHON313" "bpy==5.2.3" "numpy>=2" "pytest>=8" "openimageio>=3.0" \
   "scikit-build-core>=0.10" "pybind11>=2.12" "hypothesis>=6.100"
+# Python 3.10 (Blender 3.4-4.0 from blender.org, numpy 1.x as they bundle): builds the core and runs its tests.
+blender_venv .venvs/py-3.10 "$PYTHON310" "numpy<2" "pytest>=8" "scikit-build-core>=0.10" "pybind11>=2.12" \
+  "hypothesis>=6.100"
 echo "setup: Python packages installed"

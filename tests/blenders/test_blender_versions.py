@@ -127,6 +127,34 @@ def test_zip_without_a_core_for_this_python_says_so(tmp_path):
     assert report["addon_warnings"] == []
 
 
+def test_the_zips_python_310_core_loads_and_renders(addon_zip, tmp_path):
+    """blender.org's Blender 3.4 to 4.0 (3.6 LTS among them) embed Python 3.10. No bpy of theirs is served
+    for it here, so the zip's core is loaded by the add-on's own loader (core.py) in Python 3.10, outside
+    Blender, and renders."""
+    import zipfile
+
+    with zipfile.ZipFile(addon_zip) as archive:
+        archive.extractall(tmp_path)
+    script = (
+        "import importlib.util, sys\n"
+        f"spec = importlib.util.spec_from_file_location('loader', {str(tmp_path / 'ppm_render' / 'core.py')!r})\n"
+        "loader = importlib.util.module_from_spec(spec); spec.loader.exec_module(loader)\n"
+        "core = loader.load(); print(core.__file__)\n"
+        "import numpy as np\n"
+        "scene = core.Scene(); scene.add_material('grey', 'diffuse', base_color=(0.8, 0.8, 0.8))\n"
+        "scene.add_mesh('floor', np.array([[-1., -1, 0], [1, -1, 0], [1, 1, 0], [-1, 1, 0]]), "
+        "np.array([[0, 1, 2], [0, 2, 3]]))\n"
+        "scene.add_light('point', position=(0.0, 0.0, 1.0), power=50.0)\n"
+        "camera = np.eye(4); camera[2, 3] = 2.0; scene.set_camera(camera, 16, 16)\n"
+        "renderer = core.Renderer(scene, photons_per_pass=2000, seed=1); renderer.run(passes=2)\n"
+        "print(float(renderer.image()[..., :3].mean()))\n")
+    run = subprocess.run([bpy_python(".venvs/py-3.10"), "-c", script], capture_output=True, text=True, timeout=120)
+    assert run.returncode == 0, run.stdout[-2000:] + run.stderr[-2000:]
+    core_file, mean = run.stdout.split()[-2:]
+    assert core_file.startswith(str(tmp_path)) and "cpython-310" in core_file
+    assert float(mean) > 0.01
+
+
 @pytest.mark.parametrize("version", ["4.2", "4.5", "5.2"])
 def test_render_py_with_the_bpy_module(version, tmp_path):
     """render.py registers the checkout's add-on and unregisters it before exit (bpy 4.2 crashed and
