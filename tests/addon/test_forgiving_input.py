@@ -361,6 +361,7 @@ def test_settings_not_rendered_yet_are_each_named_once(tmp_path):
     scene = floor_scene()
     floor = bpy.data.objects["floor"]
     floor.is_shadow_catcher = True
+    floor.modifiers.new("fur", "PARTICLE_SYSTEM").particle_system.settings.type = "HAIR"
     layer = bpy.context.view_layer
     layer.aovs.add().name = "dirt"
     layer.use_pass_cryptomatte_object = True
@@ -369,7 +370,8 @@ def test_settings_not_rendered_yet_are_each_named_once(tmp_path):
     if hasattr(layer, "lightgroups"):  # Blender 3.5+
         layer.lightgroups.add(name="key")
     _, warnings = export_scene(scene)
-    expected = ["object 'floor': shadow catcher", "shader AOVs (dirt)", "Cryptomatte (object)"]
+    expected = ["object 'floor': shadow catcher", "object 'floor': hair of particle system", "shader AOVs (dirt)",
+                "Cryptomatte (object)"]
     expected += ["light 'sun': light linking"] if hasattr(floor, "light_linking") else []
     expected += ["light groups (key)"] if hasattr(layer, "lightgroups") else []
     for part in expected:
