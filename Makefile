@@ -76,8 +76,10 @@ bench-cpp: .venv/.setup-done
 	cmake -S . -B build/bench -G Ninja -DPPM_BUILD_BENCH=ON -DPPM_BUILD_PYTHON=OFF -DCMAKE_BUILD_TYPE=Release >/dev/null
 	cmake --build build/bench -j $(JOBS)
 
+# ruff, and the house's layers: engine/ folders include only those below them, the add-on has no import circle.
 lint: .venv/.setup-done
 	$(PY) -m ruff check .
+	$(PY) tools/check_layers.py
 
 clean:
 	rm -rf build out

@@ -3,7 +3,7 @@
 
 #include "geometry/bvh_build.h"
 #include "math/float_bounds.h"
-#include "ppm/parallel.h"
+#include "base/parallel.h"
 
 #include <cfloat>
 #include <cmath>

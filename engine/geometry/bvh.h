@@ -16,7 +16,7 @@
 
 #include "geometry/bvh_build.h"
 #include "geometry/bvh_slab.h"
-#include "geometry/huge_pages.h"
+#include "base/huge_pages.h"
 #include "geometry/ray.h"
 #include "math/aabb.h"
 #include "math/float_bounds.h"

@@ -1,8 +1,8 @@
 // Binned SAH build of a binary BVH (see bvh_build.h).
 #include "geometry/bvh_build.h"
 
-#include "ppm/fill_vector.h"
-#include "ppm/parallel.h"
+#include "base/fill_vector.h"
+#include "base/parallel.h"
 
 #include <algorithm>
 #include <exception>

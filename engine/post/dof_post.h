@@ -9,7 +9,7 @@
 //                nearest third 5x5 and the middle third 3x3 (focal plane at the far third).
 #pragma once
 
-#include "scene/camera.h"
+#include "geometry/camera.h"
 
 #include <vector>
 

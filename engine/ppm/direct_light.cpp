@@ -2,7 +2,7 @@
 #include "ppm/direct_light.h"
 
 #include "math/rng.h"
-#include "ppm/parallel.h"
+#include "base/parallel.h"
 
 namespace ppm {
 namespace {

@@ -2,7 +2,7 @@
 #include "ppm/estimator.h"
 
 #include "ppm/fixed_hit_points.h"
-#include "ppm/memory_budget.h"
+#include "base/memory_budget.h"
 #include "ppm/stochastic_hit_points.h"
 #include "ppm/streamed_hit_points.h"
 

@@ -3,8 +3,8 @@
 
 #include "math/rng.h"
 #include "ppm/denoising_features.h"
-#include "ppm/freed_memory.h"
-#include "ppm/parallel.h"
+#include "base/freed_memory.h"
+#include "base/parallel.h"
 
 #include <algorithm>
 #include <cmath>

@@ -2,10 +2,10 @@
 #include "ppm/fixed_hit_points.h"
 
 #include "ppm/direct_light.h"
-#include "ppm/memory_budget.h"
-#include "ppm/parallel.h"
+#include "base/memory_budget.h"
+#include "base/parallel.h"
 #include "ppm/progressive.h"
-#include "ppm/scoped_seconds.h"
+#include "base/scoped_seconds.h"
 
 #include <algorithm>
 #include <string>

@@ -9,7 +9,7 @@
 #include "math/types.h"
 #include "scene/scene.h"
 #include "ppm/bounce_limits.h"
-#include "ppm/fill_vector.h"
+#include "base/fill_vector.h"
 #include "ppm/light_components.h"
 
 #include <vector>

@@ -1,7 +1,7 @@
 // The photons' spacing, a floor for the initial radius (see photon_density_radius.h).
 #include "ppm/photon_density_radius.h"
 
-#include "ppm/parallel.h"
+#include "base/parallel.h"
 #include "ppm/photon_tracer.h"
 #include "ppm/quantile_grid.h"
 

@@ -2,7 +2,7 @@
 #include "ppm/photon_pass.h"
 
 #include "ppm/error_estimate.h"
-#include "ppm/parallel.h"
+#include "base/parallel.h"
 #include "ppm/photon_tracer.h"
 
 #include <algorithm>

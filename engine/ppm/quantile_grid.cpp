@@ -3,7 +3,7 @@
 // (or of sphere references) into CSR cells. O(n) overall.
 #include "ppm/quantile_grid.h"
 #include "ppm/grid_input.h"
-#include "ppm/parallel.h"
+#include "base/parallel.h"
 
 #include "math/rng.h"
 

@@ -8,7 +8,7 @@
 #pragma once
 
 #include "math/types.h"
-#include "ppm/fill_vector.h"
+#include "base/fill_vector.h"
 #include "ppm/grid_input.h"
 
 #include <cstddef>

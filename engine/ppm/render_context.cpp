@@ -2,7 +2,7 @@
 #include "ppm/render_context.h"
 
 #include "post/dof_post.h"
-#include "ppm/parallel.h"
+#include "base/parallel.h"
 #include "ppm/photon_density_radius.h"
 #include "ppm/progressive.h"
 

@@ -3,10 +3,10 @@
 
 #include "ppm/adaptive_samples.h"
 #include "ppm/direct_light.h"
-#include "ppm/memory_budget.h"
-#include "ppm/parallel.h"
+#include "base/memory_budget.h"
+#include "base/parallel.h"
 #include "ppm/radius_schedule.h"
-#include "ppm/scoped_seconds.h"
+#include "base/scoped_seconds.h"
 
 #include <algorithm>
 #include <limits>

@@ -2,9 +2,9 @@
 #include "ppm/streamed_hit_points.h"
 
 #include "ppm/direct_light.h"
-#include "ppm/memory_budget.h"
-#include "ppm/parallel.h"
-#include "ppm/scoped_seconds.h"
+#include "base/memory_budget.h"
+#include "base/parallel.h"
+#include "base/scoped_seconds.h"
 
 #include <algorithm>
 #include <cmath>

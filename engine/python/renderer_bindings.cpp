@@ -1,6 +1,6 @@
 // Python bindings of the settings and the renderer. run() releases the GIL;
 // the progress callback and Ctrl-C checks take it back briefly.
-#include "ppm/memory_budget.h"
+#include "base/memory_budget.h"
 #include "ppm/renderer.h"
 #include "python/convert.h"
 

@@ -1,6 +1,8 @@
 // Image-based light (see environment.h): the luminance distribution, lookups and sampling.
 #include "scene/environment.h"
 
+#include "math/sphere_maps.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -30,20 +32,6 @@ Vec2 grid_uv(const Vec3& dir) {
 double solid_angle_density(double cos_elevation) { return 2.0 * kPi * kPi * cos_elevation; }
 
 }  // namespace
-
-Vec2 Environment::equirectangular_uv(const Vec3& dir) {
-  const double u = 0.5 - std::atan2(dir.y, dir.x) / (2.0 * kPi);
-  const double v = 0.5 + std::atan2(dir.z, std::hypot(dir.x, dir.y)) / kPi;
-  return Vec2(u, v);
-}
-
-Vec2 Environment::mirror_ball_uv(const Vec3& dir) {
-  Vec3 d = dir;
-  d.y -= 1.0;
-  const double div = 2.0 * std::sqrt(std::fmax(-0.5 * d.y, 0.0));
-  if (div > 0.0) d /= div;
-  return Vec2(0.5 * (d.x + 1.0), 0.5 * (d.z + 1.0));
-}
 
 Environment::Environment(const Texture* texture, const Mat3& world_to_texture, const Color& strength,
                          EnvironmentProjection projection)

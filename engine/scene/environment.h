@@ -12,7 +12,7 @@
 
 #include "math/distribution_2d.h"
 #include "math/types.h"
-#include "scene/texture.h"
+#include "shading/texture.h"
 
 #include <glm/mat3x3.hpp>
 
@@ -35,9 +35,6 @@ class Environment {
   double pdf(const Vec3& dir) const;
   // The integral of the radiance over the sphere of directions (W/m^2 per unit cross-section).
   const Color& integral() const { return integral_; }
-
-  static Vec2 equirectangular_uv(const Vec3& dir);
-  static Vec2 mirror_ball_uv(const Vec3& dir);
 
  private:
   const Texture* texture_;

@@ -15,7 +15,7 @@
 #include "geometry/triangle.h"
 #include "math/aabb.h"
 #include "scene/environment.h"
-#include "scene/texture.h"
+#include "shading/texture.h"
 #include "shading/node_program.h"
 
 #include <array>

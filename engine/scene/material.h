@@ -5,7 +5,7 @@
 #pragma once
 
 #include "math/types.h"
-#include "scene/texture.h"
+#include "shading/texture.h"
 #include "shading/closure.h"
 #include "shading/node_program.h"
 

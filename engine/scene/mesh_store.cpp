@@ -1,7 +1,7 @@
 // A scene's triangle meshes (see mesh_store.h).
 #include "scene/mesh_store.h"
 
-#include "ppm/parallel.h"
+#include "base/parallel.h"
 #include "scene/input_checks.h"
 
 #include <type_traits>

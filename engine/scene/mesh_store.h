@@ -5,7 +5,7 @@
 // and mesh, and its share of the vertices, instead of its own copy of three double corners.
 #pragma once
 
-#include "geometry/huge_pages.h"
+#include "base/huge_pages.h"
 #include "geometry/triangle.h"
 #include "math/types.h"
 

@@ -4,8 +4,8 @@
 #include "geometry/bezier_revolve.h"
 #include "geometry/object_bvh.h"
 #include "math/sampling.h"
-#include "ppm/freed_memory.h"
-#include "ppm/parallel.h"
+#include "base/freed_memory.h"
+#include "base/parallel.h"
 #include "scene/input_checks.h"
 #include "shading/valid_reflection.h"
 

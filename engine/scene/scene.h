@@ -9,11 +9,11 @@
 #include "geometry/sphere.h"
 #include "geometry/triangle.h"
 #include "scene/bsdf.h"
-#include "scene/camera.h"
+#include "geometry/camera.h"
 #include "scene/light.h"
 #include "scene/material.h"
 #include "scene/mesh_store.h"
-#include "scene/texture.h"
+#include "shading/texture.h"
 
 #include <atomic>
 #include <memory>

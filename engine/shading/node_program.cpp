@@ -1,7 +1,7 @@
 // Running a node program (see node_program.h).
 #include "shading/node_program.h"
 
-#include "scene/environment.h"
+#include "math/sphere_maps.h"
 #include "shading/node_color.h"
 #include "shading/node_math.h"
 #include "shading/textures/procedural.h"
@@ -511,7 +511,7 @@ void NodeProgram::step(const NodeInstruction& ins, ShadingContext& at, const Sha
     case NodeOp::NormalMap: r[out[0]] = normal_map(r, ins, at); break;
     case NodeOp::EnvironmentUv: {
       const Vec3 d(r[in[0]]);
-      const Vec2 uv = ins.mode == 0 ? Environment::equirectangular_uv(d) : Environment::mirror_ball_uv(d);
+      const Vec2 uv = ins.mode == 0 ? equirectangular_uv(d) : mirror_ball_uv(d);
       r[out[0]] = Vec3f(float(uv.x), float(uv.y), 0.0f);
       break;
     }

@@ -8,8 +8,8 @@
 
 #include "math/types.h"
 #include "geometry/ray.h"
-#include "scene/camera.h"
-#include "scene/texture.h"
+#include "geometry/camera.h"
+#include "shading/texture.h"
 
 #include <array>
 #include <string>

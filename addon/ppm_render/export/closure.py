@@ -313,16 +313,6 @@ class ClosureReader:
                             "shaders")
 
 
-def _premultiplied(texture_node):
-    """Whether Cycles gives this Image Texture's Color premultiplied by its alpha: an image of straight
-    alpha in a colour space that is not data, whose node's Alpha output is not linked (Cycles keeps
-    images premultiplied and divides by alpha again only for a node whose Alpha is used)."""
-    image = texture_node.image
-    alpha = texture_node.outputs.get("Alpha")
-    return (getattr(image, "alpha_mode", "STRAIGHT") == "STRAIGHT" and not getattr(image, "is_data", False)
-            and image.colorspace_settings.name not in ("Non-Color", "Raw") and alpha is not None and not alpha.links)
-
-
 def _matching(sockets, socket):
     """The socket of `sockets` with `socket`'s identifier (group node <-> group input/output)."""
     for s in sockets:

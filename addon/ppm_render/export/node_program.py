@@ -441,12 +441,11 @@ def _normal_input(c, node, ctx):
 # ---------------------------------------------------------------- textures
 
 def _image(c, node, ctx):
-    from .closure import _premultiplied
     image = node.image
     if image is None:
         return {"Color": c.constant((0.0, 0.0, 0.0)), "Alpha": c.constant(0.0)}
     try:
-        index = c.texture(image, _premultiplied(node))
+        index = c.texture(image, premultiplied(node))
     except ValueError as error:
         return _missing_image(c, node, image, error)
     interpolation = {"Linear": 0, "Closest": 1, "Cubic": 2, "Smart": 2}.get(node.interpolation, 0)
@@ -465,6 +464,16 @@ def _image(c, node, ctx):
     plain = (interpolation, extension, projection, flags) == (0, 0, 0, 0) and c.is_coordinate(vector, "uv")
     c.simple_images[color.reg] = index if plain else None
     return {"Color": color, "Alpha": alpha}
+
+
+def premultiplied(texture_node):
+    """Whether Cycles gives this Image Texture's Color premultiplied by its alpha: an image of straight
+    alpha in a colour space that is not data, whose node's Alpha output is not linked (Cycles keeps
+    images premultiplied and divides by alpha again only for a node whose Alpha is used)."""
+    image = texture_node.image
+    alpha = texture_node.outputs.get("Alpha")
+    return (getattr(image, "alpha_mode", "STRAIGHT") == "STRAIGHT" and not getattr(image, "is_data", False)
+            and image.colorspace_settings.name not in ("Non-Color", "Raw") and alpha is not None and not alpha.links)
 
 
 def _missing_image(c, node, image, error):

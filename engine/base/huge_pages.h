@@ -4,7 +4,7 @@
 // Elsewhere, or where huge pages are off, it is a plain aligned allocation.
 #pragma once
 
-#include "ppm/fill_vector.h"
+#include "base/fill_vector.h"
 
 #include <cstddef>
 #include <cstdlib>

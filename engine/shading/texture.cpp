@@ -1,5 +1,5 @@
 // Texture storage and lookup (see texture.h).
-#include "scene/texture.h"
+#include "shading/texture.h"
 
 #include "math/half.h"
 

@@ -1,5 +1,5 @@
 // Primary ray generation (see camera.h).
-#include "scene/camera.h"
+#include "geometry/camera.h"
 
 #include "math/sampling.h"
 

@@ -1,5 +1,5 @@
 // What the machine can still give a render (see memory_budget.h).
-#include "ppm/memory_budget.h"
+#include "base/memory_budget.h"
 
 #include <cstdio>
 #include <fstream>
