@@ -16,7 +16,7 @@ import numpy as np
 
 from . import core, denoise, export, passes, viewport
 from .export.camera import Frame
-from .properties import core_settings, film_settings, light_path_settings
+from .properties import render_settings
 from .viewport_camera import region_view
 
 DISPLAY_INTERVAL = 1.0  # seconds between refreshes of the render window
@@ -191,8 +191,7 @@ class PPMRenderEngine(bpy.types.RenderEngine):
         scene = depsgraph.scene
         layer = depsgraph.view_layer
         components = passes.component_passes_wanted(layer, scene.ppm)
-        settings = {**core_settings(scene.ppm), **film_settings(scene), **light_path_settings(scene),
-                    "light_passes": layer.use_pass_emit or layer.use_pass_environment,
+        settings = {**render_settings(scene), "light_passes": layer.use_pass_emit or layer.use_pass_environment,
                     "component_passes": bool(components)}
         try:
             renderer = ppm_core.Renderer(ppm_scene, **settings)

@@ -138,6 +138,12 @@ def frame_seed(seed, frame):
     return (seed + frame * 0x9E3779B1) % 2**63
 
 
+def render_settings(scene):
+    """The keyword arguments for ppm_core.Renderer of a render of `scene`: its PPM settings, its film
+    and its light paths (F12, the viewport, the farm and the benchmarks start from these)."""
+    return {**core_settings(scene.ppm), **film_settings(scene), **light_path_settings(scene)}
+
+
 def film_settings(scene):
     """Alpha as Cycles renders it: Film > Transparent, and its Transparent Glass (Cycles' own setting,
     read where the Cycles add-on is present). Cycles counts glass up to a roughness of 0.1 as

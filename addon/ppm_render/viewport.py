@@ -27,7 +27,7 @@ import weakref
 import bpy
 
 from . import export
-from .properties import core_settings, film_settings, light_path_settings
+from .properties import render_settings
 
 # (pixel size, photons per pass) of the quick first images, before the full-resolution passes.
 PREVIEW_LEVELS = ((4, 10_000), (2, 25_000))
@@ -289,9 +289,8 @@ def renderer_settings(scene):
     converges as it refines), and the camera view's depth of field sampled on the lens (a post blur
     needs the finished image)."""
     settings = scene.ppm
-    return {**core_settings(settings), **film_settings(scene), **light_path_settings(scene),
-            "photons_per_pass": settings.viewport_photons_per_pass, "hit_points": "stochastic",
-            "dof_mode": "off" if settings.dof_mode == "OFF" else "lens"}
+    return {**render_settings(scene), "photons_per_pass": settings.viewport_photons_per_pass,
+            "hit_points": "stochastic", "dof_mode": "off" if settings.dof_mode == "OFF" else "lens"}
 
 
 def redraw_of(engine):

@@ -76,15 +76,14 @@ def trace_blend_render(experiment, scene_name):
     from harness.regions import region_masks
     from ppm_render import export
     from ppm_render.export.camera import Frame
-    from ppm_render.properties import core_settings, film_settings, light_path_settings
+    from ppm_render.properties import render_settings
 
     reference, meta = load_reference(scene_name, "ppm")
     height, width = reference.shape[:2]
     scene = open_scene(scene_name, width, height)
     core_scene = export.build_scene(ppm_core, bpy.context.evaluated_depsgraph_get(),
                                     Frame.from_render_settings(scene.render), lambda message: None)[0]
-    settings = {**core_settings(scene.ppm), **film_settings(scene), **light_path_settings(scene),
-                "threads": 2, "seed": experiment["seed"], "hit_points": "stochastic",
+    settings = {**render_settings(scene), "threads": 2, "seed": experiment["seed"], "hit_points": "stochastic",
                 "error_confidence": experiment["confidence"], "photons_per_pass": experiment["blend_photons_per_pass"]}
     masks = {**region_masks(scene_name, reference, width, height),
              "edges": regions(reference, experiment["edge_gradient"])["edges"]}

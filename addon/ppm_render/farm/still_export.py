@@ -39,7 +39,7 @@ def export_still(bpy, core_module, warn):
     """The Still of bpy.context.scene, seen through its camera."""
     from .. import export
     from ..export.camera import Frame
-    from ..properties import core_settings, film_settings, light_path_settings
+    from ..properties import render_settings
     from .scene_record import RecordingCore
 
     scene = bpy.context.scene
@@ -47,6 +47,6 @@ def export_still(bpy, core_module, warn):
     frame = Frame.from_render_settings(scene.render)
     recorder = RecordingCore(core_module)
     export.build_scene(recorder, depsgraph, frame, warn)
-    settings = {**core_settings(scene.ppm), **film_settings(scene), **light_path_settings(scene)}
+    settings = render_settings(scene)
     return Still(calls=recorder.scenes[0].calls, settings=share_settings(settings, warn), passes=scene.ppm.passes,
                  width=frame.window_width, height=frame.window_height, target_error=scene.ppm.target_error)
