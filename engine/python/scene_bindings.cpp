@@ -1,14 +1,13 @@
 // Python bindings of ppm::Scene: the builder calls and batch ray casting.
 #include "python/convert.h"
 #include "python/node_program_bindings.h"
+#include "scene/ray_batch.h"
 #include "scene/scene.h"
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <pybind11/stl.h>
 
 #include <algorithm>
-#include <atomic>
-#include <thread>
 #include <vector>
 
 namespace py = pybind11;
@@ -499,53 +498,25 @@ py::dict intersect(Scene& s, const py::object& origins, const py::object& direct
   int64_t* mp = material.mutable_data();
   {
     py::gil_scoped_release release;
-    // Rays are handed out in chunks from a shared counter, so a thread slowed
-    // by other load on the machine does not hold the whole batch up.
-    constexpr size_t kChunk = 4096;
-    const unsigned hw = threads > 0 ? unsigned(threads) : std::max(1u, std::thread::hardware_concurrency());
-    const unsigned workers = std::max(1u, std::min(hw, unsigned(n / kChunk + 1)));
-    std::atomic<size_t> next{0};
-    auto work = [&]() {
-      // Cast in batches, so the scene can interleave the rays' traversals
-      // (on the heap: 40 KB would crowd a small thread stack).
-      constexpr size_t kBatch = 256;
-      std::vector<Ray> rays(kBatch);
-      std::vector<Hit> hits(kBatch);
-      for (size_t begin; (begin = next.fetch_add(kChunk)) < n;) {
-        const size_t end = std::min(n, begin + kChunk);
-        for (size_t first = begin; first < end; first += kBatch) {
-          const size_t count = std::min(kBatch, end - first);
-          for (size_t b = 0; b < count; ++b) {
-            const size_t i = first + b;
-            unit_direction(Vec3(dp_in[3 * i], dp_in[3 * i + 1], dp_in[3 * i + 2]), rays[b].direction);  // checked above
-            rays[b].origin = Vec3(op_in[3 * i], op_in[3 * i + 1], op_in[3 * i + 2]);
-            rays[b].kind = kind;
-          }
-          s.intersect_many(rays.data(), count, hits.data());
-          for (size_t b = 0; b < count; ++b) {
-            const size_t i = first + b;
-            const Hit& h = hits[b];
-            if (h.found()) {
-              tp[i] = h.t;
-              np_[3 * i] = h.geometric_normal.x;
-              np_[3 * i + 1] = h.geometric_normal.y;
-              np_[3 * i + 2] = h.geometric_normal.z;
-              pp[i] = h.primitive;
-              op[i] = h.object;
-              mp[i] = h.material;
-            } else {
-              tp[i] = kInf;
-              np_[3 * i] = np_[3 * i + 1] = np_[3 * i + 2] = 0.0;
-              pp[i] = op[i] = mp[i] = -1;
-            }
-          }
-        }
-      }
-    };
-    std::vector<std::thread> pool;
-    for (unsigned k = 1; k < workers; ++k) pool.emplace_back(work);
-    work();  // the calling thread works too
-    for (auto& th : pool) th.join();
+    intersect_batch(
+        s, n, threads,
+        [&](size_t i) {
+          Ray ray;
+          unit_direction(Vec3(dp_in[3 * i], dp_in[3 * i + 1], dp_in[3 * i + 2]), ray.direction);  // checked above
+          ray.origin = Vec3(op_in[3 * i], op_in[3 * i + 1], op_in[3 * i + 2]);
+          ray.kind = kind;
+          return ray;
+        },
+        [&](size_t i, const Hit& h) {
+          const bool found = h.found();
+          tp[i] = found ? h.t : kInf;
+          np_[3 * i] = found ? h.geometric_normal.x : 0.0;
+          np_[3 * i + 1] = found ? h.geometric_normal.y : 0.0;
+          np_[3 * i + 2] = found ? h.geometric_normal.z : 0.0;
+          pp[i] = found ? h.primitive : -1;
+          op[i] = found ? h.object : -1;
+          mp[i] = found ? h.material : -1;
+        });
   }
   py::dict out;
   out["t"] = t;
