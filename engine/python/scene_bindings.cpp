@@ -513,9 +513,9 @@ py::dict intersect(Scene& s, const py::object& origins, const py::object& direct
           np_[3 * i] = found ? h.geometric_normal.x : 0.0;
           np_[3 * i + 1] = found ? h.geometric_normal.y : 0.0;
           np_[3 * i + 2] = found ? h.geometric_normal.z : 0.0;
-          pp[i] = found ? h.primitive : -1;
-          op[i] = found ? h.object : -1;
-          mp[i] = found ? h.material : -1;
+          pp[i] = found ? int64_t(h.primitive) : -1;  // (uint32_t : int would make -1 unsigned)
+          op[i] = found ? int64_t(h.object) : -1;
+          mp[i] = found ? int64_t(h.material) : -1;
         });
   }
   py::dict out;
