@@ -437,6 +437,55 @@ def test_a_normal_map_image_becomes_the_materials_normal_map_and_its_meshes_get_
     assert added(mat) == []
 
 
+def bumped(mat, tree, shader):
+    """`shader`'s Normal from a Bump of a Noise's height."""
+    bump = tree.nodes.new("ShaderNodeBump")
+    tree.links.new(tree.nodes.new("ShaderNodeTexNoise").outputs["Fac"], bump.inputs["Height"])
+    tree.links.new(bump.outputs["Normal"], shader.inputs["Normal"])
+    return mat
+
+
+def test_bump_map_correction_off_is_warned():
+    """A material's Cycles setting Bump Map Correction, off: Cycles skips the bumped diffuse's
+    terminator softening but keeps refusing light from beyond the smooth normal, which the core
+    cannot do apart (measured: a strongly bumped diffuse ball 8% darker than Cycles): warned."""
+    mat, tree, out = node_material("rough")
+    diffuse = add(tree, "ShaderNodeBsdfDiffuse")
+    tree.links.new(diffuse.outputs[0], out.inputs["Surface"])
+    bumped(mat, tree, diffuse)
+    params, warnings = describe(mat)
+    assert warnings == [] and params["normal_map"]["softening"] != "none"
+    mat.cycles.use_bump_map_correction = False
+    params, warnings = describe(mat)
+    assert len(warnings) == 1 and "'rough'" in warnings[0] and diffuse.name in warnings[0], warnings
+    assert "Bump Map Correction is off" in warnings[0] and params["normal_map"]["softening"] != "none"
+
+
+def test_a_bumped_glossy_metal_coat_or_glass_warns_that_cycles_turns_its_normal():
+    """Cycles 4.0+ turns a bumped Glossy's, metal's, coat's, glass's or translucent's normal until the
+    view's reflection is valid (Bump Map Correction), not a diffuse's: the core turns all or none, so
+    such a material is warned (a Glossy on a strongly bumped ball measured 22% darker than Cycles);
+    a bumped diffuse, or a Principled plastic (its specular layer alone), is not."""
+    mat, tree, out = node_material("brushed")
+    glossy = add(tree, "ShaderNodeBsdfAnisotropic", Roughness=0.3)
+    tree.links.new(glossy.outputs[0], out.inputs["Surface"])
+    bumped(mat, tree, glossy)
+    _, warnings = describe(mat)
+    assert len(warnings) == 1 and "'brushed'" in warnings[0] and glossy.name in warnings[0], warnings
+    assert "Bump Map Correction" in warnings[0]
+    mat.cycles.use_bump_map_correction = False  # Cycles leaves every normal as it is
+    _, warnings = describe(mat)
+    assert len(warnings) == 1 and "Bump Map Correction is off" in warnings[0], warnings
+    mat, tree, out = node_material("plastic")
+    bsdf = add(tree, "ShaderNodeBsdfPrincipled", Roughness=0.4)
+    tree.links.new(bsdf.outputs[0], out.inputs["Surface"])
+    bumped(mat, tree, bsdf)
+    assert describe(mat)[1] == []
+    bsdf.inputs["Coat Weight"].default_value = 1.0
+    _, warnings = describe(mat)
+    assert len(warnings) == 1 and "'plastic'" in warnings[0] and bsdf.name in warnings[0], warnings
+
+
 def test_an_ngon_mesh_gets_tangents_close_to_blenders():
     # Blender computes no tangents for n-gons; the exporter's own, on a mesh Blender does compute
     # them for (quads), agree with MikkTSpace's within a few degrees (it weights by corner angle).

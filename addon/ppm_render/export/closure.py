@@ -87,6 +87,7 @@ class ClosureReader:
         self.warned = set()
         self.out = Closure()
         self.depth = 0  # Mix and Add shaders entered
+        self.normal_node = None  # the shader whose Normal is the material's normal map
         self.program = ProgramCompiler(self, texture, core) if core is not None else None
 
     def warn(self, node, message):
@@ -308,6 +309,7 @@ class ClosureReader:
                    "valid_reflection": VALID_REFLECTION}
         if self.out.normal_map is None:
             self.out.normal_map = mapping
+            self.normal_node = node
         elif self.out.normal_map != mapping:
             self.warn(node, "a second normal in one material is not supported; the first applies to all its "
                             "shaders")
@@ -382,6 +384,10 @@ BUMP_SOFTENING = "conty_estevez" if bpy.app.version >= (4, 3, 0) else "chiang"
 # Cycles 3.x turns every closure's normal until the view's reflection lies above the surface; 4.0
 # and later do not (measured: a noise read as a normal map, proc_noise_normal_map, was 12% off in 3.4).
 VALID_REFLECTION = bpy.app.version < (4, 0, 0)
+# Lobes whose normal Cycles 4.0+ turns until the view's reflection lies above the surface when the
+# material's Bump Map Correction is on (maybe_ensure_valid_specular_reflection: Glossy, Glass,
+# Refraction, Translucent, the Principled BSDF's metal, glass and specular); diffuse and sheen keep it.
+VALID_REFLECTION_KINDS = ("glossy", "conductor", "dielectric", "translucent")
 # Cycles' Oren-Nayar gained its multiple-scattering energy compensation in Blender 4.3.
 OREN_NAYAR_MULTISCATTER = bpy.app.version >= (4, 3, 0)
 
@@ -769,4 +775,39 @@ def read_surface(material, warn, texture=None, core=None, attributes=None):
         reader.warn(None, f"{len(lobes)} shader lobes; the {MAX_LOBES} of largest weight are kept")
         kept = sorted(sorted(range(len(lobes)), key=lambda i: -max(lobes[i]["weight"]))[:MAX_LOBES])
         reader.out.lobes = [lobes[i] for i in kept]  # in their order: a layer stays above what it covers
+    _bump_map_correction(reader, material)
     return reader.out
+
+
+def _turned_by_cycles(lobe):
+    """Whether Cycles 4.0+ turns this lobe's bumped normal (VALID_REFLECTION_KINDS), leaving out the
+    Principled BSDF's specular layer (a reflection-only dielectric tinting its F0)."""
+    specular_layer = lobe["kind"] == "dielectric" and lobe.get("parts") == "reflection" and lobe.get("tint_f0")
+    return lobe["kind"] in VALID_REFLECTION_KINDS and not specular_layer
+
+
+def _bump_map_correction(reader, material):
+    """Cycles' Bump Map Correction (the material's setting, on by default) for a bumped or normal-mapped
+    material. On, Cycles 4.0+ turns the normal of its glossy, glass, refraction and translucent lobes
+    and the Principled BSDF's (not of diffuse and sheen) until the view's reflection lies above the
+    surface, which the core does for all of a material's lobes or none (all in 3.x, as Cycles 3.x):
+    warned where such lobes are bumped, except the Principled BSDF's dielectric specular layer alone
+    (its F0 of a few percent: a normal-mapped Principled BSDF is common and mostly close; a strongly
+    bumped red plastic measured 12% darker in green and blue, unwarned). Off, Cycles skips the diffuse
+    terminator's softening but still refuses light from beyond the smooth normal; the core's softening
+    does both or neither (warned). Measured on a ball bumped by a Noise of scale 20 at strength 1
+    (tests/blenders/community_compare.py): a Glossy 22% darker than Cycles; with the setting off, a
+    diffuse 8% and a Glossy 9% darker (the core's 'none': the diffuse 2%, the Glossy 11% brighter)."""
+    mapping = reader.out.normal_map
+    if mapping is None:
+        return
+    if not getattr(getattr(material, "cycles", None), "use_bump_map_correction", True):
+        reader.warn(reader.normal_node, "Bump Map Correction is off, so Cycles leaves the shadow terminator of its "
+                    "bumped diffuse parts unsoftened, which is softened here (a strong bump renders darker than "
+                    "Cycles)")
+        return
+    if VALID_REFLECTION or not any(_turned_by_cycles(lobe) for lobe in reader.out.lobes):
+        return
+    reader.warn(reader.normal_node, "its glossy, coat, metal, glass and translucent parts keep the bumped normal, "
+                "which Cycles' Bump Map Correction turns until the view's reflection lies above the surface: a "
+                "strong bump renders them darker than Cycles")
