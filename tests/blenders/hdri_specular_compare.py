@@ -14,7 +14,7 @@ spheres) and over the sky.
 Cases: "front" (the sun ahead of the camera, 8 degrees up: seen through the glass ball, a glint near
 the mirror ball's rim), "behind" (the sun behind the camera: a glint in the middle of the mirror
 ball, its reflection in the glass ball), each with "_floor" for a grey floor under the balls, and
-"studio_front", "studio_behind", "studio_side".
+"studio_front", "studio_behind", "studio_side", "studio_tilted" (a Mapping turn about every axis).
 
 The sun's image in a ball (a glint in the mirror, the sun focused by the glass) covers a few percent
 of one pixel or less: PPM's eye samples find it as a count of independent hits, so a render's ball
@@ -43,8 +43,11 @@ STUDIO_BALLS = {"diffuse": ((-1.35, 0.0, 0.4), 0.4), "gold": ((-0.45, 0.0, 0.4),
                 "glass": ((0.45, 0.0, 0.4), 0.4), "mirror": ((1.35, 0.0, 0.4), 0.4)}
 # Mapping rotations (XYZ Euler, degrees) that put sunrise.exr's sun (texture azimuth -35.7, elevation
 # 7.9 degrees) ahead of the camera, which looks along +Y, or behind it.
-TURNS = {"front": (0.0, 0.0, -130.0), "behind": (0.0, 0.0, 45.0), "side": (0.0, 0.0, -60.0)}
-CASES = ("front", "behind", "front_floor", "behind_floor", "studio_front", "studio_behind", "studio_side")
+# "tilted" turns about every axis (the sun ahead, 29 degrees up).
+TURNS = {"front": (0.0, 0.0, -130.0), "behind": (0.0, 0.0, 45.0), "side": (0.0, 0.0, -60.0),
+         "tilted": (-20.0, 15.0, -120.0)}
+CASES = ("front", "behind", "front_floor", "behind_floor", "studio_front", "studio_behind", "studio_side",
+         "studio_tilted")
 
 
 def balls_of(case):

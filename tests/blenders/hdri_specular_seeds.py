@@ -27,6 +27,8 @@ def main():
     parser.add_argument("--case", default="front", choices=cases.CASES)
     parser.add_argument("--passes", type=int, default=32)
     parser.add_argument("--seeds", type=int, default=120)
+    parser.add_argument("--set", nargs="*", default=[], metavar="NAME=VALUE",
+                        help="scene.ppm settings besides the case's (e.g. adaptive_samples=1)")
     args = parser.parse_args(argv)
     try:
         with tempfile.TemporaryDirectory() as workdir:
@@ -39,6 +41,8 @@ def main():
                 bpy.ops.wm.open_mainfile(filepath=blend)
                 scene = bpy.context.scene
                 cases.configure_ppm(scene, args.passes, seed)
+                for name, value in (item.split("=", 1) for item in args.set):
+                    setattr(scene.ppm, name, type(getattr(scene.ppm, name))(value))
                 image = cycles_compare.render_to_array(scene, os.path.join(workdir, "ppm.exr")).mean(axis=2)
                 for region, mask in masks.items():
                     values[region].append(float(image[mask].mean()))
@@ -46,8 +50,9 @@ def main():
         cycles_compare.unregister_checkout_addon()
     for region, v in values.items():
         v = np.array(v)
+        error = v.std(ddof=1) / np.sqrt(len(v))
         print(f"hdri_specular_seeds: Blender {bpy.app.version_string} {args.case} {args.passes} passes, "
-              f"{len(v)} seeds, {region}: mean {v.mean():.4f} (s.e. {v.std(ddof=1) / np.sqrt(len(v)):.4f}) "
+              f"{len(v)} seeds {' '.join(args.set)}, {region}: mean {v.mean():.4f} (s.e. {error:.4f}) "
               f"median {np.median(v):.4f} sd {v.std(ddof=1):.4f} min {v.min():.4f} max {v.max():.4f}", flush=True)
 
 

@@ -2,8 +2,9 @@
 its image is resolved: a case of hdri_specular_compare.py is rendered by Cycles, the brightest pixel
 of one ball found (the sun's glint in the mirror ball, its image through the glass ball), and both
 engines render again from the same camera position through a lens ZOOM times as long aimed through
-that pixel (64x64), so that the sun's image spans many pixels and few samples find it. Prints the
-zoomed image's mean for two seeds of each engine.
+that pixel (64x64), then through the brightest pixel of that view (Cycles, 64 samples), so that
+the sun's image lies in the middle of the frame and spans many pixels. Prints the zoomed image's
+mean for two seeds of each engine.
 
     .venv/bin/python tests/blenders/hdri_specular_zoom.py --case studio_front --ball glass [--zoom 24]
     blender -b --factory-startup --python-exit-code 1 -P tests/blenders/hdri_specular_zoom.py -- [...]
@@ -46,6 +47,10 @@ def zoom_compare(case, ball, zoom, workdir, samples, passes):
     aim_through_pixel(scene, row, col)
     scene.camera.data.lens *= zoom
     scene.render.resolution_x = scene.render.resolution_y = 64
+    bpy.context.view_layer.update()
+    cases.configure_cycles(scene, 64, 1)
+    rgb = cycles_compare.render_to_array(scene, os.path.join(workdir, "aim.exr")).mean(axis=2)
+    aim_through_pixel(scene, *np.unravel_index(rgb.argmax(), rgb.shape))
     blend = os.path.join(workdir, "zoom.blend")
     bpy.ops.wm.save_as_mainfile(filepath=blend)
     means = {}
