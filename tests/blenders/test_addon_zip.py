@@ -1,4 +1,4 @@
-"""addon/build_addon.py makes one zip per platform from the cores of the two Pythons Blender embeds,
+"""addon/build_addon.py makes one zip per platform from the cores of the three Pythons Blender embeds,
 as the hosted CI does from cibuildwheel's wheels (.github/workflows/addon.yml). The wheels here are
 stand-ins with the real file names; the cores in them are not loaded."""
 
@@ -35,9 +35,9 @@ def build(tmp_path, *args):
 
 
 @pytest.mark.parametrize("platform", PLATFORMS)
-def test_one_zip_per_platform_with_both_cores(platform, tmp_path):
+def test_one_zip_per_platform_with_every_core(platform, tmp_path):
     tag, core_name = PLATFORMS[platform]
-    wheels = [fake_wheel(tmp_path, tag, core_name, v) for v in ("313", "311")]
+    wheels = [fake_wheel(tmp_path, tag, core_name, v) for v in ("313", "310", "311")]
     run = build(tmp_path, "--core", *wheels)
     assert run.returncode == 0, run.stderr
     target = tmp_path / "out" / f"ppm_render-0.1.0-{platform}.zip"
@@ -47,15 +47,15 @@ def test_one_zip_per_platform_with_both_cores(platform, tmp_path):
         assert zf.read("ppm_render/lib/" + core_name.format(v="311")) == b"core for 311"
     assert f'platforms = ["{platform}"]' in manifest
     assert sorted(n for n in names if n.startswith("ppm_render/lib/")) == sorted(
-        "ppm_render/lib/" + core_name.format(v=v) for v in ("311", "313"))
+        "ppm_render/lib/" + core_name.format(v=v) for v in ("310", "311", "313"))
     assert "ppm_render/__init__.py" in names and "ppm_render/core.py" in names
     assert all(n.startswith("ppm_render/") and "__pycache__" not in n for n in names)
 
 
 def test_a_missing_python_or_mixed_platforms_are_refused(tmp_path):
-    linux = fake_wheel(tmp_path, *PLATFORMS["linux-x64"], "311")
-    run = build(tmp_path, "--core", linux)
+    linux = [fake_wheel(tmp_path, *PLATFORMS["linux-x64"], v) for v in ("310", "311")]
+    run = build(tmp_path, "--core", *linux)
     assert run.returncode != 0 and "no ppm_core for Python 3.13" in run.stderr
     windows = fake_wheel(tmp_path, *PLATFORMS["windows-x64"], "313")
-    run = build(tmp_path, "--core", linux, windows)
+    run = build(tmp_path, "--core", *linux, windows)
     assert run.returncode != 0 and "one zip holds one platform" in run.stderr
