@@ -2,7 +2,6 @@
 #include "ppm/eye_pass.h"
 
 #include "math/rng.h"
-#include "math/sobol.h"
 #include "ppm/denoising_features.h"
 #include "base/freed_memory.h"
 #include "base/parallel.h"
@@ -15,7 +14,6 @@ namespace ppm {
 namespace {
 
 constexpr uint64_t kEyeStream = 1;
-constexpr uint64_t kSobolSeed = 0x5b0b01ull << 40;  // the pixel slots' scrambles, apart from other hashes
 constexpr int kSplitDepth = 3;      // glass interfaces split into both branches up to this depth
 constexpr int kRowsPerChunk = 2;
 
@@ -34,12 +32,6 @@ struct EyeVertex {
   double share = 1.0;
   uint8_t route = kNoBounce;  // the class of its chain's first bounce (light_components.h)
 };
-
-// The scramble of the sequence that sample slot `s` of `pixel` walks over the passes, one for each
-// lattice the slot is drawn on (adaptive samples change a pixel's count, and with it the lattice).
-uint64_t slot_scramble(uint64_t seed, uint32_t pixel, int lattice, int s) {
-  return seed ^ mix64(kSobolSeed ^ pixel) ^ mix64((static_cast<uint64_t>(lattice) << 32) | static_cast<uint32_t>(s));
-}
 
 // The route after a bounce that sent a ray of `kind` from a vertex on `route`.
 uint8_t route_after(uint8_t route, uint8_t kind) {
@@ -380,17 +372,8 @@ bool eye_pass(const Scene& scene, const Settings& settings, const EyePassOptions
         const int lattice = samples == spp ? grid : static_cast<int>(std::floor(std::sqrt(double(samples))));
         for (int s = 0; s < samples; ++s) {
           Rng rng(settings.seed, kEyeStream + options.generation, static_cast<uint64_t>(pixel) * spp + s);
-          // Stratified on a lattice x lattice grid for the first lattice^2 samples, then anywhere in the pixel.
+          // Stratified on a lattice x lattice grid for the first lattice^2 samples, then uniform.
           double jx = rng.uniform(), jy = rng.uniform();
-          if (options.generation > 0) {
-            // New samples every pass: each of the pixel's sample slots (for this lattice) walks its own
-            // scrambled Sobol' sequence over the passes, so that what covers a small part of the pixel
-            // is found in proportion to that part from the first passes on (math/sobol.h).
-            const Vec2 q = sobol_owen_2d(static_cast<uint32_t>(options.generation - 1),
-                                         slot_scramble(settings.seed, pixel, lattice, s));
-            jx = q.x;
-            jy = q.y;
-          }
           if (s < lattice * lattice) {
             jx = (s % lattice + jx) / lattice;
             jy = (s / lattice + jy) / lattice;

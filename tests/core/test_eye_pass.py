@@ -52,25 +52,3 @@ def test_a_mirror_chain_ends_at_max_bounces(max_bounces, lit):
     renderer.run(passes=1)
     mean = renderer.image()[..., :3].mean()
     assert (mean > 0.1) == lit, mean
-
-
-@pytest.mark.parametrize("seed", range(1, 9))
-def test_stochastic_eye_samples_find_a_small_part_of_a_pixel_in_proportion_to_its_area(seed):
-    """With new eye samples every pass, each sample slot of a pixel walks its own scrambled Sobol'
-    sequence over the passes (math/sobol.h), whose first 2^m points put one point in every elementary
-    box of area 2^-m. An emitter over a quarter-by-quarter square of the pixel, [1/4, 1/2)^2 of its
-    sample square (a union of 16 boxes of 1/16 x 1/16, mirrored or not), is then met by exactly 16
-    of 256 passes' samples, whatever the seed: the pixel is L/16 to within one sample's share L/256.
-    Independent samples meet it Binomial(256, 1/16) times (standard deviation 3.9), and a render of
-    a sun smaller than a pixel (in a mirror ball, through a glass ball) was as often dark as not."""
-    scene = ppm_core.Scene()
-    radiance = 16.0
-    glow = scene.add_material("glow", "emission", base_color=(0, 0, 0), emission=(radiance,) * 3)
-    # The camera at the origin looks along +y; its one pixel spans x and z in [-1/2, 1/2].
-    core_scenes.quad(scene, "spot", [(-0.25, 5, -0.25), (0.0, 5, -0.25), (0.0, 5, 0.0), (-0.25, 5, 0.0)], glow)
-    scene.set_camera(core_scenes.look_at((0, 0, 0), (0, 1, 0)), 1, 1, projection="orthographic", ortho_scale=1.0)
-    renderer = ppm_core.Renderer(scene, photons_per_pass=100, threads=2, seed=seed, hit_points="stochastic",
-                                 samples_per_pixel=1, adaptive_samples=1)
-    renderer.run(passes=256)
-    pixel = float(renderer.image()[0, 0, :3].mean())
-    assert abs(pixel - radiance / 16) <= radiance / 256 * (1 + 1e-6), pixel
