@@ -45,39 +45,27 @@ if [ -z "$PYTHON" ]; then
   PYTHON=python3.11
 fi
 
+# Python 3.X from $3 (an override), PATH or pyenv, or exit naming what needs it ($2).
+find_python() {
+  local version=$1 why=$2 override=$3 candidate
+  for candidate in "$override" "python$version" "$(pyenv root 2>/dev/null)"/versions/"$version"*/bin/python"$version"; do
+    if [ -n "$candidate" ] && "$candidate" -c "import sys; sys.exit(sys.version_info[:2] != (3, ${version#3.}))" 2>/dev/null
+    then
+      echo "$candidate"
+      return
+    fi
+  done
+  echo "setup: Python $version not found ($why)." >&2
+  echo "setup: install it, e.g. 'pyenv install $version', or set PYTHON${version/./}=/path/to/python$version" >&2
+  exit 1
+}
 # Blender 5.1 and later embed Python 3.13, which Debian 12 does not package: take it from PATH
 # or from pyenv.
-find_python313() {
-  local candidate
-  for candidate in "${PYTHON313:-}" python3.13 "$(pyenv root 2>/dev/null)"/versions/3.13*/bin/python3.13; do
-    if [ -n "$candidate" ] && "$candidate" -c 'import sys; sys.exit(sys.version_info[:2] != (3, 13))' 2>/dev/null
-    then
-      echo "$candidate"
-      return
-    fi
-  done
-  echo "setup: Python 3.13 not found (Blender 5.1+ embed it; the add-on's core is built for it too)." >&2
-  echo "setup: install it, e.g. 'pyenv install 3.13', or set PYTHON313=/path/to/python3.13" >&2
-  exit 1
-}
-PYTHON313=$(find_python313)
-
+PYTHON313=$(find_python 3.13 "Blender 5.1+ embed it; the add-on's core is built for it too" "${PYTHON313:-}")
 # blender.org's own builds of Blender 3.4 to 4.0 (3.6 LTS among them) embed Python 3.10: the core is
 # built for it too (no bpy module of those versions is served for 3.10, so only the core is tested).
-find_python310() {
-  local candidate
-  for candidate in "${PYTHON310:-}" python3.10 "$(pyenv root 2>/dev/null)"/versions/3.10*/bin/python3.10; do
-    if [ -n "$candidate" ] && "$candidate" -c 'import sys; sys.exit(sys.version_info[:2] != (3, 10))' 2>/dev/null
-    then
-      echo "$candidate"
-      return
-    fi
-  done
-  echo "setup: Python 3.10 not found (blender.org's Blender 3.4-4.0 embed it; the add-on's core is built for it)." >&2
-  echo "setup: install it, e.g. 'pyenv install 3.10', or set PYTHON310=/path/to/python3.10" >&2
-  exit 1
-}
-PYTHON310=$(find_python310)
+PYTHON310=$(find_python 3.10 "blender.org's Blender 3.4-4.0 embed it; the add-on's core is built for it" \
+  "${PYTHON310:-}")
 
 if [ ! -x .venv/bin/python ]; then
   "$PYTHON" -m venv .venv
