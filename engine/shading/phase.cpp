@@ -76,7 +76,8 @@ double draine_cdf(double mu, double g, double alpha) {
 
 // Fournier-Forand in x = sin^2(theta/2), written with p = delta^-nu (delta = x / x0, x0 = 3 (n-1)^2 / 4)
 // so that the forward peak (delta -> 0, delta^nu -> inf as nu < 0) neither overflows nor divides 0 by 0:
-//   p(x) = [nu (1-delta) p - p + 1 + ((p-1)/x0 - nu (1-delta) p / x)] / (4 pi (1-delta)^2) + c180 (3 mu^2 - 1) / (16 pi)
+//   p(x) = [nu (1-delta) p - p + 1 + (p-1)/x0 - nu (1-delta) p / x] / (4 pi (1-delta)^2)
+//          + c180 (3 mu^2 - 1) / (16 pi)
 //   F(x) = P(angle below theta) = [p (1-x) + x - delta] / (1 - delta) + c180 mu (1 - mu^2) / 8.
 // Both are 0/0 at delta = 1; there the first-order Taylor expansions in eps = 1 - delta are used (the
 // density's as Cycles'; for F: 1 + nu (1-x) (1 + (nu+1) eps / 2), whose first-order term Cycles has

@@ -268,7 +268,8 @@ TEST(FreePath, BadCoefficientsGiveFiniteNonNegativeWeights) {
       for (const Color& throughput : {Color(1.0), Color(nan, 1.0, -2.0), Color(0.0)})
         for (const double segment : {0.0, 1.0, kInf, nan, -1.0})
           for (int i = 0; i < 20; ++i) {
-            const FreePathSample s = sample_free_path(sigma_t, sigma_s, throughput, segment, rng.uniform(), rng.uniform());
+            const FreePathSample s =
+                sample_free_path(sigma_t, sigma_s, throughput, segment, rng.uniform(), rng.uniform());
             ASSERT_TRUE(is_finite(s.weight) && s.weight.x >= 0.0 && s.weight.y >= 0.0 && s.weight.z >= 0.0)
                 << sigma_t.x << " " << sigma_t.y << " " << sigma_s.y << " " << segment;
             ASSERT_TRUE(s.distance >= 0.0 && !std::isnan(s.distance));
