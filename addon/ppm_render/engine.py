@@ -12,9 +12,8 @@ import math
 import time
 
 import bpy
-import numpy as np
 
-from . import core, denoise, export, passes, viewport
+from . import core, export, passes, viewport
 from .export.camera import Frame
 from .properties import render_settings
 from .viewport_camera import region_view
@@ -23,16 +22,6 @@ DISPLAY_INTERVAL = 1.0  # seconds between refreshes of the render window
 # id(engine) -> its viewport's ViewportSession (None before its first view_update). Kept outside the
 # engine: after Blender invalidates an engine, its __del__ can no longer read its attributes.
 VIEWPORT_SESSIONS = {}
-
-
-def write_pixels(result, rgba):
-    """Copies a (H, W, 4) top-row-first image into the Combined pass (Blender rows run bottom-up)."""
-    pixels = np.ascontiguousarray(rgba[::-1], dtype=np.float32)
-    rect = result.layers[0].passes["Combined"].rect
-    try:
-        rect.foreach_set(pixels.ravel())  # Blender 4.x+/5.0 want a flat array
-    except (TypeError, ValueError, RuntimeError):
-        rect.foreach_set(pixels.reshape(-1, 4))  # 3.4 wants (pixels, channels)
 
 
 def render_views(scene):
@@ -120,7 +109,7 @@ class ProgressiveDisplay:
     def show(self):
         if bpy.app.background:  # no render window: the terminal shows progress instead
             print("PPM:", self.line(self.passes, self.photons), flush=True)
-        write_pixels(self.result, self.renderer.image())
+        passes.write_pixels(self.result, self.renderer.image())
         self.engine.update_result(self.result)
         self.shown = self.passes
 
@@ -202,7 +191,7 @@ class PPMRenderEngine(bpy.types.RenderEngine):
         result = self.begin_result(0, 0, frame.window_width, frame.window_height, layer=depsgraph.view_layer.name,
                                    view=view)
         try:
-            self.write_data_passes(depsgraph.view_layer, result, *exported)
+            passes.write_data_passes(depsgraph.view_layer, result, *exported)
             self.warn_if_streamed(renderer)
             self.warn_if_estimate_partial(settings)
             try:
@@ -214,8 +203,8 @@ class PPMRenderEngine(bpy.types.RenderEngine):
                 self.warn(f"{error}; rendering with stochastic hit points instead")
                 renderer = ppm_core.Renderer(ppm_scene, **{**settings, "hit_points": "stochastic"})
                 line = self.run(renderer, result, scene.ppm)
-            self.write_passes_of_the_render(renderer, result, scene.ppm, settings["light_passes"], components,
-                                            exported[1], line)
+            passes.write_render_passes(self, renderer, result, scene.ppm, (settings["light_passes"], components),
+                                       exported[1], line)
             return True
         except Exception as error:  # noqa: BLE001
             self.fail(error)
@@ -287,95 +276,7 @@ class PPMRenderEngine(bpy.types.RenderEngine):
 
     def update_render_passes(self, scene=None, renderlayer=None):
         """Declares the passes this engine writes, so the compositor and the result list them."""
-        self.register_pass(scene, renderlayer, "Combined", 4, "RGBA", "COLOR")
-        if renderlayer.use_pass_z:
-            self.register_pass(scene, renderlayer, "Depth", 1, "Z", "VALUE")
-        if renderlayer.use_pass_normal:
-            self.register_pass(scene, renderlayer, "Normal", 3, "XYZ", "VECTOR")
-        if renderlayer.use_pass_object_index:
-            self.register_pass(scene, renderlayer, "IndexOB", 1, "X", "VALUE")
-        if renderlayer.use_pass_material_index:
-            self.register_pass(scene, renderlayer, "IndexMA", 1, "X", "VALUE")
-        if renderlayer.use_pass_emit:  # Cycles' names: what camera rays see at no bounce
-            self.register_pass(scene, renderlayer, "Emit", 3, "RGB", "COLOR")
-        if renderlayer.use_pass_environment:
-            self.register_pass(scene, renderlayer, "Env", 3, "RGB", "COLOR")
-        for name in passes.component_passes_wanted(renderlayer, scene.ppm):
-            self.register_pass(scene, renderlayer, name, 3, "RGB", "COLOR")
-        if scene.ppm.error_passes:
-            for name in passes.ERROR_PASSES:
-                self.register_pass(scene, renderlayer, name, 1, "X", "VALUE")
-        if scene.ppm.denoising_data:
-            noisy = (passes.NOISY_PASS,) if scene.ppm.denoise else ()
-            for name, channels, chan_id, kind in passes.DENOISING_PASSES + noisy:
-                self.register_pass(scene, renderlayer, name, channels, chan_id, kind)
-
-    def write_data_passes(self, view_layer, result, ppm_scene, camera_args, pass_indices):
-        geometry = view_layer.use_pass_z or view_layer.use_pass_normal
-        indices = view_layer.use_pass_object_index or view_layer.use_pass_material_index
-        if not (geometry or indices):
-            return
-        hits = passes.camera_hits(ppm_scene)
-        if geometry:
-            depth, normal = passes.depth_and_normal(hits, camera_args)
-            passes.write_pass(result, "Depth", depth)
-            passes.write_pass(result, "Normal", normal)
-        if indices:
-            objects, materials = passes.index_passes(hits, camera_args, pass_indices)
-            passes.write_pass(result, "IndexOB", objects)
-            passes.write_pass(result, "IndexMA", materials)
-
-    def write_passes_of_the_render(self, renderer, result, settings, light_passes, components, camera_args, line):
-        """The passes made from the finished render, as asked: the error estimate's, Emit and Env, the
-        `components` (Cycles' Diffuse, Glossy and Transmission ones, Caustic) and the denoising ones;
-        `line` is the render's final stats line."""
-        if settings.error_passes:
-            for name, pixels in passes.error_passes(renderer.error()).items():
-                passes.write_pass(result, name, pixels)
-        if light_passes:
-            for name, pixels in renderer.light_passes().items():
-                passes.write_pass(result, name, pixels[::-1])  # passes run bottom-up
-        if components:
-            self.write_component_passes(renderer, result, components)
-        self.write_denoising(renderer, result, settings, camera_args, line)
-
-    def write_component_passes(self, renderer, result, wanted):
-        try:
-            parts = renderer.component_passes()
-        except RuntimeError as error:  # streamed hit points keep none: the frame is rendered all the same
-            self.warn(f"light passes skipped: {error}")
-            return
-        for name, pixels in passes.component_passes(parts, wanted).items():
-            passes.write_pass(result, name, pixels)
-
-    def write_denoising(self, renderer, result, settings, camera_args, line):
-        """Denoising Albedo and Normal passes, and the denoised Combined (denoise.py), as asked;
-        `line` is the render's final stats line, shown again after them."""
-        use_denoiser = settings.denoise
-        if use_denoiser:
-            use_denoiser, why = denoise.available()
-            if not use_denoiser:
-                self.warn(f"Denoise skipped: {why}; the image is the noisy one")
-        if not (use_denoiser or settings.denoising_data):
-            return
-        self.update_stats("", "Denoising data")
-        features = renderer.denoising_features()
-        albedo, normal = features["albedo"], passes.camera_space(features["normal"], camera_args["matrix"])
-        if settings.denoising_data:  # passes run bottom-up, the core's arrays top-down
-            passes.write_pass(result, "Denoising Albedo", albedo[::-1])
-            passes.write_pass(result, "Denoising Normal", normal[::-1])
-        if use_denoiser:
-            self.update_stats("", "Denoising")
-            image = renderer.image()
-            if settings.denoising_data:
-                passes.write_pass(result, "Noisy Image", image[::-1])
-            try:
-                write_pixels(result, denoise.denoise(image, albedo, normal))
-                self.update_result(result)
-                line += " | denoised"
-            except RuntimeError as error:  # the frame is kept, noisy: a farm job goes on
-                self.warn(f"Denoise failed ({error}); the image is the noisy one")
-        self.update_stats("", line)
+        passes.declare(self, scene, renderlayer)
 
     def warn(self, message):
         self.report({'WARNING'}, f"PPM: {message}")

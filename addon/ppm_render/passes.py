@@ -1,4 +1,6 @@
-"""Depth, Normal, Object Index and Material Index render passes, when the view
+"""The render result's passes: declared for the compositor (declare), and written after a render.
+
+Combined; Depth, Normal, Object Index and Material Index render passes, when the view
 layer enables them; the error estimate's passes when scene.ppm.error_passes asks for them;
 Denoising Albedo and Normal (scene.ppm.denoising_data) from the core's
 Renderer.denoising_features, the normal in Cycles' camera space; Cycles' Diffuse, Glossy and
@@ -14,6 +16,8 @@ nothing is). Rows come out bottom-up, as Blender stores them.
 """
 
 import numpy as np
+
+from . import denoise
 
 MISS_DEPTH = 1e10  # what Cycles writes for the background
 ERROR_PASSES = ("Error", "Bias", "Noise")
@@ -116,3 +120,109 @@ def write_pass(result, name, pixels):
         render_pass.rect.foreach_set(flat.ravel())
     except (TypeError, ValueError, RuntimeError):
         render_pass.rect.foreach_set(flat.reshape(flat.shape[0] * flat.shape[1], -1))
+
+
+def write_pixels(result, rgba):
+    """Copies a (H, W, 4) top-row-first image into the Combined pass (Blender rows run bottom-up)."""
+    pixels = np.ascontiguousarray(rgba[::-1], dtype=np.float32)
+    rect = result.layers[0].passes["Combined"].rect
+    try:
+        rect.foreach_set(pixels.ravel())  # Blender 4.x+/5.0 want a flat array
+    except (TypeError, ValueError, RuntimeError):
+        rect.foreach_set(pixels.reshape(-1, 4))  # 3.4 wants (pixels, channels)
+
+
+def declare(engine, scene, renderlayer):
+    """RenderEngine.update_render_passes: registers every pass the engine will write for this layer."""
+    engine.register_pass(scene, renderlayer, "Combined", 4, "RGBA", "COLOR")
+    data = (("use_pass_z", "Depth", 1, "Z", "VALUE"), ("use_pass_normal", "Normal", 3, "XYZ", "VECTOR"),
+            ("use_pass_object_index", "IndexOB", 1, "X", "VALUE"),
+            ("use_pass_material_index", "IndexMA", 1, "X", "VALUE"),
+            # Cycles' names: what camera rays see at no bounce
+            ("use_pass_emit", "Emit", 3, "RGB", "COLOR"), ("use_pass_environment", "Env", 3, "RGB", "COLOR"))
+    for toggle, name, channels, chan_id, kind in data:
+        if getattr(renderlayer, toggle):
+            engine.register_pass(scene, renderlayer, name, channels, chan_id, kind)
+    for name in component_passes_wanted(renderlayer, scene.ppm):
+        engine.register_pass(scene, renderlayer, name, 3, "RGB", "COLOR")
+    if scene.ppm.error_passes:
+        for name in ERROR_PASSES:
+            engine.register_pass(scene, renderlayer, name, 1, "X", "VALUE")
+    if scene.ppm.denoising_data:
+        noisy = (NOISY_PASS,) if scene.ppm.denoise else ()
+        for name, channels, chan_id, kind in DENOISING_PASSES + noisy:
+            engine.register_pass(scene, renderlayer, name, channels, chan_id, kind)
+
+
+def write_data_passes(view_layer, result, core_scene, camera_args, pass_indices):
+    """Depth, Normal, IndexOB and IndexMA, as the view layer asks, from one cast of camera rays."""
+    geometry = view_layer.use_pass_z or view_layer.use_pass_normal
+    indices = view_layer.use_pass_object_index or view_layer.use_pass_material_index
+    if not (geometry or indices):
+        return
+    hits = camera_hits(core_scene)
+    if geometry:
+        depth, normal = depth_and_normal(hits, camera_args)
+        write_pass(result, "Depth", depth)
+        write_pass(result, "Normal", normal)
+    if indices:
+        objects, materials = index_passes(hits, camera_args, pass_indices)
+        write_pass(result, "IndexOB", objects)
+        write_pass(result, "IndexMA", materials)
+
+
+def write_render_passes(engine, renderer, result, settings, light_and_components, camera_args, line):
+    """The passes made from the finished render, as asked: the error estimate's, Emit and Env
+    (`light_and_components[0]`), the components (Cycles' Diffuse, Glossy and Transmission ones,
+    Caustic: `light_and_components[1]`) and the denoising ones. `engine` is the RenderEngine (its
+    warnings and stats line), `line` the render's final stats line."""
+    light_passes, components = light_and_components
+    if settings.error_passes:
+        for name, pixels in error_passes(renderer.error()).items():
+            write_pass(result, name, pixels)
+    if light_passes:
+        for name, pixels in renderer.light_passes().items():
+            write_pass(result, name, pixels[::-1])  # passes run bottom-up
+    if components:
+        write_components(engine, renderer, result, components)
+    write_denoising(engine, renderer, result, settings, camera_args, line)
+
+
+def write_components(engine, renderer, result, wanted):
+    try:
+        parts = renderer.component_passes()
+    except RuntimeError as error:  # streamed hit points keep none: the frame is rendered all the same
+        engine.warn(f"light passes skipped: {error}")
+        return
+    for name, pixels in component_passes(parts, wanted).items():
+        write_pass(result, name, pixels)
+
+
+def write_denoising(engine, renderer, result, settings, camera_args, line):
+    """Denoising Albedo and Normal passes, and the denoised Combined (denoise.py), as asked;
+    `line` is the render's final stats line, shown again after them."""
+    use_denoiser = settings.denoise
+    if use_denoiser:
+        use_denoiser, why = denoise.available()
+        if not use_denoiser:
+            engine.warn(f"Denoise skipped: {why}; the image is the noisy one")
+    if not (use_denoiser or settings.denoising_data):
+        return
+    engine.update_stats("", "Denoising data")
+    features = renderer.denoising_features()
+    albedo, normal = features["albedo"], camera_space(features["normal"], camera_args["matrix"])
+    if settings.denoising_data:  # passes run bottom-up, the core's arrays top-down
+        write_pass(result, "Denoising Albedo", albedo[::-1])
+        write_pass(result, "Denoising Normal", normal[::-1])
+    if use_denoiser:
+        engine.update_stats("", "Denoising")
+        image = renderer.image()
+        if settings.denoising_data:
+            write_pass(result, "Noisy Image", image[::-1])
+        try:
+            write_pixels(result, denoise.denoise(image, albedo, normal))
+            engine.update_result(result)
+            line += " | denoised"
+        except RuntimeError as error:  # the frame is kept, noisy: a farm job goes on
+            engine.warn(f"Denoise failed ({error}); the image is the noisy one")
+    engine.update_stats("", line)
