@@ -305,18 +305,9 @@ void add_features(const SampleFeatures& f, int spp, Vec3f& albedo, Vec3f& normal
   normal += Vec3f(f.normal / double(spp));
 }
 
-}  // namespace
-
-size_t EyePassScratch::memory_bytes() const {
-  size_t bytes = counts.capacity() * sizeof(uint32_t);
-  for (const Chunk& c : chunks)
-    bytes += c.points.capacity() * sizeof(HitPoint) + c.shading.capacity() * sizeof(HitPointShading) +
-             c.chain.capacity() * sizeof(Bounces) + c.route.capacity();
-  return bytes;
-}
-
-bool eye_pass(const Scene& scene, const Settings& settings, const EyePassOptions& options, HitPoints& out,
-              EyePassScratch& scratch, std::atomic<bool>& cancel, const std::function<bool()>& poll) {
+// The tracer of one pass, with the lights its rays can see: those with a surface, suns with a disc
+// in the sky, and the world.
+EyeTracer make_tracer(const Scene& scene, const Settings& settings, const EyePassOptions& options) {
   const Camera& cam = scene.camera();
   EyeTracer tracer{scene, settings, options, {}, {}, nullptr, cam.pixel_footprint(),
                    cam.projection == Projection::Orthographic, BounceLimits::of(settings, scene)};
@@ -328,18 +319,30 @@ bool eye_pass(const Scene& scene, const Settings& settings, const EyePassOptions
     if (k == LightKind::Sun && scene.lights()[i].cos_sun < 1.0) tracer.visible_suns.push_back(i);
     if (k == LightKind::Background) tracer.background = &scene.lights()[i];
   }
-  const CameraRays rays(cam);
-  const int W = cam.width, spp = options.samples_per_pixel;
-  const int row_begin = std::clamp(options.row_begin, 0, cam.height);
-  const int row_end = options.row_end < 0 ? cam.height : std::clamp(options.row_end, row_begin, cam.height);
-  const size_t first_pixel = static_cast<size_t>(row_begin) * W, pixels = static_cast<size_t>(row_end - row_begin) * W;
-  const int grid = static_cast<int>(std::floor(std::sqrt(static_cast<double>(spp))));
-  const size_t chunks = (row_end - row_begin + kRowsPerChunk - 1) / kRowsPerChunk;
-  if (scratch.chunks.size() < chunks) scratch.chunks.resize(chunks);
-  std::vector<ChunkOutput>& outputs = scratch.chunks;
+  return tracer;
+}
+
+// The band of rows a pass traces, its pixels and its chunks of kRowsPerChunk rows.
+struct Band {
+  int row_begin, row_end;
+  size_t first_pixel, pixels, chunks;
+};
+
+Band band_of(const Camera& cam, const EyePassOptions& options) {
+  Band b;
+  b.row_begin = std::clamp(options.row_begin, 0, cam.height);
+  b.row_end = options.row_end < 0 ? cam.height : std::clamp(options.row_end, b.row_begin, cam.height);
+  b.first_pixel = static_cast<size_t>(b.row_begin) * cam.width;
+  b.pixels = static_cast<size_t>(b.row_end - b.row_begin) * cam.width;
+  b.chunks = (b.row_end - b.row_begin + kRowsPerChunk - 1) / kRowsPerChunk;
+  return b;
+}
+
+// The per-pixel outputs of a band, sized and cleared (those the options do not ask for emptied).
+void reset_pixel_outputs(const EyePassOptions& options, size_t pixels, HitPoints& out, std::vector<uint32_t>& counts) {
+  const int spp = options.samples_per_pixel;
   out.emitted.assign(pixels, Color(0.0));
   out.transparency.assign(pixels, 0.0);
-  std::vector<uint32_t>& counts = scratch.counts;
   counts.assign(pixels, 0);
   if (options.record_depth) out.depth.assign(pixels, std::numeric_limits<float>::infinity());
   else out.depth.clear();
@@ -348,71 +351,78 @@ bool eye_pass(const Scene& scene, const Settings& settings, const EyePassOptions
   out.albedo.assign(options.record_features ? pixels : 0, Vec3f(0.0f));
   out.pixel_components.assign(options.record_components ? pixels : 0, ComponentLight{});
   out.feature_normal.assign(options.record_features ? pixels : 0, Vec3f(0.0f));
+}
 
-  auto work = [&](int, size_t chunk) {
-    ChunkOutput& o = outputs[chunk];
-    o.points.clear();
-    o.shading.clear();
-    o.chain.clear();
-    o.sample.clear();
-    o.route.clear();
-    // About one hit point per eye sample: reserving saves the regrowth copies and their page faults.
-    o.points.reserve(size_t(kRowsPerChunk) * W * spp);
-    o.shading.reserve(size_t(kRowsPerChunk) * W * spp);
-    if (tracer.limits.active) o.chain.reserve(size_t(kRowsPerChunk) * W * spp);
-    const int y_begin = row_begin + static_cast<int>(chunk) * kRowsPerChunk;
-    for (int y = y_begin; y < std::min(row_end, y_begin + kRowsPerChunk); ++y)
-      for (int x = 0; x < W; ++x) {
-        const uint32_t pixel = static_cast<uint32_t>(y) * W + x;  // row 0 = bottom
-        const size_t local = pixel - first_pixel;                 // in this band's outputs
-        const size_t before = o.points.size();
-        double depth_sum = 0.0;
-        int depth_count = 0;
-        const int samples = options.pixel_samples ? std::clamp<int>(options.pixel_samples[pixel], 1, spp) : spp;
-        const int lattice = samples == spp ? grid : static_cast<int>(std::floor(std::sqrt(double(samples))));
-        for (int s = 0; s < samples; ++s) {
-          Rng rng(settings.seed, kEyeStream + options.generation, static_cast<uint64_t>(pixel) * spp + s);
-          // Stratified on a lattice x lattice grid for the first lattice^2 samples, then uniform.
-          double jx = rng.uniform(), jy = rng.uniform();
-          if (s < lattice * lattice) {
-            jx = (s % lattice + jx) / lattice;
-            jy = (s / lattice + jy) / lattice;
-          }
-          const double lu = rng.uniform(), lv = rng.uniform();
-          Ray ray = options.lens ? rays.through_lens(x + jx, y + jy, lu, lv) : rays.through(x + jx, y + jy);
-          ray.kind = kCameraRay;
-          if (options.record_depth) {
-            Hit first;
-            if (scene.intersect(ray, first)) {
-              depth_sum += cam.depth_of(first.position);
-              ++depth_count;
-            }
-          }
-          SampleFeatures features;
-          const double light_before = luminance(out.emitted[local]);
-          tracer.trace(ray, Color(1.0 / samples), rng, pixel, o, out.emitted[local], out.transparency[local],
-                       options.record_features ? &features : nullptr, options.record_seen ? &out.seen[local] : nullptr,
-                       options.record_components ? &out.pixel_components[local] : nullptr);
-          if (options.record_samples) {
-            o.sample.resize(o.points.size(), static_cast<uint16_t>(s));
-            out.sample_light[local * spp + s] = static_cast<float>(luminance(out.emitted[local]) - light_before);
-          }
-          if (options.record_features) add_features(features, samples, out.albedo[local], out.feature_normal[local]);
-        }
-        if (depth_count > 0) out.depth[local] = static_cast<float>(depth_sum / depth_count);
-        counts[local] = static_cast<uint32_t>(o.points.size() - before);
+// A chunk's hit-point lists emptied, with room for about one hit point per eye sample (reserving
+// saves the regrowth copies and their page faults).
+void clear_chunk(ChunkOutput& o, size_t samples, bool chains) {
+  o.points.clear();
+  o.shading.clear();
+  o.chain.clear();
+  o.sample.clear();
+  o.route.clear();
+  o.points.reserve(samples);
+  o.shading.reserve(samples);
+  if (chains) o.chain.reserve(samples);
+}
+
+// One pixel's eye samples: hit points into chunk `o`, its per-pixel outputs at `local` of `out`.
+// Returns the number of hit points it made.
+uint32_t trace_pixel(const EyeTracer& tracer, const CameraRays& rays, int x, int y, size_t local, ChunkOutput& o,
+                     HitPoints& out) {
+  const EyePassOptions& options = tracer.options;
+  const Camera& cam = tracer.scene.camera();
+  const int spp = options.samples_per_pixel;
+  const uint32_t pixel = static_cast<uint32_t>(y) * cam.width + x;  // row 0 = bottom
+  const size_t before = o.points.size();
+  double depth_sum = 0.0;
+  int depth_count = 0;
+  const int samples = options.pixel_samples ? std::clamp<int>(options.pixel_samples[pixel], 1, spp) : spp;
+  const int lattice = static_cast<int>(std::floor(std::sqrt(static_cast<double>(samples))));
+  for (int s = 0; s < samples; ++s) {
+    Rng rng(tracer.settings.seed, kEyeStream + options.generation, static_cast<uint64_t>(pixel) * spp + s);
+    // Stratified on a lattice x lattice grid for the first lattice^2 samples, then uniform.
+    double jx = rng.uniform(), jy = rng.uniform();
+    if (s < lattice * lattice) {
+      jx = (s % lattice + jx) / lattice;
+      jy = (s / lattice + jy) / lattice;
+    }
+    const double lu = rng.uniform(), lv = rng.uniform();
+    Ray ray = options.lens ? rays.through_lens(x + jx, y + jy, lu, lv) : rays.through(x + jx, y + jy);
+    ray.kind = kCameraRay;
+    if (options.record_depth) {
+      Hit first;
+      if (tracer.scene.intersect(ray, first)) {
+        depth_sum += cam.depth_of(first.position);
+        ++depth_count;
       }
-  };
-  if (!parallel_chunks(options.threads, chunks, work, cancel, poll, settings.progress_interval)) return false;
+    }
+    SampleFeatures features;
+    const double light_before = luminance(out.emitted[local]);
+    tracer.trace(ray, Color(1.0 / samples), rng, pixel, o, out.emitted[local], out.transparency[local],
+                 options.record_features ? &features : nullptr, options.record_seen ? &out.seen[local] : nullptr,
+                 options.record_components ? &out.pixel_components[local] : nullptr);
+    if (options.record_samples) {
+      o.sample.resize(o.points.size(), static_cast<uint16_t>(s));
+      out.sample_light[local * spp + s] = static_cast<float>(luminance(out.emitted[local]) - light_before);
+    }
+    if (options.record_features) add_features(features, samples, out.albedo[local], out.feature_normal[local]);
+  }
+  if (depth_count > 0) out.depth[local] = static_cast<float>(depth_sum / depth_count);
+  return static_cast<uint32_t>(o.points.size() - before);
+}
 
-  // Concatenate the chunks in order, each copied by whichever thread takes it.
+// The chunks' hit points concatenated in order into `out`, each chunk copied by whichever thread
+// takes it; with release_chunks, each chunk freed once copied.
+void join_chunks(std::vector<ChunkOutput>& outputs, size_t chunks, const EyePassOptions& options, bool chains,
+                 HitPoints& out) {
   std::vector<size_t> first(chunks + 1, 0);
   for (size_t c = 0; c < chunks; ++c) first[c + 1] = first[c] + outputs[c].points.size();
   const size_t total = first[chunks];
   out.points.resize(total);
   out.shading.resize(total);
   out.stats.resize(total);
-  out.chain.resize(tracer.limits.active ? total : 0);
+  out.chain.resize(chains ? total : 0);
   out.route.resize(options.record_components ? total : 0);
   out.components.resize(options.record_components ? total : 0);
   auto join = [&](size_t c) {
@@ -424,7 +434,7 @@ bool eye_pass(const Scene& scene, const Settings& settings, const EyePassOptions
       out.shading[first[c] + k] = o.shading[k];
       out.stats[first[c] + k] = HitPointStats{};
       if (options.record_samples) out.stats[first[c] + k].sample = o.sample[k];
-      if (tracer.limits.active) out.chain[first[c] + k] = o.chain[k];
+      if (chains) out.chain[first[c] + k] = o.chain[k];
       if (options.record_components) {
         out.route[first[c] + k] = o.route[k];
         out.components[first[c] + k] = HitPointComponents{};
@@ -440,6 +450,41 @@ bool eye_pass(const Scene& scene, const Settings& settings, const EyePassOptions
     parallel_each(options.threads, n, [&](size_t c) { join(begin + c); });
     if (options.release_chunks) return_freed_memory();
   }
+}
+
+}  // namespace
+
+size_t EyePassScratch::memory_bytes() const {
+  size_t bytes = counts.capacity() * sizeof(uint32_t);
+  for (const Chunk& c : chunks)
+    bytes += c.points.capacity() * sizeof(HitPoint) + c.shading.capacity() * sizeof(HitPointShading) +
+             c.chain.capacity() * sizeof(Bounces) + c.route.capacity();
+  return bytes;
+}
+
+bool eye_pass(const Scene& scene, const Settings& settings, const EyePassOptions& options, HitPoints& out,
+              EyePassScratch& scratch, std::atomic<bool>& cancel, const std::function<bool()>& poll) {
+  const EyeTracer tracer = make_tracer(scene, settings, options);
+  const Camera& cam = scene.camera();
+  const CameraRays rays(cam);
+  const Band band = band_of(cam, options);
+  if (scratch.chunks.size() < band.chunks) scratch.chunks.resize(band.chunks);
+  std::vector<ChunkOutput>& outputs = scratch.chunks;
+  std::vector<uint32_t>& counts = scratch.counts;
+  reset_pixel_outputs(options, band.pixels, out, counts);
+  const size_t chunk_samples = size_t(kRowsPerChunk) * cam.width * options.samples_per_pixel;
+  auto work = [&](int, size_t chunk) {
+    ChunkOutput& o = outputs[chunk];
+    clear_chunk(o, chunk_samples, tracer.limits.active);
+    const int y_begin = band.row_begin + static_cast<int>(chunk) * kRowsPerChunk;
+    for (int y = y_begin; y < std::min(band.row_end, y_begin + kRowsPerChunk); ++y)
+      for (int x = 0; x < cam.width; ++x) {
+        const size_t local = static_cast<size_t>(y) * cam.width + x - band.first_pixel;  // in this band
+        counts[local] = trace_pixel(tracer, rays, x, y, local, o, out);
+      }
+  };
+  if (!parallel_chunks(options.threads, band.chunks, work, cancel, poll, settings.progress_interval)) return false;
+  join_chunks(outputs, band.chunks, options, tracer.limits.active, out);
   out.pixel_begin.assign(counts.size() + 1, 0);
   for (size_t p = 0; p < counts.size(); ++p) out.pixel_begin[p + 1] = out.pixel_begin[p] + counts[p];
   return true;
