@@ -374,92 +374,150 @@ Vec3f vector_transform(const NodeInstruction& ins, const Vec3f& v, const Shading
 
 }  // namespace
 
+// The register arithmetic of the multi-line instructions: each reads its operands from `r` and
+// writes its outputs there, as NodeProgram::step dispatches them.
+namespace {
+
+void convert_op(const NodeInstruction& ins, Vec3f* r) {
+  const Vec3f v = r[ins.in[0]];
+  const float grey = ins.mode == 0 ? nodes::rgb_to_grey(v)
+                     : ins.mode == 2 ? nodes::rgb_to_grey_before_5(v) : (v.x + v.y + v.z) * (1.0f / 3.0f);
+  r[ins.out[0]] = Vec3f(grey);
+}
+
+void math_op(const NodeInstruction& ins, Vec3f* r) {
+  float v = nodes::math(static_cast<MathOp>(ins.mode), r[ins.in[0]].x, r[ins.in[1]].x, r[ins.in[2]].x);
+  if (ins.flags & 1) v = std::clamp(v, 0.0f, 1.0f);
+  r[ins.out[0]] = Vec3f(v);
+}
+
+void vector_math_op(const NodeInstruction& ins, Vec3f* r) {
+  const auto& in = ins.in;
+  const nodes::VectorResult v =
+      nodes::vector_math(static_cast<VectorMathOp>(ins.mode), r[in[0]], r[in[1]], r[in[2]], r[in[3]].x);
+  r[ins.out[0]] = v.vector;
+  r[ins.out[1]] = Vec3f(v.value);
+}
+
+void mix_op(const NodeInstruction& ins, Vec3f* r) {
+  float t = r[ins.in[0]].x;
+  if (ins.flags & 1) t = std::clamp(t, 0.0f, 1.0f);
+  Vec3f v = nodes::mix_blend(static_cast<MixBlend>(ins.mode), t, r[ins.in[1]], r[ins.in[2]]);
+  if (ins.flags & 2) v = glm::clamp(v, 0.0f, 1.0f);
+  r[ins.out[0]] = v;
+}
+
+void mix_vector_op(const NodeInstruction& ins, Vec3f* r) {
+  Vec3f t = r[ins.in[0]];
+  if (ins.flags & 1) t = glm::clamp(t, 0.0f, 1.0f);
+  r[ins.out[0]] = glm::mix(r[ins.in[1]], r[ins.in[2]], t);
+}
+
+// A ColorRamp (mode 0: fac -> colour, alpha) or Curves (in fac, value; each channel through its
+// curve, mode 1, or all through the first, mode 2).
+void table_op(const NodeInstruction& ins, const float* table, Vec3f* r) {
+  const int size = ins.extra + 2;
+  if (ins.mode == 0) {
+    float alpha = 1.0f;
+    r[ins.out[0]] = table_lookup(table, size, r[ins.in[0]].x, ins.flags & 1, &alpha);
+    r[ins.out[1]] = Vec3f(alpha);
+    return;
+  }
+  const Vec3f v = r[ins.in[1]];
+  Vec3f curved;
+  for (int k = 0; k < 3; ++k) curved[k] = curve_lookup(table, size, v[k], ins.mode == 1 ? k : 0);
+  r[ins.out[0]] = glm::mix(v, curved, r[ins.in[0]].x);
+}
+
+void map_range_op(const NodeInstruction& ins, Vec3f* r) {
+  const auto& in = ins.in;
+  if (ins.flags & 2) {  // vector: per component, each operand a vector
+    Vec3f v;
+    for (int k = 0; k < 3; ++k)
+      v[k] = nodes::map_range(ins.mode, r[in[0]][k], r[in[1]][k], r[in[2]][k], r[in[3]][k], r[in[4]][k],
+                              r[in[5]][k], ins.flags & 1);
+    r[ins.out[0]] = v;
+  } else {
+    r[ins.out[0]] = Vec3f(nodes::map_range(ins.mode, r[in[0]].x, r[in[1]].x, r[in[2]].x, r[in[3]].x, r[in[4]].x,
+                                           r[in[5]].x, ins.flags & 1));
+  }
+}
+
+void clamp_op(const NodeInstruction& ins, Vec3f* r) {  // mode 0: min-max; 1: range (the bounds in either order)
+  float lo = r[ins.in[1]].x, hi = r[ins.in[2]].x;
+  if (ins.mode == 1 && lo > hi) std::swap(lo, hi);
+  r[ins.out[0]] = Vec3f(std::min(std::max(r[ins.in[0]].x, lo), hi));
+}
+
+void separate_op(const NodeInstruction& ins, Vec3f* r) {
+  const Vec3f c = r[ins.in[0]];
+  const Vec3f v = ins.mode < 3 ? c : ins.mode < 6 ? nodes::rgb_to_hsv(c) : nodes::rgb_to_hsl(c);
+  r[ins.out[0]] = Vec3f(v[ins.mode % 3]);
+}
+
+void combine_op(const NodeInstruction& ins, Vec3f* r) {
+  const Vec3f v(r[ins.in[0]].x, r[ins.in[1]].x, r[ins.in[2]].x);
+  r[ins.out[0]] = ins.mode == 1 ? nodes::hsv_to_rgb(v) : ins.mode == 2 ? nodes::hsl_to_rgb(v) : v;
+}
+
+void fresnel_op(const NodeInstruction& ins, const ShadingContext& at, Vec3f* r) {
+  const float eta = std::max(r[ins.in[0]].x, 1e-5f);
+  const float cosi = float(glm::dot(at.incoming, Vec3(r[ins.in[1]])));
+  r[ins.out[0]] = Vec3f(fresnel_dielectric_cos(cosi, at.backfacing ? 1.0f / eta : eta));
+}
+
+void layer_weight_op(const NodeInstruction& ins, const ShadingContext& at, Vec3f* r) {
+  const float blend = r[ins.in[0]].x;
+  const float cosi = float(glm::dot(at.incoming, Vec3(r[ins.in[1]])));
+  const float eta = std::max(1.0f - blend, 1e-5f);
+  r[ins.out[0]] = Vec3f(fresnel_dielectric_cos(cosi, at.backfacing ? eta : 1.0f / eta));
+  r[ins.out[1]] = Vec3f(facing(blend, cosi));
+}
+
+// The shading point the next instructions see: the base one, or moved by a bump filter's step.
+void bump_offset_op(const NodeInstruction& ins, const ShadingContext& base, const Vec3f* r, ShadingContext& at) {
+  at = base;
+  if (ins.mode == 0) return;
+  Vec3 dx, dy;
+  bump_steps(base, dx, dy);
+  const Vec3 d = std::max<double>(r[ins.in[0]].x, 1e-6) * (ins.mode == 1 ? dx : dy);  // in[0]: filter width
+  at.position = base.position + d;
+  at.uv = base.uv + Vec2(glm::dot(base.du_dp, d), glm::dot(base.dv_dp, d));
+}
+
+void environment_uv_op(const NodeInstruction& ins, Vec3f* r) {
+  const Vec3 d(r[ins.in[0]]);
+  const Vec2 uv = ins.mode == 0 ? equirectangular_uv(d) : mirror_ball_uv(d);
+  r[ins.out[0]] = Vec3f(float(uv.x), float(uv.y), 0.0f);
+}
+
+void transform_op(const NodeInstruction& ins, const float* m, Vec3f* r) {
+  const Vec3f v = r[ins.in[0]];
+  const float w = ins.mode == 0 ? 1.0f : 0.0f;
+  for (int k = 0; k < 3; ++k)
+    r[ins.out[0]][k] = m[4 * k] * v.x + m[4 * k + 1] * v.y + m[4 * k + 2] * v.z + m[4 * k + 3] * w;
+}
+
+}  // namespace
+
 void NodeProgram::step(const NodeInstruction& ins, ShadingContext& at, const ShadingContext& base,
                        const std::vector<Texture>& textures, Vec3f* r) const {
   const auto& in = ins.in;
   const auto& out = ins.out;
   auto f = [&](int k) { return r[in[k]].x; };
+  auto operands = [&] { return data.data() + ins.data; };  // the instruction's constants
   switch (ins.op) {
     case NodeOp::Coord: r[out[0]] = coordinate(static_cast<CoordKind>(ins.mode), at, ins.data); break;
-    case NodeOp::Convert: {
-      const Vec3f v = r[in[0]];
-      const float grey = ins.mode == 0 ? nodes::rgb_to_grey(v)
-                         : ins.mode == 2 ? nodes::rgb_to_grey_before_5(v) : (v.x + v.y + v.z) * (1.0f / 3.0f);
-      r[out[0]] = Vec3f(grey);
-      break;
-    }
-    case NodeOp::Math: {
-      float v = nodes::math(static_cast<MathOp>(ins.mode), f(0), f(1), f(2));
-      if (ins.flags & 1) v = std::clamp(v, 0.0f, 1.0f);
-      r[out[0]] = Vec3f(v);
-      break;
-    }
-    case NodeOp::VectorMath: {
-      const nodes::VectorResult v =
-          nodes::vector_math(static_cast<VectorMathOp>(ins.mode), r[in[0]], r[in[1]], r[in[2]], f(3));
-      r[out[0]] = v.vector;
-      r[out[1]] = Vec3f(v.value);
-      break;
-    }
-    case NodeOp::Mix: {
-      float t = f(0);
-      if (ins.flags & 1) t = std::clamp(t, 0.0f, 1.0f);
-      Vec3f v = nodes::mix_blend(static_cast<MixBlend>(ins.mode), t, r[in[1]], r[in[2]]);
-      if (ins.flags & 2) v = glm::clamp(v, 0.0f, 1.0f);
-      r[out[0]] = v;
-      break;
-    }
-    case NodeOp::MixVector: {
-      Vec3f t = r[in[0]];
-      if (ins.flags & 1) t = glm::clamp(t, 0.0f, 1.0f);
-      r[out[0]] = glm::mix(r[in[1]], r[in[2]], t);
-      break;
-    }
-    case NodeOp::Table: {
-      const float* table = data.data() + ins.data;
-      const int size = ins.extra + 2;
-      if (ins.mode == 0) {  // a ColorRamp: fac -> colour, alpha
-        float alpha = 1.0f;
-        r[out[0]] = table_lookup(table, size, f(0), ins.flags & 1, &alpha);
-        r[out[1]] = Vec3f(alpha);
-        break;
-      }
-      // Curves: in fac, value; each channel through its curve (mode 1), or all through the first (2).
-      const Vec3f v = r[in[1]];
-      Vec3f curved;
-      for (int k = 0; k < 3; ++k) curved[k] = curve_lookup(table, size, v[k], ins.mode == 1 ? k : 0);
-      r[out[0]] = glm::mix(v, curved, f(0));
-      break;
-    }
-    case NodeOp::MapRange: {
-      if (ins.flags & 2) {  // vector: per component, each operand a vector
-        Vec3f v;
-        for (int k = 0; k < 3; ++k)
-          v[k] = nodes::map_range(ins.mode, r[in[0]][k], r[in[1]][k], r[in[2]][k], r[in[3]][k], r[in[4]][k],
-                                  r[in[5]][k], ins.flags & 1);
-        r[out[0]] = v;
-      } else {
-        r[out[0]] = Vec3f(nodes::map_range(ins.mode, f(0), f(1), f(2), f(3), f(4), f(5), ins.flags & 1));
-      }
-      break;
-    }
-    case NodeOp::Clamp: {  // mode 0: min-max; 1: range (the bounds in either order)
-      float lo = f(1), hi = f(2);
-      if (ins.mode == 1 && lo > hi) std::swap(lo, hi);
-      r[out[0]] = Vec3f(std::min(std::max(f(0), lo), hi));
-      break;
-    }
-    case NodeOp::Separate: {
-      const Vec3f c = r[in[0]];
-      const Vec3f v = ins.mode < 3 ? c : ins.mode < 6 ? nodes::rgb_to_hsv(c) : nodes::rgb_to_hsl(c);
-      r[out[0]] = Vec3f(v[ins.mode % 3]);
-      break;
-    }
-    case NodeOp::Combine: {
-      const Vec3f v(f(0), f(1), f(2));
-      r[out[0]] = ins.mode == 1 ? nodes::hsv_to_rgb(v) : ins.mode == 2 ? nodes::hsl_to_rgb(v) : v;
-      break;
-    }
+    case NodeOp::Convert: convert_op(ins, r); break;
+    case NodeOp::Math: math_op(ins, r); break;
+    case NodeOp::VectorMath: vector_math_op(ins, r); break;
+    case NodeOp::Mix: mix_op(ins, r); break;
+    case NodeOp::MixVector: mix_vector_op(ins, r); break;
+    case NodeOp::Table: table_op(ins, operands(), r); break;
+    case NodeOp::MapRange: map_range_op(ins, r); break;
+    case NodeOp::Clamp: clamp_op(ins, r); break;
+    case NodeOp::Separate: separate_op(ins, r); break;
+    case NodeOp::Combine: combine_op(ins, r); break;
     case NodeOp::Invert: r[out[0]] = nodes::invert(f(0), r[in[1]]); break;
     case NodeOp::Gamma: r[out[0]] = nodes::gamma(r[in[0]], f(1)); break;
     case NodeOp::BrightContrast: r[out[0]] = nodes::bright_contrast(r[in[0]], f(1), f(2)); break;
@@ -483,49 +541,16 @@ void NodeProgram::step(const NodeInstruction& ins, ShadingContext& at, const Sha
     case NodeOp::Brick:
     case NodeOp::Magic:
     case NodeOp::Gabor: textures::run(ins, data, r); break;
-    case NodeOp::Fresnel: {
-      const float eta = std::max(f(0), 1e-5f);
-      const float cosi = float(glm::dot(at.incoming, Vec3(r[in[1]])));
-      r[out[0]] = Vec3f(fresnel_dielectric_cos(cosi, at.backfacing ? 1.0f / eta : eta));
-      break;
-    }
-    case NodeOp::LayerWeight: {
-      const float blend = f(0);
-      const float cosi = float(glm::dot(at.incoming, Vec3(r[in[1]])));
-      const float eta = std::max(1.0f - blend, 1e-5f);
-      r[out[0]] = Vec3f(fresnel_dielectric_cos(cosi, at.backfacing ? eta : 1.0f / eta));
-      r[out[1]] = Vec3f(facing(blend, cosi));
-      break;
-    }
-    case NodeOp::BumpOffset: {
-      at = base;
-      if (ins.mode == 0) break;
-      Vec3 dx, dy;
-      bump_steps(base, dx, dy);
-      const Vec3 d = std::max<double>(r[in[0]].x, 1e-6) * (ins.mode == 1 ? dx : dy);  // in[0]: filter width
-      at.position = base.position + d;
-      at.uv = base.uv + Vec2(glm::dot(base.du_dp, d), glm::dot(base.dv_dp, d));
-      break;
-    }
+    case NodeOp::Fresnel: fresnel_op(ins, at, r); break;
+    case NodeOp::LayerWeight: layer_weight_op(ins, at, r); break;
+    case NodeOp::BumpOffset: bump_offset_op(ins, base, r, at); break;
     case NodeOp::Bump: r[out[0]] = bump(r, ins, base); break;
     case NodeOp::NormalMap: r[out[0]] = normal_map(r, ins, at); break;
-    case NodeOp::EnvironmentUv: {
-      const Vec3 d(r[in[0]]);
-      const Vec2 uv = ins.mode == 0 ? equirectangular_uv(d) : mirror_ball_uv(d);
-      r[out[0]] = Vec3f(float(uv.x), float(uv.y), 0.0f);
-      break;
-    }
+    case NodeOp::EnvironmentUv: environment_uv_op(ins, r); break;
     case NodeOp::VectorTransform: r[out[0]] = vector_transform(ins, r[in[0]], at); break;
-    case NodeOp::Wavelength: r[out[0]] = wavelength(f(0), data.data() + ins.data); break;
-    case NodeOp::Blackbody: r[out[0]] = blackbody(f(0), data.data() + ins.data); break;
-    case NodeOp::Transform: {
-      const float* m = data.data() + ins.data;
-      const Vec3f v = r[in[0]];
-      const float w = ins.mode == 0 ? 1.0f : 0.0f;
-      for (int k = 0; k < 3; ++k)
-        r[out[0]][k] = m[4 * k] * v.x + m[4 * k + 1] * v.y + m[4 * k + 2] * v.z + m[4 * k + 3] * w;
-      break;
-    }
+    case NodeOp::Wavelength: r[out[0]] = wavelength(f(0), operands()); break;
+    case NodeOp::Blackbody: r[out[0]] = blackbody(f(0), operands()); break;
+    case NodeOp::Transform: transform_op(ins, operands(), r); break;
   }
 }
 
