@@ -667,75 +667,88 @@ namespace ppm {
 namespace {
 
 // The largest magnitude an instruction's first output can take, from its operands' (inf: unknown).
+// Coordinates of unit length (normals, directions, flags); the others are unbounded.
+double coord_bound(CoordKind kind) {
+  const bool unit = kind == CoordKind::Normal || kind == CoordKind::ShadingNormal || kind == CoordKind::TrueNormal ||
+                    kind == CoordKind::Incoming || kind == CoordKind::Backfacing ||
+                    kind == CoordKind::ObjectRandom || kind == CoordKind::Tangent || kind == CoordKind::Reflection ||
+                    (kind >= CoordKind::IsCameraRay && kind <= CoordKind::IsTransmissionRay);
+  return unit ? 1.0 : kInf;
+}
+
+// A Math node's bound from its operands' (a, b, c).
+double math_bound(const NodeInstruction& ins, double a, double b, double c) {
+  if (ins.flags & 1) return 1.0;
+  switch (static_cast<nodes::MathOp>(ins.mode)) {
+    case nodes::MathOp::Add:
+    case nodes::MathOp::Subtract: return a + b;
+    case nodes::MathOp::Multiply: return a * b;
+    case nodes::MathOp::MultiplyAdd: return a * b + c;
+    case nodes::MathOp::Minimum:
+    case nodes::MathOp::Maximum: return std::max(a, b);
+    case nodes::MathOp::Absolute: return a;
+    case nodes::MathOp::Fraction:
+    case nodes::MathOp::LessThan:
+    case nodes::MathOp::GreaterThan:
+    case nodes::MathOp::Compare:
+    case nodes::MathOp::Sign:
+    case nodes::MathOp::Sine:
+    case nodes::MathOp::Cosine:
+    case nodes::MathOp::Tanh: return 1.0;
+    default: return kInf;
+  }
+}
+
+// A Mix node's bound from its factor's and colours' (fac, a, c).
+double mix_bound(const NodeInstruction& ins, double fac, double a, double c) {
+  if (ins.flags & 2) return 1.0;
+  const double t = (ins.flags & 1) ? 1.0 : fac;
+  switch (static_cast<nodes::MixBlend>(ins.mode)) {
+    case nodes::MixBlend::Mix:
+    case nodes::MixBlend::Darken:
+    case nodes::MixBlend::Lighten: return (ins.flags & 1) ? std::max(a, c) : kInf;
+    case nodes::MixBlend::Add:
+    case nodes::MixBlend::Subtract: return a + t * c;
+    case nodes::MixBlend::Multiply: return a * std::max(1.0, t * c + 1.0);
+    default: return kInf;
+  }
+}
+
+// A ColorRamp's largest stop (curves extrapolate: unbounded).
+double table_bound(const NodeInstruction& ins, const std::vector<float>& data) {
+  if (ins.mode != 0) return kInf;
+  double m = 0.0;
+  for (int i = 0; i < (ins.extra + 2) * 4; ++i) m = std::max(m, double(std::fabs(data[ins.data + i])));
+  return m;
+}
+
+// An image's brightest texel, or a tiled image's over its tiles and the missing tile's magenta.
+double image_bound(const NodeInstruction& ins, const std::vector<Texture>& textures, const std::vector<float>& data) {
+  if (!(ins.flags & 1)) return std::max(1.0, double(textures[ins.data].max_rgb()));
+  double m = 1.0;
+  for (int k = 0; k < static_cast<int>(data[ins.data]); ++k)
+    m = std::max(m, double(textures[static_cast<size_t>(data[ins.data + 2 + 2 * k])].max_rgb()));
+  return m;
+}
+
 double bound_of(const NodeInstruction& ins, const std::vector<double>& b, const std::vector<Texture>& textures,
                 const std::vector<float>& data) {
   const double inf = kInf;
   auto in = [&](int k) { return b[ins.in[k]]; };
   switch (ins.op) {
-    case NodeOp::Coord: {
-      const auto kind = static_cast<CoordKind>(ins.mode);
-      const bool unit = kind == CoordKind::Normal || kind == CoordKind::ShadingNormal ||
-                        kind == CoordKind::TrueNormal || kind == CoordKind::Incoming ||
-                        kind == CoordKind::Backfacing || kind == CoordKind::ObjectRandom ||
-                        kind == CoordKind::Tangent || kind == CoordKind::Reflection ||
-                        (kind >= CoordKind::IsCameraRay && kind <= CoordKind::IsTransmissionRay);
-      return unit ? 1.0 : inf;
-    }
+    case NodeOp::Coord: return coord_bound(static_cast<CoordKind>(ins.mode));
     case NodeOp::Convert: return in(0);
-    case NodeOp::Math: {
-      if (ins.flags & 1) return 1.0;
-      switch (static_cast<nodes::MathOp>(ins.mode)) {
-        case nodes::MathOp::Add:
-        case nodes::MathOp::Subtract: return in(0) + in(1);
-        case nodes::MathOp::Multiply: return in(0) * in(1);
-        case nodes::MathOp::MultiplyAdd: return in(0) * in(1) + in(2);
-        case nodes::MathOp::Minimum:
-        case nodes::MathOp::Maximum: return std::max(in(0), in(1));
-        case nodes::MathOp::Absolute: return in(0);
-        case nodes::MathOp::Fraction:
-        case nodes::MathOp::LessThan:
-        case nodes::MathOp::GreaterThan:
-        case nodes::MathOp::Compare:
-        case nodes::MathOp::Sign:
-        case nodes::MathOp::Sine:
-        case nodes::MathOp::Cosine:
-        case nodes::MathOp::Tanh: return 1.0;
-        default: return inf;
-      }
-    }
-    case NodeOp::Mix: {
-      if (ins.flags & 2) return 1.0;
-      const double t = (ins.flags & 1) ? 1.0 : in(0), a = in(1), c = in(2);
-      switch (static_cast<nodes::MixBlend>(ins.mode)) {
-        case nodes::MixBlend::Mix:
-        case nodes::MixBlend::Darken:
-        case nodes::MixBlend::Lighten: return (ins.flags & 1) ? std::max(a, c) : inf;
-        case nodes::MixBlend::Add:
-        case nodes::MixBlend::Subtract: return a + t * c;
-        case nodes::MixBlend::Multiply: return a * std::max(1.0, t * c + 1.0);
-        default: return inf;
-      }
-    }
+    case NodeOp::Math: return math_bound(ins, in(0), in(1), in(2));
+    case NodeOp::Mix: return mix_bound(ins, in(0), in(1), in(2));
     case NodeOp::MixVector: return std::max(in(1), in(2)) * (ins.flags & 1 ? 1.0 : inf);
-    case NodeOp::Table: {
-      if (ins.mode != 0) return inf;  // curves extrapolate
-      double m = 0.0;
-      for (int i = 0; i < (ins.extra + 2) * 4; ++i) m = std::max(m, double(std::fabs(data[ins.data + i])));
-      return m;
-    }
+    case NodeOp::Table: return table_bound(ins, data);
     case NodeOp::MapRange: return (ins.flags & 1) && ins.mode < 2 ? std::max(in(3), in(4)) : inf;
     case NodeOp::Clamp: return std::max(in(1), in(2));
     case NodeOp::Separate: return ins.mode < 3 ? in(0) : std::max(1.0, in(0));
     case NodeOp::Combine:  // HSL: l + (n - 1/2) chroma, |chroma| <= s (1 + |2 l - 1|)
       return ins.mode == 0 ? std::max({in(0), in(1), in(2)}) : ins.mode == 1 ? in(2) : in(2) + in(1) * (1.0 + in(2));
     case NodeOp::Invert: return 1.0 + in(1);
-    case NodeOp::Image: {
-      if (!(ins.flags & 1)) return std::max(1.0, double(textures[ins.data].max_rgb()));
-      double m = 1.0;  // the missing tile's magenta
-      for (int k = 0; k < static_cast<int>(data[ins.data]); ++k)
-        m = std::max(m, double(textures[static_cast<size_t>(data[ins.data + 2 + 2 * k])].max_rgb()));
-      return m;
-    }
+    case NodeOp::Image: return image_bound(ins, textures, data);
     case NodeOp::Noise: return (ins.extra & 16) || ((ins.extra & 32) && ins.mode == 0) ? 1.0 : inf;
     case NodeOp::Voronoi: return inf;
     case NodeOp::WhiteNoise:
