@@ -55,7 +55,7 @@ test-cross: .venv/.setup-done
 # pyproject.toml) check the C++ core's arithmetic, the same code under any Python: they run under 3.11 only.
 # The memory of production sizes is the C++ core's too: 3.10 (added last) leaves it to 3.11 and 3.13.
 test-python: build
-	$(PY) $(PYTEST) tests/core tests/bench
+	$(PY) $(PYTEST) tests/core tests/bench tests/docs
 	$(PY313) $(PYTEST) -m "not accuracy" tests/core
 	$(PY310) $(PYTEST) -m "not accuracy" --ignore=tests/core/test_production_sizes.py tests/core
 
