@@ -1,5 +1,5 @@
-// Render settings: one struct with documented defaults. The Python binding
-// builds it from keyword arguments and rejects unknown names.
+// Render settings: one struct with documented defaults. settings_table.h names them for front ends
+// (the Python binding builds Settings from keyword arguments through it and rejects unknown names).
 #pragma once
 
 #include <algorithm>

@@ -2,6 +2,7 @@
 // error messages that name the field and the object when the shape is wrong.
 #pragma once
 
+#include "base/utf8.h"
 #include "math/types.h"
 
 #include <pybind11/numpy.h>
@@ -60,35 +61,8 @@ inline DoubleArray numbers_or_null(const py::handle& obj) {
   return array_or_null<DoubleArray>(obj);
 }
 
-// Strings arrive as str or bytes; bytes need not be UTF-8, and an error message
-// that is not UTF-8 cannot become a Python exception's text (it would turn into
-// a UnicodeDecodeError that hides what was wrong).
-inline bool valid_utf8(const std::string& text) {
-  PyObject* u = PyUnicode_DecodeUTF8(text.data(), static_cast<Py_ssize_t>(text.size()), "strict");
-  if (u == nullptr) {
-    PyErr_Clear();
-    return false;
-  }
-  Py_DECREF(u);
-  return true;
-}
-
-// `text` itself if it is UTF-8, else with every byte >= 0x80 as \xNN.
-inline std::string printable(const std::string& text) {
-  if (valid_utf8(text)) return text;
-  static const char* hex = "0123456789abcdef";
-  std::string out;
-  for (unsigned char c : text) {
-    if (c < 0x80) {
-      out += static_cast<char>(c);
-    } else {
-      out += "\\x";
-      out += hex[c >> 4];
-      out += hex[c & 15];
-    }
-  }
-  return out;
-}
+// Strings arrive as str or bytes; bytes need not be UTF-8 (base/utf8.h: printable() makes them
+// fit an error message).
 
 // An object's name: any UTF-8 text (names end up in every error message).
 inline const std::string& checked_name(const std::string& name, const std::string& kind) {
