@@ -99,4 +99,13 @@ double Camera::coc_pixels(double z) const {
   return 2.0 * aperture_radius * thin * std::fabs(1.0 / S - 1.0 / z) * pixels_per_radian;
 }
 
+void pixel_centre_rays(const Camera& camera, double* origins, double* directions) {
+  for (int y = 0; y < camera.height; ++y)
+    for (int x = 0; x < camera.width; ++x) {
+      const Ray ray = camera.generate_ray(x + 0.5, y + 0.5);
+      const size_t i = 3 * (static_cast<size_t>(y) * camera.width + x);
+      for (int k = 0; k < 3; ++k) origins[i + k] = ray.origin[k], directions[i + k] = ray.direction[k];
+    }
+}
+
 }  // namespace ppm

@@ -59,6 +59,10 @@ struct Camera {
   bool fit_horizontal() const;
 };
 
+// The primary ray through every pixel centre, bottom row first (pixel x, y at y * width + x), as
+// generate_ray makes it: 3 doubles of origin and 3 of direction each (Scene.camera_rays).
+void pixel_centre_rays(const Camera& camera, double* origins, double* directions);
+
 // A camera's rays with what is the same for all of them worked out once (the field of view's
 // tangent, the axes): the eye pass makes millions.
 class CameraRays {

@@ -38,6 +38,12 @@ Renderer::Renderer(std::shared_ptr<const Scene> scene, const Settings& settings)
 
 Renderer::~Renderer() = default;
 
+std::unique_ptr<Renderer> make_renderer(const std::shared_ptr<Scene>& scene, const Settings& settings) {
+  scene->build();
+  scene->check_energy_range(settings.path_bounces());
+  return std::make_unique<Renderer>(scene, settings);
+}
+
 uint64_t Renderer::run(uint64_t passes, double seconds, const std::function<bool(const Progress&)>& poll,
                        double pause_after) {
   if (passes == 0 && !(seconds > 0.0)) throw std::invalid_argument("run: give passes > 0 or seconds > 0");

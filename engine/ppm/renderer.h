@@ -98,4 +98,8 @@ class Renderer {
   std::atomic<bool> running_{false};  // image()/stats() refuse to read while a pass writes
 };
 
+// A renderer of `scene` as a front end makes one: the scene built first (BVH, lights) and its
+// emitters checked against the settings' path length (Scene::check_energy_range).
+std::unique_ptr<Renderer> make_renderer(const std::shared_ptr<Scene>& scene, const Settings& settings);
+
 }  // namespace ppm

@@ -9,6 +9,7 @@
 #include "shading/closure.h"
 #include "shading/node_program.h"
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -61,6 +62,23 @@ struct Material {
 
   bool emits() const { return max_component(emission) > 0.0; }
 };
+
+// Adds a mixture's lobes. Those `textured` take the material's texture as their colour: they share
+// one input, the texture's RGB, added to the program for the first of them (none without a texture).
+inline void add_lobes(Material& m, const std::vector<Lobe>& lobes, const std::vector<bool>& textured) {
+  int textured_input = -1;
+  for (size_t i = 0; i < lobes.size(); ++i) {
+    Lobe lobe = lobes[i];
+    if (textured[i] && m.texture >= 0) {
+      if (textured_input < 0) {
+        textured_input = static_cast<int>(m.program.outputs.size());
+        m.program.add_image_output(m.texture, TextureChannel::Rgb);
+      }
+      lobe.color_input.input = static_cast<int8_t>(std::min(textured_input, kMaxInputs));
+    }
+    m.lobes.push_back(lobe);
+  }
+}
 
 inline bool is_specular(const Material& m) {
   if (m.kind == MaterialKind::Mixture) return closure_is_followed(m.lobes);

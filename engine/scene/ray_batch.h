@@ -33,4 +33,24 @@ void intersect_batch(const Scene& scene, size_t n, int threads, const RayAt& ray
                   0.0);
 }
 
+// Rays given as arrays of 3 doubles each (Scene.intersect): an origin and a direction of any length.
+// Throws std::invalid_argument naming the first origin that is not finite or direction that is zero
+// or not finite ("intersect: origin 3 is not finite").
+void check_ray_arrays(const double* origins, const double* directions, size_t n);
+
+// Where each ray's hit goes: t (inf on a miss), the geometric normal (3 doubles, 0 on a miss), the
+// primitive, object and material (-1 on a miss).
+struct HitArrays {
+  double* t;
+  double* normal;
+  int64_t* primitive;
+  int64_t* object;
+  int64_t* material;
+};
+
+// Casts the rays check_ray_arrays accepted, of kind `kind` (kAllRayKinds: everything visible), on
+// `threads` threads (0: all), into `out`. The scene must be built.
+void intersect_arrays(const Scene& scene, const double* origins, const double* directions, size_t n, uint8_t kind,
+                      int threads, const HitArrays& out);
+
 }  // namespace ppm
