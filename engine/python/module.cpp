@@ -1,20 +1,24 @@
 // The `ppm_core` Python module: progressive photon mapping for Blender.
+#include "base/memory_budget.h"
+#include "python/bindings.h"
+
 #include <pybind11/pybind11.h>
 
 namespace py = pybind11;
 
-void bind_scene(py::module_& m);
-void bind_renderer(py::module_& m);
-void bind_share(py::module_& m);
-namespace ppm::py_convert {
-py::dict node_modes();
-}
-
 PYBIND11_MODULE(ppm_core, m) {
   m.doc() = "Progressive photon mapping core: Scene (builders, intersect), Settings, Renderer.";
-  bind_scene(m);
-  bind_renderer(m);
-  bind_share(m);
-  m.def("node_modes", &ppm::py_convert::node_modes,
-        "Each node program operation's modes by name, in the order the core numbers them.");
+  // A render the machine has no memory for (memory_budget.h): MemoryError, with its message.
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const ppm::MemoryShortage& e) {
+      PyErr_SetString(PyExc_MemoryError, e.what());
+    }
+  });
+  ppm::python::bind_scene(m);
+  ppm::python::bind_settings(m);
+  ppm::python::bind_renderer(m);
+  ppm::python::bind_share(m);
+  ppm::python::bind_node_modes(m);
 }

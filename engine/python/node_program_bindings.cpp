@@ -3,6 +3,8 @@
 // (constant folding at export, and tests against Cycles).
 #include "python/node_program_bindings.h"
 
+#include "python/bindings.h"
+
 #include "python/convert.h"
 #include "shading/node_color.h"
 #include "shading/node_math.h"
@@ -151,3 +153,12 @@ py::dict node_modes() {
 }
 
 }  // namespace ppm::py_convert
+
+namespace ppm::python {
+
+void bind_node_modes(py::module_& m) {
+  m.def("node_modes", &py_convert::node_modes,
+        "Each node program operation's modes by name, in the order the core numbers them.");
+}
+
+}  // namespace ppm::python

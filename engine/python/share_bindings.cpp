@@ -2,6 +2,7 @@
 // as a dict of numbers and numpy arrays (to_dict), so it travels to and from other machines
 // (dask) and to files (numpy.savez) as plain data.
 #include "ppm/share.h"
+#include "python/bindings.h"
 #include "python/convert.h"
 
 #include <pybind11/stl.h>
@@ -10,8 +11,6 @@
 
 namespace py = pybind11;
 using namespace ppm;
-
-py::dict image_error_dict(const ImageError& e);  // renderer_bindings.cpp: as stats()['error']
 
 namespace {
 
@@ -84,6 +83,8 @@ Share from_dict(const py::dict& d) {
 
 }  // namespace
 
+namespace ppm::python {
+
 void bind_share(py::module_& m) {
   static_assert(sizeof(PixelErrorStats) == 4 * sizeof(float), "moments are 4 floats a pixel");
   py::class_<Share>(m, "Share",
@@ -131,3 +132,5 @@ void bind_share(py::module_& m) {
       "One Share of all their passes. Raises ValueError if they are not shares of one still (size, seed, alpha, "
       "photons_per_pass) or hold a pass twice.");
 }
+
+}  // namespace ppm::python

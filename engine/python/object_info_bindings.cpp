@@ -1,0 +1,54 @@
+// Python binding of Scene.set_object_info: what node programs know of an object (its matrix and
+// texture space, scene/object_info.h; Object Info's Random, Pass Index and Color; its attributes).
+#include "python/bindings.h"
+#include "python/convert.h"
+#include "scene/object_info.h"
+
+namespace py = pybind11;
+using namespace ppm;
+using namespace ppm::py_convert;
+
+namespace {
+
+glm::vec4 rgba(const double* p, const std::string& what, const std::string& field) {
+  for (int k = 0; k < 4; ++k)
+    if (!std::isfinite(p[k])) fail(what, field + " must be finite");
+  return glm::vec4(float(p[0]), float(p[1]), float(p[2]), float(p[3]));
+}
+
+void set_object_info(Scene& s, uint32_t object, const py::object& object_to_world,
+                     const py::object& texspace_location, const py::object& texspace_size, double random,
+                     double pass_index, const py::object& color, const py::object& attributes) {
+  const std::string what = "object " + std::to_string(object);
+  const Mat4 to_world = mat4(object_to_world, what, "matrix");
+  const Vec3 location = vec3(texspace_location, what, "texspace_location");
+  ObjectInfo info = object_info(to_world, location, vec3(texspace_size, what, "texspace_size"));
+  info.random = static_cast<float>(random);
+  info.pass_index = static_cast<float>(pass_index);
+  const DoubleArray c = array_or_null<DoubleArray>(color);
+  if (!c || c.size() != 4) fail(what, "color must be 4 numbers (RGBA)");
+  info.color = rgba(c.data(), what, "color");
+  if (!attributes.is_none()) {
+    const DoubleArray a = matrix(attributes, 4, what, "attributes");
+    for (py::ssize_t i = 0; i < a.shape(0); ++i) info.attributes.push_back(rgba(a.data() + 4 * i, what, "attributes"));
+  }
+  s.set_object_info(object, info);
+}
+
+}  // namespace
+
+namespace ppm::python {
+
+void bind_object_info(SceneClass& c) {
+  c.def("set_object_info", &set_object_info, py::arg("object"), py::arg("matrix"),
+        py::arg("texspace_location") = py::make_tuple(0.0, 0.0, 0.0),
+        py::arg("texspace_size") = py::make_tuple(1.0, 1.0, 1.0), py::arg("random") = 0.0,
+        py::arg("pass_index") = 0.0, py::arg("color") = py::make_tuple(1.0, 1.0, 1.0, 1.0),
+        py::arg("attributes") = py::none(),
+        "What node programs know of object id `object` (add_mesh's object_id): its object-to-world matrix "
+        "(Texture Coordinate's Object), its texture space (Blender's texspace_location and _size: Generated), "
+        "Object Info's Random, Pass Index and Color (RGBA), and `attributes`: (n, 4) RGBA values the "
+        "program's object_attribute coordinates read by slot (the instruction's data); finite numbers only.");
+}
+
+}  // namespace ppm::python
