@@ -34,7 +34,13 @@ demo: setup
 demo-core: setup
 	$(PY) blend_scenes/render_core_scene.py cornell_3spheres --output out/cornell_3spheres_core.exr --seconds 20
 
-test: setup test-cpp test-python test-addon
+# The parts run two at a time (the machine's two cores), each part's output printed whole when it
+# ends: the Blender versions' comparisons keep both cores busy, the other parts mostly one, so each
+# fills the other's gaps. The longest parts are listed first.
+TEST_PARTS := test-blenders-full test-cpp test-python test-blenders test-addon
+test: setup
+	@start=$$(date +%s); $(MAKE) --no-print-directory -j 2 --output-sync=target $(TEST_PARTS) && \
+	  echo "make test: the tests took $$(( $$(date +%s) - start )) s after the set-up"
 
 test-cpp: .venv/.setup-done
 	cmake -S . -B build/tests -G Ninja -DPPM_BUILD_TESTS=ON -DPPM_BUILD_PYTHON=OFF -DCMAKE_BUILD_TYPE=Release >/dev/null
@@ -53,10 +59,10 @@ test-cross: .venv/.setup-done
 # The core's Python tests under every Python Blender embeds (3.13 also brings numpy 2, as Blender 5.2
 # does; 3.10 is blender.org's Blender 3.4 to 4.0). Renders checked against answers (marker `accuracy`,
 # pyproject.toml) check the C++ core's arithmetic, the same code under any Python: they run under 3.11 only.
-# The memory of production sizes is the C++ core's too: 3.10 (added last) leaves it to 3.11 and 3.13.
+# The memory of production sizes is the C++ core's too: it is measured under 3.11 only.
 test-python: build
 	$(PY) $(PYTEST) tests/core tests/bench tests/docs
-	$(PY313) $(PYTEST) -m "not accuracy" tests/core
+	$(PY313) $(PYTEST) -m "not accuracy" --ignore=tests/core/test_production_sizes.py tests/core
 	$(PY310) $(PYTEST) -m "not accuracy" --ignore=tests/core/test_production_sizes.py tests/core
 
 # Benchmarks: figures and the commands behind them are in bench/README.md; every experiment is
@@ -86,18 +92,26 @@ clean:
 
 # The Blender add-on: the installable zip (with the cores for Python 3.11 and 3.13 inside)
 # -> out/ppm_render-<version>-linux-x64.zip.
-.PHONY: addon test-addon blend-scenes
+.PHONY: addon test-addon test-blenders test-blenders-full blend-scenes
 addon: build
 	$(PY) addon/build_addon.py --out out
 
 # Add-on tests: bpy 5.0 (tests/addon), Debian's Blender 3.4 from a shell (tests/cli), the GUI under Xvfb
-# (tests/gui), the zip in every Blender version: 3.4, 4.2, 4.5, 5.0, 5.2 (tests/blenders), a still's
-# shares on a dask LocalCluster (tests/farm), and the add-on's own tests again in bpy 4.2, 4.5 and 5.2.
+# (tests/gui), a still's shares on a dask LocalCluster (tests/farm), and the add-on's own tests again
+# in bpy 4.2, 4.5 and 5.2.
 test-addon: build
-	$(PY) $(PYTEST) tests/addon tests/cli tests/gui tests/blenders tests/farm
+	$(PY) $(PYTEST) tests/addon tests/cli tests/gui tests/farm
 	.venvs/bpy-4.2/bin/python $(PYTEST) tests/addon
 	.venvs/bpy-4.5/bin/python $(PYTEST) tests/addon
 	$(PY313) $(PYTEST) tests/addon
+
+# The zip in every Blender version against its Cycles (tests/blenders): 3.4 and 5.0, checked case by
+# case, are the longest part of `make test`; 4.2, 4.5 and 5.2 (a subset) and the zip's other checks.
+FULL_BLENDERS := $(foreach v,3.4 5.0,'tests/blenders/test_blender_versions.py::test_zip_installs_renders_and_agrees_with_cycles[$(v)]')
+test-blenders-full: build
+	$(PY) $(PYTEST) $(FULL_BLENDERS)
+test-blenders: build
+	$(PY) $(PYTEST) tests/blenders $(addprefix --deselect ,$(FULL_BLENDERS))
 
 # Rebuild the bundled .blend files with Blender 3.4, so that both 3.4 and 5.0 open them.
 blend-scenes: setup
