@@ -92,18 +92,18 @@ clean:
 
 # The Blender add-on: the installable zip (with the cores for Python 3.11 and 3.13 inside)
 # -> out/ppm_render-<version>-linux-x64.zip.
-.PHONY: addon test-addon test-blenders test-blenders-full blend-scenes
+.PHONY: addon test-addon test-addon-main test-blenders test-blenders-full blend-scenes
 addon: build
 	$(PY) addon/build_addon.py --out out
 
 # Add-on tests: bpy 5.0 (tests/addon), Debian's Blender 3.4 from a shell (tests/cli), the GUI under Xvfb
 # (tests/gui), a still's shares on a dask LocalCluster (tests/farm), and the add-on's own tests again
 # in bpy 4.2, 4.5 and 5.2.
-test-addon: build
+test-addon: test-addon-main $(foreach v,4.2 4.5 5.2,test-addon-bpy-$(v))
+test-addon-main: build
 	$(PY) $(PYTEST) tests/addon tests/cli tests/gui tests/farm
-	.venvs/bpy-4.2/bin/python $(PYTEST) tests/addon
-	.venvs/bpy-4.5/bin/python $(PYTEST) tests/addon
-	$(PY313) $(PYTEST) tests/addon
+test-addon-bpy-%: build
+	.venvs/bpy-$*/bin/python $(PYTEST) tests/addon
 
 # The zip in every Blender version against its Cycles (tests/blenders): 3.4 and 5.0, checked case by
 # case, are the longest part of `make test`; 4.2, 4.5 and 5.2 (a subset) and the zip's other checks.

@@ -35,6 +35,7 @@ def test_the_closed_sphere_converges_to_its_radiance_with_adaptive_samples():
     assert luminance(renderer.image()).mean() == pytest.approx(SPHERE_RADIANCE, rel=0.01)
 
 
+@pytest.mark.accuracy
 def test_more_samples_in_a_pixel_do_not_shrink_its_radius_faster():
     """The radius update sees the photons of the pixel's mean sample: with more eye samples a pass the
     radii shrink as with one (measured: 0.04287 against 0.04292, with 49% more hit points)."""

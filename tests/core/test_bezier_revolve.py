@@ -34,6 +34,7 @@ def _unit(v):
     return v / np.linalg.norm(v, axis=1, keepdims=True)
 
 
+@pytest.mark.accuracy
 @pytest.mark.parametrize("points,kind", [(core_scenes.VASE_PROFILE, "single"), (CHAIN, "chain")])
 @pytest.mark.parametrize("scale,angle,offset", [((1, 1, 1), 0.0, (0, 0, 0)),
                                                 ((1e-3, 2e-3, 1e-3), 0.7, (5.0, -3.0, 1.0)),

@@ -38,6 +38,7 @@ def test_diffuse_bounces_truncate_the_interreflections(bounces):
     assert mean == pytest.approx(truncated_sphere_radiance(bounces), rel=0.015)
 
 
+@pytest.mark.accuracy
 @pytest.mark.parametrize("direct_light", ["sampled", "photons"])
 def test_total_bounces_and_a_lights_own_limit_truncate_alike(direct_light):
     expected = truncated_sphere_radiance(2)

@@ -17,6 +17,7 @@ def cornell(storage, size=SIZE, aperture_radius=0.0, **settings):
                              **settings)
 
 
+@pytest.mark.accuracy
 @pytest.mark.parametrize("settings", [
     {},                                       # direct light sampled, glass chains, five bands
     {"direct_light": "photons"},
