@@ -59,6 +59,10 @@ struct Material {
   int8_t emission_input = -1;         // `emission` times this input (a textured emission colour)
   NormalMap normal_map;               // Mixture only
   double holdout = 0.0;        // Mixture only: the weight of its Holdout closures (alpha it cuts for camera rays)
+  // The medium inside the closed mesh the material is on (Scene::add_medium's index; -1: none), and
+  // whether it has a surface: false makes it a boundary only (scene/medium.h), crossed unchanged.
+  int32_t medium = -1;
+  bool surface = true;
 
   bool emits() const { return max_component(emission) > 0.0; }
 };

@@ -169,6 +169,7 @@ void Scene::check_new_material(Material& m) const {
     fail(what, "roughness must be in [0, 1]");
   if (!std::isfinite(m.ior) || m.ior <= 0.0) fail(what, "ior must be a positive number");
   if (m.texture >= static_cast<int>(textures_.size())) fail(what, "texture index out of range");
+  if (m.medium < -1 || m.medium >= static_cast<int>(media_.size())) fail(what, "medium index out of range");
 }
 
 uint32_t Scene::add_texture(const std::string& name, Texture texture, bool clear_unusable) {

@@ -12,6 +12,7 @@
 #include "geometry/camera.h"
 #include "scene/light.h"
 #include "scene/material.h"
+#include "scene/medium.h"
 #include "scene/mesh_store.h"
 #include "shading/texture.h"
 
@@ -192,6 +193,39 @@ class Scene {
   bool is_holdout(const Hit& hit) const;
   double offset_floor() const { return offset_floor_; }  // see ray_offset()
 
+  // ---- Participating media (scene/medium.h; scene_media.cpp). ----
+  // Validates (std::invalid_argument naming the medium and field: NaN, Inf, negative, a coefficient
+  // above kMaxCoefficient or emission above kMaxPower) and returns the medium's index.
+  uint32_t add_medium(Medium medium);
+  // The medium filling space outside meshes with media; -1: none.
+  void set_world_medium(int medium);
+  // Material `material` carries medium `medium` (-1: none) inside; `surface` false: a boundary only.
+  void set_material_medium(uint32_t material, int medium, bool surface);
+  int world_medium() const { return world_medium_; }
+  const std::vector<Medium>& media() const { return media_; }
+  const Medium& medium(uint32_t id) const { return media_[id]; }
+  // Whether any path can be in a medium: the world has one or a material does. Scenes without pay
+  // nothing: every media step is behind this test, once per pass or per path.
+  bool has_media() const;
+  // The medium a path with `stack` is in (nullptr: none).
+  const Medium* medium_of(const MediumStack& stack) const {
+    const int id = stack.top(world_medium_);
+    return id >= 0 ? &media_[static_cast<size_t>(id)] : nullptr;
+  }
+  // A path travelling along `direction` crosses the surface at `hit` (refracted, transmitted or a
+  // boundary only): its stack enters or leaves the material's medium by the side it came from.
+  void cross(const Hit& hit, const Vec3& direction, MediumStack& stack) const {
+    const int id = materials_[hit.material].medium;
+    if (id < 0) return;
+    if (glm::dot(direction, hit.geometric_normal) < 0.0)
+      stack.enter(id);
+    else
+      stack.leave(id);
+  }
+  // What arrives along a shadow ray over (0, distance) through media: the transmittance of each
+  // medium it crosses (boundaries only are crossed, with the stack), 0 where a surface is in the way.
+  Color shadow_transmittance(const Ray& ray, double distance, MediumStack stack) const;
+
   const Material& material(uint32_t id) const { return materials_[id]; }
   const std::vector<Material>& materials() const { return materials_; }
   const std::vector<Texture>& textures() const { return textures_; }
@@ -291,6 +325,8 @@ class Scene {
   void fill_hit(const Ray& ray, Hit& hit, double b1, double b2) const;
 
   std::vector<Material> materials_;
+  std::vector<Medium> media_;
+  int world_medium_ = -1;
   std::vector<Texture> textures_;
   MeshStore meshes_;
   std::vector<ObjectInfo> objects_;  // by object id (set_object_info)

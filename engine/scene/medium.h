@@ -1,0 +1,87 @@
+// Participating media of the render scene (issue 48, first landing): homogeneous media, each
+// RGB coefficients and a phase function (shading/medium_coefficients.h), and the medium stack a
+// path carries to know which medium it is in.
+//
+// Where media are: a material may carry an interior medium (Blender: a material's Volume output
+// fills the closed mesh it is on); the world may carry a medium that fills all space outside the
+// meshes with media. A material with a medium but no surface (`Material::surface` false, Blender's
+// Volume output alone) is a boundary only: rays cross it unchanged and only change medium.
+//
+// The medium stack (Cycles' volume stack): a path entering a mesh with a medium through a front
+// face pushes it, leaving through a back face removes it; the medium in effect is the innermost
+// (the stack's top), the world's where the stack is empty. So liquid in glass in fog resolves by
+// the order the path crossed the boundaries. Unlike Cycles, overlapping media do not add: the
+// innermost alone is in effect. Paths start in the world medium (cameras and lights inside a mesh
+// medium are not detected yet). Deeper than kMaxMediumStack, further entries are counted but not
+// kept (proper nesting assumed: a leave first undoes an uncounted enter), so 100 nested boxes
+// neither crash nor overflow.
+#pragma once
+
+#include "math/types.h"
+#include "shading/free_path.h"
+#include "shading/medium_coefficients.h"
+
+#include <cstdint>
+#include <string>
+
+namespace ppm {
+
+struct Medium {
+  std::string name;
+  MediumCoefficients c;  // validated: finite, >= 0, coefficients at most kMaxCoefficient
+  Color sigma_t{0.0};    // c.sigma_t()
+  bool scatters() const { return max_component(c.sigma_s) > 0.0; }
+  bool emits() const { return max_component(c.emission) > 0.0; }
+};
+
+constexpr int kMaxMediumStack = 7;
+// Boundaries a single ray segment's walk crosses at most (eye, photon and shadow rays): a hit
+// after that many ends the path (a scene of media boxes stacked deeper than this is refused by
+// nothing, it only loses light beyond).
+constexpr int kMaxMediumCrossings = 256;
+
+struct MediumStack {
+  int16_t ids[kMaxMediumStack] = {};
+  uint8_t count = 0;
+  uint8_t overflow = 0;  // entries beyond kMaxMediumStack, not kept
+  int top(int world) const { return count ? ids[count - 1] : world; }
+  void enter(int id) {
+    if (count < kMaxMediumStack)
+      ids[count++] = static_cast<int16_t>(id);
+    else if (overflow < 255)
+      ++overflow;
+  }
+  void leave(int id) {
+    if (overflow > 0) {
+      --overflow;
+      return;
+    }
+    for (int k = count - 1; k >= 0; --k)
+      if (ids[k] == id) {
+        for (int j = k; j + 1 < count; ++j) ids[j] = ids[j + 1];
+        --count;
+        return;
+      }
+  }
+};
+static_assert(sizeof(MediumStack) == 16, "MediumStack grew");
+
+// The radiance a homogeneous medium's emission adds along `distance` of a ray:
+// emission * integral_0^d T(t) dt, per channel (1 - exp(-sigma_t d)) / sigma_t, or d where a
+// channel has no extinction (0 over an infinite distance: an emitting medium without extinction
+// escaping to infinity would be infinitely bright; it adds nothing there instead).
+inline Color medium_emission_along(const Medium& m, double distance) {
+  Color out(0.0);
+  const double d = safe_distance(distance);
+  for (int c = 0; c < 3; ++c) {
+    const double s = m.sigma_t[c], e = m.c.emission[c];
+    if (!(e > 0.0)) continue;
+    if (s > 0.0)
+      out[c] = e * (d < kInf ? -std::expm1(-s * d) : 1.0) / s;
+    else if (d < kInf)
+      out[c] = e * d;
+  }
+  return out;
+}
+
+}  // namespace ppm
