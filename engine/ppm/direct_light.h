@@ -30,4 +30,11 @@ bool direct_light_pass(const Scene& scene, const LightSampler& lights, const Set
                        uint64_t pass, int threads, HitPoints& hit_points, DirectScratch& scratch,
                        std::atomic<bool>& cancel, const std::function<bool()>& poll, uint64_t first_index = 0);
 
+// Scenes with media: direct light at the hit points in media (`points[i].direct`), one sample per
+// analytic light (the world: about the eye direction and against it) and one emissive triangle,
+// through the phase function and the media's transmittance (Scene::shadow_transmittance).
+bool volume_direct_light_pass(const Scene& scene, const LightSampler& lights, const Settings& settings, uint64_t pass,
+                              int threads, std::vector<VolumeHitPoint>& points, std::atomic<bool>& cancel,
+                              const std::function<bool()>& poll, uint64_t first_index = 0);
+
 }  // namespace ppm

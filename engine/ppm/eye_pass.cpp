@@ -31,6 +31,8 @@ struct EyeVertex {
   // what the denoising normal is weighted by.
   double share = 1.0;
   uint8_t route = kNoBounce;  // the class of its chain's first bounce (light_components.h)
+  MediumStack media{};        // scenes with media: the media it is in (scene/medium.h)
+  uint16_t crossings = 0;     // boundaries without a surface crossed (kMaxMediumCrossings)
 };
 
 // The route after a bounce that sent a ray of `kind` from a vertex on `route`.
@@ -74,6 +76,7 @@ struct EyeTracer {
   double footprint;
   bool orthographic;
   BounceLimits limits;
+  bool media = false;  // the scene has media: every ray segment takes a medium step
 
   // A light's own Max Bounces: does it reach a path that has scattered `depth` times?
   static bool reaches(const Light& light, int depth) { return depth <= light.max_bounces; }
@@ -189,8 +192,72 @@ struct EyeTracer {
                         sp.tangent != Vec3(0.0) ? hit.tangent : glm::vec4(0.0f), hit.material, hit.object,
                         hit.primitive, pixel, path});
     if (limits.active) out.chain.push_back(v.chain);
+    if (media) out.media.push_back(v.media);
     if (options.record_components) out.route.push_back(v.route);
     if (features) features->add(v.throughput, denoising_albedo(m, sp, wo), ns, v.share);
+  }
+
+  // What a medium step (below) decided for the segment of v's ray up to the surface.
+  struct MediumStep {
+    Color weight{1.0};          // of reaching the surface (the free-path sampler's)
+    bool scattered = false;     // a hit point in the medium was recorded: the path ends
+    bool behind_light = false;  // a light is nearer than the surface: the path ends there
+  };
+
+  // Scenes with media: v's ray segment up to the surface at `t_surface` (kInf: none) in the medium
+  // it is in. Lights nearer than the surface are seen with the medium's transmittance to them and
+  // the medium's emission along the segment is added (both exactly, whatever the free path does:
+  // they are terms of the volume rendering equation of their own), then a free path is drawn; a
+  // scattering event before the end records a hit point in the medium (stochastic hit points).
+  MediumStep medium_step(const EyeVertex& v, double t_surface, Rng& rng, uint32_t pixel, ChunkOutput& out,
+                         Color& emitted) const {
+    MediumStep step;
+    double nearest = t_surface;
+    Color light(0.0);
+    for (uint32_t i : visible_lights) {
+      const Light& l = scene.lights()[i];
+      if (!(l.visibility & v.ray.kind) || !reaches(l, v.depth)) continue;
+      double t;
+      const Color L = light_seen(l, v.ray, nearest, t);
+      if (max_component(L) > 0.0) {
+        nearest = t;
+        light = L;
+      }
+    }
+    step.behind_light = nearest < t_surface;
+    const Medium* med = scene.medium_of(v.media);
+    if (med == nullptr) {
+      emitted += v.throughput * light;
+      return step;
+    }
+    emitted += v.throughput * (light * transmittance(med->sigma_t, nearest) + medium_emission_along(*med, nearest));
+    if (v.emission_only || !med->scatters()) {
+      step.weight = transmittance(med->sigma_t, nearest);
+      return step;
+    }
+    const double u1 = rng.uniform(), u2 = rng.uniform();
+    const FreePathSample f = sample_free_path(med->sigma_t, med->c.sigma_s, v.throughput, nearest, u1, u2);
+    if (f.event == FreePathEvent::Exit) {
+      step.weight = f.weight;
+      return step;
+    }
+    step.scattered = true;
+    Color unit(0.0);  // f.weight without sigma_s: T / pdf (see VolumeHitPoint)
+    for (int c = 0; c < 3; ++c) unit[c] = med->c.sigma_s[c] > 0.0 ? f.weight[c] / med->c.sigma_s[c] : 0.0;
+    const Vec3 position = v.ray.origin + f.distance * v.ray.direction;
+    double r = settings.initial_radius;
+    if (r <= 0.0) r = settings.initial_radius_pixels * pixel_size(v.length + f.distance);
+    r = std::fmax(r, 4.0 * ray_offset(position, scene.offset_floor()));
+    VolumeHitPoint h{};
+    h.position = position;
+    h.weight = Vec3f(v.throughput * unit);
+    h.direction = Vec3f(v.ray.direction);
+    h.r2 = static_cast<float>(r * r);
+    h.pixel = pixel;
+    h.medium = static_cast<int32_t>(med - scene.media().data());
+    h.media = v.media;
+    out.volume.push_back(h);
+    return step;
   }
 
   // Adds what the path sees directly to `emitted` and what of it is transparent to `transparency`.
@@ -205,20 +272,36 @@ struct EyeTracer {
     stack[top++] = EyeVertex{primary, weight, 0, 0.0, true, Bounces{}, false};
     const double tmax0 = scene.camera().clip_end - scene.camera().clip_start;
     while (top > 0) {
-      const EyeVertex v = stack[--top];
+      EyeVertex v = stack[--top];
       const FileEmission file{components, v, emitted, emitted};
       Hit hit;
       const bool found = scene.intersect(v.ray, hit, v.depth == 0 ? tmax0 : kInf);
       SeenLight* seen_here = v.depth == 0 ? seen : nullptr;  // Cycles' Emit and Env: no bounce
       const Color before = emitted;
-      const bool behind_a_light = see_lights(v.ray, v.depth, found ? hit.t : kInf, v.throughput, emitted);
-      if (seen_here) seen_here->emission += emitted - before;
-      if (behind_a_light) continue;
+      if (media) {
+        const MediumStep step = medium_step(v, found ? hit.t : kInf, rng, pixel, out, emitted);
+        if (seen_here) seen_here->emission += emitted - before;
+        if (step.scattered || step.behind_light) continue;
+        v.throughput *= step.weight;
+        if (!(max_component(v.throughput) > 0.0)) continue;
+      } else {
+        const bool behind_a_light = see_lights(v.ray, v.depth, found ? hit.t : kInf, v.throughput, emitted);
+        if (seen_here) seen_here->emission += emitted - before;
+        if (behind_a_light) continue;
+      }
       if (!found) {
         escape(v, emitted, transparency, seen_here);
         continue;
       }
       const Material& m = scene.material(hit.material);
+      if (media && !m.surface) {  // a boundary only: the same ray goes on in the next medium
+        if (++v.crossings > kMaxMediumCrossings) continue;
+        scene.cross(hit, v.ray.direction, v.media);
+        v.ray.origin = offset_point(hit.position, hit.geometric_normal, v.ray.direction, scene.offset_floor());
+        v.length += hit.t;
+        stack[top++] = v;
+        continue;
+      }
       if (ends_at_holdout(v, hit, m, transparency)) continue;
       if (m.emits()) {
         const Color emission = v.throughput * scene.emission(hit, -v.ray.direction, path_of(v, hit.t));
@@ -289,10 +372,17 @@ struct EyeTracer {
       if (branches[b].ray_kind == 0) {  // through a transparent lobe: no bounce, as Cycles counts it
         stack[top++] = EyeVertex{Ray{origin, wi, v.ray.kind}, thr, v.depth, length, v.glass_only, v.chain,
                                  v.emission_only, share, v.route};
-        continue;
+      } else {
+        stack[top++] = EyeVertex{Ray{origin, wi, kind}, thr,   v.depth + 1, length,
+                                 glass_only,            chain, emission_only, share, route_after(v.route, kind)};
       }
-      stack[top++] = EyeVertex{Ray{origin, wi, kind}, thr,   v.depth + 1, length,
-                               glass_only,            chain, emission_only, share, route_after(v.route, kind)};
+      if (media) {  // the branch keeps v's media, and changes them where it goes through the surface
+        EyeVertex& next = stack[top - 1];
+        next.media = v.media;
+        next.crossings = v.crossings;
+        if (glm::dot(wi, hit.geometric_normal) * glm::dot(v.ray.direction, hit.geometric_normal) > 0.0)
+          scene.cross(hit, v.ray.direction, next.media);
+      }
     }
   }
 };
@@ -310,7 +400,7 @@ void add_features(const SampleFeatures& f, int spp, Vec3f& albedo, Vec3f& normal
 EyeTracer make_tracer(const Scene& scene, const Settings& settings, const EyePassOptions& options) {
   const Camera& cam = scene.camera();
   EyeTracer tracer{scene, settings, options, {}, {}, nullptr, cam.pixel_footprint(),
-                   cam.projection == Projection::Orthographic, BounceLimits::of(settings, scene)};
+                   cam.projection == Projection::Orthographic, BounceLimits::of(settings, scene), scene.has_media()};
   for (uint32_t i = 0; i < scene.lights().size(); ++i) {
     const LightKind k = scene.lights()[i].kind;
     const bool spot_sphere = k == LightKind::Spot && scene.lights()[i].radius > 0.0;
@@ -361,6 +451,8 @@ void clear_chunk(ChunkOutput& o, size_t samples, bool chains) {
   o.chain.clear();
   o.sample.clear();
   o.route.clear();
+  o.media.clear();
+  o.volume.clear();
   o.points.reserve(samples);
   o.shading.reserve(samples);
   if (chains) o.chain.reserve(samples);
@@ -424,6 +516,18 @@ void join_chunks(std::vector<ChunkOutput>& outputs, size_t chunks, const EyePass
   out.stats.resize(total);
   out.chain.resize(chains ? total : 0);
   out.route.resize(options.record_components ? total : 0);
+  bool media = false;
+  size_t volume = 0;
+  for (size_t c = 0; c < chunks; ++c) media |= !outputs[c].media.empty(), volume += outputs[c].volume.size();
+  out.media.resize(media ? total : 0);
+  out.volume.clear();
+  if (media || volume) {  // scenes with media: their stacks beside the hit points, and the hit points in media
+    out.volume.reserve(volume);
+    for (size_t c = 0; c < chunks; ++c) {
+      std::copy(outputs[c].media.begin(), outputs[c].media.end(), out.media.begin() + first[c]);
+      out.volume.insert(out.volume.end(), outputs[c].volume.begin(), outputs[c].volume.end());
+    }
+  }
   out.components.resize(options.record_components ? total : 0);
   auto join = [&](size_t c) {
     ChunkOutput& o = outputs[c];

@@ -47,6 +47,8 @@ struct EyePassScratch {
     std::vector<Bounces> chain;  // with bounce limits
     std::vector<uint16_t> sample;  // with record_samples
     std::vector<uint8_t> route;    // with record_components
+    std::vector<MediumStack> media;       // scenes with media: each hit point's
+    std::vector<VolumeHitPoint> volume;   // scenes with media: the hit points in media
   };
   std::vector<Chunk> chunks;
   std::vector<uint32_t> counts;  // hit points per pixel

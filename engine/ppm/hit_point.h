@@ -71,6 +71,25 @@ struct SeenLight {
   Color environment{0.0};
 };
 
+// A hit point in a medium (stochastic hit points): where an eye path's free path ended in a
+// scattering event. It gathers volume photons in a sphere of radius r (the 3-D estimate,
+// progressive.h) and samples the lights through the phase function. `weight` is the eye path's
+// throughput times T / pdf of the distance drawn, without sigma_s: the volume photons' flux carries
+// sigma_s, direct light multiplies it in.
+struct VolumeHitPoint {
+  Vec3 position;
+  Vec3f weight;
+  Vec3f direction;  // the eye path's propagation direction into the point
+  float r2;
+  uint32_t pixel;
+  int32_t medium;
+  MediumStack media;  // the shadow rays' start
+  // Found this pass: the gathered photons (flux times phase times weight) and the direct light.
+  uint32_t m;
+  Vec3f tau;
+  Vec3f direct;
+};
+
 struct HitPoints {
   FillVector<HitPoint> points;
   FillVector<HitPointShading> shading;
@@ -91,11 +110,16 @@ struct HitPoints {
   std::vector<uint8_t> route;
   FillVector<HitPointComponents> components;
   std::vector<ComponentLight> pixel_components;
+  // In scenes with media: each hit point's medium stack (its shadow rays start with it), and the
+  // band's hit points in media, in pixel order.
+  std::vector<MediumStack> media;
+  std::vector<VolumeHitPoint> volume;
   size_t size() const { return points.size(); }
   size_t memory_bytes() const {
     return points.capacity() * sizeof(HitPoint) + shading.capacity() * sizeof(HitPointShading) +
            stats.capacity() * sizeof(HitPointStats) + chain.capacity() * sizeof(Bounces) + route.capacity() +
-           components.capacity() * sizeof(HitPointComponents) + pixel_bytes();
+           components.capacity() * sizeof(HitPointComponents) + media.capacity() * sizeof(MediumStack) +
+           volume.capacity() * sizeof(VolumeHitPoint) + pixel_bytes();
   }
   // Of which per pixel.
   size_t pixel_bytes() const {

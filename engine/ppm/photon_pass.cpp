@@ -4,6 +4,7 @@
 #include "ppm/error_estimate.h"
 #include "base/parallel.h"
 #include "ppm/photon_tracer.h"
+#include "ppm/photon_tracer_media.h"
 
 #include <algorithm>
 #include <chrono>
@@ -284,6 +285,8 @@ bool PhotonPass::trace_and_index(const Scene& scene, const LightSampler& lights,
                                                  : index_photons(hash_, chunks, typical_r2);
   };
   if (!run_polled(index, cancel, poll, settings_.progress_interval)) return false;
+  if (media_ && !run_polled([&] { count += index_volume_photons(chunks); }, cancel, poll, settings_.progress_interval))
+    return false;
   counters.index_seconds += seconds_since(t0);
   counters.deposited += count;
   counters.emitted += settings_.photons_per_pass;
@@ -321,20 +324,31 @@ bool PhotonPass::trace_into_chunks(const Scene& scene, const LightSampler& light
   const bool caustics = settings_.component_passes, guided = settings_.photon_guiding;
   if (caustics && chunk_caustic_.size() < chunks) chunk_caustic_.resize(chunks);
   if (guided && chunk_origin_.size() < chunks) chunk_origin_.resize(chunks);
+  media_ = scene.has_media();
+  if (media_ && chunk_volume_.size() < chunks) chunk_volume_.resize(chunks);
   auto trace = [&](int, size_t chunk) {
     auto& buffer = chunk_photons_[chunk];
     buffer.clear();
     if (caustics) chunk_caustic_[chunk].clear();
     if (guided) chunk_origin_[chunk].clear();
-    trace_photons(
-        scene, lights, settings_, limits_, chunk * kPhotonChunk,
-        std::min<uint64_t>(photons, (chunk + 1) * kPhotonChunk),
-        [&](uint64_t i) { return Rng(settings_.seed, kPhotonStream + pass, i); },
-        [&](const Vec3& pos, const Vec3& dir, const Vec3& normal, const Color& flux, const Bounces& used,
-            PhotonTag tag) {
-          buffer.push_back(Photon{pos, Vec3f(dir), Vec3f(normal), Vec3f(flux), used});
-          if (caustics) chunk_caustic_[chunk].push_back(tag.caustic);
-          if (guided) chunk_origin_[chunk].push_back(tag.origin);
+    auto rng_of = [&](uint64_t i) { return Rng(settings_.seed, kPhotonStream + pass, i); };
+    auto deposit = [&](const Vec3& pos, const Vec3& dir, const Vec3& normal, const Color& flux, const Bounces& used,
+                       PhotonTag tag) {
+      buffer.push_back(Photon{pos, Vec3f(dir), Vec3f(normal), Vec3f(flux), used});
+      if (caustics) chunk_caustic_[chunk].push_back(tag.caustic);
+      if (guided) chunk_origin_[chunk].push_back(tag.origin);
+    };
+    const uint64_t first = chunk * kPhotonChunk, last = std::min<uint64_t>(photons, (chunk + 1) * kPhotonChunk);
+    if (!media_) {
+      trace_photons(scene, lights, settings_, limits_, first, last, rng_of, deposit, guided ? &guide_ : nullptr);
+      return;
+    }
+    auto& volume = chunk_volume_[chunk];
+    volume.clear();
+    trace_photons_in_media(
+        scene, lights, settings_, limits_, first, last, rng_of, deposit,
+        [&](const Vec3& pos, const Vec3& dir, const Color& flux) {
+          volume.push_back(VolumePhoton{pos, Vec3f(dir), Vec3f(flux)});
         },
         guided ? &guide_ : nullptr);
   };
@@ -473,6 +487,66 @@ bool PhotonPass::gather_at_hit_points(const Grid& grid, const Scene& scene, cons
   return true;
 }
 
+// The pass's volume photons in their own quantile grid, stored in its cell order (as index_photons).
+size_t PhotonPass::index_volume_photons(size_t chunks) {
+  volume_traced_.clear();
+  for (size_t c = 0; c < chunks; ++c)
+    for (const VolumePhoton& v : chunk_volume_[c]) volume_traced_.push_back(v.position);
+  const size_t count = volume_traced_.size();
+  volume_positions_.resize(count);
+  volume_arrivals_.resize(count);
+  if (count == 0) return 0;
+  static const std::vector<double> kNoRadii;
+  volume_grid_.build(volume_traced_, kNoRadii, threads_);
+  volume_grid_.relabel_in_cell_order(volume_old_of_new_);
+  std::vector<uint32_t> new_of_old(count);
+  for (size_t i = 0; i < count; ++i) new_of_old[volume_old_of_new_[i]] = static_cast<uint32_t>(i);
+  size_t k = 0;
+  for (size_t c = 0; c < chunks; ++c)
+    for (const VolumePhoton& v : chunk_volume_[c]) {
+      volume_positions_[new_of_old[k]] = v.position;
+      volume_arrivals_[new_of_old[k]] = VolumeArrival{v.direction, v.flux};
+      ++k;
+    }
+  return count;
+}
+
+// Each hit point in a medium: the volume photons within r, each times the phase function from its
+// travel direction to the way back along the eye path, summed, times the hit point's weight.
+bool PhotonPass::gather_volume(const Scene& scene, std::vector<VolumeHitPoint>& points, std::atomic<bool>& cancel,
+                               const std::function<bool()>& poll, PhotonPassCounters& counters) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const size_t n = points.size(), chunks = (n + kHitPointChunk - 1) / kHitPointChunk;
+  const bool any = !volume_positions_.empty();
+  auto work = [&](int, size_t chunk) {
+    for (size_t i = chunk * kHitPointChunk; i < std::min(n, (chunk + 1) * kHitPointChunk); ++i) {
+      VolumeHitPoint& h = points[i];
+      h.m = 0;
+      h.tau = Vec3f(0.0f);
+      if (!any) continue;
+      const Phase& phase = scene.medium(static_cast<uint32_t>(h.medium)).c.phase;
+      const Vec3 center = h.position, back = -Vec3(h.direction);
+      const double r2 = h.r2, r = std::sqrt(r2);
+      Color sum(0.0);
+      uint32_t m = 0;
+      volume_grid_.for_each_run_in_box(center - r, center + r, [&](uint32_t begin, uint32_t end) {
+        for (uint32_t p = begin; p < end; ++p) {
+          const Vec3 d = volume_positions_[p] - center;
+          if (glm::dot(d, d) > r2) continue;
+          const VolumeArrival& a = volume_arrivals_[p];
+          ++m;
+          sum += Color(a.flux) * phase.eval(Vec3(a.direction), back);
+        }
+      });
+      h.m = m;
+      h.tau = Vec3f(sum * Color(h.weight));
+    }
+  };
+  if (!parallel_chunks(threads_, chunks, work, cancel, poll, settings_.progress_interval)) return false;
+  counters.gather_seconds += seconds_since(t0);
+  return true;
+}
+
 void PhotonPass::keep_band_credit() {
   if (band_credit_.empty()) return;
   pass_credit_.resize(band_credit_.size(), 0.0);
@@ -502,10 +576,15 @@ size_t PhotonPass::photon_bytes() const {
            arrival_origin_.capacity() * sizeof(int32_t);
   for (const auto& v : chunk_caustic_) bytes += v.capacity();
   for (const auto& v : chunk_origin_) bytes += v.capacity() * sizeof(int32_t);
+  for (const auto& v : chunk_volume_) bytes += v.capacity() * sizeof(VolumePhoton);
+  bytes += (volume_traced_.capacity() + volume_positions_.capacity()) * sizeof(Vec3) +
+           volume_arrivals_.capacity() * sizeof(VolumeArrival) + volume_old_of_new_.capacity() * sizeof(uint32_t);
   return bytes + (old_of_new_.capacity() + new_of_old_.capacity()) * sizeof(uint32_t);
 }
 
-size_t PhotonPass::index_bytes() const { return quantile_.memory_bytes() + hash_.memory_bytes(); }
+size_t PhotonPass::index_bytes() const {
+  return quantile_.memory_bytes() + hash_.memory_bytes() + volume_grid_.memory_bytes();
+}
 
 size_t PhotonPass::per_hit_point_bytes() const {
   size_t bytes = 0;

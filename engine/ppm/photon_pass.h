@@ -49,6 +49,13 @@ class PhotonPass {
                        std::atomic<bool>& cancel, const std::function<bool()>& poll, PhotonPassCounters& counters);
   bool gather(const Scene& scene, HitPoints& hp, std::atomic<bool>& cancel, const std::function<bool()>& poll,
               PhotonPassCounters& counters);
+  // Scenes with media (photon_tracer_media.h): the pass's volume photons, kept apart from the
+  // surface photons in a grid of their own, gathered into each hit point in a medium (`points`:
+  // their m and tau, the photons within the sphere of radius r weighted by the phase function and
+  // the hit point's weight). False if cancelled.
+  bool gather_volume(const Scene& scene, std::vector<VolumeHitPoint>& points, std::atomic<bool>& cancel,
+                     const std::function<bool()>& poll, PhotonPassCounters& counters);
+  size_t volume_photons() const { return volume_positions_.size(); }
 
   // The photons (as traced and in cell order), the spatial index, and what the pass keeps per hit point.
   size_t photon_bytes() const;
@@ -92,6 +99,7 @@ class PhotonPass {
                          std::atomic<bool>& cancel, const std::function<bool()>& poll);
   template <class Grid>
   size_t index_photons(Grid& grid, size_t chunks, double typical_r2);
+  size_t index_volume_photons(size_t chunks);
   // One hit point's photons by class of lobe, the caustic ones last (light_components.h).
   struct PhotonParts {
     Vec3f flux[kPhotonParts];
@@ -161,6 +169,22 @@ class PhotonPass {
   std::vector<PhotonParts> gathered_parts_;  // with light components
   std::vector<Vec3> centers_;
   std::vector<double> radii_;
+  // Volume photons (scenes with media): per chunk as traced, then in their grid's cell order.
+  struct VolumePhoton {
+    Vec3 position;
+    Vec3f direction;  // of travel into the scattering point
+    Vec3f flux;       // times sigma_s T / pdf (photon_tracer_media.h)
+  };
+  struct VolumeArrival {
+    Vec3f direction;
+    Vec3f flux;
+  };
+  bool media_ = false;  // the pass's scene has media
+  std::vector<std::vector<VolumePhoton>> chunk_volume_;
+  QuantileGrid volume_grid_;
+  std::vector<Vec3> volume_traced_, volume_positions_;
+  std::vector<VolumeArrival> volume_arrivals_;
+  std::vector<uint32_t> volume_old_of_new_;
 };
 
 }  // namespace ppm

@@ -8,6 +8,8 @@
 
 #include "ppm/hit_point.h"
 
+#include <cmath>
+
 namespace ppm {
 
 // The smallest r^2 the update shrinks to (m^2). Far below any radius a scene
@@ -37,6 +39,42 @@ inline double progressive_update(double& r2, HitPointStats& s, double alpha, uin
   s.m = 0;
   s.tau_m = Color(0.0);
   return ratio;
+}
+
+// The same rule for hit points in media, whose photons are gathered in a sphere (a 3-D density
+// estimate). PPM's rule keeps the photon density over the gather region: N / V = (N + alpha M) / V',
+// so the volume shrinks by the ratio, r^3 *= (n + alpha m) / (n + m), and r^2 by its 2/3 power; tau
+// by the ratio itself (the photons the smaller sphere keeps). Knaus & Zwicker (2011) reach the same
+// from the variance-bias balance: in d dimensions the variance grows as r^-d and the bias as r^2,
+// and the radius sequence r_i^d = r_1^d prod (k + alpha) / (k + 1) makes both vanish (their
+// volumetric photon points: d = 3). With m the pass's count this is Hachisuka's update in 3-D.
+inline double progressive_update_volume(double& r2, HitPointStats& s, double alpha, uint32_t threshold,
+                                        double min_r2 = kMinRadius2) {
+  if (s.m < threshold || s.m == 0) return 0.0;
+  const double m = static_cast<double>(s.m);
+  double ratio = (s.n + alpha * m) / (s.n + m);
+  const double r2_ratio = std::pow(ratio, 2.0 / 3.0);
+  if (r2 * r2_ratio >= min_r2) {
+    r2 *= r2_ratio;
+    s.tau = (s.tau + s.tau_m) * ratio;
+    s.n += alpha * m;
+  } else {
+    ratio = 1.0;
+    s.tau += s.tau_m;
+    s.n += m;
+  }
+  s.m = 0;
+  s.tau_m = Color(0.0);
+  return ratio;
+}
+
+// The volume estimate: flux per volume of the sphere, (tau + tau_m) / (4/3 pi r^3 N_emitted). The
+// photons' flux already carries sigma_s (photon_tracer_media.h), so this is sigma_s times the
+// in-scattered radiance, and hit points in media weigh it by their throughput over sigma_s.
+inline Color volume_photon_radiance(double r2, const HitPointStats& s, double photons_emitted, double flux_unit) {
+  if (photons_emitted <= 0.0 || r2 <= 0.0) return Color(0.0);
+  const double volume = 4.0 / 3.0 * kPi * r2 * std::sqrt(r2);
+  return (s.tau + s.tau_m) * (flux_unit / (volume * photons_emitted));
 }
 
 // Photon part of the radiance: flux per area per emitted photon. The pending

@@ -16,6 +16,8 @@ SceneAnalysis analyse_scene(const Scene& scene, const LightSampler& lights, cons
     if (!is_specular(m) && !is_black(m)) any_receiver = true;
     if (!is_black(m) && max_component(m.base_color) > 0.0) any_scatter = true;
   }
+  for (const Medium& m : scene.media())  // photons scatter in media and hit points gather there
+    if (m.scatters()) any_receiver = any_scatter = true;
   if (mixtures == 0 && !scene.materials().empty())
     a.skipped.push_back("mixture lobes: every material is a single kind (the direct BSDF paths)");
   if (!any_specular) {

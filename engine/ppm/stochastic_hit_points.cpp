@@ -29,6 +29,8 @@ bool StochasticHitPoints::prepare(const Poll&) {
   errors_.assign(pixels_.size(), PixelErrorStats{});
   seen_.assign(c_.settings.light_passes ? pixels_.size() : 0, SeenMeans{Vec3f(0.0f), Vec3f(0.0f)});
   components_.assign(c_.settings.component_passes ? pixels_.size() : 0, PixelComponents{});
+  media_ = c_.scene->has_media();
+  volume_pixels_.assign(media_ ? pixels_.size() : 0, FloatPhotonStats{});
   current_ = PassInProgress{};
   return true;
 }
@@ -84,6 +86,7 @@ bool StochasticHitPoints::band(const EyePassOptions& eye, uint64_t pass, const P
                            c_.cancel, poll, current_.hit_points))
       return false;
   }
+  if (media_ && !volume_band(first_pixel, index(pass), poll)) return false;
   {  // not polled: a band is folded whole or not at all
     ScopedSeconds timer(stats.update_seconds);
     if (global)
@@ -93,7 +96,7 @@ bool StochasticHitPoints::band(const EyePassOptions& eye, uint64_t pass, const P
     if (eye.record_depth) std::copy(fresh.depth.begin(), fresh.depth.end(), depth_.begin() + first_pixel);
   }
   c_.photon_pass.keep_band_credit();
-  current_.hit_points += fresh.size();
+  current_.hit_points += fresh.size() + fresh.volume.size();
   return true;
 }
 
@@ -104,6 +107,30 @@ bool StochasticHitPoints::gather_photons(bool first_band, uint64_t pass, const P
     for (const HitPoint& h : hit_points_.points) sum_r2 += h.r2;
   const double typical_r2 = hit_points_.size() ? sum_r2 / hit_points_.size() : 0.0;
   return c_.gather_band(hit_points_, first_band, pass, typical_r2, poll, current_.counters);
+}
+
+bool StochasticHitPoints::volume_band(size_t first_pixel, uint64_t pass, const Poll& poll) {
+  std::vector<VolumeHitPoint>& points = hit_points_.volume;
+  for (VolumeHitPoint& h : points) {  // the pixel's volume radius, its first hit point's to begin with
+    FloatPhotonStats& px = volume_pixels_[h.pixel];
+    if (px.r2 == 0.0f) px.r2 = h.r2;
+    h.r2 = px.r2;
+  }
+  if (c_.analysis.trace_photons && !c_.photon_pass.gather_volume(*c_.scene, points, c_.cancel, poll, current_.counters))
+    return false;
+  if (c_.analysis.sample_direct) {
+    ScopedSeconds timer(c_.stats.direct_seconds);
+    if (!volume_direct_light_pass(*c_.scene, c_.lights, c_.settings, pass, c_.threads, points, c_.cancel, poll,
+                                  current_.hit_points))
+      return false;
+  }
+  volume_band_.assign(hit_points_.pixel_begin.size() - 1, VolumeFound{0, Vec3f(0.0f), Vec3f(0.0f)});
+  for (const VolumeHitPoint& h : points) {
+    VolumeFound& f = volume_band_[h.pixel - first_pixel];
+    if (c_.analysis.trace_photons) f.m += h.m, f.tau += h.tau;
+    if (c_.analysis.sample_direct) f.direct += h.direct;
+  }
+  return true;
 }
 
 // Every hit point gathers with its pixel's current radius; a pixel's first comes from its first
@@ -184,6 +211,12 @@ void StochasticHitPoints::fold_band(size_t first_pixel, uint64_t pass, const uin
         pass_bias += fresh.stats[i].pass_bias;
       }
       const uint32_t samples = pixel_samples ? pixel_samples[first_pixel + p] : 1;
+      if (media_) {  // its hit points in media: direct light, and their photons by the 3-D rule
+        const VolumeFound& v = volume_band_[p];
+        light += Color(v.direct);
+        volume_pixels_[first_pixel + p].fold_volume((v.m + samples / 2) / samples, v.tau, c_.settings.alpha,
+                                                    c_.settings.threshold);
+      }
       m = (m + samples / 2) / samples;  // the photons of the pixel's mean sample, rounded
       PixelStats& px = pixels_[first_pixel + p];
       const double scale = c_.pass_radiance_scale(px.r2, photons);
@@ -251,7 +284,13 @@ PixelValue StochasticHitPoints::pixel(size_t p) const {
   // The rows a cancelled pass completed have its photons too.
   const bool in_pass = p < static_cast<size_t>(current_.next_row) * c_.scene->camera().width;
   const double emitted = static_cast<double>(in_pass ? current_.counters.emitted : c_.stats.photon.emitted);
-  return PixelValue{Color(px.light) + c_.photon_radiance(px.r2, px.in_double(), emitted), px.transparency};
+  Color volume(0.0);
+  if (media_) {
+    const FloatPhotonStats& v = volume_pixels_[p];
+    if (c_.analysis.trace_photons)
+      volume = volume_photon_radiance(v.r2, v.in_double(), emitted, c_.lights.flux_unit());
+  }
+  return PixelValue{Color(px.light) + c_.photon_radiance(px.r2, px.in_double(), emitted) + volume, px.transparency};
 }
 
 ComponentLight StochasticHitPoints::components(size_t p) const {
@@ -281,7 +320,7 @@ double StochasticHitPoints::radius_mean() const {
 void StochasticHitPoints::add_memory(MemoryUse& use) const {
   use.pixels += pixels_.capacity() * sizeof(PixelStats) + errors_.capacity() * sizeof(PixelErrorStats) +
                 depth_.capacity() * sizeof(float) + eye_samples_.capacity() + seen_.capacity() * sizeof(SeenMeans) +
-                components_.capacity() * sizeof(PixelComponents);
+                components_.capacity() * sizeof(PixelComponents) + volume_pixels_.capacity() * sizeof(FloatPhotonStats);
   use.hit_points += hit_points_.memory_bytes() + eye_scratch_.memory_bytes();
 }
 

@@ -57,6 +57,9 @@ class StochasticHitPoints : public Estimator {
   void fold_band(size_t first_pixel, uint64_t pass, const uint8_t* pixel_samples);
   void fold_band_global(size_t first_pixel, uint64_t pass);
   void fold_seen(size_t pixel, size_t band_pixel, uint64_t pass);
+  // Scenes with media: the band's hit points in media at their pixels' volume radii, their photons
+  // and direct light, summed per band pixel into volume_band_ (folded by fold_band).
+  bool volume_band(size_t first_pixel, uint64_t pass, const Poll& poll);
   template <class Scale>
   void pass_components(size_t p, ComponentLight& light, Vec3f photons[], Scale&& photon_scale) const;
   // The index in the still of this renderer's pass `pass` (its random numbers and global radius).
@@ -73,6 +76,15 @@ class StochasticHitPoints : public Estimator {
   };
   std::vector<SeenMeans> seen_;
   std::vector<PixelComponents> components_;  // with settings.component_passes (light_components.h)
+  // Scenes with media: per pixel, the photon statistics of its hit points in media (the 3-D rule,
+  // progressive.h), and per band pixel what the band's hit points in media found.
+  bool media_ = false;
+  std::vector<FloatPhotonStats> volume_pixels_;
+  struct VolumeFound {
+    uint32_t m;
+    Vec3f tau, direct;
+  };
+  std::vector<VolumeFound> volume_band_;
   HitPoints hit_points_;      // the band being made, reused: no pass allocates once sizes settle
   EyePassScratch eye_scratch_;
 };

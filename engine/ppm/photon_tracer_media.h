@@ -1,0 +1,95 @@
+// Photon paths in scenes with participating media (scene/medium.h): as photon_tracer.h, and on
+// every ray the photon samples a free path in the medium it is in (shading/free_path.h, Cycles'
+// chromatic distance sampling). A collision before the surface is a scattering event: the photon
+// is stored there as a VOLUME photon (its own list and grid, photon_pass.h), with its flux times the
+// free path's weight sigma_s T / pdf, so that the stored flux per volume estimates sigma_s times the
+// fluence; then Russian roulette on that weight and the phase function sampled (its value equals its
+// pdf, so the flux is unchanged). Otherwise the photon reaches the surface with the weight of
+// getting there (T / P(no collision); T itself in a medium that only absorbs). Boundaries without a
+// surface are crossed, and refractions through a surface with a medium change the medium stack.
+//
+// Scenes without media never come here (PhotonPass picks photon_tracer.h's trace_photons). Paths
+// are traced one after the other (no waves yet).
+#pragma once
+
+#include "ppm/photon_tracer.h"
+#include "shading/free_path.h"
+
+namespace ppm {
+
+// The scattering event at distance f.distance along p's ray in medium `med`: a volume photon
+// deposited (after the first bounce when direct light is sampled), then the phase function sampled.
+// False when the path ends.
+template <class DepositVolume>
+bool scatter_photon_in_medium(const Settings& settings, const BounceLimits& limits, PhotonPath& p, const Medium& med,
+                              const FreePathSample& f, DepositVolume&& deposit_volume, uint64_t& deposits) {
+  const Vec3 x = p.ray.origin + f.distance * p.ray.direction;
+  p.flux *= f.weight;
+  if (p.bounce > 0 || settings.direct_light == DirectLight::Photons) {
+    deposit_volume(x, p.ray.direction, p.flux);
+    ++deposits;
+  }
+  const double survive = std::fmin(1.0, max_component(f.weight));
+  if (!(survive > 0.0) || p.rng.uniform() >= survive) return false;
+  p.flux /= survive;
+  const double u1 = p.rng.uniform(), u2 = p.rng.uniform();
+  const PhaseSample s = med.c.phase.sample(p.ray.direction, u1, u2);
+  if (!(s.pdf > 0.0)) return false;
+  p.specular_only = false;
+  p.scattered = true;
+  p.ray = Ray{x, s.direction, kDiffuseRay};  // a volume scattering counts as a diffuse bounce
+  if (limits.active) {
+    if (p.bounce > 0) p.used = plus(p.used, kDiffuseRay);
+    if (!within(p.used, limits.max) || p.used.total >= limits.max.total) return false;
+  }
+  return ++p.bounce < settings.path_bounces();
+}
+
+// Traces photons [first, last) as trace_photons does, through media: surface photons to
+// `deposit`, volume photons to `deposit_volume(position, travel_direction, flux)`.
+template <class RngOf, class Deposit, class DepositVolume>
+uint64_t trace_photons_in_media(const Scene& scene, const LightSampler& lights, const Settings& settings,
+                                const BounceLimits& limits, uint64_t first, uint64_t last, RngOf&& rng_of,
+                                Deposit&& deposit, DepositVolume&& deposit_volume,
+                                const PhotonGuide* guide = nullptr) {
+  uint64_t deposits = 0;
+  for (uint64_t i = first; i < last; ++i) {
+    PhotonPath p = emit_photon_path(scene, lights, limits, rng_of(i), guide);
+    MediumStack media;  // lights are in the world medium
+    int crossings = 0;
+    for (;;) {
+      Hit hit;
+      const bool found = scene.intersect(p.ray, hit);
+      if (const Medium* med = scene.medium_of(media)) {
+        const double segment = found ? hit.t : kInf;
+        if (!med->scatters()) {
+          p.flux *= transmittance(med->sigma_t, segment);
+        } else {
+          const double u1 = p.rng.uniform(), u2 = p.rng.uniform();
+          const FreePathSample f = sample_free_path(med->sigma_t, med->c.sigma_s, p.flux, segment, u1, u2);
+          if (f.event == FreePathEvent::Scatter) {
+            if (!scatter_photon_in_medium(settings, limits, p, *med, f, deposit_volume, deposits)) break;
+            continue;
+          }
+          p.flux *= f.weight;
+        }
+        if (!(max_component(p.flux) > 0.0)) break;
+      }
+      if (!found) break;
+      const Material& m = scene.material(hit.material);
+      if (!m.surface) {  // a boundary only: the photon goes on in the next medium
+        if (++crossings > kMaxMediumCrossings) break;
+        scene.cross(hit, p.ray.direction, media);
+        p.ray.origin = offset_point(hit.position, hit.geometric_normal, p.ray.direction, scene.offset_floor());
+        continue;
+      }
+      const Vec3 d_in = p.ray.direction;
+      if (!bounce_photon(scene, settings, limits, p, &hit, deposit, deposits)) break;
+      const double side_in = glm::dot(d_in, hit.geometric_normal), side_out = glm::dot(p.ray.direction, hit.geometric_normal);
+      if (m.medium >= 0 && side_in * side_out > 0.0) scene.cross(hit, d_in, media);  // through the surface
+    }
+  }
+  return deposits;
+}
+
+}  // namespace ppm
