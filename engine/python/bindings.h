@@ -34,6 +34,7 @@ void bind_lights(SceneClass& c);        // light_bindings.cpp
 void bind_world(SceneClass& c);         // world_bindings.cpp
 void bind_camera(SceneClass& c);        // camera_bindings.cpp
 void bind_scene_queries(SceneClass& c); // scene_query_bindings.cpp: intersect, run_program
+void bind_media(SceneClass& c);         // medium_bindings.cpp: media; wraps add_material (after bind_materials)
 
 // Keyword arguments or a dict to Settings, and back (settings_bindings.cpp).
 Settings settings_from(const py::dict& values);

@@ -59,6 +59,7 @@ void bind_scene(py::module_& m) {
   bind_camera(c);
   bind_world(c);
   bind_scene_queries(c);
+  bind_media(c);
 }
 
 }  // namespace ppm::python

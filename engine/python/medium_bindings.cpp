@@ -1,0 +1,120 @@
+// Participating media from Python (scene/medium.h): Scene.add_medium, Scene.set_world_medium,
+// Scene.set_material_medium, and add_material's `medium` and `surface` keywords (add_material as
+// material_bindings.cpp binds it, wrapped: bind_scene calls this after bind_materials).
+#include "python/bindings.h"
+#include "python/convert.h"
+#include "scene/scene.h"
+
+#include <pybind11/pybind11.h>
+
+#include <cmath>
+#include <memory>
+#include <string>
+
+namespace py = pybind11;
+using namespace ppm;
+using namespace ppm::py_convert;
+
+namespace {
+
+// A medium named `name` or an index; None: -1.
+int medium_index(const Scene& s, const py::handle& medium, const std::string& what) {
+  if (medium.is_none()) return -1;
+  if (py::isinstance<py::str>(medium)) {
+    const std::string name = medium.cast<std::string>();
+    for (size_t i = 0; i < s.media().size(); ++i)
+      if (s.media()[i].name == name) return static_cast<int>(i);
+    fail(what, "no medium named '" + printable(name) + "' (add it with add_medium first)");
+  }
+  if (py::isinstance<py::int_>(medium)) return medium.cast<int>();
+  fail(what, "medium must be a medium's name, its index or None");
+}
+
+double finite_parameter(double x, const std::string& what, const std::string& field) {
+  if (!std::isfinite(x)) fail(what, field + " must be a finite number");
+  return x;
+}
+
+Phase phase_from(const std::string& kind, double anisotropy, double alpha, double backscatter, double ior,
+                 double diameter, const std::string& what) {
+  finite_parameter(anisotropy, what, "anisotropy");
+  if (std::fabs(anisotropy) > 1.0) fail(what, "anisotropy must be in [-1, 1] (clamped to 0.999 as Cycles does)");
+  if (kind == "henyey_greenstein") return henyey_greenstein_phase(anisotropy);
+  if (kind == "rayleigh") return rayleigh_phase();
+  if (kind == "draine") return draine_phase(anisotropy, finite_parameter(alpha, what, "alpha"));
+  if (kind == "fournier_forand")
+    return fournier_forand_phase(finite_parameter(backscatter, what, "backscatter"), finite_parameter(ior, what, "ior"));
+  if (kind == "mie") {
+    if (!(diameter >= 0.0 && diameter <= 50.0)) fail(what, "diameter must be in [0, 50] micrometres");
+    return mie_phase(diameter);
+  }
+  fail(what, "phase must be one of 'henyey_greenstein', 'rayleigh', 'draine', 'fournier_forand', 'mie', not '" +
+                 printable(kind) + "'");
+}
+
+uint32_t add_medium(Scene& s, const std::string& name, const py::object& sigma_a, const py::object& sigma_s,
+                    const py::object& emission, const std::string& phase, double anisotropy, double alpha,
+                    double backscatter, double ior, double diameter) {
+  const std::string what = "medium '" + checked_name(name, "medium") + "'";
+  for (const Medium& m : s.media())
+    if (m.name == name) fail(what, "a medium of that name exists already");
+  Medium m;
+  m.name = name;
+  m.c.sigma_a = color(sigma_a, what, "sigma_a");
+  m.c.sigma_s = color(sigma_s, what, "sigma_s");
+  m.c.emission = color(emission, what, "emission");
+  m.c.phase = phase_from(phase, anisotropy, alpha, backscatter, ior, diameter, what);
+  return s.add_medium(std::move(m));
+}
+
+}  // namespace
+
+namespace ppm::python {
+
+void bind_media(SceneClass& cls) {
+  cls.def("add_medium", &add_medium, py::arg("name"), py::arg("sigma_a") = 0.0, py::arg("sigma_s") = 0.0,
+          py::arg("emission") = 0.0, py::arg("phase") = "henyey_greenstein", py::arg("anisotropy") = 0.0,
+          py::arg("alpha") = 0.0, py::arg("backscatter") = 0.1, py::arg("ior") = 1.33, py::arg("diameter") = 10.0,
+          "A homogeneous medium: RGB absorption sigma_a, scattering sigma_s (per metre, each a colour or a "
+          "number) and emission (radiance per metre), with a phase function ('henyey_greenstein' with "
+          "`anisotropy`, 'rayleigh', 'draine' (anisotropy, alpha), 'fournier_forand' (backscatter, ior), 'mie' "
+          "(diameter in micrometres)). NaN, Inf, negative values or coefficients above 1e30 are a ValueError "
+          "naming the medium and field. Returns its index; materials (add_material(medium=)) and the world "
+          "(set_world_medium) name it. Media render with hit_points='stochastic'.");
+  cls.def(
+      "set_world_medium",
+      [](Scene& s, const py::object& medium) { s.set_world_medium(medium_index(s, medium, "world")); },
+      py::arg("medium"), "The medium (name or index; None: none) filling all space outside meshes with media.");
+  cls.def(
+      "set_material_medium",
+      [](Scene& s, uint32_t material, const py::object& medium, bool surface) {
+        s.set_material_medium(material, medium_index(s, medium, "material " + std::to_string(material)), surface);
+      },
+      py::arg("material"), py::arg("medium"), py::arg("surface") = true,
+      "Material `material` carries `medium` (name or index; None: none) inside the closed mesh it is on; "
+      "surface=False makes it a boundary only (Blender: a Volume output alone): rays cross it unchanged.");
+  // add_material(..., medium=None, surface=True): the other keywords go to add_material as bound in
+  // scene_bindings.cpp, then the medium is set.
+  py::object original = cls.attr("add_material");
+  cls.attr("add_material") = py::cpp_function(
+      [original](py::object self, py::args args, py::kwargs kwargs) -> py::object {
+        py::object medium = py::none();
+        bool surface = true;
+        if (kwargs.contains("medium")) medium = kwargs.attr("pop")("medium");
+        if (kwargs.contains("surface")) surface = kwargs.attr("pop")("surface").cast<bool>();
+        Scene& s = self.cast<Scene&>();
+        // Checked before the material is added, so that a bad medium adds nothing.
+        const int index = medium_index(s, medium, "material");
+        if (index >= static_cast<int>(s.media().size())) fail("material", "medium index out of range");
+        py::object result = original(self, *args, **kwargs);
+        if (index >= 0 || !surface) s.set_material_medium(result.cast<uint32_t>(), index, surface);
+        return result;
+      },
+      py::name("add_material"), py::is_method(cls),
+      py::doc((std::string(py::str(original.attr("__doc__"))) +
+               "\n\nmedium: a medium's name or index (add_medium) filling the closed mesh the material is on; "
+               "surface=False: the material has no surface, only the medium's boundary.")
+                  .c_str()));
+}
+
+}  // namespace ppm::python
