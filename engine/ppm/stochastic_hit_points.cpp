@@ -19,8 +19,10 @@ bool StochasticHitPoints::prepare(const Poll&) {
   // The pixels' statistics, a depth buffer and the image read back, before any of it is made; the
   // light passes' and adaptive sampling's where asked for.
   const double pixels = static_cast<double>(cam.width) * cam.height;
+  media_ = c_.scene->has_media();
   const size_t optional = (c_.settings.light_passes ? sizeof(SeenMeans) : 0) + (c_.settings.adaptive_samples > 1) +
-                          (c_.settings.component_passes ? sizeof(PixelComponents) : 0);
+                          (c_.settings.component_passes ? sizeof(PixelComponents) : 0) +
+                          (media_ ? sizeof(FloatPhotonStats) : 0);
   check_memory(static_cast<size_t>(pixels * (sizeof(PixelStats) + sizeof(PixelErrorStats) + 2 * sizeof(float) +
                                               4 * sizeof(float) + optional)),
                "stochastic hit points at " + std::to_string(cam.width) + "x" + std::to_string(cam.height),
@@ -29,7 +31,6 @@ bool StochasticHitPoints::prepare(const Poll&) {
   errors_.assign(pixels_.size(), PixelErrorStats{});
   seen_.assign(c_.settings.light_passes ? pixels_.size() : 0, SeenMeans{Vec3f(0.0f), Vec3f(0.0f)});
   components_.assign(c_.settings.component_passes ? pixels_.size() : 0, PixelComponents{});
-  media_ = c_.scene->has_media();
   volume_pixels_.assign(media_ ? pixels_.size() : 0, FloatPhotonStats{});
   current_ = PassInProgress{};
   return true;
