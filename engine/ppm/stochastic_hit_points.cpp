@@ -87,7 +87,7 @@ bool StochasticHitPoints::band(const EyePassOptions& eye, uint64_t pass, const P
                            c_.cancel, poll, current_.hit_points))
       return false;
   }
-  if (media_ && !volume_band(first_pixel, index(pass), poll)) return false;
+  if (media_ && !volume_band(first_pixel, index(pass), eye.pixel_samples, poll)) return false;
   {  // not polled: a band is folded whole or not at all
     ScopedSeconds timer(stats.update_seconds);
     if (global)
@@ -110,7 +110,11 @@ bool StochasticHitPoints::gather_photons(bool first_band, uint64_t pass, const P
   return c_.gather_band(hit_points_, first_band, pass, typical_r2, poll, current_.counters);
 }
 
-bool StochasticHitPoints::volume_band(size_t first_pixel, uint64_t pass, const Poll& poll) {
+// The band's hit points in media: gathered and lit (polled), then, with nothing polled left in the
+// band, their photons folded into their pixels' volume statistics (the 3-D rule) and their direct
+// light added to what the pixel's eye paths saw (`emitted`, folded with the rest by fold_band).
+bool StochasticHitPoints::volume_band(size_t first_pixel, uint64_t pass, const uint8_t* pixel_samples,
+                                      const Poll& poll) {
   std::vector<VolumeHitPoint>& points = hit_points_.volume;
   for (VolumeHitPoint& h : points) {  // the pixel's volume radius, its first hit point's to begin with
     FloatPhotonStats& px = volume_pixels_[h.pixel];
@@ -130,6 +134,13 @@ bool StochasticHitPoints::volume_band(size_t first_pixel, uint64_t pass, const P
     VolumeFound& f = volume_band_[h.pixel - first_pixel];
     if (c_.analysis.trace_photons) f.m += h.m, f.tau += h.tau;
     if (c_.analysis.sample_direct) f.direct += h.direct;
+  }
+  for (size_t p = 0; p < volume_band_.size(); ++p) {
+    const VolumeFound& f = volume_band_[p];
+    const uint32_t samples = pixel_samples ? pixel_samples[first_pixel + p] : 1;
+    volume_pixels_[first_pixel + p].fold_volume((f.m + samples / 2) / samples, f.tau, c_.settings.alpha,
+                                                c_.settings.threshold);
+    hit_points_.emitted[p] += Color(f.direct);
   }
   return true;
 }
@@ -212,12 +223,6 @@ void StochasticHitPoints::fold_band(size_t first_pixel, uint64_t pass, const uin
         pass_bias += fresh.stats[i].pass_bias;
       }
       const uint32_t samples = pixel_samples ? pixel_samples[first_pixel + p] : 1;
-      if (media_) {  // its hit points in media: direct light, and their photons by the 3-D rule
-        const VolumeFound& v = volume_band_[p];
-        light += Color(v.direct);
-        volume_pixels_[first_pixel + p].fold_volume((v.m + samples / 2) / samples, v.tau, c_.settings.alpha,
-                                                    c_.settings.threshold);
-      }
       m = (m + samples / 2) / samples;  // the photons of the pixel's mean sample, rounded
       PixelStats& px = pixels_[first_pixel + p];
       const double scale = c_.pass_radiance_scale(px.r2, photons);

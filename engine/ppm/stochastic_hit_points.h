@@ -58,8 +58,8 @@ class StochasticHitPoints : public Estimator {
   void fold_band_global(size_t first_pixel, uint64_t pass);
   void fold_seen(size_t pixel, size_t band_pixel, uint64_t pass);
   // Scenes with media: the band's hit points in media at their pixels' volume radii, their photons
-  // and direct light, summed per band pixel into volume_band_ (folded by fold_band).
-  bool volume_band(size_t first_pixel, uint64_t pass, const Poll& poll);
+  // and direct light, summed per band pixel into volume_band_, then folded into volume_pixels_.
+  bool volume_band(size_t first_pixel, uint64_t pass, const uint8_t* pixel_samples, const Poll& poll);
   template <class Scale>
   void pass_components(size_t p, ComponentLight& light, Vec3f photons[], Scale&& photon_scale) const;
   // The index in the still of this renderer's pass `pass` (its random numbers and global radius).
