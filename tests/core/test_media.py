@@ -64,6 +64,7 @@ def render(scene, passes, **settings):
 # ---- transmittance ----------------------------------------------------------------------------
 
 
+@pytest.mark.accuracy
 @pytest.mark.parametrize("surface", [False, True])
 def test_absorbing_slab_transmits_exp_minus_sigma_d(surface):
     """A camera looks at an emitter (radiance 2) through a 1.5 m box of absorbing medium: it sees
@@ -92,6 +93,7 @@ def test_absorbing_slab_transmits_exp_minus_sigma_d(surface):
     np.testing.assert_allclose(image.reshape(-1, 3), np.tile(expected, (64, 1)), rtol=2e-3)
 
 
+@pytest.mark.accuracy
 def test_shadow_ray_transmittance_to_a_surface():
     """A point light lights a diffuse floor through an absorbing box (a boundary only): the direct
     light at the floor is the unobstructed one times exp(-sigma_a d) (d: the path inside the box)."""
@@ -138,6 +140,7 @@ def single_scattering(origins, directions, light, intensity, sigma_s, sigma_t, g
     return out
 
 
+@pytest.mark.accuracy
 @pytest.mark.parametrize("g", [0.0, 0.6])
 def test_single_scattering_from_a_point_light_matches_the_integral(g):
     """A world of medium of albedo 0.004 with a point light just outside the view; the camera's
@@ -173,6 +176,7 @@ def test_single_scattering_from_a_point_light_matches_the_integral(g):
 # ---- furnace ------------------------------------------------------------------------------------
 
 
+@pytest.mark.accuracy
 def test_furnace_non_absorbing_ball_in_an_emitting_enclosure():
     """Walls that emit radiance 1 and reflect nothing around a ball of scattering, non-absorbing
     medium: radiance is 1 everywhere, through the ball too (single scattering by NEE, the rest by
@@ -197,6 +201,7 @@ def test_furnace_non_absorbing_ball_in_an_emitting_enclosure():
 # ---- photons against light sampling ------------------------------------------------------------
 
 
+@pytest.mark.accuracy
 def test_direct_light_by_photons_agrees_with_light_sampling_in_a_medium():
     """The same fog (albedo 0.5, g 0.3) over a diffuse floor lit by a point light just outside the
     view, direct light by light sampling (NEE through the phase function and the BSDF, with the
@@ -315,6 +320,7 @@ def test_medium_on_an_open_mesh_renders():
     assert np.all(np.isfinite(image)) and image.max() > 0
 
 
+@pytest.mark.accuracy
 def test_a_hundred_nested_media_boxes():
     """100 nested boxes each carrying an absorbing medium (boundaries only): deeper than the medium
     stack keeps, still finite and no hang; the innermost medium is in effect inside, so a ray through
