@@ -42,9 +42,11 @@ test: setup
 	@start=$$(date +%s); $(MAKE) --no-print-directory -j 2 --output-sync=target $(TEST_PARTS) && \
 	  echo "make test: the tests took $$(( $$(date +%s) - start )) s after the set-up"
 
+# The engine's sources compile as for the cores (tools/build_cores.sh): ccache serves them from those builds.
+CCACHE := $(if $(shell command -v ccache),-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
 test-cpp: .venv/.setup-done
-	cmake -S . -B build/tests -G Ninja -DPPM_BUILD_TESTS=ON -DPPM_BUILD_PYTHON=OFF -DCMAKE_BUILD_TYPE=Release >/dev/null
-	cmake --build build/tests -j $(JOBS)
+	cmake -S . -B build/tests -G Ninja -DPPM_BUILD_TESTS=ON -DPPM_BUILD_PYTHON=OFF -DCMAKE_BUILD_TYPE=Release $(CCACHE) >/dev/null
+	CCACHE_BASEDIR="$(CURDIR)" CCACHE_NOHASHDIR=1 cmake --build build/tests -j $(JOBS)
 	ctest --test-dir build/tests --output-on-failure -j $(JOBS)
 
 # Linux aarch64, the one other platform this machine can run: the C++ tests cross-built with Debian's
