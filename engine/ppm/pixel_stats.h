@@ -27,7 +27,11 @@ struct FloatPhotonStats {
   // Returns progressive_update's ratio (0: the photons stay pending).
   double fold(uint32_t found_m, const Vec3f& found_tau, double alpha, uint32_t threshold);
   // The same with the 3-D rule, for a pixel's hit points in media (progressive_update_volume).
-  double fold_volume(uint32_t found_m, const Vec3f& found_tau, double alpha, uint32_t threshold);
+  double fold_volume(uint32_t found_m, const Vec3f& found_tau, double alpha, uint32_t threshold) {
+    return fold_in(3, found_m, found_tau, alpha, threshold);
+  }
+  // fold() in a gather region of `dimensions` (progressive_update_in).
+  double fold_in(int dimensions, uint32_t found_m, const Vec3f& found_tau, double alpha, uint32_t threshold);
 };
 static_assert(sizeof(FloatPhotonStats) == 36, "FloatPhotonStats grew");
 
@@ -51,22 +55,14 @@ static_assert(sizeof(PixelPass) == 32, "PixelPass grew");
 constexpr double kMinPixelRadius2 = 1e-30;
 
 inline double FloatPhotonStats::fold(uint32_t found_m, const Vec3f& found_tau, double alpha, uint32_t threshold) {
-  HitPointStats s{n, m + found_m, 0.0f, Color(tau), Color(tau_m) + Color(found_tau), Color(0.0), 0.0f, 0};
-  double r2_double = r2;
-  const double ratio = progressive_update(r2_double, s, alpha, threshold, kMinPixelRadius2);
-  r2 = static_cast<float>(r2_double);
-  n = static_cast<float>(s.n);
-  m = s.m;
-  tau = Vec3f(s.tau);
-  tau_m = Vec3f(s.tau_m);
-  return ratio;
+  return fold_in(2, found_m, found_tau, alpha, threshold);
 }
 
-inline double FloatPhotonStats::fold_volume(uint32_t found_m, const Vec3f& found_tau, double alpha,
-                                           uint32_t threshold) {
+inline double FloatPhotonStats::fold_in(int dimensions, uint32_t found_m, const Vec3f& found_tau, double alpha,
+                                        uint32_t threshold) {
   HitPointStats s{n, m + found_m, 0.0f, Color(tau), Color(tau_m) + Color(found_tau), Color(0.0), 0.0f, 0};
   double r2_double = r2;
-  const double ratio = progressive_update_volume(r2_double, s, alpha, threshold, kMinPixelRadius2);
+  const double ratio = progressive_update_in(dimensions, r2_double, s, alpha, threshold, kMinPixelRadius2);
   r2 = static_cast<float>(r2_double);
   n = static_cast<float>(s.n);
   m = s.m;

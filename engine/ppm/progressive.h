@@ -20,40 +20,20 @@ namespace ppm {
 // keeps the estimate tau / (pi r^2) consistent instead of dividing by zero.
 constexpr double kMinRadius2 = 1e-200;
 
-// Returns the ratio the pending photons were folded in with (tau = (tau + tau_m) * ratio), or 0
-// if they stay pending: what the light components follow (light_components.h).
-inline double progressive_update(double& r2, HitPointStats& s, double alpha, uint32_t threshold,
-                                 double min_r2 = kMinRadius2) {
+// The update in a gather region of `dimensions` (2: a disc on a surface; 3: a sphere in a medium).
+// PPM's rule keeps the photon density over the region: N / V = (N + alpha M) / V', so the region
+// shrinks by the ratio, r^d *= (n + alpha m) / (n + m), r^2 by its 2/d power, and tau by the ratio
+// itself (the photons the smaller region keeps). Knaus & Zwicker (2011) reach the same from the
+// variance-bias balance: in d dimensions the variance grows as r^-d and the bias as r^2, and the
+// sequence r_i^d = r_1^d prod (k + alpha) / (k + 1) makes both vanish (their volumetric photon
+// points: d = 3). Returns the ratio the pending photons were folded in with (tau = (tau + tau_m) *
+// ratio), or 0 if they stay pending: what the light components follow (light_components.h).
+inline double progressive_update_in(int dimensions, double& r2, HitPointStats& s, double alpha, uint32_t threshold,
+                                    double min_r2 = kMinRadius2) {
   if (s.m < threshold || s.m == 0) return 0.0;
   const double m = static_cast<double>(s.m);
   double ratio = (s.n + alpha * m) / (s.n + m);
-  if (r2 * ratio >= min_r2) {
-    r2 *= ratio;
-    s.tau = (s.tau + s.tau_m) * ratio;
-    s.n += alpha * m;
-  } else {
-    ratio = 1.0;
-    s.tau += s.tau_m;
-    s.n += m;
-  }
-  s.m = 0;
-  s.tau_m = Color(0.0);
-  return ratio;
-}
-
-// The same rule for hit points in media, whose photons are gathered in a sphere (a 3-D density
-// estimate). PPM's rule keeps the photon density over the gather region: N / V = (N + alpha M) / V',
-// so the volume shrinks by the ratio, r^3 *= (n + alpha m) / (n + m), and r^2 by its 2/3 power; tau
-// by the ratio itself (the photons the smaller sphere keeps). Knaus & Zwicker (2011) reach the same
-// from the variance-bias balance: in d dimensions the variance grows as r^-d and the bias as r^2,
-// and the radius sequence r_i^d = r_1^d prod (k + alpha) / (k + 1) makes both vanish (their
-// volumetric photon points: d = 3). With m the pass's count this is Hachisuka's update in 3-D.
-inline double progressive_update_volume(double& r2, HitPointStats& s, double alpha, uint32_t threshold,
-                                        double min_r2 = kMinRadius2) {
-  if (s.m < threshold || s.m == 0) return 0.0;
-  const double m = static_cast<double>(s.m);
-  double ratio = (s.n + alpha * m) / (s.n + m);
-  const double r2_ratio = std::pow(ratio, 2.0 / 3.0);
+  const double r2_ratio = dimensions == 2 ? ratio : std::pow(ratio, 2.0 / dimensions);
   if (r2 * r2_ratio >= min_r2) {
     r2 *= r2_ratio;
     s.tau = (s.tau + s.tau_m) * ratio;
@@ -66,6 +46,18 @@ inline double progressive_update_volume(double& r2, HitPointStats& s, double alp
   s.m = 0;
   s.tau_m = Color(0.0);
   return ratio;
+}
+
+// A hit point on a surface (eq. 7-10 above).
+inline double progressive_update(double& r2, HitPointStats& s, double alpha, uint32_t threshold,
+                                 double min_r2 = kMinRadius2) {
+  return progressive_update_in(2, r2, s, alpha, threshold, min_r2);
+}
+
+// A hit point in a medium, its photons gathered in a sphere (a 3-D density estimate).
+inline double progressive_update_volume(double& r2, HitPointStats& s, double alpha, uint32_t threshold,
+                                        double min_r2 = kMinRadius2) {
+  return progressive_update_in(3, r2, s, alpha, threshold, min_r2);
 }
 
 // The volume estimate: flux per volume of the sphere, (tau + tau_m) / (4/3 pi r^3 N_emitted). The
