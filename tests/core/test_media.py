@@ -12,19 +12,9 @@ import numpy as np
 import pytest
 
 import ppm_core
+from core_scenes import look_at, quad
 
 MEDIA = {"hit_points": "stochastic", "seed": 3, "threads": 2}
-
-
-def look_at(eye, target, up=(0.0, 0.0, 1.0)):
-    eye, target, up = (np.asarray(v, dtype=float) for v in (eye, target, up))
-    back = eye - target
-    back /= np.linalg.norm(back)
-    right = np.cross(up, back)
-    right /= np.linalg.norm(right)
-    m = np.eye(4)
-    m[:3, 0], m[:3, 1], m[:3, 2], m[:3, 3] = right, np.cross(back, right), back, eye
-    return m
 
 
 def box(scene, name, lo, hi, material, object_id, inward=False):
@@ -80,13 +70,7 @@ def test_absorbing_slab_transmits_exp_minus_sigma_d(surface):
         slab = scene.add_material("ink", "diffuse", medium="ink", surface=False)
     emitter = scene.add_material("emitter", "emission", emission=(2.0, 2.0, 2.0))
     box(scene, "slab", (-1.0, -d / 2, -1.0), (1.0, d / 2, 1.0), slab, 0)
-    scene.add_mesh(
-        "panel",
-        np.array([[-3, 3, -3], [3, 3, -3], [3, 3, 3], [-3, 3, 3]], float),
-        np.array([[0, 2, 1], [0, 3, 2]]),
-        materials=emitter,
-        object_id=1,
-    )
+    quad(scene, "panel", [[-3, 3, -3], [-3, 3, 3], [3, 3, 3], [3, 3, -3]], emitter, object_id=1)
     camera(scene, (0, -4, 0), (0, 0, 0), size=8, fov=0.01)  # narrow: every ray crosses d (to 1e-5)
     image, _ = render(scene, passes=2, photons_per_pass=2000)
     expected = 2.0 * np.exp(-sigma_a * d)
@@ -103,13 +87,7 @@ def test_shadow_ray_transmittance_to_a_surface():
         scene.add_medium("ink", sigma_a=0.8)
         floor = scene.add_material("floor", "diffuse", base_color=0.5)
         ink = scene.add_material("ink", "diffuse", medium="ink", surface=False)
-        scene.add_mesh(
-            "floor",
-            np.array([[-5, -5, 0], [5, -5, 0], [5, 5, 0], [-5, 5, 0]], float),
-            np.array([[0, 1, 2], [0, 2, 3]]),
-            materials=floor,
-            object_id=0,
-        )
+        quad(scene, "floor", [[-5, -5, 0], [5, -5, 0], [5, 5, 0], [-5, 5, 0]], floor, object_id=0)
         if with_box:
             box(scene, "ink", (-2, -2, 1.0), (2, 2, 2.0), ink, 1)
         scene.add_light("point", power=100.0, position=(0, 0, 3))
@@ -215,13 +193,7 @@ def test_direct_light_by_photons_agrees_with_light_sampling_in_a_medium():
         scene.add_medium("fog", sigma_a=0.3, sigma_s=0.3, anisotropy=0.3)
         scene.set_world_medium("fog")
         floor = scene.add_material("floor", "diffuse", base_color=0.6)
-        scene.add_mesh(
-            "floor",
-            np.array([[-4, -4, 0], [4, -4, 0], [4, 4, 0], [-4, 4, 0]], float),
-            np.array([[0, 1, 2], [0, 2, 3]]),
-            materials=floor,
-            object_id=0,
-        )
+        quad(scene, "floor", [[-4, -4, 0], [4, -4, 0], [4, 4, 0], [-4, 4, 0]], floor, object_id=0)
         scene.add_light("point", power=400.0, position=(2.2, 1.0, 1.5))
         scene.set_camera(look_at((0, -2.5, 1.0), (0, 0.5, 0.4)), 12, 12, fov=0.9)
         img, _ = render(scene, passes=100, photons_per_pass=20000, direct_light=direct, initial_radius=0.2)
@@ -268,13 +240,7 @@ def fog_box_scene(coefficient, size=8):
     vol = scene.add_material("m", "diffuse", medium="m", surface=False)
     back = scene.add_material("back", "emission", emission=1.0)
     box(scene, "box", (-1, -1, -1), (1, 1, 1), vol, 0)
-    scene.add_mesh(
-        "panel",
-        np.array([[-3, 3, -3], [3, 3, -3], [3, 3, 3], [-3, 3, 3]], float),
-        np.array([[0, 2, 1], [0, 3, 2]]),
-        materials=back,
-        object_id=1,
-    )
+    quad(scene, "panel", [[-3, 3, -3], [-3, 3, 3], [3, 3, 3], [3, 3, -3]], back, object_id=1)
     scene.add_light("point", power=50.0, position=(0, -2, 2))
     camera(scene, (0, -4, 0), (0, 0, 0), size=size, fov=0.2)
     return scene
@@ -300,20 +266,8 @@ def test_medium_on_an_open_mesh_renders():
     scene.add_medium("m", sigma_a=0.5, sigma_s=0.5)
     vol = scene.add_material("m", "diffuse", medium="m", surface=False)
     floor = scene.add_material("floor", "diffuse", base_color=0.5)
-    scene.add_mesh(
-        "sheet",
-        np.array([[-1, -1, 0], [1, -1, 0], [1, 1, 0], [-1, 1, 0]], float) + [0, 0, 1],
-        np.array([[0, 1, 2], [0, 2, 3]]),
-        materials=vol,
-        object_id=0,
-    )
-    scene.add_mesh(
-        "floor",
-        np.array([[-4, -4, 0], [4, -4, 0], [4, 4, 0], [-4, 4, 0]], float),
-        np.array([[0, 1, 2], [0, 2, 3]]),
-        materials=floor,
-        object_id=1,
-    )
+    quad(scene, "sheet", [[-1, -1, 1], [1, -1, 1], [1, 1, 1], [-1, 1, 1]], vol, object_id=0)
+    quad(scene, "floor", [[-4, -4, 0], [4, -4, 0], [4, 4, 0], [-4, 4, 0]], floor, object_id=1)
     scene.add_light("point", power=100.0, position=(0, 0, 3))
     scene.set_camera(look_at((0, -0.5, 3), (0, 0, 0)), 8, 8, fov=0.8)
     image, _ = render(scene, passes=3, photons_per_pass=5000)
@@ -332,13 +286,7 @@ def test_a_hundred_nested_media_boxes():
     for k in range(100):
         h = 1.0 - 0.009 * k
         box(scene, f"box{k}", (-h, -h, -h), (h, h, h), vol, k)
-    scene.add_mesh(
-        "panel",
-        np.array([[-3, 3, -3], [3, 3, -3], [3, 3, 3], [-3, 3, 3]], float),
-        np.array([[0, 2, 1], [0, 3, 2]]),
-        materials=back,
-        object_id=200,
-    )
+    quad(scene, "panel", [[-3, 3, -3], [-3, 3, 3], [3, 3, 3], [3, 3, -3]], back, object_id=200)
     camera(scene, (0, -4, 0), (0, 0, 0), size=4, fov=0.02)
     image, _ = render(scene, passes=1, photons_per_pass=1000)
     assert np.all(np.isfinite(image))
