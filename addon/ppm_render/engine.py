@@ -15,7 +15,7 @@ import bpy
 
 from . import core, export, passes, viewport
 from .export.camera import Frame
-from .properties import render_settings
+from .properties import media_settings, render_settings
 from .viewport_camera import region_view
 
 DISPLAY_INTERVAL = 1.0  # seconds between refreshes of the render window
@@ -182,6 +182,8 @@ class PPMRenderEngine(bpy.types.RenderEngine):
         components = passes.component_passes_wanted(layer, scene.ppm)
         settings = {**render_settings(scene), "light_passes": layer.use_pass_emit or layer.use_pass_environment,
                     "component_passes": bool(components)}
+        if ppm_scene.has_media:
+            settings = media_settings(settings, scene, self.warn)
         try:
             renderer = ppm_core.Renderer(ppm_scene, **settings)
         except Exception as error:  # noqa: BLE001 - every failure must reach the user

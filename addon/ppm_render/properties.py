@@ -144,6 +144,20 @@ def render_settings(scene):
     return {**core_settings(scene.ppm), **film_settings(scene), **light_path_settings(scene)}
 
 
+def media_settings(settings, scene, warn):
+    """`settings` (render_settings') for a scene with media (fog, a world volume, a volume-only
+    material): these render with stochastic hit points for now, so Fixed gives way, warned; with Cycles
+    Light Paths on, Cycles' Max Bounces > Volume is not honoured yet (light scatters in media up to the
+    total), warned where it is below the total."""
+    if settings["hit_points"] == "fixed":
+        warn("media render with stochastic hit points only (for now); Hit Points 'Fixed' is ignored")
+    cycles = getattr(scene, "cycles", None)
+    if settings.get("light_path_limits") and cycles is not None and cycles.volume_bounces < cycles.max_bounces:
+        warn(f"Cycles' Light Paths > Volume bounces ({cycles.volume_bounces}) is not honoured yet: light scatters "
+             f"in media up to the total ({cycles.max_bounces}), so thick media render brighter than in Cycles")
+    return {**settings, "hit_points": "stochastic"}
+
+
 def film_settings(scene):
     """Alpha as Cycles renders it: Film > Transparent, and its Transparent Glass (Cycles' own setting,
     read where the Cycles add-on is present). Cycles counts glass up to a roughness of 0.1 as

@@ -81,6 +81,17 @@ void bind_media(SceneClass& cls) {
           "(diameter in micrometres)). NaN, Inf, negative values or coefficients above 1e30 are a ValueError "
           "naming the medium and field. Returns its index; materials (add_material(medium=)) and the world "
           "(set_world_medium) name it. Media render with hit_points='stochastic'.");
+  cls.def_property_readonly(
+      "media",
+      [](const Scene& s) {
+        py::list names;
+        for (const Medium& m : s.media()) names.append(m.name);
+        return names;
+      },
+      "The media's names, by index.");
+  cls.def_property_readonly("has_media", &Scene::has_media,
+                            "Whether anything renders through media: a world medium, a material's medium, or a "
+                            "material without a surface.");
   cls.def(
       "set_world_medium",
       [](Scene& s, const py::object& medium) { s.set_world_medium(medium_index(s, medium, "world")); },

@@ -140,8 +140,22 @@ class Exporter:
         slots = self.slot_materials(obj)
         data = self.mesh_of(obj, slots)
         self.describe_object(item, slots)
+        self.check_volume_closed(obj, data, slots)
         added = self.put_mesh(data, item, slots, False)
         return Exported(detached(item), self.mesh_key(obj)[1], "mesh", data, added)
+
+    def check_volume_closed(self, obj, data, slots):
+        """Warns where a material with a Volume output is on faces that do not close: a path entering
+        through the hole never leaves the medium (as in Cycles, which this renders the same)."""
+        volume_slots = [k for k, index in enumerate(slots) if index in self.materials.with_volume]
+        if data is None or not volume_slots:
+            return
+        if data.open_volume_edges is None:
+            data.open_volume_edges = data.open_edges(volume_slots)
+        if data.open_volume_edges:
+            self.skip(obj, f"the faces carrying its Volume material are not closed ({data.open_volume_edges} edges "
+                           "bound one face, or more than two): light entering through the opening never leaves "
+                           "the medium (as in Cycles); close the mesh")
 
     def put_mesh(self, data, item, slots, replacing):
         """Adds `data` at `item`'s matrix, or `replacing`, in place of the object's triangles in the core

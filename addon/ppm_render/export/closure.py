@@ -89,6 +89,8 @@ class ClosureReader:
         self.depth = 0  # Mix and Add shaders entered
         self.normal_node = None  # the shader whose Normal is the material's normal map
         self.program = ProgramCompiler(self, texture, core) if core is not None else None
+        # What a warning says of a socket that takes only constants when a texture drives it
+        self.varying_note = "is driven by a texture, which is not supported for it"
 
     def warn(self, node, message):
         key = (node.name if node is not None else "", message)
@@ -185,8 +187,7 @@ class ClosureReader:
                 return self.program.constant_value(value)
             if not varying:
                 self.program.rewind(mark)
-                self.warn(node, f"'{name}' is driven by a texture, which is not supported for it; using the "
-                                "socket's own value")
+                self.warn(node, f"'{name}' {self.varying_note}; using the socket's own value")
                 return None
             return self.program.add_output(value)
         except Unsupported as error:
@@ -753,18 +754,13 @@ def read_surface(material, warn, texture=None, core=None, attributes=None):
     export's object_info.AttributeTable."""
     if not nodes.uses_nodes(material):
         return None
-    outputs = [n for n in material.node_tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial"]
-    active = ([n for n in outputs if n.is_active_output and n.target in ("ALL", "CYCLES")] or
-              [n for n in outputs if n.is_active_output] or outputs)
-    if not active:
+    output = nodes.active_output(material.node_tree, "ShaderNodeOutputMaterial")
+    if output is None:
         return None
     reader = ClosureReader(material.name, warn, texture, core, attributes=attributes)
-    reader.closure(active[0].inputs["Surface"], (), Weight(np.ones(3)))
-    for message in unrendered.material_outputs(active[0]):
+    reader.closure(output.inputs["Surface"], (), Weight(np.ones(3)))
+    for message in unrendered.material_outputs(output):
         reader.warn(None, message)
-    if unrendered.output_driven(active[0].inputs.get("Volume")) and \
-            not unrendered.output_driven(active[0].inputs["Surface"]):
-        reader.out.add(Weight(np.ones(3)), kind="transparent", color=(1.0, 1.0, 1.0))  # a volume's boundary
     if reader.program is not None and reader.program.outputs:
         reader.out.program = reader.program.program()
         reader.out.simple_images = reader.program.output_images()

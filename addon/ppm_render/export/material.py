@@ -12,8 +12,9 @@ import math
 
 import numpy as np
 
-from . import closure
+from . import closure, nodes
 from . import image as image_export
+from . import volume
 
 DEFAULT_GREY = (0.8, 0.8, 0.8)
 
@@ -39,6 +40,7 @@ class MaterialExporter:
         self.needed_attribute = None  # that of the material describe() read last
         self.copied = set()  # core materials with a copy without emission (without_emission)
         self.pass_indices = {}  # core material -> its Blender material's Pass Index (Material Index pass)
+        self.with_volume = set()  # core materials with a Volume output (a medium, or a boundary only)
 
     def index(self, material):
         """Core material index for a Blender material (None = default grey)."""
@@ -48,8 +50,10 @@ class MaterialExporter:
             return self.default
         key = material_key(material)
         if key not in self.indices:
-            params = self.in_range(self.describe(material), material.name)
+            params = {**self.in_range(self.describe(material), material.name), **self.volume(material)}
             self.indices[key] = self.scene.add_material(material.name, **params)
+            if "surface" in params:
+                self.with_volume.add(self.indices[key])
             self.pass_indices[self.indices[key]] = material.pass_index
             if self.needed_tangents:
                 self.tangents[self.indices[key]] = self.needed_tangents
@@ -99,8 +103,8 @@ class MaterialExporter:
         take, or one whose meshes or objects must now carry other data (tangents, an attribute,
         object info for a node program, an object attribute no material read before)."""
         index = self.indices.get(material_key(material))
-        if index is None or index in self.copied:
-            return False
+        if index is None or index in self.copied or index in self.with_volume or self.volume_driven(material):
+            return False  # (media are added once: a changed one needs the whole export)
         slots = len(self.attributes_table.slots) if self.attributes_table is not None else 0
         params = self.in_range(self.describe(material), material.name)
         program = "program" in params
@@ -119,6 +123,20 @@ class MaterialExporter:
             self.emissive.add(index)
             self.non_emissive[index] = {**params, "emission": (0.0, 0.0, 0.0)}
         return True
+
+    @staticmethod
+    def volume_driven(material):
+        return nodes.uses_nodes(material) and volume.volume_socket(material.node_tree, "ShaderNodeOutputMaterial") is not None
+
+    def volume(self, material):
+        """add_material's medium keywords for `material`'s Volume output: {} without one; else its medium
+        (None where it has no coefficient) and surface=False where nothing drives its Surface (Cycles
+        renders that surface invisible: a boundary only)."""
+        if not self.volume_driven(material):
+            return {}
+        keywords = volume.material_medium(material, self.warn, self.scene)
+        name = volume.add(self.scene, f"material '{material_key(material)}'", keywords, self.warn)
+        return {"medium": name, "surface": volume.surface_driven(material.node_tree)}
 
     def describe(self, material):
         """Keyword arguments for Scene.add_material."""

@@ -119,6 +119,7 @@ class MeshData:
         self.colors = None              # (T, 3, 4) the attribute its materials' programs read, or None
         self.attribute_missing = False  # asked for, but the mesh has no such attribute
         self._compact = None            # compact(), made once
+        self.open_volume_edges = None   # open_edges() of its Volume materials' slots, once counted
 
     @classmethod
     def from_object(cls, obj, tangents=None, attribute=None):
@@ -158,6 +159,16 @@ class MeshData:
             return data
         finally:
             obj.to_mesh_clear()
+
+    def open_edges(self, slots):
+        """Edges of the triangles in material `slots` that do not join exactly two of them: 0 where those
+        triangles close a volume (by vertex index: a seam of split vertices counts as open)."""
+        chosen = self.triangles[np.isin(self.slots, slots)]
+        if len(chosen) == 0:
+            return 0
+        edges = np.sort(np.concatenate([chosen[:, [0, 1]], chosen[:, [1, 2]], chosen[:, [2, 0]]]), axis=1)
+        _, counts = np.unique(edges, axis=0, return_counts=True)
+        return int(np.count_nonzero(counts != 2))
 
     def add_to_scene(self, core_scene, item, material_indices):
         """Adds the mesh as one Instance (transformed by its matrix), with slot -> core material

@@ -12,6 +12,15 @@ def uses_nodes(datablock, always_from=(5, 0, 0)):
     return True if bpy.app.version >= always_from else datablock.use_nodes
 
 
+def active_output(tree, output_type):
+    """The output node of type `output_type` Cycles renders from: the active one meant for all engines or
+    Cycles, else the active one, else the first; None if the tree has none."""
+    outputs = [n for n in tree.nodes if n.bl_idname == output_type]
+    active = ([n for n in outputs if n.is_active_output and getattr(n, "target", "ALL") in ("ALL", "CYCLES")] or
+              [n for n in outputs if n.is_active_output] or outputs)
+    return active[0] if active else None
+
+
 def surface_source(tree, output_type, targets=None):
     """The node linked to the Surface socket of the tree's active output of type `output_type` (its
     first one if none is active, or none active for one of `targets`), or None."""

@@ -1,8 +1,7 @@
 """What the export meets in a scene and cannot render yet, each said once, naming what carries it.
 
-Nothing Blender hands over is dropped silently: a material's Volume and Displacement outputs, a
-world's Volume output, light and shadow linking, light groups, shadow catchers, AOV outputs,
-Cryptomatte and hair particles drawn as strands. Each message says what is rendered instead. (Object
+Nothing Blender hands over is dropped silently: a material's Displacement output, light and shadow
+linking, light groups, shadow catchers, AOV outputs, Cryptomatte and hair particles drawn as strands. Each message says what is rendered instead. (Object
 types the core has no geometry for, hair Curves, point clouds and Volume objects, are left out by the
 exporter itself: export/__init__.py, UNRENDERED_TYPES.)
 """
@@ -16,28 +15,11 @@ def output_driven(socket):
 
 
 def material_outputs(output):
-    """Messages about a material's active output node: its Volume and Displacement inputs."""
-    messages = []
-    if output_driven(output.inputs.get("Volume")):
-        surface = output_driven(output.inputs.get("Surface"))
-        messages.append("its Volume output is not rendered yet (no participating media); "
-                        + ("its surface is" if surface else
-                           "its surface is transparent, as Cycles renders a volume-only material, and") +
-                        " rendered without the volume")
+    """Messages about a material's active output node: its Displacement input (its Volume is a
+    medium: volume.py)."""
     if output_driven(output.inputs.get("Displacement")):
-        messages.append("its Displacement output is not rendered yet (Cycles' default, Bump Only, shades it "
-                        "as a bump); the surface is shaded undisplaced")
-    return messages
-
-
-def world_outputs(world):
-    """Messages about a world's active output: its Volume input."""
-    if world is None or not nodes.uses_nodes(world):
-        return []
-    outputs = [n for n in world.node_tree.nodes if n.bl_idname == "ShaderNodeOutputWorld"]
-    active = [n for n in outputs if n.is_active_output] or outputs
-    if active and output_driven(active[0].inputs.get("Volume")):
-        return ["its Volume output is not rendered yet (no participating media); the air is left clear"]
+        return ["its Displacement output is not rendered yet (Cycles' default, Bump Only, shades it as a bump); "
+                "the surface is shaded undisplaced"]
     return []
 
 
@@ -80,5 +62,4 @@ def view_layer_features(view_layer, scene):
     if world is not None and getattr(world, "lightgroup", ""):
         messages.append(f"world '{world.name}': light group '{world.lightgroup}' is not rendered yet; "
                         "no Light Group pass")
-    messages += [f"world '{world.name}': {message}" for message in world_outputs(world)]
     return messages

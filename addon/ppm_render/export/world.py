@@ -11,14 +11,15 @@ background) and as diffuse rays see it (the world that lights the scene).
 Reads the Background node feeding the active World Output. A network the compiler cannot take falls
 back to the socket's own value with a warning. The world's ray visibility (World > Settings > Ray
 Visibility, `cycles_visibility`) decides which escaping rays see it, and its Max Bounces (World >
-Settings > Light Path) the longest path it lights.
+Settings > Light Path) the longest path it lights. The world's Volume output is the medium filling
+all space outside the meshes with media of their own (volume.py).
 """
 
 import math
 
 import numpy as np
 
-from . import closure, nodes, object_info
+from . import closure, nodes, object_info, volume
 from . import image as image_export
 from .node_program import Unsupported
 from .visibility import own_max_bounces
@@ -210,7 +211,10 @@ def add_world(core_scene, world, warn, attributes=None):
     `attributes`: the export's object_info.AttributeTable (its view-layer attributes)."""
     if world is None:
         core_scene.set_background((0.0, 0.0, 0.0))
+        core_scene.set_world_medium(None)
         return
+    keywords = volume.world_medium(world, warn, core_scene)
+    core_scene.set_world_medium(volume.add(core_scene, f"world '{world.name}'", keywords, warn))
     try:
         WorldExporter(core_scene, world, warn, attributes).export()
     except ValueError as error:

@@ -1,0 +1,165 @@
+"""PPM against Cycles through participating media, in the running Blender.
+
+A floor (albedo 0.5) and a diffuse ball seen from the side, in media the add-on reads from Blender
+(export/volume.py) and the core renders with volume photons:
+- world_fog: the World's Volume Scatter (density 0.08, anisotropy 0.3) around everything, under a
+  point light of radius 0.1 m;
+- fog_cube_spot: a 2 m cube of Volume Scatter (density 0.4, no Surface) under a spot light of radius
+  0.1 m, the ball outside it: the beam and its shadow in the fog;
+- ink_in_glass: a glass cube (IOR 1.33) holding red Volume Absorption, on the floor under an area light;
+- smoke_ball: a Principled Volume ball (density 3, a colour, an absorption colour) under the point light;
+- glowing_cloud (GAPS: not yet right, run by name): a Principled Volume cube with Emission Strength
+  and a blackbody, in the dark.
+Lights are given a size so that Cycles converges (a small light's volumetric caustic leaves Cycles
+fireflies). Cycles renders with volume bounces as PPM's (unlimited there: 12 here, every kind),
+unclamped. The same saved file is rendered by both engines; the mean radiance of 4x3 image blocks
+must agree within TOLERANCE (CASE_TOLERANCE: where and why a case is looser).
+
+Nothing stands on the floor: a cube of glass or of a medium whose bottom face lies in the floor's
+plane is ill-defined (which of two coplanar faces a ray meets first), and the two engines resolve it
+differently. Measured with the cubes standing on the floor, 256 passes against 4096 samples: the
+block holding a clear glass cube 34% brighter than Cycles, an absorbing cube's lit floor 0.2-0.36 of
+Cycles'; lifted by 2 cm, the same blocks agree within 0.7%.
+
+    .venv/bin/python tests/blenders/media_compare.py                  # Blender 5.0 (bpy); likewise 4.2-5.2
+    blender -b --factory-startup --python-exit-code 1 -P tests/blenders/media_compare.py
+"""
+
+import math
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+
+import bpy
+
+import cycles_compare
+
+CASES = ("world_fog", "fog_cube_spot", "ink_in_glass", "smoke_ball")
+# Not rendered as Cycles renders them yet, run by name only: an emitting medium is seen, but does not
+# light what is around it, nor scatter its own light (the core emits no photons from media yet).
+GAPS = ("glowing_cloud",)
+LIFT = 0.02  # media and glass stand this far above the floor: see the module's comment
+BOUNCES = 12
+TOLERANCE = 0.03
+# A dense ball's volume photons near its lit surface: the 3-D estimate's gather spheres reach out of
+# the medium, where no photon is, and count too little there (its boundary bias). At this image size a
+# sphere is about 0.15 m across a 0.8 m ball; the body's block stayed 3.5% dark and the lit top's
+# 6-9% dark (red, albedo 0.88, worst) from 64 to 1024 passes against 4096 samples. Until the estimate
+# is corrected at media boundaries (or beams replace points), the ball is checked to this tolerance.
+CASE_TOLERANCE = {"smoke_ball": 0.10}
+# Passes where 64 leave a block noise-bound: the world fog's floor (9.9% at 64, 4.6% at 256).
+CASE_PASSES = {"world_fog": 256}
+
+
+def volume_material(name, node_type, surface=None, **inputs):
+    """A material whose Volume is one node of `node_type` (inputs by name); its Surface `surface`
+    (a node type and its inputs), or nothing."""
+    mat = bpy.data.materials.new(name)
+    if mat.node_tree is None or bpy.app.version < (5, 0, 0):
+        mat.use_nodes = True
+    nodes, links = mat.node_tree.nodes, mat.node_tree.links
+    nodes.clear()
+    out = nodes.new("ShaderNodeOutputMaterial")
+    node = nodes.new(node_type)
+    for socket, value in inputs.items():
+        node.inputs[socket].default_value = value
+    links.new(node.outputs[0], out.inputs["Volume"])
+    if surface is not None:
+        kind, values = surface
+        shader = nodes.new(kind)
+        for socket, value in values.items():
+            shader.inputs[socket].default_value = value
+        links.new(shader.outputs[0], out.inputs["Surface"])
+    return mat
+
+
+def cube(name, location, size, material):
+    bpy.ops.mesh.primitive_cube_add(size=size, location=location)
+    obj = bpy.context.object
+    obj.name = name
+    obj.data.materials.append(material)
+    return obj
+
+
+def world_fog():
+    world = bpy.data.worlds.new("World")
+    if world.node_tree is None or bpy.app.version < (5, 0, 0):
+        world.use_nodes = True
+    nodes = world.node_tree.nodes
+    next(n for n in nodes if n.bl_idname == "ShaderNodeBackground").inputs["Strength"].default_value = 0.0
+    fog = nodes.new("ShaderNodeVolumeScatter")
+    fog.inputs["Density"].default_value = 0.08
+    fog.inputs["Anisotropy"].default_value = 0.3
+    output = next(n for n in nodes if n.bl_idname == "ShaderNodeOutputWorld")
+    world.node_tree.links.new(fog.outputs[0], output.inputs["Volume"])
+    bpy.context.scene.world = world
+
+
+def build(case):
+    cycles_compare.reset()
+    scene = bpy.context.scene
+    cycles_compare.plane("floor", 4.0, 0.0, cycles_compare.diffuse_material("floor", (cycles_compare.ALBEDO,) * 3))
+    cycles_compare.ball("matte", (-0.9, 0.6, 0.5), 0.5, cycles_compare.diffuse_material("matte", (0.7, 0.7, 0.7)))
+    cycles_compare.side_camera((0.0, -5.0, 1.4), 30.0)
+    cycles_compare.set_world(0.0)
+    if case == "world_fog":
+        world_fog()
+        cycles_compare.add_light("POINT", 300.0, (0.5, 0.0, 2.5), shadow_soft_size=0.1)
+    elif case == "fog_cube_spot":
+        cycles_compare.set_world(0.05)  # a faint sky, so that no block is black and noise-bound
+        cube("fog", (0.6, 0.6, 1.0 + LIFT), 2.0, volume_material("fog", "ShaderNodeVolumeScatter", Density=0.4,
+                                                         Anisotropy=0.2))
+        cycles_compare.add_light("SPOT", 500.0, (0.6, 0.6, 3.5), shadow_soft_size=0.1, spot_size=math.radians(35),
+                                 spot_blend=0.2)
+    elif case == "ink_in_glass":
+        cube("ink", (0.5, 0.4, 0.5 + LIFT), 1.0,
+             volume_material("ink", "ShaderNodeVolumeAbsorption", ("ShaderNodeBsdfGlass", {"IOR": 1.33,
+                                                                                           "Roughness": 0.0}),
+                             Color=(0.9, 0.15, 0.1, 1.0), Density=1.5))
+        cycles_compare.add_light("AREA", 300.0, (0.0, 0.0, 3.0), size=2.0)
+    elif case == "smoke_ball":
+        cycles_compare.ball("smoke", (0.5, 0.4, 0.8), 0.8,
+                            volume_material("smoke", "ShaderNodeVolumePrincipled", Density=3.0,
+                                            Color=(0.8, 0.6, 0.3, 1.0), **{"Absorption Color": (0.2, 0.3, 0.6, 1.0)}))
+        cycles_compare.add_light("POINT", 300.0, (1.5, -1.0, 3.0), shadow_soft_size=0.1)
+    elif case == "glowing_cloud":
+        cube("cloud", (0.5, 0.4, 0.8), 1.4,
+             volume_material("cloud", "ShaderNodeVolumePrincipled", Density=1.0,
+                             **{"Emission Strength": 0.5, "Emission Color": (1.0, 0.4, 0.1, 1.0),
+                                "Blackbody Intensity": 0.5, "Temperature": 1800.0}))
+    cycles_compare.set_exr_output(scene)
+    return scene
+
+
+def configure(scene, engine):
+    if engine == "CYCLES":
+        scene.cycles.volume_bounces = BOUNCES
+        scene.cycles.transparent_max_bounces = BOUNCES
+
+
+def compare(case, workdir, samples, passes):
+    build(case)
+    row = cycles_compare.block_comparison(case, workdir, samples, max(passes, CASE_PASSES.get(case, 0)),
+                                          bounces=BOUNCES, configure=configure)
+    return {**row, "tolerance": CASE_TOLERANCE.get(case, TOLERANCE)}
+
+
+def beyond_tolerance(row):
+    return row["max_block_error"] > row["tolerance"]
+
+
+def compare_cases(cases=CASES, samples=1024, passes=64):
+    def one(case, workdir):
+        return compare(case, workdir, samples, passes)
+    return cycles_compare.run_cases("media_compare", cases, one, cycles_compare.describe_blocks)
+
+
+def main():
+    argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else sys.argv[1:]
+    cases = tuple(a for a in argv if a in CASES + GAPS) or CASES
+    cycles_compare.run_as_script("media_compare", lambda: compare_cases(cases), beyond_tolerance)
+
+
+if __name__ == "__main__":
+    main()
