@@ -6,10 +6,10 @@
 Installs the add-on zip the way a user does (an extension in 4.2+, a legacy add-on in 3.4) into the
 user folders the caller chose (BLENDER_USER_RESOURCES, or BLENDER_USER_SCRIPTS/CONFIG for 3.4), then
 renders every bundled .blend through it at low resolution, runs the per-light-kind, per-lens,
-ray-visibility, image-based-light, alpha, stereo, light-path-limit and material Cycles agreement
+ray-visibility, image-based-light, alpha, stereo, light-path-limit, media and material Cycles agreement
 (cycles_compare.py, lens_compare.py, visibility_compare.py, world_compare.py, alpha_compare.py,
-stereo_compare.py, light_paths_compare.py, materials_compare.py; nodes_compare.py: texture and
-utility nodes pixel by pixel) and
+stereo_compare.py, light_paths_compare.py, media_compare.py, materials_compare.py; nodes_compare.py:
+texture and utility nodes pixel by pixel) and
 records every Python warning raised in the add-on's files (deprecations included). With --no-core
 it only tries one render and records the error. The assertions are in test_blender_versions.py,
 which runs this in each version.
@@ -35,6 +35,7 @@ import cycles_compare
 import lens_compare
 import light_paths_compare
 import materials_compare
+import media_compare
 import nodes_compare
 import stereo_compare
 import visibility_compare
@@ -48,6 +49,7 @@ RESOLUTION_PERCENT = 12  # 640x480 -> 76x57
 # baked worlds, light path limits) at a third of the time. Every node case runs in every version.
 SUBSET_WORLDS = ("sunrise_backdrop", "procedural_sky")
 SUBSET_LIGHT_PATHS = ("diffuse_1", "light_max_bounces_1")
+SUBSET_MEDIA = ("fog_cube_spot", "ink_in_glass")
 SUBSET_MATERIALS = ["glass_clear", "mix_diffuse_glossy", "node_group", "principled_default", "principled_middle",
                     "principled_gold", "principled_glass", "principled_coat", "principled_alpha",
                     "metallic_physical_gold", "glossy_anisotropic", "normal_mapped", "proc_wood", "proc_cells"]
@@ -147,6 +149,7 @@ def main():
         timed("stereo", stereo_compare.compare)
         timed("light_paths", lambda: light_paths_compare.compare_cases(
             SUBSET_LIGHT_PATHS if args.subset else tuple(light_paths_compare.CASES)))
+        timed("media", lambda: media_compare.compare_cases(SUBSET_MEDIA if args.subset else media_compare.CASES))
         names = SUBSET_MATERIALS if args.subset else list(materials_compare.material_library.MATERIALS)
         timed("materials", lambda: materials_compare.compare_cases(names, samples=256, passes=32))
         timed("nodes", lambda: nodes_compare.compare_cases(package=module))

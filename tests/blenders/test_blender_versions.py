@@ -4,8 +4,9 @@
 In each version the zip is installed the way a user does and enabled, every bundled .blend renders
 through it with the core built for that version's Python, PPM agrees with that version's Cycles
 light kind by light kind (units changed between 3.x and 4.x), in a room lit indirectly through
-lenses from 5 to 5000 mm and tiny and huge orthographic cameras, under image-based light, with
-materials and texture nodes (all cases in 3.4 and 5.0, a subset of the slow ones in the others),
+lenses from 5 to 5000 mm and tiny and huge orthographic cameras, under image-based light, in fog,
+smoke and ink in glass, with materials and texture nodes (all cases in 3.4 and 5.0, a subset of the
+slow ones in the others),
 and the add-on raises no Python warning (deprecations included). A zip without a core for the
 running Python fails with one clear message. See in_blender.py for what runs inside Blender.
 """
@@ -62,7 +63,8 @@ def run_in_blender(version, zip_path, tmp_path, *args):
     run = subprocess.run(command, capture_output=True, text=True, timeout=900, env=env, cwd=str(tmp_path))
     assert run.returncode == 0 and report.exists(), run.stdout[-3000:] + run.stderr[-3000:]
     comparisons = ("cycles_compare", "lens_compare", "visibility_compare", "world_compare", "alpha_compare",
-                   "stereo_compare", "light_paths_compare", "materials_compare", "nodes_compare", "in_blender")
+                   "stereo_compare", "light_paths_compare", "media_compare", "materials_compare", "nodes_compare",
+                   "in_blender")
     print("\n".join(line for line in run.stdout.splitlines() if line.startswith(comparisons)))
     return json.loads(report.read_text()), str(user)
 
@@ -104,6 +106,8 @@ def test_zip_installs_renders_and_agrees_with_cycles(version, addon_zip, tmp_pat
     light_paths = {row["case"]: row["max_block_error"] for row in report["light_paths"]}
     assert len(light_paths) == (5 if full else 2), light_paths
     assert all(error <= TOLERANCE for error in light_paths.values()), light_paths
+    media = {row["case"]: (row["max_block_error"], row["tolerance"]) for row in report["media"]}
+    assert len(media) == (4 if full else 2) and all(e <= tolerance for e, tolerance in media.values()), media
     materials = {row["case"]: row["error"] for row in report["materials"] if not row["approximated"]}
     assert len(materials) >= (40 if full else 12), materials
     assert all(e <= MATERIAL_TOLERANCE for e in materials.values()), materials

@@ -17,7 +17,8 @@ The core's media are homogeneous for now: a socket driven by a texture or an att
 that varies in space, a Noise cloud) takes its own value, with one warning naming the material and
 node. Principled Volume's Density and Temperature Attributes multiply only on Volume objects and
 smoke domains, which the export leaves out (warned there), so on a mesh they are 1, as in Cycles.
-Where scattering shaders with different phase functions mix, the core takes one: the
+A medium's emission is seen along the rays through it but lights nothing yet (warned). Where
+scattering shaders with different phase functions mix, the core takes one: the
 Henyey-Greenstein of their scattering-weighted mean anisotropy (warned; Cycles samples each).
 """
 
@@ -195,6 +196,10 @@ def read(socket, owner, name, warn, core):
     keywords = {"sigma_a": _tuple(medium.sigma_a), "sigma_s": _tuple(medium.sigma_s),
                 "emission": _tuple(medium.emission)}
     keywords.update(_one_phase(reader, medium.phases))
+    if np.max(medium.emission) > 0.0:
+        reader.warn(None, "its Volume emits light, which is seen along rays through it but does not light other "
+                          "objects or scatter in the medium yet (media emit no photons): darker around it than "
+                          "in Cycles")
     return keywords
 
 
