@@ -12,15 +12,14 @@
 namespace ppm {
 
 std::unique_ptr<Estimator> make_estimator(RenderContext& context) {
-  // Media render with stochastic hit points, the photons indexed, the progressive radii (for now).
+  // Media render with stochastic hit points and the photons indexed (for now), with either radius
+  // schedule.
   if (context.scene->has_media()) {
     const Settings& s = context.settings;
     if (s.hit_points != HitPointMode::Stochastic)
       throw std::invalid_argument("a scene with media renders with hit_points='stochastic' only (for now)");
     if (s.gather != GatherOrganisation::Photons)
       throw std::invalid_argument("a scene with media renders with gather='photons' only (for now)");
-    if (s.radius_schedule != RadiusSchedule::Progressive)
-      throw std::invalid_argument("a scene with media renders with radius_schedule='progressive' only (for now)");
   }
   if (context.settings.hit_points == HitPointMode::Stochastic) return std::make_unique<StochasticHitPoints>(context);
   const HitPointStorage storage = context.settings.hit_point_storage;

@@ -26,4 +26,15 @@ inline double global_radius_factor(uint64_t j, double alpha) {
   return std::exp(std::lgamma(n + alpha) - std::lgamma(1.0 + alpha) - std::lgamma(n + 1.0));
 }
 
+// The same in a gather region of `dimensions` (3: the sphere of a hit point in a medium). Knaus &
+// Zwicker's rule is on the region's measure: the variance of pass j grows as r_j^-d and the bias
+// shrinks as r_j^2, and r_j^d = r_1^d prod (i + alpha) / (i + 1) balances them (their volumetric
+// photon points, d = 3), as progressive.h's rule keeps the photon density over a region of d
+// dimensions. So r_j^2 / r_1^2 is the product's 2/d power: the radius shrinks with exponent 1/d
+// (1/3 in a medium, 1/2 on a surface) of the same product.
+inline double global_radius_factor_in(int dimensions, uint64_t j, double alpha) {
+  const double factor = global_radius_factor(j, alpha);
+  return dimensions == 2 ? factor : std::pow(factor, 2.0 / dimensions);
+}
+
 }  // namespace ppm

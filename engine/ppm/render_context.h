@@ -14,6 +14,7 @@
 #include "scene/scene.h"
 
 #include <atomic>
+#include <cmath>
 #include <functional>
 #include <memory>
 #include <vector>
@@ -57,6 +58,12 @@ struct RenderContext {
   double pass_radiance_scale(double r2, double photons) const {
     if (!analysis.trace_photons || !(r2 > 0.0) || !(photons > 0.0)) return 0.0;
     return lights.flux_unit() / (kPi * r2 * photons);
+  }
+  // The same for a hit point in a medium, its photons' flux (sigma_s included, progressive.h)
+  // gathered in a sphere of radius^2 `r2`: one pass's volume estimate per unit of flux.
+  double volume_radiance_scale(double r2, double photons) const {
+    if (!analysis.trace_photons || !(r2 > 0.0) || !(photons > 0.0)) return 0.0;
+    return lights.flux_unit() / (4.0 / 3.0 * kPi * r2 * std::sqrt(r2) * photons);
   }
   void add_memory(MemoryUse& use) const;
   // Photon guiding (photon_guide.h), at the start of a pass: each pixel's weight from the error

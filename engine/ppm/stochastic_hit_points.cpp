@@ -20,9 +20,11 @@ bool StochasticHitPoints::prepare(const Poll&) {
   // light passes' and adaptive sampling's where asked for.
   const double pixels = static_cast<double>(cam.width) * cam.height;
   media_ = c_.scene->has_media();
+  // The global schedule keeps no volume statistics: the pass's volume radiance joins its mean.
+  const bool volume_stats = media_ && c_.settings.radius_schedule != RadiusSchedule::Global;
   const size_t optional = (c_.settings.light_passes ? sizeof(SeenMeans) : 0) + (c_.settings.adaptive_samples > 1) +
                           (c_.settings.component_passes ? sizeof(PixelComponents) : 0) +
-                          (media_ ? sizeof(FloatPhotonStats) : 0);
+                          (volume_stats ? sizeof(FloatPhotonStats) : 0);
   check_memory(static_cast<size_t>(pixels * (sizeof(PixelStats) + sizeof(PixelErrorStats) + 2 * sizeof(float) +
                                               4 * sizeof(float) + optional)),
                "stochastic hit points at " + std::to_string(cam.width) + "x" + std::to_string(cam.height),
@@ -31,7 +33,7 @@ bool StochasticHitPoints::prepare(const Poll&) {
   errors_.assign(pixels_.size(), PixelErrorStats{});
   seen_.assign(c_.settings.light_passes ? pixels_.size() : 0, SeenMeans{Vec3f(0.0f), Vec3f(0.0f)});
   components_.assign(c_.settings.component_passes ? pixels_.size() : 0, PixelComponents{});
-  volume_pixels_.assign(media_ ? pixels_.size() : 0, FloatPhotonStats{});
+  volume_pixels_.assign(volume_stats ? pixels_.size() : 0, FloatPhotonStats{});
   current_ = PassInProgress{};
   return true;
 }
@@ -111,16 +113,22 @@ bool StochasticHitPoints::gather_photons(bool first_band, uint64_t pass, const P
 }
 
 // The band's hit points in media: gathered and lit (polled), then, with nothing polled left in the
-// band, their photons folded into their pixels' volume statistics (the 3-D rule) and their direct
-// light added to what the pixel's eye paths saw (`emitted`, folded with the rest by fold_band).
+// band, summed per band pixel (volume_band_); with the progressive radii their photons are folded
+// into their pixels' volume statistics (the 3-D rule), with the global schedule their radiance
+// joins the pass's value in fold_band_global. Their direct light is added to what the pixel's eye
+// paths saw (`emitted`, folded with the rest by fold_band).
 bool StochasticHitPoints::volume_band(size_t first_pixel, uint64_t pass, const uint8_t* pixel_samples,
                                       const Poll& poll) {
   std::vector<VolumeHitPoint>& points = hit_points_.volume;
-  for (VolumeHitPoint& h : points) {  // the pixel's volume radius, its first hit point's to begin with
-    FloatPhotonStats& px = volume_pixels_[h.pixel];
-    if (px.r2 == 0.0f) px.r2 = h.r2;
-    h.r2 = px.r2;
-  }
+  const bool global = c_.settings.radius_schedule == RadiusSchedule::Global;
+  if (global)
+    start_volume_at_global_radii(pass + 1);
+  else
+    for (VolumeHitPoint& h : points) {  // the pixel's volume radius, its first hit point's to begin with
+      FloatPhotonStats& px = volume_pixels_[h.pixel];
+      if (px.r2 == 0.0f) px.r2 = h.r2;
+      h.r2 = px.r2;
+    }
   if (c_.analysis.trace_photons && !c_.photon_pass.gather_volume(*c_.scene, points, c_.cancel, poll, current_.counters))
     return false;
   if (c_.analysis.sample_direct) {
@@ -129,20 +137,39 @@ bool StochasticHitPoints::volume_band(size_t first_pixel, uint64_t pass, const u
                                   current_.hit_points))
       return false;
   }
-  volume_band_.assign(hit_points_.pixel_begin.size() - 1, VolumeFound{0, Vec3f(0.0f), Vec3f(0.0f)});
-  for (const VolumeHitPoint& h : points) {
-    VolumeFound& f = volume_band_[h.pixel - first_pixel];
-    if (c_.analysis.trace_photons) f.m += h.m, f.tau += h.tau;
-    if (c_.analysis.sample_direct) f.direct += h.direct;
-  }
+  sum_volume_band(first_pixel);
   for (size_t p = 0; p < volume_band_.size(); ++p) {
     const VolumeFound& f = volume_band_[p];
     const uint32_t samples = pixel_samples ? pixel_samples[first_pixel + p] : 1;
-    volume_pixels_[first_pixel + p].fold_volume((f.m + samples / 2) / samples, f.tau, c_.settings.alpha,
-                                                c_.settings.threshold);
+    if (!global)
+      volume_pixels_[first_pixel + p].fold_volume((f.m + samples / 2) / samples, f.tau, c_.settings.alpha,
+                                                  c_.settings.threshold);
     hit_points_.emitted[p] += Color(f.direct);
   }
   return true;
+}
+
+// The global schedule in a medium: every hit point gathers at its own initial radius times the
+// factor of pass `index` for a sphere (radius_schedule.h: r^3 follows the surface's product, so r^2
+// shrinks by its 2/3 power), as surface hit points do at theirs (start_at_global_radii).
+void StochasticHitPoints::start_volume_at_global_radii(uint64_t index) {
+  const double factor = global_radius_factor_in(3, index, c_.settings.alpha);
+  for (VolumeHitPoint& h : hit_points_.volume) h.r2 = static_cast<float>(h.r2 * factor);
+}
+
+// The band's hit points in media summed per band pixel: photon count and flux, direct light, and
+// the photons' radiance from this pass alone, each hit point's at the radius it gathered with.
+void StochasticHitPoints::sum_volume_band(size_t first_pixel) {
+  const double photons = static_cast<double>(current_.counters.emitted - c_.stats.photon.emitted);
+  volume_band_.assign(hit_points_.pixel_begin.size() - 1, VolumeFound{0, Vec3f(0.0f), Vec3f(0.0f), Vec3f(0.0f)});
+  for (const VolumeHitPoint& h : hit_points_.volume) {
+    VolumeFound& f = volume_band_[h.pixel - first_pixel];
+    if (c_.analysis.trace_photons) {
+      f.m += h.m, f.tau += h.tau;
+      f.radiance += h.tau * static_cast<float>(c_.volume_radiance_scale(h.r2, photons));
+    }
+    if (c_.analysis.sample_direct) f.direct += h.direct;
+  }
 }
 
 // Every hit point gathers with its pixel's current radius; a pixel's first comes from its first
@@ -259,6 +286,7 @@ void StochasticHitPoints::fold_band_global(size_t first_pixel, uint64_t pass) {
         pass_value += scale * s.pass_flux;
         pass_bias += scale * s.pass_bias;
       }
+      if (media_) photon_light += Color(volume_band_[p].radiance);  // its hit points' in media
       errors_[first_pixel + p].add(luminance(light) + pass_value, pass_bias, pass);
       const PixelPass found{0, Vec3f(0.0f), Vec3f(light + photon_light), static_cast<float>(fresh.transparency[p])};
       fold_pass(pixels_[first_pixel + p], found, pass, c_.settings.alpha, c_.settings.threshold);
@@ -291,7 +319,7 @@ PixelValue StochasticHitPoints::pixel(size_t p) const {
   const bool in_pass = p < static_cast<size_t>(current_.next_row) * c_.scene->camera().width;
   const double emitted = static_cast<double>(in_pass ? current_.counters.emitted : c_.stats.photon.emitted);
   Color volume(0.0);
-  if (media_) {
+  if (!volume_pixels_.empty()) {
     const FloatPhotonStats& v = volume_pixels_[p];
     if (c_.analysis.trace_photons)
       volume = volume_photon_radiance(v.r2, v.in_double(), emitted, c_.lights.flux_unit());

@@ -60,6 +60,8 @@ class StochasticHitPoints : public Estimator {
   // Scenes with media: the band's hit points in media at their pixels' volume radii, their photons
   // and direct light, summed per band pixel into volume_band_, then folded into volume_pixels_.
   bool volume_band(size_t first_pixel, uint64_t pass, const uint8_t* pixel_samples, const Poll& poll);
+  void start_volume_at_global_radii(uint64_t index);
+  void sum_volume_band(size_t first_pixel);
   template <class Scale>
   void pass_components(size_t p, ComponentLight& light, Vec3f photons[], Scale&& photon_scale) const;
   // The index in the still of this renderer's pass `pass` (its random numbers and global radius).
@@ -77,12 +79,13 @@ class StochasticHitPoints : public Estimator {
   std::vector<SeenMeans> seen_;
   std::vector<PixelComponents> components_;  // with settings.component_passes (light_components.h)
   // Scenes with media: per pixel, the photon statistics of its hit points in media (the 3-D rule,
-  // progressive.h), and per band pixel what the band's hit points in media found.
+  // progressive.h; none with the global schedule), and per band pixel what the band's hit points in
+  // media found: photons, their flux and its radiance this pass, direct light.
   bool media_ = false;
   std::vector<FloatPhotonStats> volume_pixels_;
   struct VolumeFound {
     uint32_t m;
-    Vec3f tau, direct;
+    Vec3f tau, direct, radiance;
   };
   std::vector<VolumeFound> volume_band_;
   HitPoints hit_points_;      // the band being made, reused: no pass allocates once sizes settle

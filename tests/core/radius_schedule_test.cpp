@@ -29,5 +29,17 @@ TEST(GlobalRadiusSchedule, ShrinksAsAPowerOfThePass) {
   EXPECT_EQ(global_radius_factor(1, alpha), 1.0);
 }
 
+TEST(GlobalRadiusSchedule, InAMediumTheSphereVolumeFollowsTheProduct) {
+  // A hit point in a medium: r_j^3 / r_1^3 is the product, so r_j^2 / r_1^2 its 2/3 power.
+  const double alpha = 0.7;
+  double product = 1.0;
+  for (uint64_t j = 1; j <= 2000; ++j) {
+    EXPECT_NEAR(std::pow(global_radius_factor_in(3, j, alpha), 1.5), product, 1e-10 * product) << "pass " << j;
+    EXPECT_EQ(global_radius_factor_in(2, j, alpha), global_radius_factor(j, alpha));
+    product *= (static_cast<double>(j) + alpha) / (static_cast<double>(j) + 1.0);
+  }
+  EXPECT_GT(global_radius_factor_in(3, 1000, alpha), global_radius_factor(1000, alpha));  // shrinks slower
+}
+
 }  // namespace
 }  // namespace ppm
