@@ -262,6 +262,7 @@ struct EyeTracer {
     h.pixel = pixel;
     h.medium = static_cast<int32_t>(med - scene.media().data());
     h.media = vm.stack;
+    h.route = v.route;
     out.volume.push_back(h);
     return step;
   }

@@ -84,6 +84,7 @@ struct VolumeHitPoint {
   uint32_t pixel;
   int32_t medium;
   MediumStack media;  // the shadow rays' start
+  uint8_t route;      // its eye chain's (light_components.h: what it files its light as)
   // Found this pass: the gathered photons (flux times phase times weight) and the direct light.
   uint32_t m;
   Vec3f tau;

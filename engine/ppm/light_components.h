@@ -13,6 +13,21 @@
 //  - the Color passes are each class's albedo at the first surface the camera sees.
 // The caustic part is the light of photons whose every scattering before the hit point was at a
 // mirror or through glass (L S+ D): part of the Indirect passes, kept apart as well.
+//
+// Media, as Cycles' Volume Direct and Indirect: a path whose first scattering is in a volume files
+// its light there, light sampled at that scattering as Direct, the rest as Indirect; emission seen
+// at no bounce is Emit, a volume's too. An eye path here ends at its first scattering in a medium,
+// at a hit point in the medium (hit_point.h's VolumeHitPoint), so:
+//  - one the camera sees directly (no bounce on its route) files its sampled direct light as
+//    Volume Direct and its volume photons as Volume Indirect;
+//  - one past a mirror or glass files both as its route's Indirect, as Cycles does after a surface
+//    bounce;
+//  - the medium's emission along eye paths is emission as any other: Emit at no bounce, else its
+//    route's Direct or Indirect (emission_component).
+// Where Cycles follows a path on past its volume scattering and files the emission it meets there
+// as Volume Direct (the next segment) or Indirect, no eye path here goes on: photons carry that
+// light, all of it Volume Indirect. Volume photons have no caustic part (the Caustic pass is
+// surface photons' L S+ D only).
 #pragma once
 
 #include "math/types.h"
@@ -31,6 +46,8 @@ enum LightComponent : uint8_t {
   kGlossyIndirect,
   kTransmissionDirect,
   kTransmissionIndirect,
+  kVolumeDirect,
+  kVolumeIndirect,
   kCaustic,  // part of the Indirect ones
   kLightComponents
 };
@@ -50,6 +67,31 @@ inline int photon_slot(uint8_t route, int c) { return route == kNoBounce ? c : r
 // Where emission an eye chain on `route` (a bounce's class) sees after `depth` >= 1 bounces goes.
 inline LightComponent emission_component(uint8_t route, int depth) {
   return static_cast<LightComponent>(2 * route + (depth == 1 ? 0 : 1));
+}
+
+// A hit point in a medium files its light by slot: slot k < kLightClasses is route k's Indirect (it
+// was reached past a mirror or glass), the last slot the Volume passes (the camera sees it).
+constexpr int kVolumeSlots = kLightClasses + 1;
+inline int volume_slot(uint8_t route) { return route == kNoBounce ? kLightClasses : route; }
+// Where a slot's direct light and its photons go.
+inline LightComponent volume_direct_component(int slot) {
+  return slot == kLightClasses ? kVolumeDirect : static_cast<LightComponent>(2 * slot + 1);
+}
+inline LightComponent volume_photon_component(int slot) {
+  return slot == kLightClasses ? kVolumeIndirect : static_cast<LightComponent>(2 * slot + 1);
+}
+
+// Flux kept at a radius over passes, by slot: the pending flux `found` joins tau_m, and once the
+// progressive update folds the pixel's pending photons (`ratio` > 0, progressive_update's result)
+// tau_m joins tau times that ratio, as the pixel's own tau does.
+inline void fold_slots(Vec3f tau[], Vec3f tau_m[], const Vec3f found[], int slots, double ratio) {
+  for (int k = 0; k < slots; ++k) {
+    tau_m[k] += found[k];
+    if (ratio > 0.0) {
+      tau[k] = (tau[k] + tau_m[k]) * static_cast<float>(ratio);
+      tau_m[k] = Vec3f(0.0f);
+    }
+  }
 }
 
 // A pixel's light by component, and its Color passes.
@@ -101,13 +143,7 @@ struct PixelComponents {
     const float w = 1.0f / static_cast<float>(pass);
     for (int k = 0; k < kLightComponents; ++k) mean.light[k] += (light.light[k] - mean.light[k]) * w;
     for (int c = 0; c < kLightClasses; ++c) mean.color[c] += (light.color[c] - mean.color[c]) * w;
-    for (int k = 0; k < kPhotonParts; ++k) {
-      tau_m[k] += found[k];
-      if (ratio > 0.0) {
-        tau[k] = (tau[k] + tau_m[k]) * static_cast<float>(ratio);
-        tau_m[k] = Vec3f(0.0f);
-      }
-    }
+    fold_slots(tau, tau_m, found, kPhotonParts, ratio);
   }
   // The pixel's light components, its flux taken to radiance by `photon_scale`.
   ComponentLight value(double photon_scale) const {
@@ -117,6 +153,21 @@ struct PixelComponents {
     return out;
   }
 };
-static_assert(sizeof(PixelComponents) == 216, "PixelComponents grew");
+static_assert(sizeof(PixelComponents) == 240, "PixelComponents grew");
+
+// A pixel's volume photon flux by slot across passes (stochastic hit points, progressive radii, in
+// scenes with media), folded with the ratio of the pixel's volume statistics (the 3-D rule).
+struct PixelVolumeComponents {
+  Vec3f tau[kVolumeSlots];
+  Vec3f tau_m[kVolumeSlots];
+
+  void fold(const Vec3f found[kVolumeSlots], double ratio) { fold_slots(tau, tau_m, found, kVolumeSlots, ratio); }
+  // Adds its light to `out`, the flux taken to radiance by `photon_scale` (the volume estimate's).
+  void add_to(ComponentLight& out, double photon_scale) const {
+    for (int k = 0; k < kVolumeSlots; ++k)
+      out.light[volume_photon_component(k)] += (tau[k] + tau_m[k]) * static_cast<float>(photon_scale);
+  }
+};
+static_assert(sizeof(PixelVolumeComponents) == 96, "PixelVolumeComponents grew");
 
 }  // namespace ppm

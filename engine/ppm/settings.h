@@ -84,10 +84,11 @@ struct Settings {
   // Keep what camera rays see at no bounce, emission and world apart (Renderer::light_passes,
   // Cycles' Emit and Env passes): 24 bytes a pixel more with stochastic hit points.
   bool light_passes = false;
-  // Keep the light apart by Cycles' Diffuse, Glossy and Transmission Direct, Indirect and Color,
-  // and the caustic part (light_components.h, Renderer::component_passes): 134 bytes more per fixed
-  // hit point kept, 216 a pixel with stochastic hit points, and 120 per hit point of a pass's
-  // scratch (its direct light and photons by class).
+  // Keep the light apart by Cycles' Diffuse, Glossy, Transmission and Volume Direct and Indirect,
+  // the Color passes and the caustic part (light_components.h, Renderer::component_passes): 134
+  // bytes more per fixed hit point kept, 240 a pixel with stochastic hit points (and 96 more in
+  // scenes with media), and 120 per hit point of a pass's scratch (its direct light and photons
+  // by class).
   bool component_passes = false;
   // Guide point, sphere, spot (of a radius) and area lights' photons towards where the error
   // estimate finds the image noisiest (photon_guide.h).

@@ -22,9 +22,11 @@ bool StochasticHitPoints::prepare(const Poll&) {
   media_ = c_.scene->has_media();
   // The global schedule keeps no volume statistics: the pass's volume radiance joins its mean.
   const bool volume_stats = media_ && c_.settings.radius_schedule != RadiusSchedule::Global;
+  const bool volume_components = volume_stats && c_.settings.component_passes;
   const size_t optional = (c_.settings.light_passes ? sizeof(SeenMeans) : 0) + (c_.settings.adaptive_samples > 1) +
                           (c_.settings.component_passes ? sizeof(PixelComponents) : 0) +
-                          (volume_stats ? sizeof(FloatPhotonStats) : 0);
+                          (volume_stats ? sizeof(FloatPhotonStats) : 0) +
+                          (volume_components ? sizeof(PixelVolumeComponents) : 0);
   check_memory(static_cast<size_t>(pixels * (sizeof(PixelStats) + sizeof(PixelErrorStats) + 2 * sizeof(float) +
                                               4 * sizeof(float) + optional)),
                "stochastic hit points at " + std::to_string(cam.width) + "x" + std::to_string(cam.height),
@@ -34,6 +36,7 @@ bool StochasticHitPoints::prepare(const Poll&) {
   seen_.assign(c_.settings.light_passes ? pixels_.size() : 0, SeenMeans{Vec3f(0.0f), Vec3f(0.0f)});
   components_.assign(c_.settings.component_passes ? pixels_.size() : 0, PixelComponents{});
   volume_pixels_.assign(volume_stats ? pixels_.size() : 0, FloatPhotonStats{});
+  volume_components_.assign(volume_components ? pixels_.size() : 0, PixelVolumeComponents{});
   current_ = PassInProgress{};
   return true;
 }
@@ -141,9 +144,11 @@ bool StochasticHitPoints::volume_band(size_t first_pixel, uint64_t pass, const u
   for (size_t p = 0; p < volume_band_.size(); ++p) {
     const VolumeFound& f = volume_band_[p];
     const uint32_t samples = pixel_samples ? pixel_samples[first_pixel + p] : 1;
-    if (!global)
-      volume_pixels_[first_pixel + p].fold_volume((f.m + samples / 2) / samples, f.tau, c_.settings.alpha,
-                                                  c_.settings.threshold);
+    if (!global) {
+      const double ratio = volume_pixels_[first_pixel + p].fold_volume((f.m + samples / 2) / samples, f.tau,
+                                                                       c_.settings.alpha, c_.settings.threshold);
+      if (!volume_components_.empty()) volume_components_[first_pixel + p].fold(volume_parts_[p].tau, ratio);
+    }
     hit_points_.emitted[p] += Color(f.direct);
   }
   return true;
@@ -161,15 +166,30 @@ void StochasticHitPoints::start_volume_at_global_radii(uint64_t index) {
 // the photons' radiance from this pass alone, each hit point's at the radius it gathered with.
 void StochasticHitPoints::sum_volume_band(size_t first_pixel) {
   const double photons = static_cast<double>(current_.counters.emitted - c_.stats.photon.emitted);
-  volume_band_.assign(hit_points_.pixel_begin.size() - 1, VolumeFound{0, Vec3f(0.0f), Vec3f(0.0f), Vec3f(0.0f)});
+  const size_t band_pixels = hit_points_.pixel_begin.size() - 1;
+  volume_band_.assign(band_pixels, VolumeFound{0, Vec3f(0.0f), Vec3f(0.0f), Vec3f(0.0f)});
+  volume_parts_.assign(components_.empty() ? 0 : band_pixels, VolumeParts{});
   for (const VolumeHitPoint& h : hit_points_.volume) {
     VolumeFound& f = volume_band_[h.pixel - first_pixel];
-    if (c_.analysis.trace_photons) {
-      f.m += h.m, f.tau += h.tau;
-      f.radiance += h.tau * static_cast<float>(c_.volume_radiance_scale(h.r2, photons));
-    }
+    const Vec3f radiance = h.tau * static_cast<float>(c_.volume_radiance_scale(h.r2, photons));
+    if (c_.analysis.trace_photons) f.m += h.m, f.tau += h.tau, f.radiance += radiance;
     if (c_.analysis.sample_direct) f.direct += h.direct;
+    if (volume_parts_.empty()) continue;
+    VolumeParts& parts = volume_parts_[h.pixel - first_pixel];
+    const int k = volume_slot(h.route);
+    if (c_.analysis.trace_photons) parts.tau[k] += h.tau, parts.radiance[k] += radiance;
+    if (c_.analysis.sample_direct) parts.direct[k] += h.direct;
   }
+}
+
+void StochasticHitPoints::add_volume_direct(size_t p, ComponentLight& light) const {
+  if (volume_parts_.empty()) return;
+  for (int k = 0; k < kVolumeSlots; ++k) light.light[volume_direct_component(k)] += volume_parts_[p].direct[k];
+}
+
+void StochasticHitPoints::add_volume_radiance(size_t p, ComponentLight& light) const {
+  if (volume_parts_.empty()) return;
+  for (int k = 0; k < kVolumeSlots; ++k) light.light[volume_photon_component(k)] += volume_parts_[p].radiance[k];
 }
 
 // Every hit point gathers with its pixel's current radius; a pixel's first comes from its first
@@ -261,6 +281,7 @@ void StochasticHitPoints::fold_band(size_t first_pixel, uint64_t pass, const uin
         ComponentLight light_parts;
         Vec3f photon_parts[kPhotonParts];
         pass_components(p, light_parts, photon_parts, [](uint32_t) { return 1.0; });
+        add_volume_direct(p, light_parts);
         components_[first_pixel + p].fold(light_parts, photon_parts, pass, ratio);
       }
     }
@@ -298,6 +319,8 @@ void StochasticHitPoints::fold_band_global(size_t first_pixel, uint64_t pass) {
                         [&](uint32_t i) { return c_.pass_radiance_scale(fresh.points[i].r2, photons); });
         for (int k = 0; k < kPhotonParts; ++k) light_parts.light[photon_slot_component(k)] += photon_parts[k];
         for (Vec3f& f : photon_parts) f = Vec3f(0.0f);
+        add_volume_direct(p, light_parts);
+        add_volume_radiance(p, light_parts);
         components_[first_pixel + p].fold(light_parts, photon_parts, pass, 0.0);
       }
     }
@@ -331,7 +354,10 @@ ComponentLight StochasticHitPoints::components(size_t p) const {
   if (components_.empty()) return ComponentLight{};
   const bool in_pass = p < static_cast<size_t>(current_.next_row) * c_.scene->camera().width;
   const double emitted = static_cast<double>(in_pass ? current_.counters.emitted : c_.stats.photon.emitted);
-  return components_[p].value(c_.pass_radiance_scale(pixels_[p].r2, emitted));
+  ComponentLight out = components_[p].value(c_.pass_radiance_scale(pixels_[p].r2, emitted));
+  if (!volume_components_.empty())
+    volume_components_[p].add_to(out, c_.volume_radiance_scale(volume_pixels_[p].r2, emitted));
+  return out;
 }
 
 SeenLight StochasticHitPoints::seen(size_t p) const {
@@ -354,7 +380,9 @@ double StochasticHitPoints::radius_mean() const {
 void StochasticHitPoints::add_memory(MemoryUse& use) const {
   use.pixels += pixels_.capacity() * sizeof(PixelStats) + errors_.capacity() * sizeof(PixelErrorStats) +
                 depth_.capacity() * sizeof(float) + eye_samples_.capacity() + seen_.capacity() * sizeof(SeenMeans) +
-                components_.capacity() * sizeof(PixelComponents) + volume_pixels_.capacity() * sizeof(FloatPhotonStats);
+                components_.capacity() * sizeof(PixelComponents) + volume_pixels_.capacity() * sizeof(FloatPhotonStats) +
+                volume_components_.capacity() * sizeof(PixelVolumeComponents);
+  use.hit_points += volume_band_.capacity() * sizeof(VolumeFound) + volume_parts_.capacity() * sizeof(VolumeParts);
   use.hit_points += hit_points_.memory_bytes() + eye_scratch_.memory_bytes();
 }
 

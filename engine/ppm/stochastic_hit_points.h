@@ -62,6 +62,10 @@ class StochasticHitPoints : public Estimator {
   bool volume_band(size_t first_pixel, uint64_t pass, const uint8_t* pixel_samples, const Poll& poll);
   void start_volume_at_global_radii(uint64_t index);
   void sum_volume_band(size_t first_pixel);
+  // With component passes: band pixel p's hit points in media's direct light, and (the global
+  // schedule) their photons' radiance this pass, into `light` by component (light_components.h).
+  void add_volume_direct(size_t p, ComponentLight& light) const;
+  void add_volume_radiance(size_t p, ComponentLight& light) const;
   template <class Scale>
   void pass_components(size_t p, ComponentLight& light, Vec3f photons[], Scale&& photon_scale) const;
   // The index in the still of this renderer's pass `pass` (its random numbers and global radius).
@@ -88,6 +92,13 @@ class StochasticHitPoints : public Estimator {
     Vec3f tau, direct, radiance;
   };
   std::vector<VolumeFound> volume_band_;
+  // With component passes too: per band pixel the same by slot (light_components.h), and per pixel
+  // (progressive radii) the volume photons' flux by slot.
+  struct VolumeParts {
+    Vec3f direct[kVolumeSlots], tau[kVolumeSlots], radiance[kVolumeSlots];
+  };
+  std::vector<VolumeParts> volume_parts_;
+  std::vector<PixelVolumeComponents> volume_components_;
   HitPoints hit_points_;      // the band being made, reused: no pass allocates once sizes settle
   EyePassScratch eye_scratch_;
 };

@@ -32,10 +32,10 @@ py::dict light_passes(const Renderer& r) {
 
 py::dict component_passes(const Renderer& r) {
   std::vector<float> values = read_released([&] { return r.component_passes(); });
-  return channel_views(r.height(), r.width(), values, 30,
+  return channel_views(r.height(), r.width(), values, 36,
                        {{"DiffDir", 0, 3}, {"DiffInd", 3, 3}, {"GlossDir", 6, 3}, {"GlossInd", 9, 3},
-                        {"TransDir", 12, 3}, {"TransInd", 15, 3}, {"Caustic", 18, 3},
-                        {"DiffCol", 21, 3}, {"GlossCol", 24, 3}, {"TransCol", 27, 3}});
+                        {"TransDir", 12, 3}, {"TransInd", 15, 3}, {"VolumeDir", 18, 3}, {"VolumeInd", 21, 3},
+                        {"Caustic", 24, 3}, {"DiffCol", 27, 3}, {"GlossCol", 30, 3}, {"TransCol", 33, 3}});
 }
 
 py::dict denoising_features(Renderer& r, int samples_per_pixel) {
@@ -88,10 +88,12 @@ void bind_render_passes(RendererClass& c) {
         "light in its frame, to 1; sectors of phi); uniform (1/512 each) before the guide has learned.");
   c.def("component_passes", &component_passes,
         "With component_passes=True: the light by Cycles' passes, dict of (H, W, 3) float32, top row first. "
-        "DiffDir, DiffInd, GlossDir, GlossInd, TransDir and TransInd are radiance (with light_passes' Emit and "
-        "Env they add up to image(), but for a 'post' depth-of-field blur); Cycles stores them divided by "
-        "DiffCol, GlossCol and TransCol, the albedo of each class at the first surface. Caustic: the light of "
-        "photons that came by mirrors and glass only, part of the Indirect ones.");
+        "DiffDir, DiffInd, GlossDir, GlossInd, TransDir, TransInd, VolumeDir and VolumeInd are radiance (with "
+        "light_passes' Emit and Env they add up to image(), but for a 'post' depth-of-field blur); Cycles stores "
+        "the first six divided by DiffCol, GlossCol and TransCol, the albedo of each class at the first surface. "
+        "VolumeDir: light sampled where a camera path first scatters in a medium; VolumeInd: the volume photons "
+        "there (zero in scenes without media). Caustic: the light of photons that came by mirrors and glass only, "
+        "part of the Indirect ones.");
   c.def("denoising_features", &denoising_features, py::arg("samples_per_pixel") = 0,
         "Cycles' Denoising Albedo and Denoising Normal: dict of (H, W, 3) float32 arrays 'albedo' (linear "
         "RGB) and 'normal' (world space), top row first, from an eye pass of samples_per_pixel samples a "

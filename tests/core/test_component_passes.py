@@ -62,7 +62,8 @@ def test_closed_sphere_direct_and_indirect_have_their_known_values(settings):
     np.testing.assert_allclose(parts["DiffCol"], rho, rtol=1e-6)
     np.testing.assert_allclose(parts["DiffDir"], rho * irradiance / math.pi, rtol=1e-5)
     assert parts["DiffInd"].mean() == pytest.approx(rho / (1 - rho) * rho * irradiance / math.pi, rel=0.03)
-    for name in ["GlossDir", "GlossInd", "TransDir", "TransInd", "Caustic", "GlossCol", "TransCol"]:
+    for name in ["GlossDir", "GlossInd", "TransDir", "TransInd", "VolumeDir", "VolumeInd", "Caustic", "GlossCol",
+                 "TransCol"]:
         assert not parts[name].any(), name
 
 
