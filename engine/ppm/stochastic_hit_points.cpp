@@ -273,7 +273,8 @@ void StochasticHitPoints::fold_band(size_t first_pixel, uint64_t pass, const uin
       m = (m + samples / 2) / samples;  // the photons of the pixel's mean sample, rounded
       PixelStats& px = pixels_[first_pixel + p];
       const double scale = c_.pass_radiance_scale(px.r2, photons);
-      errors_[first_pixel + p].add(luminance(light) + scale * pass_flux, scale * pass_bias, pass);
+      errors_[first_pixel + p].add(luminance(light) + scale * pass_flux + volume_pass_value(p), scale * pass_bias,
+                                   pass);
       const PixelPass found{m, Vec3f(tau_m), Vec3f(light), static_cast<float>(fresh.transparency[p])};
       const double ratio = fold_pass(px, found, pass, c_.settings.alpha, c_.settings.threshold);
       fold_seen(first_pixel + p, p, pass);
@@ -308,7 +309,7 @@ void StochasticHitPoints::fold_band_global(size_t first_pixel, uint64_t pass) {
         pass_bias += scale * s.pass_bias;
       }
       if (media_) photon_light += Color(volume_band_[p].radiance);  // its hit points' in media
-      errors_[first_pixel + p].add(luminance(light) + pass_value, pass_bias, pass);
+      errors_[first_pixel + p].add(luminance(light) + pass_value + volume_pass_value(p), pass_bias, pass);
       const PixelPass found{0, Vec3f(0.0f), Vec3f(light + photon_light), static_cast<float>(fresh.transparency[p])};
       fold_pass(pixels_[first_pixel + p], found, pass, c_.settings.alpha, c_.settings.threshold);
       fold_seen(first_pixel + p, p, pass);

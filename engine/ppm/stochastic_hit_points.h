@@ -66,6 +66,11 @@ class StochasticHitPoints : public Estimator {
   // schedule) their photons' radiance this pass, into `light` by component (light_components.h).
   void add_volume_direct(size_t p, ComponentLight& light) const;
   void add_volume_radiance(size_t p, ComponentLight& light) const;
+  // Band pixel p's hit points in media's photon radiance this pass, in luminance: their part of the
+  // pass's value in the error estimate (their direct light is in the pixel's `emitted` already).
+  // With the progressive radii it is what they add to the pixel's volume estimate: tau / r^3 is
+  // unchanged by the 3-D update as tau / r^2 by the 2-D one (error_estimate.h).
+  double volume_pass_value(size_t p) const { return media_ ? luminance(Color(volume_band_[p].radiance)) : 0.0; }
   template <class Scale>
   void pass_components(size_t p, ComponentLight& light, Vec3f photons[], Scale&& photon_scale) const;
   // The index in the still of this renderer's pass `pass` (its random numbers and global radius).

@@ -399,3 +399,26 @@ def test_fog_seen_in_a_mirror_is_glossy_light():
     np.testing.assert_allclose(parts["GlossInd"], image, atol=1e-5 * image.max())
     for name in ["VolumeDir", "VolumeInd", "GlossDir", "DiffDir", "DiffInd"]:
         assert not parts[name].any(), name
+
+
+# ---- the error estimate -------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("schedule", ["progressive", "global"])
+def test_the_error_estimate_measures_the_fog(schedule):
+    """Photons carry all the light (direct_light 'photons'), so the fog's light reaches the camera
+    through the volume estimate alone where it is seen against nothing. The error estimate's pass
+    values are the image's own (their mean is the pixel, exactly but for float rounding), its noise
+    is not zero in the fog, and the image's estimated error shrinks as passes are added."""
+    settings = {**MEDIA, "photons_per_pass": 4000, "initial_radius": 0.15, "direct_light": "photons"}
+    renderer = ppm_core.Renderer(fog_floor_scene(), radius_schedule=schedule, **settings)
+    renderer.run(passes=10)
+    early = renderer.stats()["error"]["relative"]
+    renderer.run(passes=30)
+    image, error = renderer.image(), renderer.error()
+    luminance = image[..., 0] * 0.2126 + image[..., 1] * 0.7152 + image[..., 2] * 0.0722
+    np.testing.assert_allclose(error["luminance"], luminance, rtol=1e-3, atol=1e-5 * luminance.max())
+    fog = (slice(2, 5), slice(4, 8))  # the fog against nothing (test_fog_light_passes_add_up_to_the_image)
+    assert np.all(error["noise"][fog] > 0.0)
+    late = renderer.stats()["error"]["relative"]
+    assert 0.0 < late < 0.8 * early
