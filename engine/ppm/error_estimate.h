@@ -40,6 +40,17 @@ inline double bias_weight(double d2, double r2) { return 3.0 * (2.0 * d2 / r2 - 
 // The same summed over photons from their flux and their flux times d2 (no division per photon).
 inline Color bias_sum(const Color& flux, const Color& flux_d2, double r2) { return flux_d2 * (6.0 / r2) - flux * 3.0; }
 
+// The same for a hit point in a medium, its photons gathered in a ball of radius r (progressive.h's
+// volume estimate). The ball's average is biased by r^2 Lap(L) / 10 + O(r^4) where L is quadratic
+// (E[x_i^2] = r^2 / 5 over the ball). A weight a (d^2 / r^2 - c) integrates to 0 for c = E[d^2] /
+// r^2 = 3 / 5, and against x_i^2 to a (E[d^2 x_i^2] / r^2 - 3 r^2 / 25) = a r^2 (1 / 7 - 3 / 25)
+// (E[d^4] = 3 r^4 / 7, a third of it per axis), which is r^2 / 5 for a = 35 / 4. (On the disc the
+// same steps give 3 (2 d^2 / r^2 - 1), bias_weight above.)
+inline double bias_weight_in_ball(double d2, double r2) { return (35.0 * d2 / r2 - 21.0) / 4.0; }
+inline Color bias_sum_in_ball(const Color& flux, const Color& flux_d2, double r2) {
+  return flux_d2 * (35.0 / (4.0 * r2)) - flux * (21.0 / 4.0);
+}
+
 // Running mean and sum of squared deviations in float (Welford: stable over thousands of passes,
 // where sums of squares would cancel).
 struct RunningMoments {

@@ -523,23 +523,28 @@ bool PhotonPass::gather_volume(const Scene& scene, std::vector<VolumeHitPoint>& 
       VolumeHitPoint& h = points[i];
       h.m = 0;
       h.tau = Vec3f(0.0f);
+      h.pass_bias = 0.0f;
       if (!any) continue;
       const Phase& phase = scene.medium(static_cast<uint32_t>(h.medium)).c.phase;
       const Vec3 center = h.position, back = -Vec3(h.direction);
       const double r2 = h.r2, r = std::sqrt(r2);
-      Color sum(0.0);
+      Color sum(0.0), sum_d2(0.0);
       uint32_t m = 0;
       volume_grid_.for_each_run_in_box(center - r, center + r, [&](uint32_t begin, uint32_t end) {
         for (uint32_t p = begin; p < end; ++p) {
           const Vec3 d = volume_positions_[p] - center;
-          if (glm::dot(d, d) > r2) continue;
+          const double d2 = glm::dot(d, d);
+          if (d2 > r2) continue;
           const VolumeArrival& a = volume_arrivals_[p];
           ++m;
-          sum += Color(a.flux) * phase.eval(Vec3(a.direction), back);
+          const Color f = Color(a.flux) * phase.eval(Vec3(a.direction), back);
+          sum += f;
+          sum_d2 += f * d2;
         }
       });
       h.m = m;
       h.tau = Vec3f(sum * Color(h.weight));
+      h.pass_bias = static_cast<float>(luminance(bias_sum_in_ball(sum, sum_d2, r2) * Color(h.weight)));
     }
   };
   if (!parallel_chunks(threads_, chunks, work, cancel, poll, settings_.progress_interval)) return false;

@@ -167,12 +167,13 @@ void StochasticHitPoints::start_volume_at_global_radii(uint64_t index) {
 void StochasticHitPoints::sum_volume_band(size_t first_pixel) {
   const double photons = static_cast<double>(current_.counters.emitted - c_.stats.photon.emitted);
   const size_t band_pixels = hit_points_.pixel_begin.size() - 1;
-  volume_band_.assign(band_pixels, VolumeFound{0, Vec3f(0.0f), Vec3f(0.0f), Vec3f(0.0f)});
+  volume_band_.assign(band_pixels, VolumeFound{0, Vec3f(0.0f), Vec3f(0.0f), Vec3f(0.0f), 0.0f});
   volume_parts_.assign(components_.empty() ? 0 : band_pixels, VolumeParts{});
   for (const VolumeHitPoint& h : hit_points_.volume) {
     VolumeFound& f = volume_band_[h.pixel - first_pixel];
-    const Vec3f radiance = h.tau * static_cast<float>(c_.volume_radiance_scale(h.r2, photons));
-    if (c_.analysis.trace_photons) f.m += h.m, f.tau += h.tau, f.radiance += radiance;
+    const float scale = static_cast<float>(c_.volume_radiance_scale(h.r2, photons));
+    const Vec3f radiance = h.tau * scale;
+    if (c_.analysis.trace_photons) f.m += h.m, f.tau += h.tau, f.radiance += radiance, f.bias += h.pass_bias * scale;
     if (c_.analysis.sample_direct) f.direct += h.direct;
     if (volume_parts_.empty()) continue;
     VolumeParts& parts = volume_parts_[h.pixel - first_pixel];
@@ -273,8 +274,8 @@ void StochasticHitPoints::fold_band(size_t first_pixel, uint64_t pass, const uin
       m = (m + samples / 2) / samples;  // the photons of the pixel's mean sample, rounded
       PixelStats& px = pixels_[first_pixel + p];
       const double scale = c_.pass_radiance_scale(px.r2, photons);
-      errors_[first_pixel + p].add(luminance(light) + scale * pass_flux + volume_pass_value(p), scale * pass_bias,
-                                   pass);
+      errors_[first_pixel + p].add(luminance(light) + scale * pass_flux + volume_pass_value(p),
+                                   scale * pass_bias + volume_pass_bias(p), pass);
       const PixelPass found{m, Vec3f(tau_m), Vec3f(light), static_cast<float>(fresh.transparency[p])};
       const double ratio = fold_pass(px, found, pass, c_.settings.alpha, c_.settings.threshold);
       fold_seen(first_pixel + p, p, pass);
@@ -309,7 +310,8 @@ void StochasticHitPoints::fold_band_global(size_t first_pixel, uint64_t pass) {
         pass_bias += scale * s.pass_bias;
       }
       if (media_) photon_light += Color(volume_band_[p].radiance);  // its hit points' in media
-      errors_[first_pixel + p].add(luminance(light) + pass_value + volume_pass_value(p), pass_bias, pass);
+      errors_[first_pixel + p].add(luminance(light) + pass_value + volume_pass_value(p),
+                                   pass_bias + volume_pass_bias(p), pass);
       const PixelPass found{0, Vec3f(0.0f), Vec3f(light + photon_light), static_cast<float>(fresh.transparency[p])};
       fold_pass(pixels_[first_pixel + p], found, pass, c_.settings.alpha, c_.settings.threshold);
       fold_seen(first_pixel + p, p, pass);

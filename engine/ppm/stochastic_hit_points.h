@@ -71,6 +71,7 @@ class StochasticHitPoints : public Estimator {
   // With the progressive radii it is what they add to the pixel's volume estimate: tau / r^3 is
   // unchanged by the 3-D update as tau / r^2 by the 2-D one (error_estimate.h).
   double volume_pass_value(size_t p) const { return media_ ? luminance(Color(volume_band_[p].radiance)) : 0.0; }
+  double volume_pass_bias(size_t p) const { return media_ ? volume_band_[p].bias : 0.0; }
   template <class Scale>
   void pass_components(size_t p, ComponentLight& light, Vec3f photons[], Scale&& photon_scale) const;
   // The index in the still of this renderer's pass `pass` (its random numbers and global radius).
@@ -95,6 +96,7 @@ class StochasticHitPoints : public Estimator {
   struct VolumeFound {
     uint32_t m;
     Vec3f tau, direct, radiance;
+    float bias;  // the photons' bias estimate this pass, in luminance (error_estimate.h)
   };
   std::vector<VolumeFound> volume_band_;
   // With component passes too: per band pixel the same by slot (light_components.h), and per pixel

@@ -66,6 +66,32 @@ TEST(BiasWeight, GivesTheDiscAveragesBiasForQuadratics) {
   EXPECT_NEAR(average_minus_centre / inside, r2 * 5.0 / 8.0, 1e-3 * r2);
 }
 
+// The same over a ball of radius r: the weights integrate to 0 against a constant and to r^2 Lap(L)
+// / 10 times the ball's volume against a quadratic, the bias of the ball's average.
+TEST(BiasWeight, GivesTheBallsAverageBiasForQuadratics) {
+  const double r = 0.3, r2 = r * r;
+  const int n = 120;
+  double constant = 0.0, quadratic = 0.0, summed = 0.0, average_minus_centre = 0.0;
+  int inside = 0;
+  auto at = [&](int i) { return ((i + 0.5) / n * 2.0 - 1.0) * r; };
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j)
+      for (int k = 0; k < n; ++k) {
+        const double x = at(i), y = at(j), z = at(k), d2 = x * x + y * y + z * z;
+        if (d2 > r2) continue;
+        ++inside;
+        const double L = 2.0 * x * x + 0.5 * y * y - z * z + x * y + 3.0 * y * z + z;  // Lap(L) = 3; L(0) = 0
+        constant += bias_weight_in_ball(d2, r2);
+        quadratic += L * bias_weight_in_ball(d2, r2);
+        summed += bias_sum_in_ball(Color(L), Color(L * d2), r2).x;
+        average_minus_centre += L;
+      }
+  EXPECT_NEAR(constant / inside, 0.0, 2e-3);
+  EXPECT_NEAR(quadratic / inside, r2 * 3.0 / 10.0, 2e-3 * r2);
+  EXPECT_NEAR(summed / inside, quadratic / inside, 1e-9 * r2);
+  EXPECT_NEAR(average_minus_centre / inside, r2 * 3.0 / 10.0, 2e-3 * r2);
+}
+
 PixelErrorStats pixel_of(const std::vector<double>& values, double bias) {
   PixelErrorStats s{};
   uint64_t pass = 0;
