@@ -1,6 +1,8 @@
 """Participating media through ppm_core (issue 48, first landing: homogeneous media, stochastic hit
 points): transmittance through an absorbing slab, single scattering from a point light against the
-closed-form integral, a furnace, direct light by light sampling against photons, and bad input.
+closed-form integral, a furnace, direct light by light sampling against photons, and bad input;
+then fog in a still's shares (the global radius schedule), in the light passes (Volume Direct and
+Indirect) and in the error estimate.
 
 Each test renders small images; the reference values are computed here with numpy."""
 
