@@ -7,8 +7,9 @@ Saved with Blender 3.4 (Debian's `blender`), the files open in 3.4 and 5.0
 alike (newer Blenders read older files, not the other way round). The scenes:
 cornell_3spheres (report figure 1), bezier_vase (figure 2), cornell_dof
 (figure 3), showcase (textured meshes, several light types, instances) and
-cornell_diffuse (diffuse only, for the accuracy benchmarks against Cycles) and hdri_glass (image-based
-light from an HDRI Blender ships, packed, with glass and its caustic).
+cornell_diffuse (diffuse only, for the accuracy benchmarks against Cycles), hdri_glass (image-based
+light from an HDRI Blender ships, packed, with glass and its caustic) and fog_caustic (a volumetric
+caustic: a spot light through a glass ball into a fog box).
 Geometry mirrors blend_scenes/core_scenes.py where a core scene exists.
 """
 
@@ -378,9 +379,52 @@ def hdri_glass():
     bpy.context.scene.view_settings.exposure = -2.5  # a sunlit floor is about 4
 
 
+def fog_box(name, corner_min, corner_max, density, anisotropy):
+    """A box of Volume Scatter with nothing on its Surface: fog inside it, an invisible boundary."""
+    mat = bpy.data.materials.new(name)
+    if mat.node_tree is None or bpy.app.version < (5, 0, 0):
+        mat.use_nodes = True
+    nodes = mat.node_tree.nodes
+    nodes.clear()
+    output, fog = nodes.new("ShaderNodeOutputMaterial"), nodes.new("ShaderNodeVolumeScatter")
+    fog.inputs["Density"].default_value = density
+    fog.inputs["Anisotropy"].default_value = anisotropy
+    mat.node_tree.links.new(fog.outputs[0], output.inputs["Volume"])
+    (x0, y0, z0), (x1, y1, z1) = corner_min, corner_max
+    corners = [(x0, y0, z0), (x1, y0, z0), (x1, y1, z0), (x0, y1, z0),
+               (x0, y0, z1), (x1, y0, z1), (x1, y1, z1), (x0, y1, z1)]
+    return mesh_object(name, corners, BOX_FACES, mat)
+
+
+def fog_caustic():
+    """A volumetric caustic: a stage in fog, a spot light shining down through a glass ball on a
+    plinth, towards the camera; the ball focuses it into a bright cone in the fog and a spot on the
+    floor, inside the ball's shadow in the spot's shaft."""
+    reset()
+    stage = diffuse("stage", (0.6, 0.6, 0.6))
+    quad("floor", [(-5, -5, 0), (5, -5, 0), (5, 5, 0), (-5, 5, 0)], stage)
+    quad("back", [(-5, 4, 0), (5, 4, 0), (5, 4, 4), (-5, 4, 4)], stage)
+    glass = node_material("glass", "ShaderNodeBsdfGlass", IOR=1.5, Roughness=0.0)
+    uv_sphere("glass_ball", BALL, 0.5, glass)
+    mesh_object("plinth", box_corners((BALL[0], BALL[1]), 0.25, BALL[2] - 0.505, 0.0), BOX_FACES,
+                diffuse("plinth", (0.3, 0.3, 0.32)))
+    light("spot", "SPOT", (-3.86, 0.6, 5.56), 12000.0, target=BALL, spot_size=math.radians(7), spot_blend=0.15,
+          shadow_soft_size=0.02)
+    light("fill", "AREA", (2.5, -2.8, 3.0), 8.0, target=BALL, size=1.0)
+    camera((0.3, -3.0, 1.0), (0.2, 0.6, 0.6), lens=35.0)
+    # The fog fills a box around the stage, the camera and the spot outside it (the core does not yet
+    # detect a camera or light inside a mesh medium); its bottom 5 cm below the floor, not in its plane.
+    fog_box("fog", (-4.5, -2.5, -0.05), (4.5, 4.1, 4.5), 0.25, 0.4)
+    world((0.0, 0.0, 0.0))
+    render_settings()
+
+
+BALL = (0.0, 0.6, 0.96)  # the glass ball's centre; its plinth stops 5 mm below it
+
+
 SCENES = {"cornell_3spheres": cornell_3spheres, "bezier_vase": bezier_vase,
           "cornell_dof": cornell_dof, "showcase": showcase, "cornell_diffuse": cornell_diffuse,
-          "hdri_glass": hdri_glass}
+          "hdri_glass": hdri_glass, "fog_caustic": fog_caustic}
 
 
 def save(path):
