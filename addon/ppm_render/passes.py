@@ -3,8 +3,8 @@
 Combined; Depth, Normal, Object Index and Material Index render passes, when the view
 layer enables them; the error estimate's passes when scene.ppm.error_passes asks for them;
 Denoising Albedo and Normal (scene.ppm.denoising_data) from the core's
-Renderer.denoising_features, the normal in Cycles' camera space; Cycles' Diffuse, Glossy and
-Transmission light passes and the Caustic pass from Renderer.component_passes.
+Renderer.denoising_features, the normal in Cycles' camera space; Cycles' Diffuse, Glossy,
+Transmission and Volume light passes and the Caustic pass from Renderer.component_passes.
 
 All come from the core's own primary ray through each pixel centre
 (`Scene.camera_rays`) and its batch ray caster (`Scene.intersect`, camera rays),
@@ -27,23 +27,29 @@ NOISY_PASS = ("Noisy Image", 4, "RGBA", "COLOR")
 COMPONENT_PASSES = tuple((prefix + part, f"use_pass_{kind}_{word}")
                          for prefix, kind in (("Diff", "diffuse"), ("Gloss", "glossy"), ("Trans", "transmission"))
                          for part, word in (("Dir", "direct"), ("Ind", "indirect"), ("Col", "color")))
+# Cycles' volume light passes, radiance without a Color pass; their toggles are the Cycles add-on's
+# (view_layer.cycles).
+VOLUME_PASSES = (("VolumeDir", "use_pass_volume_direct"), ("VolumeInd", "use_pass_volume_indirect"))
 CAUSTIC_PASS = "Caustic"
 
 
 def component_passes_wanted(view_layer, settings):
     """The light passes the view layer asks for, and the Caustic pass if scene.ppm asks for it."""
     wanted = [name for name, toggle in COMPONENT_PASSES if getattr(view_layer, toggle, False)]
+    cycles = getattr(view_layer, "cycles", None)
+    wanted += [name for name, toggle in VOLUME_PASSES if getattr(cycles, toggle, False)]
     return wanted + ([CAUSTIC_PASS] if settings.caustic_pass else [])
 
 
 def component_passes(parts, wanted):
     """The core's Renderer.component_passes (radiance, top row first) as Blender's passes, bottom row
-    first: as Cycles, each Direct and Indirect pass is divided by its Color pass (0 where the colour
-    is), so that (Dir + Ind) * Col is the light again. Caustic stays radiance."""
+    first: as Cycles, each Diffuse, Glossy and Transmission Direct and Indirect pass is divided by its
+    Color pass (0 where the colour is), so that (Dir + Ind) * Col is the light again. Volume and
+    Caustic stay radiance."""
     out = {}
     for name in wanted:
         light = np.asarray(parts[name], dtype=np.float32)
-        if name[-3:] in ("Dir", "Ind"):
+        if name[-3:] in ("Dir", "Ind") and name[:-3] + "Col" in parts:
             color = np.asarray(parts[name[:-3] + "Col"], dtype=np.float32)
             with np.errstate(divide="ignore", invalid="ignore"):
                 light = np.where(color > 0.0, light / color, 0.0).astype(np.float32)

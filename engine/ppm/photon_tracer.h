@@ -35,6 +35,7 @@ struct PhotonPath {
   // depositing), and there was one: its deposits are caustics (light_components.h).
   bool specular_only = false;
   bool scattered = false;
+  bool from_infinity = false;  // emitted by a sun or the world: it crossed an infinite distance
   int32_t origin = -1;  // with guiding (photon_guide.h): slot * kBins + the bin it left in
   bool caustic() const { return scattered && specular_only; }
 };
@@ -74,6 +75,7 @@ inline PhotonPath emit_photon_path(const Scene& scene, const LightSampler& light
   const Bounces start = limits.active ? limits.start(light) : Bounces{};
   PhotonPath path{rng, e.flux / (pick_pdf * lights.flux_unit()), e.ray, 0, start};  // its share of the total
   path.origin = origin;
+  path.from_infinity = light.kind == LightKind::Sun || light.kind == LightKind::Background;
   return path;
 }
 

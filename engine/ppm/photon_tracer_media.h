@@ -56,6 +56,12 @@ uint64_t trace_photons_in_media(const Scene& scene, const LightSampler& lights, 
   for (uint64_t i = first; i < last; ++i) {
     PhotonPath p = emit_photon_path(scene, lights, limits, rng_of(i), guide);
     MediumStack media;  // lights are in the world medium
+    // Light from infinitely far crossed an infinite stretch of the world medium first: nothing of it
+    // is left where that medium has extinction (Cycles: a world volume leaves suns and the world's
+    // light no effect), as the eye's and hit points' rays to it find.
+    if (p.from_infinity && scene.world_medium() >= 0)
+      p.flux *= transmittance(scene.media()[scene.world_medium()].sigma_t, kInf);
+    if (!(max_component(p.flux) > 0.0)) continue;
     int crossings = 0;
     for (;;) {
       Hit hit;

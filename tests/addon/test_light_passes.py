@@ -85,3 +85,43 @@ def test_diffuse_glossy_and_transmission_passes_are_cycles_light_over_colour(mon
     assert not get["Caustic"].any() and not get["GlossDir"].any() and not get["TransCol"].any()
     rebuilt = sum((get[k + "Dir"] + get[k + "Ind"]) * get[k + "Col"] for k in ("Diff", "Gloss", "Trans"))
     np.testing.assert_allclose(rebuilt[::-1], image[..., :3], rtol=1e-4, atol=1e-6)
+
+
+def test_volume_passes_hold_the_fogs_light_and_the_passes_add_up(monkeypatch, tmp_path):
+    """The floor under a point light in the World's fog, the camera in it: Volume Direct and Indirect
+    (Cycles' toggles, view_layer.cycles) hold the fog's light, radiance without a Color pass, and with
+    the floor's passes give the image back."""
+    written = {}
+    monkeypatch.setattr(passes, "write_pass", lambda result, name, pixels: written.setdefault(
+        name, (np.array(pixels), result.layers[0].passes.get(name) is not None)))
+    scene = bpy.context.scene
+    mesh = bpy.data.meshes.new("floor")
+    mesh.from_pydata([(-10, -10, 0), (10, -10, 0), (10, 10, 0), (-10, 10, 0)], [], [(0, 1, 2, 3)])
+    floor = bpy.data.objects.new("floor", mesh)
+    floor.data.materials.append(shader_material("paint", "ShaderNodeBsdfDiffuse", Color=(0.5, 0.5, 0.5, 1.0)))
+    scene.collection.objects.link(floor)
+    lamp = bpy.data.objects.new("lamp", bpy.data.lights.new("lamp", "POINT"))
+    lamp.data.energy, lamp.location = 300.0, (1.0, 0.0, 3.0)
+    scene.collection.objects.link(lamp)
+    world = scene.world = bpy.data.worlds.new("fog")
+    if world.node_tree is None or bpy.app.version < (5, 0, 0):
+        world.use_nodes = True
+    tree = world.node_tree
+    tree.nodes["Background"].inputs["Strength"].default_value = 0.0
+    fog = tree.nodes.new("ShaderNodeVolumeScatter")
+    fog.inputs["Density"].default_value = 0.2
+    tree.links.new(fog.outputs[0], tree.nodes["World Output"].inputs["Volume"])
+    camera_looking_down(scene, 4.0, 40, 30)
+    layer = bpy.context.view_layer
+    toggles = [toggle for _, toggle in passes.COMPONENT_PASSES]
+    for toggle in toggles:
+        setattr(layer, toggle, True)
+    for _, toggle in passes.VOLUME_PASSES:
+        setattr(layer.cycles, toggle, True)
+    image = render_file(scene, tmp_path / "v.exr", passes=4, photons_per_pass=5000)
+    get = {name: pixels for name, (pixels, registered) in written.items() if registered}
+    assert {"VolumeDir", "VolumeInd"} <= set(get), sorted(written)
+    assert get["VolumeDir"].mean() > 0.01 and get["VolumeInd"].mean() > 0.0
+    rebuilt = sum((get[k + "Dir"] + get[k + "Ind"]) * get[k + "Col"] for k in ("Diff", "Gloss", "Trans"))
+    rebuilt = rebuilt + get["VolumeDir"] + get["VolumeInd"]
+    np.testing.assert_allclose(rebuilt[::-1], image[..., :3], rtol=1e-4, atol=1e-5)

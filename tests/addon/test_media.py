@@ -148,7 +148,11 @@ def test_the_world_volume_fills_the_scene_and_fixed_hit_points_give_way(tmp_path
     world.node_tree.links.new(fog.outputs[0], output.inputs["Volume"])
     scene.world = world
     core_scene, warnings = export_scene(scene)
-    assert warnings == [] and core_scene.media == ["world 'hazy'"] and core_scene.has_media
+    assert len(warnings) == 1 and "sun lamps and the world's own light" in warnings[0], warnings
+    assert core_scene.media == ["world 'hazy'"] and core_scene.has_media
+    lamp = bpy.data.objects.new("lamp", bpy.data.lights.new("lamp", "POINT"))  # the sun lights nothing here
+    lamp.data.energy, lamp.location = 300.0, (0.0, 0.0, 2.0)
+    scene.collection.objects.link(lamp)
     scene.ppm.hit_points = "FIXED"
     rgb = render_file(scene, tmp_path / "fog.exr", passes=2, photons_per_pass=5000, samples_per_pixel=1)[..., :3]
     assert np.isfinite(rgb).all() and rgb.mean() > 0.01

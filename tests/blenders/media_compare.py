@@ -38,7 +38,7 @@ import cycles_compare
 CASES = ("world_fog", "fog_cube_spot", "ink_in_glass", "smoke_ball")
 # Not rendered as Cycles renders them yet, run by name only: an emitting medium is seen, but does not
 # light what is around it, nor scatter its own light (the core emits no photons from media yet).
-GAPS = ("glowing_cloud",)
+GAPS = ("glowing_cloud", "glass_ball_in_fog")
 LIFT = 0.02  # media and glass stand this far above the floor: see the module's comment
 BOUNCES = 12
 TOLERANCE = 0.03
@@ -112,6 +112,12 @@ def build(case):
                                                          Anisotropy=0.2))
         cycles_compare.add_light("SPOT", 500.0, (0.6, 0.6, 3.5), shadow_soft_size=0.1, spot_size=math.radians(35),
                                  spot_blend=0.2)
+    elif case == "glass_ball_in_fog":
+        cube("fog", (0.3, 0.6, 1.2 + LIFT), 2.4, volume_material("fog", "ShaderNodeVolumeScatter", Density=0.3,
+                                                                 Anisotropy=0.3))
+        cycles_compare.ball("lens", (0.3, 0.6, 1.4), 0.4, cycles_compare.glass_material("lens", 1.5))
+        cycles_compare.add_light("SPOT", 800.0, (0.3, 0.6, 3.3), shadow_soft_size=0.25, spot_size=math.radians(20),
+                                 spot_blend=0.1)
     elif case == "ink_in_glass":
         cube("ink", (0.5, 0.4, 0.5 + LIFT), 1.0,
              volume_material("ink", "ShaderNodeVolumeAbsorption", ("ShaderNodeBsdfGlass", {"IOR": 1.33,

@@ -445,3 +445,32 @@ def test_the_error_estimate_sees_the_volume_estimates_bias():
     (wide, bias), (narrow, _) = fog_of(0.5), fog_of(0.1)
     assert wide < narrow
     assert -1.5 * (narrow - wide) < bias < -0.15 * (narrow - wide)
+
+
+# ---- light from infinity through the world medium ----------------------------------------------
+
+
+def test_a_world_medium_leaves_suns_and_the_world_no_light_in_the_channels_it_attenuates():
+    """Blender's manual (Cycles, World > Volume): with a world volume "the world surface shader or sun
+    lamps will have no effect": their light comes from infinitely far, through an infinite stretch
+    of the medium. A red-only extinction takes all red of a sun and of the sky, and leaves green and
+    blue as without the medium; photons (which start at a finite disk) and light sampling agree."""
+
+    def image(with_medium, direct_light):
+        scene = ppm_core.Scene()
+        floor = scene.add_material("floor", "diffuse", base_color=0.5)
+        quad(scene, "floor", [[-4, -4, 0], [4, -4, 0], [4, 4, 0], [-4, 4, 0]], floor, object_id=0)
+        scene.add_light("sun", power=3.0, direction=(0.2, 0.1, -1.0))
+        scene.set_background((0.3, 0.3, 0.3))
+        if with_medium:
+            scene.add_medium("red haze", sigma_a=(0.05, 0.0, 0.0))
+            scene.set_world_medium("red haze")
+        camera(scene, (0, -2, 2), (0, 0, 0), size=8, fov=0.5)
+        return render(scene, 4, photons_per_pass=20000, direct_light=direct_light)[0]
+
+    for direct_light in ("sampled", "photons"):
+        clear, hazy = image(False, direct_light), image(True, direct_light)
+        assert clear[..., 0].mean() > 0.3
+        assert np.abs(hazy[..., 0]).max() == 0.0, direct_light
+        # Green and blue: the camera's 2.8 m through the haze cost them nothing (no extinction there).
+        np.testing.assert_allclose(hazy[..., 1:].mean(axis=(0, 1)), clear[..., 1:].mean(axis=(0, 1)), rtol=0.05)

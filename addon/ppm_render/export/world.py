@@ -215,6 +215,10 @@ def add_world(core_scene, world, warn, attributes=None):
         return
     keywords = volume.world_medium(world, warn, core_scene)
     core_scene.set_world_medium(volume.add(core_scene, f"world '{world.name}'", keywords, warn))
+    if keywords is not None and max(keywords["sigma_a"]) + max(keywords["sigma_s"]) > 0.0:
+        warn(f"world '{world.name}': its Volume fills all space, so sun lamps and the world's own light, "
+             "infinitely far away, reach nothing through it (as in Cycles); for fog in sunlight, give the "
+             "volume to an object around the scene")
     try:
         WorldExporter(core_scene, world, warn, attributes).export()
     except ValueError as error:
