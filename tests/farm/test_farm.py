@@ -224,3 +224,27 @@ def test_share_settings_drop_what_does_not_split_into_shares():
     scene = ppm_core.Scene()
     scene.set_camera(np.eye(4), 8, 6)
     ppm_core.Renderer(scene, **out)  # the core takes them (it refuses guiding with shares)
+
+
+def test_a_still_with_fog_renders_as_shares_that_merge_into_one_render(ppm_core):
+    """fog_caustic.blend (a fog box, a glass ball, a spot light) at 32x24, exported as the farm exports it:
+    its media are replayed on the worker, and two shares of 2 passes, merged, are one render's 4."""
+    registered_here = not hasattr(bpy.types.Scene, "ppm")
+    if registered_here:
+        ppm_render.register()
+    try:
+        bpy.ops.wm.open_mainfile(filepath=os.path.join(ROOT, "blend_scenes", "fog_caustic.blend"))
+        render = bpy.context.scene.render
+        render.resolution_x, render.resolution_y, render.resolution_percentage = 32, 24, 100
+        bpy.context.scene.ppm.photons_per_pass = 20_000
+        warnings = []
+        fog = export_still(bpy, ppm_core, warnings.append)
+    finally:
+        if registered_here:
+            ppm_render.unregister()
+    assert warnings == [] and any(call[0] == "add_medium" for call in fog.calls)
+    first, second = (shares.render_share(fog.calls, fog.settings, start, 2)[0] for start in (0, 2))
+    merged = ppm_core.merge_shares([first, second])
+    image = shares.render_share(fog.calls, fog.settings, 0, 4)[0].image()
+    assert np.isfinite(image).all() and image[..., :3].mean() > 0.0
+    np.testing.assert_allclose(merged.image(), image, rtol=1e-5, atol=1e-6 * image.max())
