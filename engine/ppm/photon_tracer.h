@@ -46,12 +46,10 @@ struct PhotonTag {
   int32_t origin;  // PhotonPath::origin
 };
 
-// Emits a photon from a light picked in proportion to its flux; with a guide, a guided light's
-// direction comes from its histogram (photon_guide.h).
-inline PhotonPath emit_photon_path(const Scene& scene, const LightSampler& lights, const BounceLimits& limits,
-                                   Rng rng, const PhotonGuide* guide = nullptr) {
-  double pick_pdf;
-  const uint32_t index = lights.pick_emitter(rng.uniform(), pick_pdf);
+// Emits a photon from light `index`, picked with probability `pick_pdf` (rng drew the pick); with a
+// guide, a guided light's direction comes from its histogram (photon_guide.h).
+inline PhotonPath emit_photon_path_from(const Scene& scene, const LightSampler& lights, const BounceLimits& limits,
+                                        Rng rng, uint32_t index, double pick_pdf, const PhotonGuide* guide) {
   const Light& light = scene.lights()[index];
   const double u1 = rng.uniform(), u2 = rng.uniform(), u3 = rng.uniform(), u4 = rng.uniform(), u5 = rng.uniform();
   PhotonEmission e;
@@ -79,8 +77,18 @@ inline PhotonPath emit_photon_path(const Scene& scene, const LightSampler& light
   return path;
 }
 
+// Emits a photon from a light picked in proportion to its flux (emit_photon_path_from).
+inline PhotonPath emit_photon_path(const Scene& scene, const LightSampler& lights, const BounceLimits& limits,
+                                   Rng rng, const PhotonGuide* guide = nullptr) {
+  double pick_pdf;
+  const uint32_t index = lights.pick_emitter(rng.uniform(), pick_pdf);
+  return emit_photon_path_from(scene, lights, limits, rng, index, pick_pdf, guide);
+}
+
 // Takes the path one bounce on, given what its ray hit (nullptr: nothing):
 // deposits (counted in `deposits`), then scatters. False when the path ends.
+// `deposit_direct`: a first hit deposits too (its light is not sampled at hit points:
+// direct_light="photons", or a photon of an emitting medium, photon_tracer_media.h).
 // `deposit(position, travel_direction, normal, flux, bounces, tag)`, where `normal`
 // is the surface's shading normal turned to the side the photon arrived on (as
 // hit points turn theirs to the viewer), `bounces` the path's counts with
@@ -88,7 +96,7 @@ inline PhotonPath emit_photon_path(const Scene& scene, const LightSampler& light
 // the deposit tells of the path (PhotonTag).
 template <class Deposit>
 bool bounce_photon(const Scene& scene, const Settings& settings, const BounceLimits& limits, PhotonPath& p,
-                   const Hit* hit, Deposit&& deposit, uint64_t& deposits) {
+                   const Hit* hit, bool deposit_direct, Deposit&& deposit, uint64_t& deposits) {
   if (hit == nullptr) return false;
   const Material& m = scene.material(hit->material);
   if (is_black(m)) return false;
@@ -98,7 +106,6 @@ bool bounce_photon(const Scene& scene, const Settings& settings, const BounceLim
   path.depth = capped(p.bounce + 1);
   path.length = static_cast<float>(hit->t);
   const SurfacePoint sp = scene.surface_point(*hit, wo, 0.0, path);
-  const bool deposit_direct = settings.direct_light == DirectLight::Photons;
   if (!is_specular(m) && (p.bounce > 0 || deposit_direct)) {
     const uint8_t here = scattering_ray_kind(m);
     const Bounces bounces = limits.active && p.bounce > 0 ? plus(p.used, here) : p.used;
@@ -138,11 +145,12 @@ uint64_t trace_photons(const Scene& scene, const LightSampler& lights, const Set
                        const BounceLimits& limits, uint64_t first, uint64_t last, RngOf&& rng_of, Deposit&& deposit,
                        const PhotonGuide* guide = nullptr) {
   uint64_t deposits = 0;
+  const bool deposit_direct = settings.direct_light == DirectLight::Photons;
   if (!scene.interleaves_walks()) {  // a BVH in cache gains nothing from waves: one photon after the other
     for (uint64_t i = first; i < last; ++i) {
       PhotonPath p = emit_photon_path(scene, lights, limits, rng_of(i), guide);
       Hit hit;
-      while (scene.intersect(p.ray, hit) && bounce_photon(scene, settings, limits, p, &hit, deposit, deposits)) {
+      while (scene.intersect(p.ray, hit) && bounce_photon(scene, settings, limits, p, &hit, deposit_direct, deposit, deposits)) {
       }
     }
     return deposits;
@@ -161,7 +169,7 @@ uint64_t trace_photons(const Scene& scene, const LightSampler& lights, const Set
     int kept = 0;
     for (int k = 0; k < live; ++k) {
       const Hit* hit = hits[k].found() ? &hits[k] : nullptr;
-      if (bounce_photon(scene, settings, limits, paths[k], hit, deposit, deposits)) paths[kept++] = paths[k];
+      if (bounce_photon(scene, settings, limits, paths[k], hit, deposit_direct, deposit, deposits)) paths[kept++] = paths[k];
     }
     live = kept;
   }

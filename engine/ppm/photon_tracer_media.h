@@ -8,24 +8,33 @@
 // getting there (T / P(no collision); T itself in a medium that only absorbs). Boundaries without a
 // surface are crossed, and refractions through a surface with a medium change the medium stack.
 //
+// Emitting media are lights too (scene/light.h, LightKind::Medium): a photon picked from one
+// starts at a uniform point inside its region (Scene::sample_medium_region) in a uniform direction,
+// inside that medium (its stack holds it). No light sampling reaches such a light, so its photons
+// deposit from their first hit, surface or volume, as every photon does with direct_light="photons".
+// The eye sees the emission itself along its rays (medium_emission_along), never by photons: a
+// photon reaches the eye only through a hit point's gather, after a scattering there.
+//
 // Scenes without media never come here (PhotonPass picks photon_tracer.h's trace_photons). Paths
 // are traced one after the other (no waves yet).
 #pragma once
 
+#include "math/sampling.h"
 #include "ppm/photon_tracer.h"
 #include "shading/free_path.h"
 
 namespace ppm {
 
 // The scattering event at distance f.distance along p's ray in medium `med`: a volume photon
-// deposited (after the first bounce when direct light is sampled), then the phase function sampled.
-// False when the path ends.
+// deposited (after the first bounce unless `deposit_direct`, see bounce_photon), then the phase
+// function sampled. False when the path ends.
 template <class DepositVolume>
 bool scatter_photon_in_medium(const Settings& settings, const BounceLimits& limits, PhotonPath& p, const Medium& med,
-                              const FreePathSample& f, DepositVolume&& deposit_volume, uint64_t& deposits) {
+                              const FreePathSample& f, bool deposit_direct, DepositVolume&& deposit_volume,
+                              uint64_t& deposits) {
   const Vec3 x = p.ray.origin + f.distance * p.ray.direction;
   p.flux *= f.weight;
-  if (p.bounce > 0 || settings.direct_light == DirectLight::Photons) {
+  if (p.bounce > 0 || deposit_direct) {
     deposit_volume(x, p.ray.direction, p.flux);
     ++deposits;
   }
@@ -45,6 +54,40 @@ bool scatter_photon_in_medium(const Settings& settings, const BounceLimits& limi
   return ++p.bounce < settings.path_bounces();
 }
 
+// A photon's start in a scene with media: its path, the media it is in, whether it left an emitting
+// medium (its first hit then deposits), and false `emitted` where no point of the region was found.
+struct MediaPhoton {
+  PhotonPath path;
+  MediumStack media;  // lights are in the world medium
+  bool from_medium = false;
+  bool emitted = true;
+};
+
+// Picks a light as emit_photon_path does (the same random numbers for the same lights); a medium's
+// photon starts inside its region, uniform in position and direction, carrying its share of the
+// total as every photon (flux / (pick pdf * flux_unit)).
+inline MediaPhoton emit_media_photon(const Scene& scene, const LightSampler& lights, const BounceLimits& limits,
+                                     Rng rng, const PhotonGuide* guide) {
+  double pick_pdf;
+  const uint32_t index = lights.pick_emitter(rng.uniform(), pick_pdf);
+  const Light& light = scene.lights()[index];
+  MediaPhoton out;
+  if (light.kind != LightKind::Medium) {
+    out.path = emit_photon_path_from(scene, lights, limits, rng, index, pick_pdf, guide);
+    return out;
+  }
+  Vec3 x;
+  out.emitted = scene.sample_medium_region(light.region, rng, x);
+  const double u1 = rng.uniform(), u2 = rng.uniform();
+  // A shadow ray, as every photon leaving its light (emit_photon_path_from).
+  const Ray ray{x, sample_uniform_sphere(u1, u2), kShadowRay};
+  const Bounces start = limits.active ? limits.start(light) : Bounces{};
+  out.path = PhotonPath{rng, light.flux / (pick_pdf * lights.flux_unit()), ray, 0, start};
+  out.media.enter(scene.medium_region(light.region).medium);
+  out.from_medium = true;
+  return out;
+}
+
 // Traces photons [first, last) as trace_photons does, through media: surface photons to
 // `deposit`, volume photons to `deposit_volume(position, travel_direction, flux)`.
 template <class RngOf, class Deposit, class DepositVolume>
@@ -53,9 +96,13 @@ uint64_t trace_photons_in_media(const Scene& scene, const LightSampler& lights, 
                                 Deposit&& deposit, DepositVolume&& deposit_volume,
                                 const PhotonGuide* guide = nullptr) {
   uint64_t deposits = 0;
+  const bool photons_direct = settings.direct_light == DirectLight::Photons;
   for (uint64_t i = first; i < last; ++i) {
-    PhotonPath p = emit_photon_path(scene, lights, limits, rng_of(i), guide);
-    MediumStack media;  // lights are in the world medium
+    MediaPhoton start = emit_media_photon(scene, lights, limits, rng_of(i), guide);
+    if (!start.emitted) continue;
+    PhotonPath& p = start.path;
+    MediumStack& media = start.media;
+    const bool deposit_direct = photons_direct || start.from_medium;
     // Light from infinitely far crossed an infinite stretch of the world medium first: nothing of it
     // is left where that medium has extinction (Cycles: a world volume leaves suns and the world's
     // light no effect), as the eye's and hit points' rays to it find.
@@ -74,7 +121,8 @@ uint64_t trace_photons_in_media(const Scene& scene, const LightSampler& lights, 
           const double u1 = p.rng.uniform(), u2 = p.rng.uniform();
           const FreePathSample f = sample_free_path(med->sigma_t, med->c.sigma_s, p.flux, segment, u1, u2);
           if (f.event == FreePathEvent::Scatter) {
-            if (!scatter_photon_in_medium(settings, limits, p, *med, f, deposit_volume, deposits)) break;
+            if (!scatter_photon_in_medium(settings, limits, p, *med, f, deposit_direct, deposit_volume, deposits))
+              break;
             continue;
           }
           p.flux *= f.weight;
@@ -90,7 +138,7 @@ uint64_t trace_photons_in_media(const Scene& scene, const LightSampler& lights, 
         continue;
       }
       const Vec3 d_in = p.ray.direction;
-      if (!bounce_photon(scene, settings, limits, p, &hit, deposit, deposits)) break;
+      if (!bounce_photon(scene, settings, limits, p, &hit, deposit_direct, deposit, deposits)) break;
       const double side_in = glm::dot(d_in, hit.geometric_normal), side_out = glm::dot(p.ray.direction, hit.geometric_normal);
       if (m.medium >= 0 && side_in * side_out > 0.0) scene.cross(hit, d_in, media);  // through the surface
     }

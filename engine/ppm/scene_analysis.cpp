@@ -7,6 +7,7 @@ SceneAnalysis analyse_scene(const Scene& scene, const LightSampler& lights, cons
   SceneAnalysis a;
   a.sample_direct = settings.direct_light == DirectLight::Sampled && !lights.empty();
   a.trace_photons = !lights.empty();  // not a skip: there is nothing to emit from
+  a.skipped = scene.light_notes();     // emitting media that cannot emit photons: facts, not choices
   if (!settings.scene_analysis) return a;  // everything else on, for measuring what the skips save
   bool any_specular = false, any_receiver = false, any_scatter = false;
   size_t mixtures = 0;
@@ -26,13 +27,14 @@ SceneAnalysis analyse_scene(const Scene& scene, const LightSampler& lights, cons
   }
   if (lights.dropped() > 0)
     a.skipped.push_back("zero-power lights: " + std::to_string(lights.dropped()) + " left out of sampling");
-  const bool photons_direct = settings.direct_light == DirectLight::Photons;
+  // Emitting media's direct light is by photons whatever the setting (no light sampling reaches them).
+  const bool photons_direct = settings.direct_light == DirectLight::Photons || lights.has_emitting_media();
   // With direct light sampled, photons only matter after a bounce off something that scatters.
   if (lights.empty() || !any_receiver || (!photons_direct && !any_scatter)) {
     a.trace_photons = false;
     a.skipped.push_back("photon passes: no light can reach a diffuse or glossy surface");
   }
-  a.sample_direct = !photons_direct && !lights.empty();
+  a.sample_direct = settings.direct_light == DirectLight::Sampled && !lights.empty();
   bool all_delta = true;
   for (uint32_t l : lights.analytic()) all_delta &= light_is_delta(scene.lights()[l]);
   all_delta &= !lights.has_triangles();

@@ -242,6 +242,9 @@ void prepare_light(Light& l, const Aabb& bounds) {
     case LightKind::Triangle:
       l.flux = l.radiance * (2.0 * kPi * triangle_area(l.triangle));
       break;
+    case LightKind::Medium:  // 4 pi L_e per unit volume, isotropic
+      l.flux = l.power * (4.0 * kPi * l.volume);
+      break;
   }
 }
 
@@ -359,6 +362,10 @@ PhotonEmission emit_photon(const Light& l, double u1, double u2, double u3, doub
       }
       break;
     }
+    case LightKind::Medium:  // a point inside a mesh needs the scene: photon_tracer_media.h draws it
+      e.ray = {l.position, sample_uniform_sphere(u3, u4)};
+      e.flux = Color(0.0);
+      break;
   }
   return e;
 }
@@ -420,6 +427,8 @@ bool sample_direct(const Light& l, const Vec3& p, const Vec3& n, double u1, doub
       out.value = radiance_at(l, b) * (cos_l * triangle_area(l.triangle) / dist2);
       return cos_l > 0.0;
     }
+    case LightKind::Medium:  // not sampled: its photons carry its direct light
+      return false;
   }
   return false;
 }

@@ -8,7 +8,11 @@
 //   sun:                 `power` is irradiance in W/m^2 on a surface facing it;
 //   background:          `power` is radiance in W/(m^2 sr) from every direction,
 //                        or an Environment gives it direction by direction;
-//   emissive triangles come from materials (radiance, both sides).
+//   emissive triangles come from materials (radiance, both sides);
+//   medium: the region of an emitting medium (Scene::medium_region), `power` its emission radiance
+//     per metre L_e, emitting 4 pi L_e W per cubic metre in every direction (flux 4 pi L_e V). No
+//     light sampling reaches it: its photons carry its direct light (photon_tracer_media.h draws
+//     them, since a point inside a mesh needs the scene's rays).
 #pragma once
 
 #include "geometry/ray.h"
@@ -23,7 +27,7 @@
 
 namespace ppm {
 
-enum class LightKind : uint8_t { Point, Sphere, Spot, Rectangle, Disk, Sun, Background, Triangle };
+enum class LightKind : uint8_t { Point, Sphere, Spot, Rectangle, Disk, Sun, Background, Triangle, Medium };
 
 struct Light {
   LightKind kind = LightKind::Point;
@@ -64,6 +68,9 @@ struct Light {
   const ObjectInfo* object = nullptr;
   std::array<Vec2, 3> uvs{};
   Color emission{0.0};
+  // Medium: its region's index (Scene::medium_region) and the volume it encloses, m^3.
+  uint32_t region = 0;
+  double volume = 0.0;
 
   // Derived by `prepare_light` once the scene bounds are known.
   Color radiance{0.0};  // sphere, area, triangle, sun (per sr), background

@@ -1,6 +1,7 @@
 // Which light to sample: photons pick a light in proportion to its flux (one
-// discrete distribution over every emitter); direct light samples each
-// analytic light once and one emissive triangle chosen by flux. Zero-power
+// discrete distribution over every emitter, emitting media's regions too); direct
+// light samples each analytic light once and one emissive triangle chosen by flux
+// (emitting media are not sampled: their photons carry their direct light). Zero-power
 // lights are left out of both (unless `drop_zero_power` is false, which the
 // renderer's scene_analysis=False uses to measure what leaving them out saves).
 #pragma once
@@ -30,6 +31,8 @@ class LightSampler {
         triangles_.push_back(i);
         tri_total += w;
         triangle_cdf_.push_back(tri_total);
+      } else if (lights[i].kind == LightKind::Medium) {
+        media_emit_ = media_emit_ || w > 0.0;
       } else {
         analytic_.push_back(i);
       }
@@ -43,6 +46,8 @@ class LightSampler {
   size_t dropped() const { return dropped_; }
   const std::vector<uint32_t>& analytic() const { return analytic_; }
   bool has_triangles() const { return triangle_total_ > 0.0; }
+  // Whether an emitting medium's photons are among them (their first hits are direct light).
+  bool has_emitting_media() const { return media_emit_; }
 
   // The lights' total flux (W), picked by: a photon carries its share of it
   // (flux / (pick pdf * flux_unit), about 1 whatever the scene's scale), and
@@ -73,6 +78,7 @@ class LightSampler {
   std::vector<double> emit_cdf_, triangle_cdf_;
   double total_ = 0.0, triangle_total_ = 0.0;
   size_t dropped_ = 0;
+  bool media_emit_ = false;
 };
 
 }  // namespace ppm

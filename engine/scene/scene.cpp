@@ -569,7 +569,8 @@ void Scene::set_dynamic(bool dynamic) {
   invalidate();
 }
 
-// The user lights, the world and the emissive triangles (read from their leaf records).
+// The user lights, the world, the emissive triangles (read from their leaf records) and the
+// emitting media's regions.
 void Scene::prepare_lights() {
   lights_.clear();
   Aabb light_bounds = bvh_.bounds();
@@ -614,6 +615,7 @@ void Scene::prepare_lights() {
     prepare_light(l, light_bounds);
     lights_.push_back(l);
   }
+  prepare_medium_lights(light_bounds);
   lights_built_ = true;
 }
 

@@ -10,6 +10,7 @@
 #include "geometry/triangle.h"
 #include "scene/bsdf.h"
 #include "geometry/camera.h"
+#include "math/rng.h"
 #include "scene/light.h"
 #include "scene/material.h"
 #include "scene/medium.h"
@@ -226,6 +227,27 @@ class Scene {
   // medium it crosses (boundaries only are crossed, with the stack), 0 where a surface is in the way.
   Color shadow_transmittance(const Ray& ray, double distance, MediumStack stack) const;
 
+  // ---- Emitting media as lights (medium_lights.cpp). ----
+  // The region of an emitting medium: the triangles of one object whose material carries it,
+  // closed. Each is a light of kind Medium (Light::region).
+  struct MediumRegion {
+    uint32_t object;
+    int medium;
+    Aabb box;
+    double volume;  // enclosed, m^3 (mesh_volume.h)
+  };
+  const MediumRegion& medium_region(uint32_t region) const { return medium_regions_[region]; }
+  // Is `p` inside region `region`: does a ray from p along `direction` cross the region's own
+  // triangles an odd number of times? Any other geometry on the way is passed by.
+  bool inside_medium_region(uint32_t region, const Vec3& p, const Vec3& direction) const;
+  // A uniform point inside region `region`: uniform in its box until one is inside (each test
+  // along a random direction). False after kRegionTries misses (a region far smaller than its box).
+  bool sample_medium_region(uint32_t region, Rng& rng, Vec3& point) const;
+  static constexpr int kRegionTries = 1024;
+  // What prepare_lights left out, each a sentence for Renderer::stats()["skipped"]: an emitting
+  // world medium, emitting regions that are open or enclose nothing.
+  const std::vector<std::string>& light_notes() const { return light_notes_; }
+
   const Material& material(uint32_t id) const { return materials_[id]; }
   const std::vector<Material>& materials() const { return materials_; }
   const std::vector<Texture>& textures() const { return textures_; }
@@ -280,6 +302,7 @@ class Scene {
   void refit_moved_objects();
   void finish_geometry();  // after the BVH changed: its derived figures
   void prepare_lights();
+  void prepare_medium_lights(const Aabb& light_bounds);
   void restore_triangles();
   void release_triangles();
   void order_vertices_by_leaf();
@@ -335,7 +358,9 @@ class Scene {
   std::vector<std::unique_ptr<BezierRevolve>> revolves_;
   std::vector<RevolveSegment> revolve_segments_;
   std::vector<Light> user_lights_;
-  std::vector<Light> lights_;  // user lights + background + emissive triangles, prepared
+  std::vector<Light> lights_;  // user lights + background + emissive triangles + emitting media, prepared
+  std::vector<MediumRegion> medium_regions_;
+  std::vector<std::string> light_notes_;
   Color background_{0.0};
   struct EnvironmentInput {
     uint32_t texture;
