@@ -150,7 +150,8 @@ uint64_t trace_photons(const Scene& scene, const LightSampler& lights, const Set
     for (uint64_t i = first; i < last; ++i) {
       PhotonPath p = emit_photon_path(scene, lights, limits, rng_of(i), guide);
       Hit hit;
-      while (scene.intersect(p.ray, hit) && bounce_photon(scene, settings, limits, p, &hit, deposit_direct, deposit, deposits)) {
+      while (scene.intersect(p.ray, hit) &&
+             bounce_photon(scene, settings, limits, p, &hit, deposit_direct, deposit, deposits)) {
       }
     }
     return deposits;
@@ -169,7 +170,8 @@ uint64_t trace_photons(const Scene& scene, const LightSampler& lights, const Set
     int kept = 0;
     for (int k = 0; k < live; ++k) {
       const Hit* hit = hits[k].found() ? &hits[k] : nullptr;
-      if (bounce_photon(scene, settings, limits, paths[k], hit, deposit_direct, deposit, deposits)) paths[kept++] = paths[k];
+      if (bounce_photon(scene, settings, limits, paths[k], hit, deposit_direct, deposit, deposits))
+        paths[kept++] = paths[k];
     }
     live = kept;
   }

@@ -56,7 +56,7 @@ def test_principled_volume_absorption_colour_emission_and_blackbody():
                                       "Emission Color": (1.0, 0.5, 0.0, 1.0), "Blackbody Intensity": 1.0,
                                       "Temperature": 1500.0})
     keywords, warnings = read(mat)
-    assert len(warnings) == 1 and "does not light other objects" in warnings[0], warnings
+    assert warnings == []  # it lights its surroundings: the core emits photons from the mesh it fills
     color, absorption = np.array([0.8, 0.6, 0.4]), np.array([0.25, 0.0, 1.0])
     assert keywords["sigma_a"] == pytest.approx(tuple((1 - color) * (1 - np.sqrt(absorption)) * 2.0))
     blackbody = np.array(volume.blackbody.blackbody_rgb(1500.0, volume.blackbody.kernel_rec709_to_scene_linear()))
@@ -88,7 +88,7 @@ def test_mixes_adds_and_groups_weigh_each_shader():
     tree.links.new(holder.outputs[0], mix.inputs[2])
     tree.links.new(mix.outputs[0], out.inputs["Volume"])
     keywords, warnings = read(mat)
-    assert len(warnings) == 1 and "emits" in warnings[0], warnings
+    assert warnings == []
     assert keywords["sigma_a"] == pytest.approx((0.75,) * 3)
     assert keywords["sigma_s"] == pytest.approx((2.0,) * 3)
     assert keywords["emission"] == pytest.approx((1.0, 0.0, 0.0))
@@ -156,6 +156,24 @@ def test_the_world_volume_fills_the_scene_and_fixed_hit_points_give_way(tmp_path
     scene.ppm.hit_points = "FIXED"
     rgb = render_file(scene, tmp_path / "fog.exr", passes=2, photons_per_pass=5000, samples_per_pixel=1)[..., :3]
     assert np.isfinite(rgb).all() and rgb.mean() > 0.01
+
+
+def test_an_emitting_world_volume_is_warned_an_emitting_material_volume_is_not():
+    """The core emits no photons from the World's medium (infinite space, unbounded power): its
+    emission is warned as lighting nothing; the same Volume in a material lights its surroundings."""
+    world = bpy.data.worlds.new("glowing")
+    if world.node_tree is None or bpy.app.version < (5, 0, 0):
+        world.use_nodes = True
+    output = next(n for n in world.node_tree.nodes if n.bl_idname == "ShaderNodeOutputWorld")
+    glow = world.node_tree.nodes.new("ShaderNodeVolumePrincipled")
+    glow.inputs["Emission Strength"].default_value = 0.2
+    world.node_tree.links.new(glow.outputs[0], output.inputs["Volume"])
+    warnings = []
+    keywords = volume.world_medium(world, warnings.append, None)
+    assert keywords["emission"][0] > 0.0
+    assert len(warnings) == 1 and "emits no photons" in warnings[0], warnings
+    mat, _, _ = volume_material("glow", "ShaderNodeVolumePrincipled", **{"Emission Strength": 0.2})
+    assert read(mat)[1] == []
 
 
 def absorbing_cube_scene(color, density, sky=1.0):

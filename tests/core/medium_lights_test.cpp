@@ -44,7 +44,8 @@ MeshInput l_prism_mesh(uint32_t material, uint32_t object) {
 MeshInput box_mesh(const Vec3& lo, const Vec3& hi, uint32_t material, uint32_t object) {
   MeshInput m;
   m.name = "box";
-  for (int i = 0; i < 8; ++i) m.positions.push_back(Vec3(i & 1 ? hi.x : lo.x, i & 2 ? hi.y : lo.y, i & 4 ? hi.z : lo.z));
+  for (int i = 0; i < 8; ++i)
+    m.positions.push_back(Vec3(i & 1 ? hi.x : lo.x, i & 2 ? hi.y : lo.y, i & 4 ? hi.z : lo.z));
   const uint32_t faces[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
   for (const auto& f : faces) m.triangles.insert(m.triangles.end(), {f[0], f[1], f[2], f[0], f[2], f[3]});
   m.materials = {material};

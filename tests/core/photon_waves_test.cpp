@@ -82,7 +82,9 @@ TEST(PhotonWaves, SameDepositsAsOnePhotonAtATime) {
     for (uint64_t i = 0; i < photons; ++i) {
       PhotonPath p = emit_photon_path(scene, lights, limits, rng_of(i));
       Hit hit;
-      while (scene.intersect(p.ray, hit) && bounce_photon(scene, settings, limits, p, &hit, settings.direct_light == DirectLight::Photons, record(alone), deposits)) {
+      const bool deposit_direct = settings.direct_light == DirectLight::Photons;
+      while (scene.intersect(p.ray, hit) &&
+             bounce_photon(scene, settings, limits, p, &hit, deposit_direct, record(alone), deposits)) {
       }
       longest = std::max(longest, p.bounce);
     }

@@ -196,10 +196,11 @@ def read(socket, owner, name, warn, core):
     keywords = {"sigma_a": _tuple(medium.sigma_a), "sigma_s": _tuple(medium.sigma_s),
                 "emission": _tuple(medium.emission)}
     keywords.update(_one_phase(reader, medium.phases))
-    if np.max(medium.emission) > 0.0:
-        reader.warn(None, "its Volume emits light, which is seen along rays through it but does not light other "
-                          "objects or scatter in the medium yet (media emit no photons): darker around it than "
-                          "in Cycles")
+    # A material's emitting medium is a light (the core emits photons from the closed mesh it fills);
+    # the World's fills infinite space, whose power the core cannot emit.
+    if owner == "world" and np.max(medium.emission) > 0.0:
+        reader.warn(None, "its Volume emits light, which is seen along rays but lights nothing else (the World's "
+                          "medium fills infinite space and emits no photons): darker than in Cycles")
     return keywords
 
 
