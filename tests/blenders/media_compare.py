@@ -8,8 +8,8 @@ A floor (albedo 0.5) and a diffuse ball seen from the side, in media the add-on 
   0.1 m, the ball outside it: the beam and its shadow in the fog;
 - ink_in_glass: a glass cube (IOR 1.33) holding red Volume Absorption, on the floor under an area light;
 - smoke_ball: a Principled Volume ball (density 3, a colour, an absorption colour) under the point light;
-- glowing_cloud (GAPS: not yet right, run by name): a Principled Volume cube with Emission Strength
-  and a blackbody, in the dark.
+- glowing_cloud: a Principled Volume cube with Emission Strength and a blackbody, in the dark: the
+  only light, its photons light the floor and the ball and scatter in the cloud.
 Lights are given a size so that Cycles converges (a small light's volumetric caustic leaves Cycles
 fireflies). Cycles renders with volume bounces as PPM's (unlimited there: 12 here, every kind),
 unclamped. The same saved file is rendered by both engines; the mean radiance of 4x3 image blocks
@@ -35,10 +35,10 @@ import bpy
 
 import cycles_compare
 
-CASES = ("world_fog", "fog_cube_spot", "ink_in_glass", "smoke_ball")
-# Not rendered as Cycles renders them yet, run by name only: an emitting medium is seen, but does not
-# light what is around it, nor scatter its own light (the core emits no photons from media yet).
-GAPS = ("glowing_cloud", "glass_ball_in_fog")
+CASES = ("world_fog", "fog_cube_spot", "ink_in_glass", "smoke_ball", "glowing_cloud")
+# Run by name only: a volumetric caustic (a glass ball focusing a spot into fog), whose Cycles
+# reference is noisy at the samples a test can afford (measuring its agreement: the closing notes).
+GAPS = ("glass_ball_in_fog",)
 LIFT = 0.02  # media and glass stand this far above the floor: see the module's comment
 BOUNCES = 12
 TOLERANCE = 0.03
@@ -47,7 +47,11 @@ TOLERANCE = 0.03
 # sphere is about 0.15 m across a 0.8 m ball; the body's block stayed 3.5% dark and the lit top's
 # 6-9% dark (red, albedo 0.88, worst) from 64 to 1024 passes against 4096 samples. Until the estimate
 # is corrected at media boundaries (or beams replace points), the ball is checked to this tolerance.
-CASE_TOLERANCE = {"smoke_ball": 0.10}
+# The glowing cloud's darkest lit block (the floor left of the ball, 0.0008) is Cycles' noise at 1024
+# samples: it reads 0.00075 there and 0.00079 at 8192. Blender 5.0, 8192 samples against 1024 passes:
+# every block within 2.7% (the floor in front of the cloud 2.8% dark, the cloud 0.9-1.1%); 1024
+# samples against 256 passes: within 4.6%.
+CASE_TOLERANCE = {"smoke_ball": 0.10, "glowing_cloud": 0.05}
 # Passes where 64 leave a block noise-bound: the world fog's floor (9.9% at 64, 4.6% at 256); the
 # glowing cloud's floor, lit by the cloud's photons alone (5.3% at 64).
 CASE_PASSES = {"world_fog": 256, "glowing_cloud": 256}
