@@ -51,7 +51,10 @@ TOLERANCE = 0.03
 # samples: it reads 0.00075 there and 0.00079 at 8192. Blender 5.0, 8192 samples against 1024 passes:
 # every block within 2.7% (the floor in front of the cloud 2.8% dark, the cloud 0.9-1.1%); 1024
 # samples against 256 passes: within 4.6%.
-CASE_TOLERANCE = {"smoke_ball": 0.10, "glowing_cloud": 0.05}
+# The world fog: its brightest fog, around the point light, spreads into the next block by the volume
+# estimate's spheres (a block 4.6% bright beside one 3.4% dark at 4096 samples against 256 passes;
+# 4.8% at 1024 against 256, in 3.4 and 5.0 alike): the same kernel bias as the smoke ball's.
+CASE_TOLERANCE = {"smoke_ball": 0.10, "glowing_cloud": 0.05, "world_fog": 0.06}
 # Passes where 64 leave a block noise-bound: the world fog's floor (9.9% at 64, 4.6% at 256); the
 # glowing cloud's floor, lit by the cloud's photons alone (5.3% at 64).
 CASE_PASSES = {"world_fog": 256, "glowing_cloud": 256}
