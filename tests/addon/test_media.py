@@ -10,9 +10,9 @@ import math
 import bpy
 import numpy as np
 import pytest
-from conftest import add, camera_looking_down, node_material, render_file
 from test_forgiving_input import export_scene, floor_scene
 
+from conftest import add, camera_looking_down, node_material, render_file
 from ppm_render.export import volume
 
 

@@ -28,6 +28,7 @@ ROOT = os.path.dirname(os.path.dirname(HERE))
 sys.path.insert(0, HERE)
 
 import bpy
+import media_compare
 import numpy as np
 
 import alpha_compare
@@ -35,7 +36,6 @@ import cycles_compare
 import lens_compare
 import light_paths_compare
 import materials_compare
-import media_compare
 import nodes_compare
 import stereo_compare
 import visibility_compare

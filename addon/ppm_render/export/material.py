@@ -12,9 +12,8 @@ import math
 
 import numpy as np
 
-from . import closure, nodes
+from . import closure, nodes, volume
 from . import image as image_export
-from . import volume
 
 DEFAULT_GREY = (0.8, 0.8, 0.8)
 
@@ -126,7 +125,9 @@ class MaterialExporter:
 
     @staticmethod
     def volume_driven(material):
-        return nodes.uses_nodes(material) and volume.volume_socket(material.node_tree, "ShaderNodeOutputMaterial") is not None
+        """Whether anything drives `material`'s Volume output."""
+        return nodes.uses_nodes(material) and volume.volume_socket(material.node_tree,
+                                                                   "ShaderNodeOutputMaterial") is not None
 
     def volume(self, material):
         """add_material's medium keywords for `material`'s Volume output: {} without one; else its medium

@@ -1,9 +1,10 @@
 """What the export meets in a scene and cannot render yet, each said once, naming what carries it.
 
 Nothing Blender hands over is dropped silently: a material's Displacement output, light and shadow
-linking, light groups, shadow catchers, AOV outputs, Cryptomatte and hair particles drawn as strands. Each message says what is rendered instead. (Object
-types the core has no geometry for, hair Curves, point clouds and Volume objects, are left out by the
-exporter itself: export/__init__.py, UNRENDERED_TYPES.)
+linking, light groups, shadow catchers, AOV outputs, Cryptomatte and hair particles drawn as
+strands. Each message says what is rendered instead. (Object types the core has no geometry for,
+hair Curves, point clouds and Volume objects, are left out by the exporter itself:
+export/__init__.py, UNRENDERED_TYPES.)
 """
 
 from . import nodes

@@ -158,7 +158,8 @@ def _principled(reader, node, ctx, weight):
     if intensity > CUTOFF and temperature > 0.0:
         radiance = STEFAN_BOLTZMANN * 1e-6 / math.pi * (1.0 + (temperature ** 4 - 1.0) * intensity)
         tint = np.maximum(reader.color(node, "Blackbody Tint", ctx), 0.0)
-        reader.out.emission += weight * radiance * tint * np.asarray(blackbody.blackbody_rgb(temperature, blackbody.kernel_rec709_to_scene_linear()))
+        color = blackbody.blackbody_rgb(temperature, blackbody.kernel_rec709_to_scene_linear())  # the kernel's
+        reader.out.emission += weight * radiance * tint * np.asarray(color)
 
 
 def _coefficients(reader, node, ctx, weight):
