@@ -176,6 +176,23 @@ def test_an_emitting_world_volume_is_warned_an_emitting_material_volume_is_not()
     assert read(mat)[1] == []
 
 
+def test_a_world_volume_in_the_dark_is_not_warned_about():
+    """The warning that suns and the world's light reach nothing through a world Volume is for scenes
+    that have them: a black world with a point light gets none."""
+    scene = bpy.context.scene
+    lamp = bpy.data.objects.new("lamp", bpy.data.lights.new("lamp", "POINT"))
+    scene.collection.objects.link(lamp)
+    camera_looking_down(scene, 3.0, 8, 8)
+    world = scene.world = bpy.data.worlds.new("night")
+    if world.node_tree is None or bpy.app.version < (5, 0, 0):
+        world.use_nodes = True
+    next(n for n in world.node_tree.nodes if n.bl_idname == "ShaderNodeBackground").inputs["Strength"].default_value = 0
+    output = next(n for n in world.node_tree.nodes if n.bl_idname == "ShaderNodeOutputWorld")
+    world.node_tree.links.new(world.node_tree.nodes.new("ShaderNodeVolumeScatter").outputs[0], output.inputs["Volume"])
+    core_scene, warnings = export_scene(scene)
+    assert warnings == [] and core_scene.has_media
+
+
 def absorbing_cube_scene(color, density, sky=1.0):
     """A 1 m cube of Volume Absorption (no surface) seen from above, filling the middle of a 32 x 32
     image, over nothing but a uniform sky of radiance `sky`."""

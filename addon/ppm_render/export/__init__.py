@@ -419,7 +419,8 @@ def scene_exporter(core_module, depsgraph, warn, cancelled=lambda: False, lights
     exporter.finish_curves()
     exporter.report_skips()
     exporter.world_textures = exporter.scene.texture_count  # the world's textures come after this
-    world.add_world(exporter.scene, depsgraph.scene.world, world_warn or warn, exporter.attributes)
+    world.add_world(exporter.scene, depsgraph.scene.world, world_warn or warn, exporter.attributes,
+                    sun_count(depsgraph))
     return exporter
 
 
@@ -428,7 +429,12 @@ def export_world(core_scene, depsgraph, warn, world_textures, attributes=None):
     on (the last world's) are removed first, so edits leave no textures behind. Its objects, lights
     and BVH stay: the viewport's update when only the world changed."""
     core_scene.remove_textures_from(world_textures)
-    world.add_world(core_scene, depsgraph.scene.world, warn, attributes)
+    world.add_world(core_scene, depsgraph.scene.world, warn, attributes, sun_count(depsgraph))
+
+
+def sun_count(depsgraph):
+    """The sun lamps among the depsgraph's objects."""
+    return sum(1 for obj in depsgraph.objects if obj.type == "LIGHT" and obj.data.type == "SUN")
 
 
 def export_lights(core_scene, depsgraph, warn, cancelled=lambda: False):

@@ -206,21 +206,35 @@ def euler_xyz(angles):
     return rz @ ry @ rx
 
 
-def add_world(core_scene, world, warn, attributes=None):
+def _emits(world):
+    """Whether the world's Surface may emit light: anything but a Background of black or strength 0."""
+    if not nodes.uses_nodes(world):
+        return max(world.color) > 0.0
+    node = nodes.surface_source(world.node_tree, "ShaderNodeOutputWorld")
+    if node is None or node.bl_idname != "ShaderNodeBackground":
+        return False
+    strength, color = node.inputs["Strength"], node.inputs["Color"]
+    return (bool(strength.links) or strength.default_value > 0.0) and \
+        (bool(color.links) or max(tuple(color.default_value)[:3]) > 0.0)
+
+
+def add_world(core_scene, world, warn, attributes=None, suns=0):
     """The world's background; one the core refuses (negative, NaN, Inf) renders black with a warning.
-    `attributes`: the export's object_info.AttributeTable (its view-layer attributes)."""
+    `attributes`: the export's object_info.AttributeTable (its view-layer attributes); `suns`: how many
+    sun lamps the scene has (a world Volume leaves them no effect: warned)."""
     if world is None:
         core_scene.set_background((0.0, 0.0, 0.0))
         core_scene.set_world_medium(None)
         return
     keywords = volume.world_medium(world, warn, core_scene)
     core_scene.set_world_medium(volume.add(core_scene, f"world '{world.name}'", keywords, warn))
-    if keywords is not None and max(keywords["sigma_a"]) + max(keywords["sigma_s"]) > 0.0:
-        warn(f"world '{world.name}': its Volume fills all space, so sun lamps and the world's own light, "
-             "infinitely far away, reach nothing through it (as in Cycles); for fog in sunlight, give the "
-             "volume to an object around the scene")
     try:
         WorldExporter(core_scene, world, warn, attributes).export()
     except ValueError as error:
         warn(f"world '{world.name}': not rendered ({error}); the background is black")
         core_scene.set_background((0.0, 0.0, 0.0))
+    attenuates = keywords is not None and max(keywords["sigma_a"]) + max(keywords["sigma_s"]) > 0.0
+    if attenuates and (suns > 0 or _emits(world)):
+        warn(f"world '{world.name}': its Volume fills all space, so sun lamps and the world's own light, "
+             "infinitely far away, reach nothing through it (as in Cycles); for fog in sunlight, give the "
+             "volume to an object around the scene")
