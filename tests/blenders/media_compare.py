@@ -38,10 +38,10 @@ import cycles_compare
 
 CASES = ("fog_cube_spot", "ink_in_glass", "smoke_ball", "glowing_cloud")
 # Run by name only. A glass ball focusing a spot into fog: Cycles' reference stays noisy at the samples
-# a test can afford. The world fog: a light inside fog gives PPM fireflies in the fog around it (no
-# equiangular sampling towards lights yet): at 256 passes two seeds' blocks differed by up to 9.3%
-# (14% with absorption added), while Cycles' three seeds at 1024 samples agreed within 0.4%; the
-# image mean agreed within 0.7%.
+# a test can afford. The world fog: PPM's pixels whose first scattering was near the camera keep a
+# tiny volume radius and flare (LIMITATIONS.md, "Fog that the camera is inside"): at 256 passes two
+# seeds' blocks differed by up to 9.3%, while Cycles' three seeds at 1024 samples agreed within 0.4%;
+# the image mean agreed within 0.7%.
 GAPS = ("glass_ball_in_fog", "world_fog")
 LIFT = 0.02  # media and glass stand this far above the floor: see the module's comment
 BOUNCES = 12
