@@ -252,7 +252,7 @@ struct EyeTracer {
     for (int c = 0; c < 3; ++c) unit[c] = med->c.sigma_s[c] > 0.0 ? f.weight[c] / med->c.sigma_s[c] : 0.0;
     const Vec3 position = v.ray.origin + f.distance * v.ray.direction;
     double r = settings.initial_radius;
-    if (r <= 0.0) r = settings.initial_radius_pixels * pixel_size(v.length + f.distance);
+    if (r <= 0.0) r = settings.volume_radius_scale * settings.initial_radius_pixels * pixel_size(v.length + f.distance);
     r = std::fmax(r, 4.0 * ray_offset(position, scene.offset_floor()));
     VolumeHitPoint h{};
     h.position = position;

@@ -20,6 +20,7 @@ void Settings::validate() const {
   if (!(initial_radius >= 0.0) || !std::isfinite(initial_radius)) fail("initial_radius must be >= 0");
   if (!(initial_radius_pixels > 0.0) || !std::isfinite(initial_radius_pixels))
     fail("initial_radius_pixels must be positive");
+  if (!(volume_radius_scale > 0.0) || !std::isfinite(volume_radius_scale)) fail("volume_radius_scale must be positive");
   if (dof_max_radius < 1 || dof_max_radius > 256) fail("dof_max_radius must be in [1, 256]");
   if (!(progress_interval > 0.0) || !std::isfinite(progress_interval)) fail("progress_interval must be positive");
   if (!(target_error >= 0.0) || !std::isfinite(target_error)) fail("target_error must be >= 0 (0: off)");

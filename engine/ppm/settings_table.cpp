@@ -71,6 +71,8 @@ std::vector<SettingInfo> make_table() {
       number("threads", &Settings::threads, "worker threads, 0 = all cores"),
       number("initial_radius", &Settings::initial_radius, "initial gather radius in metres, 0 = automatic"),
       number("initial_radius_pixels", &Settings::initial_radius_pixels, "automatic initial radius in pixel footprints"),
+      number("volume_radius_scale", &Settings::volume_radius_scale,
+             "hit points in media: the automatic initial radius times this, (0, 1e6]"),
       number("density_radius", &Settings::density_radius,
              "widen the automatic initial radius where one pass's photons are sparser than pixels"),
       number("progress_interval", &Settings::progress_interval, "seconds between progress callbacks"),
@@ -155,6 +157,7 @@ void check_settings(const Settings& s) {
   // Radii whose square stays finite (r^2 would overflow to inf above ~1e154 m).
   if (s.initial_radius > kMaxCoordinate) throw std::invalid_argument("settings: initial_radius must be at most 1e30 m");
   if (s.initial_radius_pixels > 1e6) throw std::invalid_argument("settings: initial_radius_pixels must be at most 1e6");
+  if (s.volume_radius_scale > 1e6) throw std::invalid_argument("settings: volume_radius_scale must be at most 1e6");
 }
 
 }  // namespace ppm
