@@ -103,6 +103,29 @@ inline bool within_budget(const BounceLimits& limits, const HitPoints& hp, uint3
   return within(used, limits.budget(hp.chain[i]));
 }
 
+// The share of a gather sphere (centre c, radius r) on the hit point's side of the nearest surface:
+// no photon lies beyond a surface bounding the medium, so the estimate divides by this much of the
+// ball. Rays along the six axes up to 4r find the surface; a plane at distance d (unit normal n)
+// meets axis k at d / |n_k|, so 1/d^2 = sum over the axes of 1/t_k^2 (each axis its nearer hit;
+// an axis with |n_k| below d / 4r, missed, leaves at most 1/16 of the sum out).
+// Beyond the plane lies the cap of height r - d: (r - d)^2 (2r + d) / (4 r^3) of the ball.
+double ball_share_inside(const Scene& scene, const Vec3& c, double r) {
+  double inverse_d2 = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    double t = kInf;
+    for (double sign : {1.0, -1.0}) {
+      Ray ray{c, Vec3(0.0)};
+      ray.direction[k] = sign;
+      Hit hit;
+      if (scene.intersect(ray, hit, 4.0 * r)) t = std::min(t, hit.t);
+    }
+    if (t < kInf) inverse_d2 += 1.0 / (t * t);
+  }
+  if (inverse_d2 == 0.0) return 1.0;
+  const double d = std::min(r, 1.0 / std::sqrt(inverse_d2));
+  return 1.0 - (r - d) * (r - d) * (2.0 * r + d) / (4.0 * r * r * r);
+}
+
 }  // namespace
 
 PhotonPass::PhotonPass(const Settings& settings, int threads)
@@ -543,6 +566,7 @@ bool PhotonPass::gather_volume(const Scene& scene, std::vector<VolumeHitPoint>& 
         }
       });
       h.m = m;
+      if (settings_.volume_boundary && m > 0) sum /= ball_share_inside(scene, center, r);
       h.tau = Vec3f(sum * Color(h.weight));
       h.pass_bias = static_cast<float>(luminance(bias_sum_in_ball(sum, sum_d2, r2) * Color(h.weight)));
     }

@@ -73,6 +73,9 @@ std::vector<SettingInfo> make_table() {
       number("initial_radius_pixels", &Settings::initial_radius_pixels, "automatic initial radius in pixel footprints"),
       number("volume_radius_scale", &Settings::volume_radius_scale,
              "hit points in media: the automatic initial radius times this, (0, 1e6]"),
+      number("volume_boundary", &Settings::volume_boundary,
+             "hit points in media: divide their photons by the share of the gather ball on their side of "
+             "the nearest surface (found by rays along the axes), where no photon lies beyond"),
       number("density_radius", &Settings::density_radius,
              "widen the automatic initial radius where one pass's photons are sparser than pixels"),
       number("progress_interval", &Settings::progress_interval, "seconds between progress callbacks"),
