@@ -47,8 +47,10 @@ inline Color bias_sum(const Color& flux, const Color& flux_d2, double r2) { retu
 // (E[d^4] = 3 r^4 / 7, a third of it per axis), which is r^2 / 5 for a = 35 / 4. (On the disc the
 // same steps give 3 (2 d^2 / r^2 - 1), bias_weight above.)
 inline double bias_weight_in_ball(double d2, double r2) { return (35.0 * d2 / r2 - 21.0) / 4.0; }
-inline Color bias_sum_in_ball(const Color& flux, const Color& flux_d2, double r2) {
-  return flux_d2 * (35.0 / (4.0 * r2)) - flux * (21.0 / 4.0);
+// `mean_d2`: E[d^2] / r^2 over the part of the ball photons can reach (3/5: all of it), so that
+// a constant density inside a ball cut by a medium's boundary reads as no curvature.
+inline Color bias_sum_in_ball(const Color& flux, const Color& flux_d2, double r2, double mean_d2 = 0.6) {
+  return flux_d2 * (35.0 / (4.0 * r2)) - flux * (35.0 / 4.0 * mean_d2);
 }
 
 // Running mean and sum of squared deviations in float (Welford: stable over thousands of passes,

@@ -103,13 +103,19 @@ inline bool within_budget(const BounceLimits& limits, const HitPoints& hp, uint3
   return within(used, limits.budget(hp.chain[i]));
 }
 
-// The share of a gather sphere (centre c, radius r) on the hit point's side of the nearest surface:
-// no photon lies beyond a surface bounding the medium, so the estimate divides by this much of the
-// ball. Rays along the six axes up to 4r find the surface; a plane at distance d (unit normal n)
-// meets axis k at d / |n_k|, so 1/d^2 = sum over the axes of 1/t_k^2 (each axis its nearer hit;
-// an axis with |n_k| below d / 4r, missed, leaves at most 1/16 of the sum out).
-// Beyond the plane lies the cap of height r - d: (r - d)^2 (2r + d) / (4 r^3) of the ball.
-double ball_share_inside(const Scene& scene, const Vec3& c, double r) {
+// The part of a gather ball (centre c, radius r) on the hit point's side of the nearest surface:
+// no photon lies beyond a surface bounding the medium, so the estimate divides by its share of the
+// ball, and the error estimate's curvature weight is centred on its E[d^2] / r^2 (error_estimate.h).
+// Rays along the six axes up to 4r find the surface; a plane at distance d (unit normal n) meets
+// axis k at d / |n_k|, so 1/d^2 = sum over the axes of 1/t_k^2 (each axis its nearer hit; an axis
+// with |n_k| below d / 4r, missed, leaves at most 1/16 of the sum out). Beyond the plane lies the
+// cap of height r - d: volume pi (r - d)^2 (2r + d) / 3, int |x|^2 = pi/2 (r^4 (r - d) - (r^5 - d^5) / 5).
+struct BallInside {
+  double share = 1.0;
+  double mean_d2 = 0.6;
+};
+
+BallInside ball_inside(const Scene& scene, const Vec3& c, double r) {
   double inverse_d2 = 0.0;
   for (int k = 0; k < 3; ++k) {
     double t = kInf;
@@ -121,9 +127,11 @@ double ball_share_inside(const Scene& scene, const Vec3& c, double r) {
     }
     if (t < kInf) inverse_d2 += 1.0 / (t * t);
   }
-  if (inverse_d2 == 0.0) return 1.0;
-  const double d = std::min(r, 1.0 / std::sqrt(inverse_d2));
-  return 1.0 - (r - d) * (r - d) * (2.0 * r + d) / (4.0 * r * r * r);
+  if (inverse_d2 == 0.0) return {};
+  const double d = std::min(r, 1.0 / std::sqrt(inverse_d2)), r2 = r * r, r5 = r2 * r2 * r;
+  const double ball = 4.0 * kPi * r2 * r / 3.0, cap = kPi * (r - d) * (r - d) * (2.0 * r + d) / 3.0;
+  const double moment = 0.8 * kPi * r5 - kPi / 2.0 * (r2 * r2 * (r - d) - (r5 - std::pow(d, 5)) / 5.0);
+  return {1.0 - cap / ball, moment / ((ball - cap) * r2)};
 }
 
 }  // namespace
@@ -566,9 +574,12 @@ bool PhotonPass::gather_volume(const Scene& scene, std::vector<VolumeHitPoint>& 
         }
       });
       h.m = m;
-      if (settings_.volume_boundary && m > 0) sum /= ball_share_inside(scene, center, r);
+      BallInside inside;
+      if (settings_.volume_boundary && m > 0) inside = ball_inside(scene, center, r);
+      sum /= inside.share;
+      sum_d2 /= inside.share;
       h.tau = Vec3f(sum * Color(h.weight));
-      h.pass_bias = static_cast<float>(luminance(bias_sum_in_ball(sum, sum_d2, r2) * Color(h.weight)));
+      h.pass_bias = static_cast<float>(luminance(bias_sum_in_ball(sum, sum_d2, r2, inside.mean_d2) * Color(h.weight)));
     }
   };
   if (!parallel_chunks(threads_, chunks, work, cancel, poll, settings_.progress_interval)) return false;
