@@ -55,12 +55,14 @@ TOLERANCE = 0.03
 # samples: it reads 0.00075 there and 0.00079 at 8192. Blender 5.0, 8192 samples against 1024 passes:
 # every block within 2.7% (the floor in front of the cloud 2.8% dark, the cloud 0.9-1.1%); 1024
 # samples against 256 passes: within 4.6%.
-# The world fog: its brightest fog, around the point light, spreads into the next block by the volume
-# estimate's spheres (a block 4.6% bright beside one 3.4% dark at 4096 samples against 256 passes;
-# 4.8% at 1024 against 256, in 3.4 and 5.0 alike): the same kernel bias as the smoke ball's.
-CASE_TOLERANCE = {"glowing_cloud": 0.05, "world_fog": 0.06}
-# Passes where 64 leave a block noise-bound: the world fog's floor (9.9% at 64, 4.6% at 256); the
-# glowing cloud's floor, lit by the cloud's photons alone (5.3% at 64); the smoke ball's dim top.
+# The world fog (run by name: GAPS): 5.14% with volume_boundary at 1024 samples against 256 passes
+# for seed 1; other seeds flare (see GAPS).
+# The fog cube and the smoke ball at this test's samples: Blender 5.0 3.59% and 0.41%, 3.4 2.72% and
+# 4.03% (its dim top block, 0.0007, where 1024 Cycles samples are noise-bound); against 4096 samples,
+# the mean of seeds 1 and 2: 1.7% and 0.9% (media_radius_sweep.py).
+CASE_TOLERANCE = {"glowing_cloud": 0.05, "world_fog": 0.06, "fog_cube_spot": 0.05, "smoke_ball": 0.05}
+# Passes where 64 leave a block noise-bound: the world fog's floor (9.9% at 64); the glowing cloud's
+# floor, lit by the cloud's photons alone (5.3% at 64); the smoke ball's dim top (15.8% at 64).
 CASE_PASSES = {"world_fog": 256, "glowing_cloud": 256, "smoke_ball": 256}
 
 
