@@ -35,7 +35,6 @@ struct PhotonPath {
   // depositing), and there was one: its deposits are caustics (light_components.h).
   bool specular_only = false;
   bool scattered = false;
-  bool from_infinity = false;  // emitted by a sun or the world: it crossed an infinite distance
   int32_t origin = -1;  // with guiding (photon_guide.h): slot * kBins + the bin it left in
   bool caustic() const { return scattered && specular_only; }
 };
@@ -73,7 +72,6 @@ inline PhotonPath emit_photon_path_from(const Scene& scene, const LightSampler& 
   const Bounces start = limits.active ? limits.start(light) : Bounces{};
   PhotonPath path{rng, e.flux / (pick_pdf * lights.flux_unit()), e.ray, 0, start};  // its share of the total
   path.origin = origin;
-  path.from_infinity = light.kind == LightKind::Sun || light.kind == LightKind::Background;
   return path;
 }
 

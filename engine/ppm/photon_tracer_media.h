@@ -55,7 +55,8 @@ bool scatter_photon_in_medium(const Settings& settings, const BounceLimits& limi
 }
 
 // A photon's start in a scene with media: its path, the media it is in, whether it left an emitting
-// medium (its first hit then deposits), and false `emitted` where no point of the region was found.
+// medium (its first hit then deposits), and false `emitted` where it carries nothing: no point of its
+// region was found, or it came from infinitely far through a world medium that leaves none of it.
 struct MediaPhoton {
   PhotonPath path;
   MediumStack media;  // lights are in the world medium
@@ -74,6 +75,14 @@ inline MediaPhoton emit_media_photon(const Scene& scene, const LightSampler& lig
   MediaPhoton out;
   if (light.kind != LightKind::Medium) {
     out.path = emit_photon_path_from(scene, lights, limits, rng, index, pick_pdf, guide);
+    // Light from infinitely far crossed an infinite stretch of the world medium first: nothing of it
+    // is left where that medium has extinction (Cycles: a world volume leaves suns and the world's
+    // light no effect), as the eye's and hit points' rays to it find.
+    const bool from_infinity = light.kind == LightKind::Sun || light.kind == LightKind::Background;
+    if (from_infinity && scene.world_medium() >= 0) {
+      out.path.flux *= transmittance(scene.media()[scene.world_medium()].sigma_t, kInf);
+      out.emitted = max_component(out.path.flux) > 0.0;
+    }
     return out;
   }
   Vec3 x;
@@ -103,12 +112,6 @@ uint64_t trace_photons_in_media(const Scene& scene, const LightSampler& lights, 
     PhotonPath& p = start.path;
     MediumStack& media = start.media;
     const bool deposit_direct = photons_direct || start.from_medium;
-    // Light from infinitely far crossed an infinite stretch of the world medium first: nothing of it
-    // is left where that medium has extinction (Cycles: a world volume leaves suns and the world's
-    // light no effect), as the eye's and hit points' rays to it find.
-    if (p.from_infinity && scene.world_medium() >= 0)
-      p.flux *= transmittance(scene.media()[scene.world_medium()].sigma_t, kInf);
-    if (!(max_component(p.flux) > 0.0)) continue;
     int crossings = 0;
     for (;;) {
       Hit hit;
