@@ -125,6 +125,15 @@ def ball(name, location, radius, material):
     return obj
 
 
+def cube(name, location, size, material):
+    """A cube of edge `size` of `material`."""
+    bpy.ops.mesh.primitive_cube_add(size=size, location=location)
+    obj = bpy.context.object
+    obj.name = name
+    obj.data.materials.append(material)
+    return obj
+
+
 def side_camera(location, lens):
     """The scene camera at `location`, looking along +Y and 10 degrees down."""
     scene = bpy.context.scene

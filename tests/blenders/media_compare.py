@@ -88,14 +88,6 @@ def volume_material(name, node_type, surface=None, **inputs):
     return mat
 
 
-def cube(name, location, size, material):
-    bpy.ops.mesh.primitive_cube_add(size=size, location=location)
-    obj = bpy.context.object
-    obj.name = name
-    obj.data.materials.append(material)
-    return obj
-
-
 def world_fog():
     world = bpy.data.worlds.new("World")
     if world.node_tree is None or bpy.app.version < (5, 0, 0):
@@ -122,21 +114,21 @@ def build(case):
         cycles_compare.add_light("POINT", 300.0, (0.5, 0.0, 2.5), shadow_soft_size=0.1)
     elif case == "fog_cube_spot":
         cycles_compare.set_world(0.05)  # a faint sky, so that no block is black and noise-bound
-        cube("fog", (0.6, 0.6, 1.0 + LIFT), 2.0, volume_material("fog", "ShaderNodeVolumeScatter", Density=0.4,
-                                                         Anisotropy=0.2))
+        fog = volume_material("fog", "ShaderNodeVolumeScatter", Density=0.4, Anisotropy=0.2)
+        cycles_compare.cube("fog", (0.6, 0.6, 1.0 + LIFT), 2.0, fog)
         cycles_compare.add_light("SPOT", 500.0, (0.6, 0.6, 3.5), shadow_soft_size=0.1, spot_size=math.radians(35),
                                  spot_blend=0.2)
     elif case == "glass_ball_in_fog":
-        cube("fog", (0.3, 0.6, 1.2 + LIFT), 2.4, volume_material("fog", "ShaderNodeVolumeScatter", Density=0.3,
-                                                                 Anisotropy=0.3))
+        fog = volume_material("fog", "ShaderNodeVolumeScatter", Density=0.3, Anisotropy=0.3)
+        cycles_compare.cube("fog", (0.3, 0.6, 1.2 + LIFT), 2.4, fog)
         cycles_compare.ball("lens", (0.3, 0.6, 1.4), 0.4, cycles_compare.glass_material("lens", 1.5))
         cycles_compare.add_light("SPOT", 800.0, (0.3, 0.6, 3.3), shadow_soft_size=0.25, spot_size=math.radians(20),
                                  spot_blend=0.1)
     elif case == "ink_in_glass":
-        cube("ink", (0.5, 0.4, 0.5 + LIFT), 1.0,
-             volume_material("ink", "ShaderNodeVolumeAbsorption", ("ShaderNodeBsdfGlass", {"IOR": 1.33,
-                                                                                           "Roughness": 0.0}),
-                             Color=(0.9, 0.15, 0.1, 1.0), Density=1.5))
+        ink = volume_material("ink", "ShaderNodeVolumeAbsorption", ("ShaderNodeBsdfGlass", {"IOR": 1.33,
+                                                                                              "Roughness": 0.0}),
+                              Color=(0.9, 0.15, 0.1, 1.0), Density=1.5)
+        cycles_compare.cube("ink", (0.5, 0.4, 0.5 + LIFT), 1.0, ink)
         cycles_compare.add_light("AREA", 300.0, (0.0, 0.0, 3.0), size=2.0)
     elif case == "smoke_ball":
         cycles_compare.ball("smoke", (0.5, 0.4, 0.8), 0.8,
@@ -144,10 +136,10 @@ def build(case):
                                             Color=(0.8, 0.6, 0.3, 1.0), **{"Absorption Color": (0.2, 0.3, 0.6, 1.0)}))
         cycles_compare.add_light("POINT", 300.0, (1.5, -1.0, 3.0), shadow_soft_size=0.1)
     elif case == "glowing_cloud":
-        cube("cloud", (0.5, 0.4, 0.8), 1.4,
-             volume_material("cloud", "ShaderNodeVolumePrincipled", Density=1.0,
-                             **{"Emission Strength": 0.5, "Emission Color": (1.0, 0.4, 0.1, 1.0),
-                                "Blackbody Intensity": 0.5, "Temperature": 1800.0}))
+        cloud = volume_material("cloud", "ShaderNodeVolumePrincipled", Density=1.0,
+                                **{"Emission Strength": 0.5, "Emission Color": (1.0, 0.4, 0.1, 1.0),
+                                   "Blackbody Intensity": 0.5, "Temperature": 1800.0})
+        cycles_compare.cube("cloud", (0.5, 0.4, 0.8), 1.4, cloud)
     cycles_compare.set_exr_output(scene)
     return scene
 

@@ -41,21 +41,13 @@ CASES = {"lens_35mm": ("lens", 35.0), "lens_50mm": ("lens", 50.0), "lens_200mm":
          "lens_1000mm": ("lens", 1000.0), "lens_5000mm": ("lens", 5000.0), "ortho_1cm": ("ortho", 0.01)}
 
 
-def cube(name, size, location, material):
-    bpy.ops.mesh.primitive_cube_add(size=size, location=location)
-    obj = bpy.context.object
-    obj.name = name
-    obj.data.materials.append(material)
-    return obj
-
-
 def build(case, target, light="front"):
     camera_type, value = CASES[case]
     cycles_compare.reset()
     scene = bpy.context.scene
     grey = cycles_compare.diffuse_material("grey", (cycles_compare.ALBEDO,) * 3)
     cycles_compare.plane("floor", 10.0, 0.0, grey)
-    cube("cube", 1.0, (0.0, 0.0, 0.5), grey)
+    cycles_compare.cube("cube", (0.0, 0.0, 0.5), 1.0, grey)
     cycles_compare.add_light("POINT", 1000.0, LIGHTS[light], shadow_soft_size=0.0)
     # The camera 6 m from the target, looking at it from the front and 20 degrees above.
     look = np.array(TARGETS[target])
