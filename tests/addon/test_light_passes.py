@@ -1,12 +1,38 @@
-"""Cycles' Emit and Env passes, when the view layer enables them: what camera rays see at no bounce,
-the emission of surfaces and lights apart from the world (the core's Renderer.light_passes)."""
+"""Cycles' light passes, when the view layer enables them: Emit and Env, what camera rays see at no
+bounce (the core's Renderer.light_passes); Diffuse, Glossy, Transmission and Volume Direct and
+Indirect, the light by component (Renderer.component_passes), which add up to the image."""
 
 import numpy as np
+from test_media import volume_world
 
 from conftest import bpy, camera_looking_down, render_file, shader_material
 from ppm_render import passes
 
 GLOW, SKY = (1.0, 0.5, 0.25), (0.05, 0.1, 0.2)
+
+
+def record_passes(monkeypatch):
+    """{pass name: (pixels, whether the result declared it)} of every pass the engine writes."""
+    written = {}
+    monkeypatch.setattr(passes, "write_pass", lambda result, name, pixels: written.setdefault(
+        name, (np.array(pixels), result.layers[0].passes.get(name) is not None)))
+    return written
+
+
+def diffuse_floor(rgb):
+    """A 20 m diffuse floor of colour `rgb` at z = 0; the scene."""
+    scene = bpy.context.scene
+    mesh = bpy.data.meshes.new("floor")
+    mesh.from_pydata([(-10, -10, 0), (10, -10, 0), (10, 10, 0), (-10, 10, 0)], [], [(0, 1, 2, 3)])
+    floor = bpy.data.objects.new("floor", mesh)
+    floor.data.materials.append(shader_material("paint", "ShaderNodeBsdfDiffuse", Color=(*rgb, 1.0)))
+    scene.collection.objects.link(floor)
+    return scene
+
+
+def surface_light(get):
+    """(Dir + Ind) * Col summed over the Diffuse, Glossy and Transmission passes: their light again."""
+    return sum((get[k + "Dir"] + get[k + "Ind"]) * get[k + "Col"] for k in ("Diff", "Gloss", "Trans"))
 
 
 def panel_and_sky():
@@ -27,9 +53,7 @@ def panel_and_sky():
 
 
 def test_emit_and_env_are_written_when_the_view_layer_asks(monkeypatch, tmp_path):
-    written = {}
-    monkeypatch.setattr(passes, "write_pass", lambda result, name, pixels: written.setdefault(
-        name, (np.array(pixels), result.layers[0].passes.get(name) is not None)))
+    written = record_passes(monkeypatch)
     scene = panel_and_sky()
     layer = bpy.context.view_layer
     layer.use_pass_emit = layer.use_pass_environment = True
@@ -49,15 +73,8 @@ def test_emit_and_env_are_written_when_the_view_layer_asks(monkeypatch, tmp_path
 def test_diffuse_glossy_and_transmission_passes_are_cycles_light_over_colour(monkeypatch, tmp_path):
     """A diffuse floor under a sun: Diffuse Direct is the light (Cycles divides it by Diffuse Color),
     DiffCol the floor's colour, and (Dir + Ind) * Col with Emit and Env give the image back."""
-    written = {}
-    monkeypatch.setattr(passes, "write_pass", lambda result, name, pixels: written.setdefault(
-        name, (np.array(pixels), result.layers[0].passes.get(name) is not None)))
-    scene = bpy.context.scene
-    mesh = bpy.data.meshes.new("floor")
-    mesh.from_pydata([(-10, -10, 0), (10, -10, 0), (10, 10, 0), (-10, 10, 0)], [], [(0, 1, 2, 3)])
-    floor = bpy.data.objects.new("floor", mesh)
-    floor.data.materials.append(shader_material("paint", "ShaderNodeBsdfDiffuse", Color=(0.5, 0.25, 0.125, 1.0)))
-    scene.collection.objects.link(floor)
+    written = record_passes(monkeypatch)
+    scene = diffuse_floor((0.5, 0.25, 0.125))
     sun = bpy.data.objects.new("sun", bpy.data.lights.new("sun", "SUN"))
     sun.data.energy = 3.0
     scene.collection.objects.link(sun)
@@ -83,34 +100,19 @@ def test_diffuse_glossy_and_transmission_passes_are_cycles_light_over_colour(mon
     # A sun of strength 3 straight down: irradiance 3, radiance 3 / pi per unit of colour.
     np.testing.assert_allclose(get["DiffDir"], 3.0 / np.pi, rtol=1e-4)
     assert not get["Caustic"].any() and not get["GlossDir"].any() and not get["TransCol"].any()
-    rebuilt = sum((get[k + "Dir"] + get[k + "Ind"]) * get[k + "Col"] for k in ("Diff", "Gloss", "Trans"))
-    np.testing.assert_allclose(rebuilt[::-1], image[..., :3], rtol=1e-4, atol=1e-6)
+    np.testing.assert_allclose(surface_light(get)[::-1], image[..., :3], rtol=1e-4, atol=1e-6)
 
 
 def test_volume_passes_hold_the_fogs_light_and_the_passes_add_up(monkeypatch, tmp_path):
     """The floor under a point light in the World's fog, the camera in it: Volume Direct and Indirect
     (Cycles' toggles, view_layer.cycles) hold the fog's light, radiance without a Color pass, and with
     the floor's passes give the image back."""
-    written = {}
-    monkeypatch.setattr(passes, "write_pass", lambda result, name, pixels: written.setdefault(
-        name, (np.array(pixels), result.layers[0].passes.get(name) is not None)))
-    scene = bpy.context.scene
-    mesh = bpy.data.meshes.new("floor")
-    mesh.from_pydata([(-10, -10, 0), (10, -10, 0), (10, 10, 0), (-10, 10, 0)], [], [(0, 1, 2, 3)])
-    floor = bpy.data.objects.new("floor", mesh)
-    floor.data.materials.append(shader_material("paint", "ShaderNodeBsdfDiffuse", Color=(0.5, 0.5, 0.5, 1.0)))
-    scene.collection.objects.link(floor)
+    written = record_passes(monkeypatch)
+    scene = diffuse_floor((0.5, 0.5, 0.5))
     lamp = bpy.data.objects.new("lamp", bpy.data.lights.new("lamp", "POINT"))
     lamp.data.energy, lamp.location = 300.0, (1.0, 0.0, 3.0)
     scene.collection.objects.link(lamp)
-    world = scene.world = bpy.data.worlds.new("fog")
-    if world.node_tree is None or bpy.app.version < (5, 0, 0):
-        world.use_nodes = True
-    tree = world.node_tree
-    tree.nodes["Background"].inputs["Strength"].default_value = 0.0
-    fog = tree.nodes.new("ShaderNodeVolumeScatter")
-    fog.inputs["Density"].default_value = 0.2
-    tree.links.new(fog.outputs[0], tree.nodes["World Output"].inputs["Volume"])
+    volume_world("fog", "ShaderNodeVolumeScatter", strength=0.0, Density=0.2)
     camera_looking_down(scene, 4.0, 40, 30)
     layer = bpy.context.view_layer
     toggles = [toggle for _, toggle in passes.COMPONENT_PASSES]
@@ -122,6 +124,5 @@ def test_volume_passes_hold_the_fogs_light_and_the_passes_add_up(monkeypatch, tm
     get = {name: pixels for name, (pixels, registered) in written.items() if registered}
     assert {"VolumeDir", "VolumeInd"} <= set(get), sorted(written)
     assert get["VolumeDir"].mean() > 0.01 and get["VolumeInd"].mean() > 0.0
-    rebuilt = sum((get[k + "Dir"] + get[k + "Ind"]) * get[k + "Col"] for k in ("Diff", "Gloss", "Trans"))
-    rebuilt = rebuilt + get["VolumeDir"] + get["VolumeInd"]
+    rebuilt = surface_light(get) + get["VolumeDir"] + get["VolumeInd"]
     np.testing.assert_allclose(rebuilt[::-1], image[..., :3], rtol=1e-4, atol=1e-5)

@@ -24,6 +24,18 @@ def volume_material(name, shader, **inputs):
     return mat, tree, node
 
 
+def volume_world(name, shader, strength=1.0, **inputs):
+    """The scene's new world: its Background of `strength`, its Volume one `shader` node with these inputs."""
+    world = bpy.context.scene.world = bpy.data.worlds.new(name)
+    if world.node_tree is None or bpy.app.version < (5, 0, 0):
+        world.use_nodes = True
+    tree = world.node_tree
+    next(n for n in tree.nodes if n.bl_idname == "ShaderNodeBackground").inputs["Strength"].default_value = strength
+    output = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputWorld")
+    tree.links.new(add(tree, shader, **inputs).outputs[0], output.inputs["Volume"])
+    return world
+
+
 def read(mat):
     warnings = []
     return volume.material_medium(mat, warnings.append, None), warnings
@@ -143,14 +155,7 @@ def test_a_surface_shader_in_a_volume_output_is_left_out_with_a_warning():
 
 def test_the_world_volume_fills_the_scene_and_fixed_hit_points_give_way(tmp_path):
     scene = floor_scene()
-    world = bpy.data.worlds.new("hazy")
-    if world.node_tree is None or bpy.app.version < (5, 0, 0):
-        world.use_nodes = True
-    output = next(n for n in world.node_tree.nodes if n.bl_idname == "ShaderNodeOutputWorld")
-    fog = world.node_tree.nodes.new("ShaderNodeVolumeScatter")
-    fog.inputs["Density"].default_value = 0.05
-    world.node_tree.links.new(fog.outputs[0], output.inputs["Volume"])
-    scene.world = world
+    volume_world("hazy", "ShaderNodeVolumeScatter", Density=0.05)
     core_scene, warnings = export_scene(scene)
     assert len(warnings) == 1 and "sun lamps and the world's own light" in warnings[0], warnings
     assert core_scene.media == ["world 'hazy'"] and core_scene.has_media
@@ -165,13 +170,7 @@ def test_the_world_volume_fills_the_scene_and_fixed_hit_points_give_way(tmp_path
 def test_an_emitting_world_volume_is_warned_an_emitting_material_volume_is_not():
     """The core emits no photons from the World's medium (infinite space, unbounded power): its
     emission is warned as lighting nothing; the same Volume in a material lights its surroundings."""
-    world = bpy.data.worlds.new("glowing")
-    if world.node_tree is None or bpy.app.version < (5, 0, 0):
-        world.use_nodes = True
-    output = next(n for n in world.node_tree.nodes if n.bl_idname == "ShaderNodeOutputWorld")
-    glow = world.node_tree.nodes.new("ShaderNodeVolumePrincipled")
-    glow.inputs["Emission Strength"].default_value = 0.2
-    world.node_tree.links.new(glow.outputs[0], output.inputs["Volume"])
+    world = volume_world("glowing", "ShaderNodeVolumePrincipled", **{"Emission Strength": 0.2})
     warnings = []
     keywords = volume.world_medium(world, warnings.append, None)
     assert keywords["emission"][0] > 0.0
@@ -187,12 +186,7 @@ def test_a_world_volume_in_the_dark_is_not_warned_about():
     lamp = bpy.data.objects.new("lamp", bpy.data.lights.new("lamp", "POINT"))
     scene.collection.objects.link(lamp)
     camera_looking_down(scene, 3.0, 8, 8)
-    world = scene.world = bpy.data.worlds.new("night")
-    if world.node_tree is None or bpy.app.version < (5, 0, 0):
-        world.use_nodes = True
-    next(n for n in world.node_tree.nodes if n.bl_idname == "ShaderNodeBackground").inputs["Strength"].default_value = 0
-    output = next(n for n in world.node_tree.nodes if n.bl_idname == "ShaderNodeOutputWorld")
-    world.node_tree.links.new(world.node_tree.nodes.new("ShaderNodeVolumeScatter").outputs[0], output.inputs["Volume"])
+    volume_world("night", "ShaderNodeVolumeScatter", strength=0.0)
     core_scene, warnings = export_scene(scene)
     assert warnings == [] and core_scene.has_media
 

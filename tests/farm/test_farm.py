@@ -31,25 +31,32 @@ def ppm_core():
     return core.load()
 
 
-@pytest.fixture(scope="session")
-def still(ppm_core):
-    """cornell_diffuse.blend at 48x36, exported as the farm exports it; its warnings in `warnings`."""
+def bundled_still(ppm_core, blend, width, height, **ppm):
+    """A bundled .blend at width x height with these scene.ppm settings, exported as the farm exports
+    it; its warnings in `warnings`."""
     registered_here = not hasattr(bpy.types.Scene, "ppm")  # tests/addon's fixtures may have registered it
     if registered_here:
         ppm_render.register()
     try:
-        bpy.ops.wm.open_mainfile(filepath=os.path.join(ROOT, "blend_scenes", "cornell_diffuse.blend"))
+        bpy.ops.wm.open_mainfile(filepath=os.path.join(ROOT, "blend_scenes", blend))
         render = bpy.context.scene.render
-        render.resolution_x, render.resolution_y, render.resolution_percentage = 48, 36, 100
-        bpy.context.scene.ppm.photons_per_pass = 20_000
-        bpy.context.scene.ppm.target_error = 0.05  # the merged image's: no share may stop on it
+        render.resolution_x, render.resolution_y, render.resolution_percentage = width, height, 100
+        for key, value in ppm.items():
+            setattr(bpy.context.scene.ppm, key, value)
         warnings = []
         exported = export_still(bpy, ppm_core, warnings.append)
         exported.warnings = warnings
-        yield exported
+        return exported
     finally:
         if registered_here:  # bpy 4.2 crashes and 4.5 hangs at exit while a script's classes are registered
             ppm_render.unregister()
+
+
+@pytest.fixture(scope="session")
+def still(ppm_core):
+    """cornell_diffuse.blend at 48x36, exported as the farm exports it; its warnings in `warnings`. Its
+    target error is the merged image's: no share may stop on it."""
+    return bundled_still(ppm_core, "cornell_diffuse.blend", 48, 36, photons_per_pass=20_000, target_error=0.05)
 
 
 @pytest.fixture(scope="module")
@@ -229,20 +236,8 @@ def test_share_settings_drop_what_does_not_split_into_shares():
 def test_a_still_with_fog_renders_as_shares_that_merge_into_one_render(ppm_core):
     """fog_caustic.blend (a fog box, a glass ball, a spot light) at 32x24, exported as the farm exports it:
     its media are replayed on the worker, and two shares of 2 passes, merged, are one render's 4."""
-    registered_here = not hasattr(bpy.types.Scene, "ppm")
-    if registered_here:
-        ppm_render.register()
-    try:
-        bpy.ops.wm.open_mainfile(filepath=os.path.join(ROOT, "blend_scenes", "fog_caustic.blend"))
-        render = bpy.context.scene.render
-        render.resolution_x, render.resolution_y, render.resolution_percentage = 32, 24, 100
-        bpy.context.scene.ppm.photons_per_pass = 20_000
-        warnings = []
-        fog = export_still(bpy, ppm_core, warnings.append)
-    finally:
-        if registered_here:
-            ppm_render.unregister()
-    assert warnings == [] and any(call[0] == "add_medium" for call in fog.calls)
+    fog = bundled_still(ppm_core, "fog_caustic.blend", 32, 24, photons_per_pass=20_000)
+    assert fog.warnings == [] and any(call[0] == "add_medium" for call in fog.calls)
     first, second = (shares.render_share(fog.calls, fog.settings, start, 2)[0] for start in (0, 2))
     merged = ppm_core.merge_shares([first, second])
     image = shares.render_share(fog.calls, fog.settings, 0, 4)[0].image()
