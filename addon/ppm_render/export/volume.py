@@ -29,7 +29,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import blackbody, nodes
+from . import blackbody, nodes, unrendered
 from .closure import ClosureReader
 
 MAX_NESTING = 64  # Mix and Add shaders inside each other, as closure.py
@@ -232,13 +232,13 @@ def volume_socket(tree, output_type):
     ShaderNodeOutputWorld) when something drives it, else None."""
     output = nodes.active_output(tree, output_type)
     socket = output.inputs.get("Volume") if output is not None else None
-    return socket if socket is not None and nodes.driving_node(socket) is not None else None
+    return socket if unrendered.output_driven(socket) else None
 
 
 def surface_driven(tree):
     """Whether anything drives the Surface of a material tree's active output."""
     output = nodes.active_output(tree, "ShaderNodeOutputMaterial")
-    return output is not None and nodes.driving_node(output.inputs["Surface"]) is not None
+    return output is not None and unrendered.output_driven(output.inputs["Surface"])
 
 
 def material_medium(material, warn, core):
