@@ -28,11 +28,16 @@
 namespace ppm {
 
 constexpr int kSpacingNeighbours = 4;  // photons of one pass a hit point holds at least, at the median density
+constexpr int kVolumeSpacingNeighbours = 1;  // the same in media
 constexpr int kSpacingSamples = 1024;  // photons whose neighbours are measured
 
 struct PhotonSpacing {
   double radius = 0.0;   // 0: the pilot pass deposited too few photons to tell
   uint64_t photons = 0;  // deposited by the pilot pass
+  // Scenes with media: the same for its volume photons, in 3-D (the floor of a hit point's radius
+  // in a medium; without it, fog the camera is inside flares: see stochastic_hit_points.h).
+  double volume_radius = 0.0;
+  uint64_t volume_photons = 0;
   double seconds = 0.0;
 };
 

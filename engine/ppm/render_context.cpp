@@ -80,7 +80,9 @@ EyePassOptions RenderContext::eye_options(uint64_t generation, int samples_per_p
 bool RenderContext::measure_photon_spacing_once(const HitPoints& hp, const Poll& poll) {
   double sum = 0.0;
   for (const HitPoint& h : hp.points) sum += std::sqrt(h.r2);
-  return measure_photon_spacing_once(hp.size() ? sum / hp.size() : 0.0, poll);
+  for (const VolumeHitPoint& h : hp.volume) sum += std::sqrt(h.r2);
+  const size_t count = hp.size() + hp.volume.size();
+  return measure_photon_spacing_once(count ? sum / count : 0.0, poll);
 }
 
 bool RenderContext::measure_photon_spacing_once(double mean_radius, const Poll& poll) {
@@ -91,7 +93,10 @@ bool RenderContext::measure_photon_spacing_once(double mean_radius, const Poll& 
   if (!measure_photon_spacing(*scene, lights, settings, threads, mean_radius, cancel, poll, spacing)) return false;
   spacing_measured = true;
   min_initial_r2 = spacing.radius * spacing.radius;
+  const double volume_floor = settings.volume_radius_scale * spacing.volume_radius;  // scaled as the footprints
+  min_volume_r2 = volume_floor * volume_floor;
   stats.photon_spacing = spacing.radius;
+  stats.volume_photon_spacing = spacing.volume_radius;
   stats.density_radius_seconds = spacing.seconds;
   return true;
 }

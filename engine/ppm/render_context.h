@@ -29,7 +29,8 @@ struct RenderContext {
   // The options of an eye pass with `samples_per_pixel`; `generation` numbers its random samples.
   EyePassOptions eye_options(uint64_t generation, int samples_per_pixel) const;
   // The photons' spacing, once per render, before any initial radius is set (automatic radii
-  // only): `min_initial_r2` is then its square. False if cancelled.
+  // only): `min_initial_r2` is then its square, `min_volume_r2` the volume photons'. False if
+  // cancelled.
   bool measure_photon_spacing_once(const HitPoints& hp, const Poll& poll);
   // The same from the hit points' mean radius (0: there are none).
   bool measure_photon_spacing_once(double mean_radius, const Poll& poll);
@@ -86,6 +87,7 @@ struct RenderContext {
   std::vector<float> depth;  // per pixel, bottom row first like the eye pass (POST depth of field)
   std::vector<float> guide_weights;  // per pixel, with photon guiding
   double min_initial_r2 = 0.0;  // floor for automatic initial radii (photon_density_radius.h)
+  double min_volume_r2 = 0.0;   // the same in media
   bool spacing_measured = false;
   std::atomic<bool> cancel{false};
   // Between two bands of a stochastic pass, whether the run asked to pause there (the next run

@@ -42,6 +42,7 @@ struct RenderStats {
   int threads = 1;
   double initial_radius_mean = 0.0;
   double photon_spacing = 0.0;  // floor of the automatic initial radius (photon_density_radius.h); 0 if none
+  double volume_photon_spacing = 0.0;  // the same in media
   uint64_t radii_widened = 0;   // hit points (fixed) or pixels (stochastic) whose initial radius it raised
   double density_radius_seconds = 0.0;
   double radius_mean = 0.0;

@@ -127,10 +127,10 @@ bool StochasticHitPoints::volume_band(size_t first_pixel, uint64_t pass, const u
   if (global)
     start_volume_at_global_radii(pass + 1);
   else
-    for (VolumeHitPoint& h : points) {  // the pixel's volume radius, its first hit point's to begin with
+    for (VolumeHitPoint& h : points) {  // its own initial radius, shrunk as its pixel's have been
       FloatPhotonStats& px = volume_pixels_[h.pixel];
-      if (px.r2 == 0.0f) px.r2 = h.r2;
-      h.r2 = px.r2;
+      if (px.r2 == 0.0f) px.r2 = 1.0f;
+      h.r2 = static_cast<float>(std::max<double>(h.r2, c_.min_volume_r2) * px.r2);
     }
   if (c_.analysis.trace_photons && !c_.photon_pass.gather_volume(*c_.scene, points, c_.cancel, poll, current_.counters))
     return false;
@@ -156,10 +156,12 @@ bool StochasticHitPoints::volume_band(size_t first_pixel, uint64_t pass, const u
 
 // The global schedule in a medium: every hit point gathers at its own initial radius times the
 // factor of pass `index` for a sphere (radius_schedule.h: r^3 follows the surface's product, so r^2
-// shrinks by its 2/3 power), as surface hit points do at theirs (start_at_global_radii).
+// shrinks by its 2/3 power), as surface hit points do at theirs (start_at_global_radii); no initial
+// radius below the volume photons' spacing.
 void StochasticHitPoints::start_volume_at_global_radii(uint64_t index) {
   const double factor = global_radius_factor_in(3, index, c_.settings.alpha);
-  for (VolumeHitPoint& h : hit_points_.volume) h.r2 = static_cast<float>(h.r2 * factor);
+  for (VolumeHitPoint& h : hit_points_.volume)
+    h.r2 = static_cast<float>(std::max<double>(h.r2, c_.min_volume_r2) * factor);
 }
 
 // The band's hit points in media summed per band pixel: photon count and flux, direct light, and
@@ -173,14 +175,25 @@ void StochasticHitPoints::sum_volume_band(size_t first_pixel) {
     VolumeFound& f = volume_band_[h.pixel - first_pixel];
     const float scale = static_cast<float>(c_.volume_radiance_scale(h.r2, photons));
     const Vec3f radiance = h.tau * scale;
-    if (c_.analysis.trace_photons) f.m += h.m, f.tau += h.tau, f.radiance += radiance, f.bias += h.pass_bias * scale;
+    const Vec3f tau = h.tau * density_form(h);
+    if (c_.analysis.trace_photons) f.m += h.m, f.tau += tau, f.radiance += radiance, f.bias += h.pass_bias * scale;
     if (c_.analysis.sample_direct) f.direct += h.direct;
     if (volume_parts_.empty()) continue;
     VolumeParts& parts = volume_parts_[h.pixel - first_pixel];
     const int k = volume_slot(h.route);
-    if (c_.analysis.trace_photons) parts.tau[k] += h.tau, parts.radiance[k] += radiance;
+    if (c_.analysis.trace_photons) parts.tau[k] += tau, parts.radiance[k] += radiance;
     if (c_.analysis.sample_direct) parts.direct[k] += h.direct;
   }
+}
+
+// The progressive radii: a hit point's flux as if gathered at its pixel's radius, which is the
+// shrink s^2 (r^2 = its initial r^2 times s^2): flux times s^3 / r^3 (its own share of the 3-D
+// estimate, whatever its initial radius). With the global schedule: its flux.
+float StochasticHitPoints::density_form(const VolumeHitPoint& h) const {
+  if (volume_pixels_.empty()) return 1.0f;
+  const double s2 = volume_pixels_[h.pixel].r2;
+  const double ratio = s2 / static_cast<double>(h.r2);
+  return static_cast<float>(ratio * std::sqrt(ratio));
 }
 
 void StochasticHitPoints::add_volume_direct(size_t p, ComponentLight& light) const {

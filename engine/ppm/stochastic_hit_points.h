@@ -62,6 +62,7 @@ class StochasticHitPoints : public Estimator {
   bool volume_band(size_t first_pixel, uint64_t pass, const uint8_t* pixel_samples, const Poll& poll);
   void start_volume_at_global_radii(uint64_t index);
   void sum_volume_band(size_t first_pixel);
+  float density_form(const VolumeHitPoint& h) const;
   // With component passes: band pixel p's hit points in media's direct light, and (the global
   // schedule) their photons' radiance this pass, into `light` by component (light_components.h).
   void add_volume_direct(size_t p, ComponentLight& light) const;
@@ -91,6 +92,11 @@ class StochasticHitPoints : public Estimator {
   // Scenes with media: per pixel, the photon statistics of its hit points in media (the 3-D rule,
   // progressive.h; none with the global schedule), and per band pixel what the band's hit points in
   // media found: photons, their flux and its radiance this pass, direct light.
+  // A pixel's hit points in media lie at many depths (fog the camera is in: from its lens to the
+  // far wall), each with a radius of its own footprint; so a volume pixel's r2 is no radius but the
+  // shrink s^2 of all of them (1 at first), and its tau their flux in density form (density_form).
+  // Sharing the first hit point's radius instead left a pixel whose first lay near the lens a
+  // radius that gathers next to nothing everywhere else: fireflies.
   bool media_ = false;
   std::vector<FloatPhotonStats> volume_pixels_;
   struct VolumeFound {

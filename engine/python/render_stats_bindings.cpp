@@ -62,6 +62,7 @@ py::dict stats_dict(const RenderStats& s) {
   d["memory"] = memory_dict(s);
   d["initial_radius_mean"] = s.initial_radius_mean;
   d["photon_spacing"] = s.photon_spacing;
+  d["volume_photon_spacing"] = s.volume_photon_spacing;
   d["radii_widened"] = s.radii_widened;
   d["radius_mean"] = s.radius_mean;
   d["seconds"] = seconds_dict(s);

@@ -301,11 +301,11 @@ def test_a_hundred_nested_media_boxes():
 # ---- shares of a still (the global radius schedule) --------------------------------------------
 
 
-def fog_floor_scene(size=12):
-    """A box of fog (a boundary only, albedo 0.5, g 0.3) standing on a diffuse floor, a point light
-    beside it: the camera sees the floor, the fog and the floor through the fog."""
+def fog_floor_scene(size=12, sigma_s=0.4):
+    """A box of fog (a boundary only, sigma_a 0.4, sigma_s `sigma_s`, g 0.3) standing on a diffuse floor, a
+    point light beside it: the camera sees the floor, the fog and the floor through the fog."""
     scene = ppm_core.Scene()
-    scene.add_medium("fog", sigma_a=0.4, sigma_s=0.4, anisotropy=0.3)
+    scene.add_medium("fog", sigma_a=0.4, sigma_s=sigma_s, anisotropy=0.3)
     fog = scene.add_material("fog", "diffuse", medium="fog", surface=False)
     floor = scene.add_material("floor", "diffuse", base_color=0.6)
     quad(scene, "floor", [[-4, -4, 0], [4, -4, 0], [4, 4, 0], [-4, 4, 0]], floor, object_id=0)
@@ -539,6 +539,24 @@ def test_the_boundary_share_of_a_slab_turned_off_the_axes():
     0.846 and 0.841, so the turned scene is about 1.3% darker than the straight one either way."""
     assert slab_against_single_scattering(10.0, turned(math.radians(35), math.radians(25))) == pytest.approx(
         1.0, abs=0.03)
+
+
+def test_the_volume_photons_spacing_is_measured_where_radii_are_automatic():
+    """Hit points in a medium start at no less than the volume photons' spacing (the median distance to
+    a photon's nearest neighbour in one pass, in 3-D): measured in a scene with fog, where radii are
+    automatic; not with a fixed initial radius, nor without volume photons (the same scene's fog
+    made a pure absorber)."""
+    _, renderer = render(fog_floor_scene(), passes=1, photons_per_pass=4000)
+    spacing = renderer.stats()["volume_photon_spacing"]
+    assert 0.0 < spacing < 1.6  # within the fog box
+    assert renderer.stats()["photon_spacing"] > 0.0
+    _, fixed = render(fog_floor_scene(), passes=1, photons_per_pass=4000, initial_radius=0.15)
+    assert fixed.stats()["volume_photon_spacing"] == 0.0
+    _, clear = render(fog_floor_scene(sigma_s=0.0), passes=1, photons_per_pass=4000)
+    assert clear.stats()["volume_photon_spacing"] == 0.0
+    # More photons a pass, closer: spacing goes as density^(-1/3).
+    _, denser = render(fog_floor_scene(), passes=1, photons_per_pass=32000)
+    assert denser.stats()["volume_photon_spacing"] == pytest.approx(spacing / 2, rel=0.25)
 
 
 @pytest.mark.parametrize("scale", [0.0, -1.0, math.nan, math.inf, 2e6])
