@@ -10,7 +10,8 @@ JOBS ?= $(shell nproc)
 # The slowest tests of each run are listed, so that a CI log shows where the time goes.
 PYTEST := -m pytest -q --durations=8
 
-.PHONY: setup build demo demo-core test test-cpp test-cross test-python bench bench-cpp lint clean
+.PHONY: setup build demo demo-core test test-cpp test-cross test-python test-python-3.10 test-python-3.11 \
+  test-python-3.13 bench bench-cpp lint clean
 
 setup: .venv/.setup-done build
 
@@ -36,8 +37,12 @@ demo-core: setup
 
 # The parts run two at a time (the machine's two cores), each part's output printed whole when it
 # ends: the Blender versions' comparisons keep both cores busy, the other parts mostly one, so each
-# fills the other's gaps. The longest parts are listed first.
-TEST_PARTS := test-blenders-full test-cpp test-python test-blenders test-addon
+# fills the other's gaps. One part per Blender version and per Python, the longest listed first, so
+# that the last to end is a short one (with test-blenders-full and test-python whole, one core
+# idled for minutes at the end while the other finished a long part).
+TEST_PARTS := test-blenders-5.0 test-python-3.11 test-blenders-3.4 test-addon-main \
+  $(foreach v,5.2 4.5 4.2,test-blenders-$(v) test-addon-bpy-$(v)) test-python-3.10 test-python-3.13 test-cpp \
+  test-blenders-zip
 test: setup
 	@start=$$(date +%s); $(MAKE) --no-print-directory -j 2 --output-sync=target $(TEST_PARTS) && \
 	  echo "make test: the tests took $$(( $$(date +%s) - start )) s after the set-up"
@@ -62,9 +67,12 @@ test-cross: .venv/.setup-done
 # does; 3.10 is blender.org's Blender 3.4 to 4.0). Renders checked against answers (marker `accuracy`,
 # pyproject.toml) check the C++ core's arithmetic, the same code under any Python: they run under 3.11 only.
 # The memory of production sizes is the C++ core's too: it is measured under 3.11 only.
-test-python: build
+test-python: test-python-3.11 test-python-3.13 test-python-3.10
+test-python-3.11: build
 	$(PY) $(PYTEST) tests/core tests/bench tests/docs
+test-python-3.13: build
 	$(PY313) $(PYTEST) -m "not accuracy" --ignore=tests/core/test_production_sizes.py tests/core
+test-python-3.10: build
 	$(PY310) $(PYTEST) -m "not accuracy" --ignore=tests/core/test_production_sizes.py tests/core
 
 # Benchmarks: figures and the commands behind them are in bench/README.md; every experiment is
@@ -94,7 +102,7 @@ clean:
 
 # The Blender add-on: the installable zip (with the cores for Python 3.11 and 3.13 inside)
 # -> out/ppm_render-<version>-linux-x64.zip.
-.PHONY: addon test-addon test-addon-main test-blenders test-blenders-full blend-scenes
+.PHONY: addon test-addon test-addon-main test-blenders test-blenders-full test-blenders-zip blend-scenes
 addon: build
 	$(PY) addon/build_addon.py --out out
 
@@ -107,13 +115,16 @@ test-addon-main: build
 test-addon-bpy-%: build
 	.venvs/bpy-$*/bin/python $(PYTEST) tests/addon
 
-# The zip in every Blender version against its Cycles (tests/blenders): 3.4 and 5.0, checked case by
-# case, are the longest part of `make test`; 4.2, 4.5 and 5.2 (a subset) and the zip's other checks.
-FULL_BLENDERS := $(foreach v,3.4 5.0,'tests/blenders/test_blender_versions.py::test_zip_installs_renders_and_agrees_with_cycles[$(v)]')
-test-blenders-full: build
-	$(PY) $(PYTEST) $(FULL_BLENDERS)
-test-blenders: build
-	$(PY) $(PYTEST) tests/blenders $(addprefix --deselect ,$(FULL_BLENDERS))
+# The zip in every Blender version against its Cycles (tests/blenders), a target per version
+# (test-blenders-5.0 and so on): 3.4 and 5.0, checked case by case, are the longest parts of `make
+# test`; 4.2, 4.5 and 5.2 (a subset); and the zip's other checks (test-blenders-zip).
+IN_BLENDER := tests/blenders/test_blender_versions.py::test_zip_installs_renders_and_agrees_with_cycles
+test-blenders-full: test-blenders-3.4 test-blenders-5.0
+test-blenders: $(foreach v,4.2 4.5 5.2,test-blenders-$(v)) test-blenders-zip
+test-blenders-zip: build
+	$(PY) $(PYTEST) tests/blenders -k "not test_zip_installs_renders_and_agrees_with_cycles"
+test-blenders-%: build
+	$(PY) $(PYTEST) '$(IN_BLENDER)[$*]'
 
 # Rebuild the bundled .blend files with Blender 3.4, so that both 3.4 and 5.0 open them.
 blend-scenes: setup
