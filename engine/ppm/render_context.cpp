@@ -86,11 +86,18 @@ bool RenderContext::measure_photon_spacing_once(const HitPoints& hp, const Poll&
 }
 
 bool RenderContext::measure_photon_spacing_once(double mean_radius, const Poll& poll) {
-  if (spacing_measured || !settings.density_radius || settings.initial_radius > 0.0 || !analysis.trace_photons ||
-      !(mean_radius > 0.0))
+  if (spacing_measured || !settings.density_radius || settings.initial_radius > 0.0 || !analysis.trace_photons)
     return true;
-  PhotonSpacing spacing;  // the neighbour search begins at the hit points' mean radius
-  if (!measure_photon_spacing(*scene, lights, settings, threads, mean_radius, cancel, poll, spacing)) return false;
+  // The neighbour search begins at the hit points' mean radius, or (a band of sky alone) a
+  // thousandth of the scene's size: the distances found do not depend on it, the search's time does.
+  double start = mean_radius;
+  if (!(start > 0.0)) {
+    const Aabb box = scene->bounds();
+    start = 1e-3 * glm::length(box.hi - box.lo);
+  }
+  if (!(start > 0.0) || !std::isfinite(start)) return true;
+  PhotonSpacing spacing;
+  if (!measure_photon_spacing(*scene, lights, settings, threads, start, cancel, poll, spacing)) return false;
   spacing_measured = true;
   min_initial_r2 = spacing.radius * spacing.radius;
   const double volume_floor = settings.volume_radius_scale * spacing.volume_radius;  // scaled as the footprints

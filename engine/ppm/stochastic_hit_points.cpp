@@ -191,6 +191,7 @@ void StochasticHitPoints::sum_volume_band(size_t first_pixel) {
 // estimate, whatever its initial radius). With the global schedule: its flux.
 float StochasticHitPoints::density_form(const VolumeHitPoint& h) const {
   if (volume_pixels_.empty()) return 1.0f;
+  if (!(h.r2 > 0.0f)) return 0.0f;  // a radius flushed to zero gathered nothing
   const double s2 = volume_pixels_[h.pixel].r2;
   const double ratio = s2 / static_cast<double>(h.r2);
   return static_cast<float>(ratio * std::sqrt(ratio));

@@ -559,6 +559,22 @@ def test_the_volume_photons_spacing_is_measured_where_radii_are_automatic():
     assert denser.stats()["volume_photon_spacing"] == pytest.approx(spacing / 2, rel=0.25)
 
 
+def test_the_spacing_is_measured_when_the_first_band_sees_only_sky():
+    """A 256 x 512 image is made in two bands of rows, the bottom one first; here the bottom half looks
+    below a fog box into empty sky, so the first band has no hit point to start the neighbour search
+    at. The spacing is measured all the same (it used to wait for a first band with a hit point, which
+    here never comes: no floor for the whole render, surfaces' or media's)."""
+    scene = ppm_core.Scene()
+    scene.add_medium("fog", sigma_a=0.2, sigma_s=0.6)
+    fog = scene.add_material("fog", "diffuse", medium="fog", surface=False)
+    box(scene, "fog", (-2, 3, 0.3), (2, 7, 3), fog, 0)
+    scene.add_light("point", power=500.0, position=(0.0, 5.0, 4.0))
+    scene.set_camera(look_at((0, 0, 0), (0, 1, 0)), 256, 512, fov=1.2)
+    _, renderer = render(scene, passes=1, photons_per_pass=20000)
+    stats = renderer.stats()
+    assert stats["hit_points"] > 0 and stats["volume_photon_spacing"] > 0.0
+
+
 @pytest.mark.parametrize("scale", [0.0, -1.0, math.nan, math.inf, 2e6])
 def test_volume_radius_scale_out_of_range_is_a_value_error(scale):
     with pytest.raises(ValueError, match="volume_radius_scale"):
