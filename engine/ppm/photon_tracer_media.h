@@ -59,7 +59,7 @@ bool scatter_photon_in_medium(const Settings& settings, const BounceLimits& limi
 // region was found, or it came from infinitely far through a world medium that leaves none of it.
 struct MediaPhoton {
   PhotonPath path;
-  MediumStack media;  // lights are in the world medium
+  MediumStack media;  // the light's (Light::media)
   bool from_medium = false;
   bool emitted = true;
 };
@@ -75,6 +75,7 @@ inline MediaPhoton emit_media_photon(const Scene& scene, const LightSampler& lig
   MediaPhoton out;
   if (light.kind != LightKind::Medium) {
     out.path = emit_photon_path_from(scene, lights, limits, rng, index, pick_pdf, guide);
+    out.media = light.media;
     // Light from infinitely far crossed an infinite stretch of the world medium first: nothing of it
     // is left where that medium has extinction (Cycles: a world volume leaves suns and the world's
     // light no effect), as the eye's and hit points' rays to it find.

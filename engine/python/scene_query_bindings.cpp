@@ -1,5 +1,6 @@
 // Python bindings of what a scene answers outside a render: rays cast in a batch (scene/ray_batch.h,
-// the GIL released) and a node program run at given points (scene/program_points.h).
+// the GIL released), a node program run at given points (scene/program_points.h) and the media a
+// point is in.
 #include "python/bindings.h"
 #include "python/convert.h"
 #include "python/node_program_bindings.h"
@@ -101,6 +102,19 @@ void bind_scene_queries(SceneClass& c) {
         "the viewer, UVs, and UV tangents with the bitangent sign, (n, 4); footprint: the world size of a "
         "pixel there, as a camera ray sees it; ray: the kind of ray that arrived, as the Light Path node "
         "reads it: camera, diffuse, glossy, transmission, shadow or emission): float32 (n, outputs, 3).");
+  c.def(
+      "media_at",
+      [](Scene& s, const py::object& point) {
+        const Vec3 p = vec3(point, "media_at", "point");
+        s.build();
+        const MediumStack stack = s.media_at(p);
+        py::list names;
+        for (int k = 0; k < stack.count; ++k) names.append(s.medium(static_cast<uint32_t>(stack.ids[k])).name);
+        return names;
+      },
+      py::arg("point"),
+      "The names of the mesh media that hold `point`, outermost first (where a camera or light there "
+      "starts its paths; the world's medium is not listed).");
 }
 
 }  // namespace ppm::python

@@ -19,6 +19,7 @@
 #include "geometry/triangle.h"
 #include "math/aabb.h"
 #include "scene/environment.h"
+#include "scene/medium.h"
 #include "shading/texture.h"
 #include "shading/node_program.h"
 
@@ -71,6 +72,9 @@ struct Light {
   // Medium: its region's index (Scene::medium_region) and the volume it encloses, m^3.
   uint32_t region = 0;
   double volume = 0.0;
+  // The mesh media a light inside them is in (Scene::media_at; its photons start there): a lamp in
+  // a fog box. Empty for suns, the world and emitting media (theirs is their region's).
+  MediumStack media;
 
   // Derived by `prepare_light` once the scene bounds are known.
   Color radiance{0.0};  // sphere, area, triangle, sun (per sr), background

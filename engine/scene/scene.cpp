@@ -408,6 +408,7 @@ void Scene::build() {
     lights_built_ = false;
   }
   if (!lights_built_) prepare_lights();
+  camera_media_ = media_at(camera_.position());
 }
 
 void Scene::build_geometry() {
@@ -616,6 +617,7 @@ void Scene::prepare_lights() {
     lights_.push_back(l);
   }
   prepare_medium_lights(light_bounds);
+  place_lights_in_media();
   lights_built_ = true;
 }
 

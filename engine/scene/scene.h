@@ -223,6 +223,13 @@ class Scene {
     else
       stack.leave(id);
   }
+  // The mesh media a point is inside (the world's is not on a stack), the innermost on top: by rays
+  // from it along three directions, each counting the boundaries of each medium it leaves and
+  // enters (a medium holds the point if two of the three leave it more than they enter). For paths
+  // that start somewhere other than a surface: the camera, a light inside a fog box. Built scene.
+  MediumStack media_at(const Vec3& p) const;
+  // The media the camera is in (media_at its position), set by build().
+  const MediumStack& camera_media() const { return camera_media_; }
   // What arrives along a shadow ray over (0, distance) through media: the transmittance of each
   // medium it crosses (boundaries only are crossed, with the stack), 0 where a surface is in the way.
   Color shadow_transmittance(const Ray& ray, double distance, MediumStack stack) const;
@@ -302,6 +309,7 @@ class Scene {
   void refit_moved_objects();
   void finish_geometry();  // after the BVH changed: its derived figures
   void prepare_lights();
+  void place_lights_in_media();  // each light's Light::media
   void prepare_medium_lights(const Aabb& light_bounds);
   void restore_triangles();
   void release_triangles();
@@ -350,6 +358,7 @@ class Scene {
   std::vector<Material> materials_;
   std::vector<Medium> media_;
   int world_medium_ = -1;
+  MediumStack camera_media_;
   std::vector<Texture> textures_;
   MeshStore meshes_;
   std::vector<ObjectInfo> objects_;  // by object id (set_object_info)

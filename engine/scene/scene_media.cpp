@@ -3,7 +3,11 @@
 #include "scene/input_checks.h"
 #include "scene/scene.h"
 
+#include <algorithm>
+#include <functional>
 #include <limits>
+#include <utility>
+#include <vector>
 
 namespace ppm {
 using namespace scene_input;
@@ -61,6 +65,94 @@ bool Scene::has_media() const {
   for (const Material& m : materials_)
     if (m.medium >= 0 || !m.surface) return true;
   return false;
+}
+
+namespace {
+
+// Directions of the rays media_at casts: oblique to the axes, so that a box's edges and faces are
+// not met edge-on, and apart from each other.
+const Vec3 kInsideDirections[3] = {glm::normalize(Vec3(0.5377, 0.3619, 0.7614)),
+                                   glm::normalize(Vec3(-0.6823, 0.5934, -0.4271)),
+                                   glm::normalize(Vec3(0.2147, -0.8612, 0.3338))};
+constexpr int kInsideRays = 3;
+constexpr int kMaxInsideHits = 4096;  // surfaces passed along one ray before it gives up
+
+// Along one ray from a point: per medium the boundaries left minus those entered (positive: the
+// point is inside), and the distance to the first one left (the innermost medium's is nearest).
+struct MediaAlongRay {
+  std::vector<int> net;
+  std::vector<double> first_exit;
+};
+
+}  // namespace
+
+MediumStack Scene::media_at(const Vec3& p) const {
+  MediumStack out;
+  bool mesh_media = false;
+  for (const Material& m : materials_) mesh_media |= m.medium >= 0;
+  if (!mesh_media) return out;
+  MediaAlongRay along[kInsideRays];
+  for (int k = 0; k < kInsideRays; ++k) {
+    MediaAlongRay& a = along[k];
+    a.net.assign(media_.size(), 0);
+    a.first_exit.assign(media_.size(), kInf);
+    Ray ray{p, kInsideDirections[k], kDiffuseRay};
+    double travelled = 0.0;
+    Hit hit;
+    for (int n = 0; n < kMaxInsideHits && intersect(ray, hit); ++n) {
+      travelled += hit.t;
+      const int id = materials_[hit.material].medium;
+      if (id >= 0) {
+        const bool leaving = glm::dot(ray.direction, hit.geometric_normal) > 0.0;
+        a.net[id] += leaving ? 1 : -1;
+        if (leaving) a.first_exit[id] = std::min(a.first_exit[id], travelled);
+      }
+      ray.origin = offset_point(hit.position, hit.geometric_normal, ray.direction, offset_floor_);
+    }
+  }
+  // A medium holds the point if most rays leave it more often than they enter; the outermost (the
+  // farthest first exit) goes on the stack first.
+  std::vector<std::pair<double, int>> inside;
+  for (size_t id = 0; id < media_.size(); ++id) {
+    int votes = 0;
+    double exit = 0.0;
+    for (const MediaAlongRay& a : along)
+      if (a.net[id] > 0) ++votes, exit = std::max(exit, a.first_exit[id]);
+    if (2 * votes > kInsideRays) inside.emplace_back(exit, static_cast<int>(id));
+  }
+  std::sort(inside.begin(), inside.end(), std::greater<>());
+  for (const auto& [exit, id] : inside) out.enter(id);
+  return out;
+}
+
+void Scene::place_lights_in_media() {
+  bool mesh_media = false;
+  for (const Material& m : materials_) mesh_media |= m.medium >= 0;
+  if (!mesh_media) return;
+  std::vector<int> object_done;  // emitting meshes: one point of each object's first light decides
+  std::vector<MediumStack> object_media;
+  for (Light& l : lights_) {
+    switch (l.kind) {
+      case LightKind::Point: case LightKind::Sphere: case LightKind::Spot: case LightKind::Rectangle:
+      case LightKind::Disk:
+        l.media = media_at(l.position);
+        break;
+      case LightKind::Triangle: {
+        const uint32_t object = meshes_.meshes[meshes_.info[l.primitive].mesh].object;
+        if (object >= object_done.size()) object_done.resize(object + 1, 0), object_media.resize(object + 1);
+        if (!object_done[object]) {
+          const TrianglePrim& t = l.triangle;
+          const Vec3 centre = t.v0 + (t.e1 + t.e2) / 3.0, normal = glm::normalize(glm::cross(t.e1, t.e2));
+          object_media[object] = media_at(centre + 4.0 * ray_offset(centre, offset_floor_) * normal);
+          object_done[object] = 1;
+        }
+        l.media = object_media[object];
+        break;
+      }
+      default:
+        break;
+    }
+  }
 }
 
 Color Scene::shadow_transmittance(const Ray& shadow, double distance, MediumStack stack) const {

@@ -107,7 +107,7 @@ def test_zip_installs_renders_and_agrees_with_cycles(version, addon_zip, tmp_pat
     assert len(light_paths) == (5 if full else 2), light_paths
     assert all(error <= TOLERANCE for error in light_paths.values()), light_paths
     media = {row["case"]: (row["max_block_error"], row["tolerance"]) for row in report["media"]}
-    assert len(media) == (5 if full else 2) and all(e <= tolerance for e, tolerance in media.values()), media
+    assert len(media) == (6 if full else 2) and all(e <= tolerance for e, tolerance in media.values()), media
     materials = {row["case"]: row["error"] for row in report["materials"] if not row["approximated"]}
     assert len(materials) >= (40 if full else 12), materials
     assert all(e <= MATERIAL_TOLERANCE for e in materials.values()), materials
