@@ -325,6 +325,7 @@ void Scene::set_camera(const Camera& c) {
   cam.camera_to_world[2] = glm::dvec4(z, 0.0);
   camera_ = cam;
   has_camera_ = true;
+  camera_media_placed_ = false;
 }
 
 void Scene::set_background(const Color& radiance, uint8_t visibility, int max_bounces) {
@@ -407,8 +408,12 @@ void Scene::build() {
     refit_moved_objects();
     lights_built_ = false;
   }
-  if (!lights_built_) prepare_lights();
-  camera_media_ = media_at(camera_.position());
+  if (!lights_built_) {
+    prepare_lights();
+    camera_media_placed_ = false;  // the geometry or the media changed
+  }
+  if (!camera_media_placed_) camera_media_ = media_at(camera_.position());
+  camera_media_placed_ = true;  // a built scene unchanged: build() writes nothing a render reads
 }
 
 void Scene::build_geometry() {

@@ -359,6 +359,7 @@ class Scene {
   std::vector<Medium> media_;
   int world_medium_ = -1;
   MediumStack camera_media_;
+  bool camera_media_placed_ = false;
   std::vector<Texture> textures_;
   MeshStore meshes_;
   std::vector<ObjectInfo> objects_;  // by object id (set_object_info)
