@@ -134,6 +134,27 @@ def test_a_textured_density_is_warned_as_heterogeneous_and_takes_its_own_value()
     assert core_scene.media == ["material 'cloud'"] and core_scene.has_media
 
 
+@pytest.mark.parametrize("smoke_at, overlap", [((0.0, 0.0, 1.0), True), ((6.0, 0.0, 1.0), False)])
+def test_media_whose_bounds_overlap_are_warned_naming_both_objects(smoke_at, overlap):
+    """A smoke ball inside a fog cube: the core renders the smoke alone inside the ball, where Cycles
+    adds the fog to it; warned once, naming both. A ball beside the cube: nothing."""
+    scene = floor_scene()
+    fog, _, _ = volume_material("fog", "ShaderNodeVolumeScatter", Density=0.1)
+    smoke, _, _ = volume_material("smoke", "ShaderNodeVolumePrincipled", Density=2.0)
+    bpy.ops.mesh.primitive_cube_add(size=4.0, location=(0.0, 0.0, 2.0))
+    bpy.context.object.name = "FogRoom"
+    bpy.context.object.data.materials.append(fog)
+    bpy.ops.mesh.primitive_uv_sphere_add(radius=0.5, location=smoke_at)
+    bpy.context.object.name = "Smoke"
+    bpy.context.object.data.materials.append(smoke)
+    _, warnings = export_scene(scene)
+    overlapping = [w for w in warnings if "may overlap" in w]
+    if overlap:
+        assert len(overlapping) == 1 and "'FogRoom'" in overlapping[0] and "'Smoke'" in overlapping[0], warnings
+    else:
+        assert overlapping == [], warnings
+
+
 def test_scattering_with_two_phase_functions_is_warned():
     mat, tree, out = node_material("two")
     forward = add(tree, "ShaderNodeVolumeScatter", Density=1.0, Anisotropy=0.8)

@@ -83,6 +83,7 @@ class Exporter:
         self.instanced = set()  # original names of the objects instanced, and of those instancing them
         self.touched = set()  # original names of the objects the last update in place exported again
         self.object_pass_index = {}  # object id -> its Blender object's Pass Index (the Object Index pass)
+        self.media_bounds = []  # (object name, lo, hi): the world-space box of each object with a medium
 
     def describe_object(self, item, slots):
         """Object info for the node programs of the object's materials, if any has one."""
@@ -141,6 +142,7 @@ class Exporter:
         data = self.mesh_of(obj, slots)
         self.describe_object(item, slots)
         self.check_volume_closed(obj, data, slots)
+        self.note_medium_bounds(item, data, slots)
         added = self.put_mesh(data, item, slots, False)
         return Exported(detached(item), self.mesh_key(obj)[1], "mesh", data, added)
 
@@ -156,6 +158,31 @@ class Exporter:
             self.skip(obj, f"the faces carrying its Volume material are not closed ({data.open_volume_edges} edges "
                            "bound one face, or more than two): light entering through the opening never leaves "
                            "the medium (as in Cycles); close the mesh")
+
+    def note_medium_bounds(self, item, data, slots):
+        if data is None or len(data.positions) == 0 or not any(i in self.materials.with_volume for i in slots):
+            return
+        with np.errstate(invalid="ignore", over="ignore"):
+            positions = data.positions @ item.matrix[:3, :3].T + item.matrix[:3, 3]
+        if np.isfinite(positions).all():
+            self.media_bounds.append((item.obj.original.name, positions.min(axis=0), positions.max(axis=0)))
+
+    def warn_overlapping_media(self, most=5):
+        """Warns where two objects' media may overlap (their boxes do): the core renders the innermost
+        medium alone where Cycles adds them (fog around a glass of wine, two smoke clouds crossing)."""
+        boxes = sorted(self.media_bounds, key=lambda box: box[1][0])  # swept along x
+        pairs = []
+        for i, (name_a, lo_a, hi_a) in enumerate(boxes):
+            for name_b, lo_b, hi_b in boxes[i + 1:]:
+                if lo_b[0] >= hi_a[0] or len(pairs) > most:
+                    break
+                if (np.minimum(hi_a, hi_b) > np.maximum(lo_a, lo_b)).all():
+                    pairs.append((name_a, name_b))
+        for name_a, name_b in pairs[:most]:
+            self.warn(f"objects '{name_a}' and '{name_b}': their media may overlap (their bounds do); where "
+                      "they do, only the inner one is rendered (Cycles adds them)")
+        if len(pairs) > most:
+            self.warn("more objects whose media may overlap")
 
     def put_mesh(self, data, item, slots, replacing):
         """Adds `data` at `item`'s matrix, or `replacing`, in place of the object's triangles in the core
@@ -418,6 +445,7 @@ def scene_exporter(core_module, depsgraph, warn, cancelled=lambda: False, lights
     visit_instances(exporter, depsgraph, cancelled)
     exporter.finish_curves()
     exporter.report_skips()
+    exporter.warn_overlapping_media()
     exporter.world_textures = exporter.scene.texture_count  # the world's textures come after this
     world.add_world(exporter.scene, depsgraph.scene.world, world_warn or warn, exporter.attributes,
                     sun_count(depsgraph))
