@@ -260,7 +260,7 @@ struct EyeTracer {
     h.direction = Vec3f(v.ray.direction);
     h.r2 = static_cast<float>(r * r);
     h.pixel = pixel;
-    h.medium = static_cast<int32_t>(med - scene.media().data());
+    h.medium = scene.medium_index(med);
     h.media = vm.stack;
     h.route = v.route;
     out.volume.push_back(h);

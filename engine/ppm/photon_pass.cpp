@@ -110,20 +110,37 @@ inline bool within_budget(const BounceLimits& limits, const HitPoints& hp, uint3
 // axis k at d / |n_k|, so 1/d^2 = sum over the axes of 1/t_k^2 (each axis its nearer hit; an axis
 // with |n_k| below d / 4r, missed, leaves at most 1/16 of the sum out). Beyond the plane lies the
 // cap of height r - d: volume pi (r - d)^2 (2r + d) / 3, int |x|^2 = pi/2 (r^4 (r - d) - (r^5 - d^5) / 5).
+// Where the surface only bounds the medium (a boundary, or a surface carrying a medium) and another
+// that scatters lies beyond (a smoke ball in a fog room), photons lie there too, as many per volume
+// as its sigma_s against this one's (the fluence goes on across): the cap counts at that ratio.
 struct BallInside {
   double share = 1.0;
   double mean_d2 = 0.6;
 };
 
-BallInside ball_inside(const Scene& scene, const Vec3& c, double r) {
-  double inverse_d2 = 0.0;
+// sigma_s beyond the surface at `hit` over sigma_s here (luminance), for a ray leaving a point in
+// `media`: 0 where the surface is opaque or nothing scatters beyond.
+double scattering_beyond(const Scene& scene, const Hit& hit, const Vec3& direction, const MediumStack& media,
+                         double here) {
+  const Material& m = scene.material(hit.material);
+  if (m.surface && m.medium < 0) return 0.0;
+  MediumStack beyond = media;
+  scene.cross(hit, direction, beyond);
+  const Medium* b = scene.medium_of(beyond);
+  return b != nullptr && here > 0.0 ? luminance(b->c.sigma_s) / here : 0.0;
+}
+
+BallInside ball_inside(const Scene& scene, const Vec3& c, double r, const MediumStack& media, double sigma_s) {
+  double inverse_d2 = 0.0, nearest = kInf, beyond = 0.0;
   for (int k = 0; k < 3; ++k) {
     double t = kInf;
     for (double sign : {1.0, -1.0}) {
       Ray ray{c, Vec3(0.0)};
       ray.direction[k] = sign;
       Hit hit;
-      if (scene.intersect(ray, hit, 4.0 * r)) t = std::min(t, hit.t);
+      if (!scene.intersect(ray, hit, 4.0 * r)) continue;
+      t = std::min(t, hit.t);
+      if (hit.t < nearest) nearest = hit.t, beyond = scattering_beyond(scene, hit, ray.direction, media, sigma_s);
     }
     if (t < kInf) inverse_d2 += 1.0 / (t * t);
   }
@@ -131,7 +148,9 @@ BallInside ball_inside(const Scene& scene, const Vec3& c, double r) {
   const double d = std::min(r, 1.0 / std::sqrt(inverse_d2)), r2 = r * r, r5 = r2 * r2 * r;
   const double ball = 4.0 * kPi * r2 * r / 3.0, cap = kPi * (r - d) * (r - d) * (2.0 * r + d) / 3.0;
   const double moment = 0.8 * kPi * r5 - kPi / 2.0 * (r2 * r2 * (r - d) - (r5 - std::pow(d, 5)) / 5.0);
-  return {1.0 - cap / ball, moment / ((ball - cap) * r2)};
+  // As dense beyond or denser: the weight's centre as if uncut (the error estimate's only).
+  const double mean_d2 = beyond >= 1.0 ? BallInside{}.mean_d2 : moment / ((ball - cap) * r2);
+  return {1.0 - (1.0 - beyond) * cap / ball, mean_d2};
 }
 
 }  // namespace
@@ -556,7 +575,9 @@ bool PhotonPass::gather_volume(const Scene& scene, std::vector<VolumeHitPoint>& 
       h.tau = Vec3f(0.0f);
       h.pass_bias = 0.0f;
       if (!any) continue;
-      const Phase& phase = scene.medium(static_cast<uint32_t>(h.medium)).c.phase;
+      const Medium& medium = scene.medium(static_cast<uint32_t>(h.medium));
+      const Phase& phase = medium.c.phase;
+      const double sigma_s = luminance(medium.c.sigma_s);
       const Vec3 center = h.position, back = -Vec3(h.direction);
       const double r2 = h.r2, r = std::sqrt(r2);
       Color sum(0.0), sum_d2(0.0);
@@ -575,7 +596,7 @@ bool PhotonPass::gather_volume(const Scene& scene, std::vector<VolumeHitPoint>& 
       });
       h.m = m;
       BallInside inside;
-      if (settings_.volume_boundary && m > 0) inside = ball_inside(scene, center, r);
+      if (settings_.volume_boundary && m > 0) inside = ball_inside(scene, center, r, h.media, sigma_s);
       sum /= inside.share;
       sum_d2 /= inside.share;
       h.tau = Vec3f(sum * Color(h.weight));

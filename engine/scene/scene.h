@@ -204,12 +204,23 @@ class Scene {
   void set_material_medium(uint32_t material, int medium, bool surface);
   int world_medium() const { return world_medium_; }
   const std::vector<Medium>& media() const { return media_; }
-  const Medium& medium(uint32_t id) const { return media_[id]; }
+  // Medium `id`: one added, or from media().size() on one of their sums (overlapping media, below).
+  const Medium& medium(uint32_t id) const {
+    return id < media_.size() ? media_[id] : combined_media_[id - media_.size()].medium;
+  }
+  int32_t medium_index(const Medium* m) const {  // of a medium medium_of returned
+    if (m >= media_.data() && m < media_.data() + media_.size()) return static_cast<int32_t>(m - media_.data());
+    for (size_t k = 0; k < combined_media_.size(); ++k)
+      if (m == &combined_media_[k].medium) return static_cast<int32_t>(media_.size() + k);
+    return -1;
+  }
   // Whether any path can be in a medium: the world has one or a material does. Scenes without pay
   // nothing: every media step is behind this test, once per pass or per path.
   bool has_media() const;
-  // The medium a path with `stack` is in (nullptr: none).
+  // The medium a path with `stack` is in (nullptr: none). Where the stack holds several media, their
+  // sum, as Cycles adds the volumes on its stack (combined_medium).
   const Medium* medium_of(const MediumStack& stack) const {
+    if (stack.count > 1 && !combined_media_.empty()) return combined_medium(stack);
     const int id = stack.top(world_medium_);
     return id >= 0 ? &media_[static_cast<size_t>(id)] : nullptr;
   }
@@ -359,6 +370,16 @@ class Scene {
   std::vector<Medium> media_;
   int world_medium_ = -1;
   MediumStack camera_media_;
+  // Overlapping media: the sums build() made (combine_overlapping_media), each with the media it
+  // adds, ascending. A stack whose media have none is in its innermost medium alone.
+  struct CombinedMedium {
+    Medium medium;
+    int16_t ids[kMaxMediumStack] = {};
+    uint8_t count = 0;
+  };
+  std::vector<CombinedMedium> combined_media_;
+  const Medium* combined_medium(const MediumStack& stack) const;
+  void combine_overlapping_media();
   bool camera_media_placed_ = false;
   std::vector<Texture> textures_;
   MeshStore meshes_;

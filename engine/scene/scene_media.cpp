@@ -125,6 +125,104 @@ MediumStack Scene::media_at(const Vec3& p) const {
   return out;
 }
 
+namespace {
+
+constexpr size_t kMaxCombinedMedia = 1024;
+constexpr size_t kMaxTripleRegions = 64;  // objects with media beyond which only pairs are summed
+
+// The sum of media `ids`: coefficients and emission added; the phase the scattering-weighted
+// mixture where two single-lobe phases meet (exact), otherwise the strongest scatterer's.
+Medium sum_of_media(const std::vector<Medium>& media, const int16_t* ids, int count) {
+  Medium sum;
+  sum.name = "sum";
+  const Medium* strongest = &media[ids[0]];
+  for (int k = 0; k < count; ++k) {
+    const Medium& m = media[ids[k]];
+    sum.name += " '" + m.name + "'";
+    sum.c.sigma_a += m.c.sigma_a, sum.c.sigma_s += m.c.sigma_s, sum.c.emission += m.c.emission;
+    if (luminance(m.c.sigma_s) > luminance(strongest->c.sigma_s)) strongest = &m;
+  }
+  sum.c.phase = strongest->c.phase;
+  const Medium &a = media[ids[0]], &b = media[ids[count - 1]];
+  const double sa = luminance(a.c.sigma_s), sb = luminance(b.c.sigma_s);
+  if (count == 2 && a.c.phase.second_weight == 0.0 && b.c.phase.second_weight == 0.0 && sa + sb > 0.0) {
+    sum.c.phase.first = a.c.phase.first;
+    sum.c.phase.second = b.c.phase.first;
+    sum.c.phase.second_weight = sb / (sa + sb);
+  }
+  sum.sigma_t = sum.c.sigma_t();
+  return sum;
+}
+
+// The distinct media of `stack`, ascending; returns how many.
+int distinct_media(const MediumStack& stack, int16_t* ids) {
+  int n = 0;
+  for (int k = 0; k < stack.count; ++k) {
+    int16_t id = stack.ids[k];
+    int j = n;
+    while (j > 0 && ids[j - 1] > id) --j;
+    if (j > 0 && ids[j - 1] == id) continue;
+    for (int i = n; i > j; --i) ids[i] = ids[i - 1];
+    ids[j] = id, ++n;
+  }
+  return n;
+}
+
+}  // namespace
+
+const Medium* Scene::combined_medium(const MediumStack& stack) const {
+  int16_t ids[kMaxMediumStack];
+  const int n = distinct_media(stack, ids);
+  if (n == 1) return &media_[ids[0]];
+  for (const CombinedMedium& c : combined_media_)
+    if (c.count == n && std::equal(ids, ids + n, c.ids)) return &c.medium;
+  return &media_[stack.top(world_medium_)];  // overlapping media build() did not foresee
+}
+
+// Every pair, and triple, of media whose objects' boxes overlap gets its sum, so that a path in
+// both finds it (combined_medium); up to kMaxCombinedMedia.
+void Scene::combine_overlapping_media() {
+  combined_media_.clear();
+  std::vector<std::pair<int16_t, Aabb>> regions;  // a medium and the box of one object's triangles of it
+  std::vector<std::pair<uint32_t, int16_t>> keys;  // (object, medium) of each
+  for (uint32_t t = 0; t < meshes_.triangle_count(); ++t) {
+    const int medium = materials_[meshes_.info[t].material].medium;
+    if (medium < 0) continue;
+    const std::pair<uint32_t, int16_t> key{meshes_.meshes[meshes_.info[t].mesh].object, static_cast<int16_t>(medium)};
+    size_t r = !keys.empty() && keys.back() == key ? keys.size() - 1 : 0;  // a mesh's triangles are in a row
+    while (r < keys.size() && keys[r] != key) ++r;
+    if (r == keys.size()) {
+      if (keys.size() >= kMaxCombinedMedia) continue;
+      keys.push_back(key), regions.push_back({key.second, Aabb{}});
+    }
+    const TrianglePrim p = triangle(t);
+    regions[r].second.grow(p.v0), regions[r].second.grow(p.v0 + p.e1), regions[r].second.grow(p.v0 + p.e2);
+  }
+  auto overlap = [](const Aabb& a, const Aabb& b) {
+    return glm::all(glm::lessThan(glm::max(a.lo, b.lo), glm::min(a.hi, b.hi)));
+  };
+  auto add = [&](std::vector<int16_t> ids) {
+    std::sort(ids.begin(), ids.end());
+    ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+    if (ids.size() < 2 || combined_media_.size() >= kMaxCombinedMedia) return;
+    for (const CombinedMedium& c : combined_media_)
+      if (c.count == ids.size() && std::equal(ids.begin(), ids.end(), c.ids)) return;
+    CombinedMedium c;
+    c.count = static_cast<uint8_t>(ids.size());
+    std::copy(ids.begin(), ids.end(), c.ids);
+    c.medium = sum_of_media(media_, c.ids, c.count);
+    combined_media_.push_back(std::move(c));
+  };
+  for (size_t i = 0; i < regions.size(); ++i)
+    for (size_t j = i + 1; j < regions.size(); ++j) {
+      if (!overlap(regions[i].second, regions[j].second)) continue;
+      add({regions[i].first, regions[j].first});
+      for (size_t k = j + 1; k < regions.size() && regions.size() <= kMaxTripleRegions; ++k)
+        if (overlap(regions[i].second, regions[k].second) && overlap(regions[j].second, regions[k].second))
+          add({regions[i].first, regions[j].first, regions[k].first});
+    }
+}
+
 void Scene::place_lights_in_media() {
   bool mesh_media = false;
   for (const Material& m : materials_) mesh_media |= m.medium >= 0;

@@ -134,13 +134,15 @@ def test_a_textured_density_is_warned_as_heterogeneous_and_takes_its_own_value()
     assert core_scene.media == ["material 'cloud'"] and core_scene.has_media
 
 
-@pytest.mark.parametrize("smoke_at, overlap", [((0.0, 0.0, 1.0), True), ((6.0, 0.0, 1.0), False)])
-def test_media_whose_bounds_overlap_are_warned_naming_both_objects(smoke_at, overlap):
-    """A smoke ball inside a fog cube: the core renders the smoke alone inside the ball, where Cycles
-    adds the fog to it; warned once, naming both. A ball beside the cube: nothing."""
+@pytest.mark.parametrize("smoke_at, same, overlap", [((0.0, 0.0, 1.0), True, True), ((6.0, 0.0, 1.0), True, False),
+                                                     ((0.0, 0.0, 1.0), False, False)])
+def test_one_medium_on_objects_whose_bounds_overlap_is_warned_naming_both(smoke_at, same, overlap):
+    """A ball inside a fog cube, of the cube's own Volume material: Cycles adds it twice inside the
+    ball, the core once; warned once, naming both. The ball beside the cube, or of another medium
+    (added to the fog as Cycles does): nothing."""
     scene = floor_scene()
     fog, _, _ = volume_material("fog", "ShaderNodeVolumeScatter", Density=0.1)
-    smoke, _, _ = volume_material("smoke", "ShaderNodeVolumePrincipled", Density=2.0)
+    smoke = fog if same else volume_material("smoke", "ShaderNodeVolumePrincipled", Density=2.0)[0]
     bpy.ops.mesh.primitive_cube_add(size=4.0, location=(0.0, 0.0, 2.0))
     bpy.context.object.name = "FogRoom"
     bpy.context.object.data.materials.append(fog)
@@ -149,6 +151,7 @@ def test_media_whose_bounds_overlap_are_warned_naming_both_objects(smoke_at, ove
     bpy.context.object.data.materials.append(smoke)
     _, warnings = export_scene(scene)
     overlapping = [w for w in warnings if "may overlap" in w]
+    assert len(warnings) == len(overlapping), warnings
     if overlap:
         assert len(overlapping) == 1 and "'FogRoom'" in overlapping[0] and "'Smoke'" in overlapping[0], warnings
     else:

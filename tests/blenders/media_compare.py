@@ -6,6 +6,7 @@ A floor (albedo 0.5) and a diffuse ball seen from the side, in media the add-on 
   everything, under a point light of radius 0.1 m;
 - fog_room: the same fog in a 12 m cube (no Surface) around the camera, the light and the floor:
   where users put fog, and where the camera and the light start their paths inside a mesh medium;
+- smoke_in_fog_room: the smoke ball (below) inside the fog room: Cycles adds the fog to the smoke;
 - fog_cube_spot: a 2 m cube of Volume Scatter (density 0.4, no Surface) under a spot light of radius
   0.1 m, the ball outside it: the beam and its shadow in the fog;
 - ink_in_glass: a glass cube (IOR 1.33) holding red Volume Absorption, on the floor under an area light;
@@ -38,7 +39,8 @@ import bpy
 
 import cycles_compare
 
-CASES = ("fog_cube_spot", "ink_in_glass", "smoke_ball", "glowing_cloud", "world_fog", "fog_room")
+CASES = ("fog_cube_spot", "ink_in_glass", "smoke_ball", "glowing_cloud", "world_fog", "fog_room",
+         "smoke_in_fog_room")
 # Run by name only. A glass ball focusing a spot into fog: Cycles' reference stays noisy at the samples
 # a test can afford.
 GAPS = ("glass_ball_in_fog",)
@@ -63,16 +65,16 @@ TOLERANCE = 0.03
 # 4.03% (its dim top block, 0.0007, where 1024 Cycles samples are noise-bound); against 4096 samples,
 # the mean of seeds 1 and 2: 1.7% and 0.9% (media_radius_sweep.py).
 CASE_TOLERANCE = {"glowing_cloud": 0.05, "world_fog": 0.05, "fog_room": 0.05, "fog_cube_spot": 0.05,
-                  "smoke_ball": 0.05}
+                  "smoke_ball": 0.05, "smoke_in_fog_room": 0.05}
 # Passes where 64 leave a block noise-bound: the glowing cloud's floor, lit by the cloud's photons
 # alone (5.3% at 64); the smoke ball's dim top (15.8% at 64).
 # The fog the camera is in, its block holding the point light (the glow about it, each pass one light
 # sample a hit point): fog_room at 64 passes 4.2% (3.4, against 1024 samples), 128 passes 1.2-1.9%,
 # 256 passes 1.5%.
-CASE_PASSES = {"glowing_cloud": 256, "smoke_ball": 256, "world_fog": 128, "fog_room": 128}
+CASE_PASSES = {"glowing_cloud": 256, "smoke_ball": 256, "world_fog": 128, "fog_room": 128, "smoke_in_fog_room": 256}
 # Cycles samples where fewer keep the blocks: the world fog (Cycles' three seeds at 1024 agreed within
 # 0.4%; 1024 samples take 27 s of the case's 32 s, 256 take 7).
-CASE_SAMPLES = {"world_fog": 256, "fog_room": 256}
+CASE_SAMPLES = {"world_fog": 256, "fog_room": 256, "smoke_in_fog_room": 256}
 
 
 def volume_material(name, node_type, surface=None, **inputs):
@@ -101,6 +103,11 @@ def fog_volume_scatter():
     return volume_material("fog", "ShaderNodeVolumeScatter", Density=0.08, Anisotropy=0.3)
 
 
+def smoke_material():
+    return volume_material("smoke", "ShaderNodeVolumePrincipled", Density=3.0, Color=(0.8, 0.6, 0.3, 1.0),
+                           **{"Absorption Color": (0.2, 0.3, 0.6, 1.0)})
+
+
 def world_fog():
     world = bpy.data.worlds.new("World")
     if world.node_tree is None or bpy.app.version < (5, 0, 0):
@@ -122,11 +129,13 @@ def build(case):
     cycles_compare.ball("matte", (-0.9, 0.6, 0.5), 0.5, cycles_compare.diffuse_material("matte", (0.7, 0.7, 0.7)))
     cycles_compare.side_camera((0.0, -5.0, 1.4), 30.0)
     cycles_compare.set_world(0.0)
-    if case in ("world_fog", "fog_room"):
+    if case in ("world_fog", "fog_room", "smoke_in_fog_room"):
         if case == "world_fog":
             world_fog()
         else:
             cycles_compare.cube("room", (0.0, 0.0, 2.0), 12.0, fog_volume_scatter())
+        if case == "smoke_in_fog_room":
+            cycles_compare.ball("smoke", (0.5, 0.4, 0.8), 0.8, smoke_material())
         cycles_compare.add_light("POINT", 300.0, (0.5, 0.0, 2.5), shadow_soft_size=0.1)
     elif case == "fog_cube_spot":
         cycles_compare.set_world(0.05)  # a faint sky, so that no block is black and noise-bound
@@ -147,9 +156,7 @@ def build(case):
         cycles_compare.cube("ink", (0.5, 0.4, 0.5 + LIFT), 1.0, ink)
         cycles_compare.add_light("AREA", 300.0, (0.0, 0.0, 3.0), size=2.0)
     elif case == "smoke_ball":
-        cycles_compare.ball("smoke", (0.5, 0.4, 0.8), 0.8,
-                            volume_material("smoke", "ShaderNodeVolumePrincipled", Density=3.0,
-                                            Color=(0.8, 0.6, 0.3, 1.0), **{"Absorption Color": (0.2, 0.3, 0.6, 1.0)}))
+        cycles_compare.ball("smoke", (0.5, 0.4, 0.8), 0.8, smoke_material())
         cycles_compare.add_light("POINT", 300.0, (1.5, -1.0, 3.0), shadow_soft_size=0.1)
     elif case == "glowing_cloud":
         cloud = volume_material("cloud", "ShaderNodeVolumePrincipled", Density=1.0,
@@ -178,10 +185,21 @@ def beyond_tolerance(row):
     return row["max_block_error"] > row["tolerance"]
 
 
+# Cases whose Cycles changed: a smoke ball inside a fog room, where Blender 4.5 and 5.0 add the two
+# media (1.5-1.7% from PPM's sum), reads 22-23% brighter inside the smoke in 3.4 and 4.2 (whose sum
+# rule is not known here: docs/LIMITATIONS.md).
+FROM_BLENDER = {"smoke_in_fog_room": (4, 5, 0)}
+
+
+def cases_for_this_blender(cases):
+    return tuple(c for c in cases if bpy.app.version >= FROM_BLENDER.get(c, (0, 0, 0)))
+
+
 def compare_cases(cases=CASES, samples=1024, passes=64):
     def one(case, workdir):
         return compare(case, workdir, samples, passes)
-    return cycles_compare.run_cases("media_compare", cases, one, cycles_compare.describe_blocks)
+    return cycles_compare.run_cases("media_compare", cases_for_this_blender(cases), one,
+                                    cycles_compare.describe_blocks)
 
 
 def main():

@@ -83,7 +83,8 @@ class Exporter:
         self.instanced = set()  # original names of the objects instanced, and of those instancing them
         self.touched = set()  # original names of the objects the last update in place exported again
         self.object_pass_index = {}  # object id -> its Blender object's Pass Index (the Object Index pass)
-        self.media_bounds = []  # (object name, lo, hi): the world-space box of each object with a medium
+        # (object name, its volume materials, lo, hi): the world-space box of each object with a medium
+        self.media_bounds = []
 
     def describe_object(self, item, slots):
         """Object info for the node programs of the object's materials, if any has one."""
@@ -160,29 +161,31 @@ class Exporter:
                            "the medium (as in Cycles); close the mesh")
 
     def note_medium_bounds(self, item, data, slots):
-        if data is None or len(data.positions) == 0 or not any(i in self.materials.with_volume for i in slots):
+        volumes = frozenset(i for i in slots if i in self.materials.with_volume)
+        if data is None or len(data.positions) == 0 or not volumes:
             return
         with np.errstate(invalid="ignore", over="ignore"):
             positions = data.positions @ item.matrix[:3, :3].T + item.matrix[:3, 3]
         if np.isfinite(positions).all():
-            self.media_bounds.append((item.obj.original.name, positions.min(axis=0), positions.max(axis=0)))
+            self.media_bounds.append((item.obj.original.name, volumes, positions.min(axis=0), positions.max(axis=0)))
 
     def warn_overlapping_media(self, most=5):
-        """Warns where two objects' media may overlap (their boxes do): the core renders the innermost
-        medium alone where Cycles adds them (fog around a glass of wine, two smoke clouds crossing)."""
-        boxes = sorted(self.media_bounds, key=lambda box: box[1][0])  # swept along x
+        """Warns where two objects with the same Volume material may overlap (their boxes do): Cycles
+        adds each object's volume, the medium twice there; the core adds different media where they
+        overlap (a smoke ball in a fog room) but counts one medium once."""
+        boxes = sorted(self.media_bounds, key=lambda box: box[2][0])  # swept along x
         pairs = []
-        for i, (name_a, lo_a, hi_a) in enumerate(boxes):
-            for name_b, lo_b, hi_b in boxes[i + 1:]:
+        for i, (name_a, volumes_a, lo_a, hi_a) in enumerate(boxes):
+            for name_b, volumes_b, lo_b, hi_b in boxes[i + 1:]:
                 if lo_b[0] >= hi_a[0] or len(pairs) > most:
                     break
-                if (np.minimum(hi_a, hi_b) > np.maximum(lo_a, lo_b)).all():
+                if volumes_a & volumes_b and (np.minimum(hi_a, hi_b) > np.maximum(lo_a, lo_b)).all():
                     pairs.append((name_a, name_b))
         for name_a, name_b in pairs[:most]:
-            self.warn(f"objects '{name_a}' and '{name_b}': their media may overlap (their bounds do); where "
-                      "they do, only the inner one is rendered (Cycles adds them)")
+            self.warn(f"objects '{name_a}' and '{name_b}': their media (one Volume material) may overlap; where "
+                      "they do it is rendered once (Cycles adds it twice)")
         if len(pairs) > most:
-            self.warn("more objects whose media may overlap")
+            self.warn("more objects whose media (one Volume material) may overlap")
 
     def put_mesh(self, data, item, slots, replacing):
         """Adds `data` at `item`'s matrix, or `replacing`, in place of the object's triangles in the core
