@@ -9,7 +9,8 @@ cornell_3spheres (report figure 1), bezier_vase (figure 2), cornell_dof
 (figure 3), showcase (textured meshes, several light types, instances) and
 cornell_diffuse (diffuse only, for the accuracy benchmarks against Cycles), hdri_glass (image-based
 light from an HDRI Blender ships, packed, with glass and its caustic) and fog_caustic (a volumetric
-caustic: a spot light through a glass ball into a fog box).
+caustic: a spot light through a glass ball into a fog box) and fog_shafts (god rays in a fog-filled
+room, the camera in the fog).
 Geometry mirrors blend_scenes/core_scenes.py where a core scene exists.
 """
 
@@ -412,8 +413,8 @@ def fog_caustic():
           shadow_soft_size=0.02)
     light("fill", "AREA", (2.5, -2.8, 3.0), 8.0, target=BALL, size=1.0)
     camera((0.3, -3.0, 1.0), (0.2, 0.6, 0.6), lens=35.0)
-    # The fog fills a box around the stage, the camera and the spot outside it (the core does not yet
-    # detect a camera or light inside a mesh medium); its bottom 5 cm below the floor, not in its plane.
+    # The fog fills a box around the stage, the camera and the spot outside it (fog_shafts has them
+    # inside); its bottom 5 cm below the floor, not in its plane.
     fog_box("fog", (-4.5, -2.5, -0.05), (4.5, 4.1, 4.5), 0.25, 0.4)
     world((0.0, 0.0, 0.0))
     render_settings()
@@ -422,9 +423,30 @@ def fog_caustic():
 BALL = (0.0, 0.6, 0.96)  # the glass ball's centre; its plinth stops 5 mm below it
 
 
+def fog_shafts():
+    """God rays: a room filled with thin fog (a box of Volume Scatter around everything, the camera
+    and the lights inside it), a spot light slanting down past a diffuse ball and a rough metal one,
+    their shadows cut out of its shaft, and a dim fill light; no glass, so that Cycles converges (the
+    equal-time bench's media scene)."""
+    reset()
+    stage = diffuse("stage", (0.55, 0.55, 0.55))
+    quad("floor", [(-5, -5, 0), (5, -5, 0), (5, 5, 0), (-5, 5, 0)], stage)
+    quad("back", [(-5, 4, 0), (5, 4, 0), (5, 4, 4), (-5, 4, 4)], stage)
+    uv_sphere("ball", (-0.7, 1.2, 0.6), 0.6, diffuse("ball", (0.7, 0.3, 0.2)))
+    metal = node_material("metal", "ShaderNodeBsdfGlossy", Roughness=0.3, Color=(0.9, 0.75, 0.5, 1.0))
+    uv_sphere("metal_ball", (0.9, 0.8, 0.5), 0.5, metal)
+    light("spot", "SPOT", (-3.0, 2.5, 4.6), 3500.0, target=(0.2, 0.6, 0.0), spot_size=math.radians(35),
+          spot_blend=0.2, shadow_soft_size=0.05)
+    light("fill", "AREA", (2.5, -2.5, 3.0), 30.0, target=(0.0, 1.0, 0.5), size=1.0)
+    camera((0.2, -3.2, 1.3), (0.0, 1.0, 0.9), lens=30.0)
+    fog_box("fog", (-6, -6, -0.05), (6, 6, 6), 0.12, 0.3)  # its bottom below the floor, not in its plane
+    world((0.0, 0.0, 0.0))
+    render_settings()
+
+
 SCENES = {"cornell_3spheres": cornell_3spheres, "bezier_vase": bezier_vase,
           "cornell_dof": cornell_dof, "showcase": showcase, "cornell_diffuse": cornell_diffuse,
-          "hdri_glass": hdri_glass, "fog_caustic": fog_caustic}
+          "hdri_glass": hdri_glass, "fog_caustic": fog_caustic, "fog_shafts": fog_shafts}
 
 
 def save(path):

@@ -97,6 +97,9 @@ def render_cycles(name, width, height, *, seed, passes=0, seconds=0.0, threads=2
     c.blur_glossy = 0.0
     c.caustics_reflective = c.caustics_refractive = True
     c.max_bounces = c.diffuse_bounces = c.glossy_bounces = c.transmission_bounces = 12
+    # Volume bounces too (Cycles' default is 0: fog lit by the lights alone, with no light scattered
+    # twice or off a wall; the PPM engine has no volume limit of its own), and transparent ones.
+    c.volume_bounces = c.transparent_max_bounces = 12
     c.pixel_filter_type, c.filter_width = "BOX", 1.0
     scene.render.threads_mode, scene.render.threads = "FIXED", threads
     apply(scene, c, settings)

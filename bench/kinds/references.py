@@ -99,7 +99,8 @@ def run(experiment, results):
                 masks = masks or region_masks(experiment, scene, image)
                 entry[engine]["noise"] = {k: metrics.halves_noise(*halves, m) for k, m in masks.items()}
                 entry["regions"] = {k: int(m.sum()) for k, m in masks.items()}
-        if os.path.exists(reference_path(scene, "cycles", folder)) and experiment["route"] != "core":
+        both = all(os.path.exists(reference_path(scene, e, folder)) for e in ("ppm", "cycles"))
+        if both and experiment["route"] != "core":
             ppm, cycles = (read_exr(reference_path(scene, e, folder))[0] for e in ("ppm", "cycles"))
             entry["agreement"] = agreement(ppm, cycles, region_masks(experiment, scene, ppm))
             plots.agreement(ppm, cycles, results.path(f"agreement_{scene}.png"))
