@@ -123,7 +123,7 @@ struct BallInside {
 double scattering_beyond(const Scene& scene, const Hit& hit, const Vec3& direction, const MediumStack& media,
                          double here) {
   const Material& m = scene.material(hit.material);
-  if (m.surface && m.medium < 0) return 0.0;
+  if (m.surface && (m.medium < 0 || !transmits(m))) return 0.0;  // light does not pass it
   MediumStack beyond = media;
   scene.cross(hit, direction, beyond);
   const Medium* b = scene.medium_of(beyond);

@@ -238,7 +238,8 @@ class Scene {
   // from it along three directions, each counting the boundaries of each medium it leaves and
   // enters (a medium holds the point if two of the three leave it more than they enter). For paths
   // that start somewhere other than a surface: the camera, a light inside a fog box. Built scene.
-  MediumStack media_at(const Vec3& p) const;
+  // `ray_kind`: the rays that will start there (what they see of objects hidden from some rays).
+  MediumStack media_at(const Vec3& p, uint8_t ray_kind = kCameraRay) const;
   // The media the camera is in (media_at its position), set by build().
   const MediumStack& camera_media() const { return camera_media_; }
   // What arrives along a shadow ray over (0, distance) through media: the transmittance of each

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <functional>
 #include <limits>
+#include <map>
 #include <utility>
 #include <vector>
 
@@ -86,7 +87,7 @@ struct MediaAlongRay {
 
 }  // namespace
 
-MediumStack Scene::media_at(const Vec3& p) const {
+MediumStack Scene::media_at(const Vec3& p, uint8_t ray_kind) const {
   MediumStack out;
   bool mesh_media = false;
   for (const Material& m : materials_) mesh_media |= m.medium >= 0;
@@ -96,7 +97,7 @@ MediumStack Scene::media_at(const Vec3& p) const {
     MediaAlongRay& a = along[k];
     a.net.assign(media_.size(), 0);
     a.first_exit.assign(media_.size(), kInf);
-    Ray ray{p, kInsideDirections[k], kDiffuseRay};
+    Ray ray{p, kInsideDirections[k], ray_kind};
     double travelled = 0.0;
     Hit hit;
     for (int n = 0; n < kMaxInsideHits && intersect(ray, hit); ++n) {
@@ -110,18 +111,24 @@ MediumStack Scene::media_at(const Vec3& p) const {
       ray.origin = offset_point(hit.position, hit.geometric_normal, ray.direction, offset_floor_);
     }
   }
-  // A medium holds the point if most rays leave it more often than they enter; the outermost (the
-  // farthest first exit) goes on the stack first.
-  std::vector<std::pair<double, int>> inside;
+  // A medium holds the point if most rays leave it more often than they enter, as many times as the
+  // fewest of those leave it more (two objects of one medium: twice, as `cross` counts); the
+  // outermost (the farthest first exit) goes on the stack first.
+  struct Inside {
+    double exit;
+    int id, times;
+  };
+  std::vector<Inside> inside;
   for (size_t id = 0; id < media_.size(); ++id) {
-    int votes = 0;
+    int votes = 0, times = kMaxInsideHits;
     double exit = 0.0;
     for (const MediaAlongRay& a : along)
-      if (a.net[id] > 0) ++votes, exit = std::max(exit, a.first_exit[id]);
-    if (2 * votes > kInsideRays) inside.emplace_back(exit, static_cast<int>(id));
+      if (a.net[id] > 0) ++votes, exit = std::max(exit, a.first_exit[id]), times = std::min(times, a.net[id]);
+    if (2 * votes > kInsideRays) inside.push_back({exit, static_cast<int>(id), times});
   }
-  std::sort(inside.begin(), inside.end(), std::greater<>());
-  for (const auto& [exit, id] : inside) out.enter(id);
+  std::sort(inside.begin(), inside.end(), [](const Inside& a, const Inside& b) { return a.exit > b.exit; });
+  for (const Inside& in : inside)
+    for (int k = 0; k < std::min(in.times, kMaxMediumStack); ++k) out.enter(in.id);
   return out;
 }
 
@@ -184,17 +191,18 @@ const Medium* Scene::combined_medium(const MediumStack& stack) const {
 void Scene::combine_overlapping_media() {
   combined_media_.clear();
   std::vector<std::pair<int16_t, Aabb>> regions;  // a medium and the box of one object's triangles of it
-  std::vector<std::pair<uint32_t, int16_t>> keys;  // (object, medium) of each
+  std::map<std::pair<uint32_t, int16_t>, size_t> region_of;  // (object, medium) -> its region
   for (uint32_t t = 0; t < meshes_.triangle_count(); ++t) {
     const int medium = materials_[meshes_.info[t].material].medium;
     if (medium < 0) continue;
     const std::pair<uint32_t, int16_t> key{meshes_.meshes[meshes_.info[t].mesh].object, static_cast<int16_t>(medium)};
-    size_t r = !keys.empty() && keys.back() == key ? keys.size() - 1 : 0;  // a mesh's triangles are in a row
-    while (r < keys.size() && keys[r] != key) ++r;
-    if (r == keys.size()) {
-      if (keys.size() >= kMaxCombinedMedia) continue;
-      keys.push_back(key), regions.push_back({key.second, Aabb{}});
+    auto found = region_of.find(key);
+    if (found == region_of.end()) {
+      if (regions.size() >= kMaxCombinedMedia) continue;
+      found = region_of.emplace(key, regions.size()).first;
+      regions.push_back({key.second, Aabb{}});
     }
+    const size_t r = found->second;
     const TrianglePrim p = triangle(t);
     regions[r].second.grow(p.v0), regions[r].second.grow(p.v0 + p.e1), regions[r].second.grow(p.v0 + p.e2);
   }
@@ -227,24 +235,23 @@ void Scene::place_lights_in_media() {
   bool mesh_media = false;
   for (const Material& m : materials_) mesh_media |= m.medium >= 0;
   if (!mesh_media) return;
-  std::vector<int> object_done;  // emitting meshes: one point of each object's first light decides
-  std::vector<MediumStack> object_media;
+  std::map<uint32_t, MediumStack> object_media;  // emitting meshes: one point of each object's first light decides
   for (Light& l : lights_) {
     switch (l.kind) {
       case LightKind::Point: case LightKind::Sphere: case LightKind::Spot: case LightKind::Rectangle:
       case LightKind::Disk:
-        l.media = media_at(l.position);
+        l.media = media_at(l.position, kShadowRay);  // a photon leaves its light as a shadow ray
         break;
       case LightKind::Triangle: {
         const uint32_t object = meshes_.meshes[meshes_.info[l.primitive].mesh].object;
-        if (object >= object_done.size()) object_done.resize(object + 1, 0), object_media.resize(object + 1);
-        if (!object_done[object]) {
+        auto found = object_media.find(object);
+        if (found == object_media.end()) {
           const TrianglePrim& t = l.triangle;
           const Vec3 centre = t.v0 + (t.e1 + t.e2) / 3.0, normal = glm::normalize(glm::cross(t.e1, t.e2));
-          object_media[object] = media_at(centre + 4.0 * ray_offset(centre, offset_floor_) * normal);
-          object_done[object] = 1;
+          const Vec3 off = centre + 4.0 * ray_offset(centre, offset_floor_) * normal;
+          found = object_media.emplace(object, media_at(off, kShadowRay)).first;
         }
-        l.media = object_media[object];
+        l.media = found->second;
         break;
       }
       default:

@@ -591,6 +591,32 @@ def test_a_point_is_in_the_media_of_the_boxes_around_it_outermost_first(point, e
     assert nested_boxes_scene().media_at(point) == expected
 
 
+def test_a_point_in_two_objects_of_one_medium_is_in_it_twice():
+    """As `cross` pushes the medium at each boundary entered: leaving one of the two objects leaves the
+    point's path in the other's fog."""
+    scene = ppm_core.Scene()
+    scene.add_medium("fog", sigma_a=0.1, sigma_s=0.1)
+    fog = scene.add_material("fog", "diffuse", medium="fog", surface=False)
+    box(scene, "a", (-2, -2, -2), (1, 1, 1), fog, 0)
+    box(scene, "b", (-1, -1, -1), (2, 2, 2), fog, 1)
+    assert scene.media_at((0.0, 0.0, 0.0)) == ["fog", "fog"]
+    assert scene.media_at((1.5, 1.5, 1.5)) == ["fog"]
+
+
+def test_emitting_meshes_and_media_with_object_ids_at_the_top_of_their_range_render():
+    """Object ids are any 32-bit number: the lights placed in media and the media summed keep them in
+    maps, not arrays as long as the largest id."""
+    scene = fog_everywhere_scene(False, point_light=False)
+    scene.add_medium("smoke", sigma_a=0.5, sigma_s=0.5)
+    smoke = scene.add_material("smoke", "diffuse", medium="smoke", surface=False)
+    box(scene, "smoke", (-0.5, -0.5, 0.2), (0.5, 0.5, 1.2), smoke, 2**32 - 2)
+    lamp = scene.add_material("lamp", "emission", emission=(40.0, 40.0, 40.0))
+    quad(scene, "lamp", [[-0.2, -0.2, 2.0], [-0.2, 0.2, 2.0], [0.2, 0.2, 2.0], [0.2, -0.2, 2.0]], lamp,
+         object_id=2**32 - 1)
+    image, _ = render(scene, passes=2, photons_per_pass=2000)
+    assert np.isfinite(image).all() and image.mean() > 0.0
+
+
 def test_a_world_medium_and_a_scene_without_mesh_media_put_nothing_on_the_stack():
     scene = ppm_core.Scene()
     scene.add_medium("fog", sigma_a=0.1, sigma_s=0.1)
