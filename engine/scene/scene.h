@@ -217,6 +217,7 @@ class Scene {
   // Whether any path can be in a medium: the world has one or a material does. Scenes without pay
   // nothing: every media step is behind this test, once per pass or per path.
   bool has_media() const;
+  bool has_mesh_media() const;  // a material carries a medium (a mesh bounds it)
   // The medium a path with `stack` is in (nullptr: none). Where the stack holds several media, their
   // sum, as Cycles adds the volumes on its stack (combined_medium).
   const Medium* medium_of(const MediumStack& stack) const {

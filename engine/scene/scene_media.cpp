@@ -61,6 +61,12 @@ void Scene::set_material_medium(uint32_t material, int medium, bool surface) {
   invalidate_lights();
 }
 
+bool Scene::has_mesh_media() const {
+  for (const Material& m : materials_)
+    if (m.medium >= 0) return true;
+  return false;
+}
+
 bool Scene::has_media() const {
   if (world_medium_ >= 0) return true;
   for (const Material& m : materials_)
@@ -89,9 +95,7 @@ struct MediaAlongRay {
 
 MediumStack Scene::media_at(const Vec3& p, uint8_t ray_kind) const {
   MediumStack out;
-  bool mesh_media = false;
-  for (const Material& m : materials_) mesh_media |= m.medium >= 0;
-  if (!mesh_media) return out;
+  if (!has_mesh_media()) return out;
   MediaAlongRay along[kInsideRays];
   for (int k = 0; k < kInsideRays; ++k) {
     MediaAlongRay& a = along[k];
@@ -232,9 +236,7 @@ void Scene::combine_overlapping_media() {
 }
 
 void Scene::place_lights_in_media() {
-  bool mesh_media = false;
-  for (const Material& m : materials_) mesh_media |= m.medium >= 0;
-  if (!mesh_media) return;
+  if (!has_mesh_media()) return;
   std::map<uint32_t, MediumStack> object_media;  // emitting meshes: one point of each object's first light decides
   for (Light& l : lights_) {
     switch (l.kind) {
