@@ -15,8 +15,17 @@ PYTEST := -m pytest -q --durations=8
 
 setup: .venv/.setup-done build
 
-.venv/.setup-done: tools/setup.sh requirements.txt
+.venv/.setup-done: tools/setup.sh requirements.txt requirements-demo.txt
 	tools/setup.sh
+	touch $@
+
+# The demo's share of the set-up: the compiler's packages, .venv with Blender 5.0 as the bpy module and
+# the core for its Python 3.11 (no test environments, Blender binary or cross compiler).
+.venv/.demo-setup-done: tools/setup.sh requirements-demo.txt
+	tools/setup.sh --demo
+	touch $@
+build/.demo-core-installed: .venv/.demo-setup-done tools/build_cores.sh $(ENGINE_SOURCES)
+	CMAKE_BUILD_PARALLEL_LEVEL=$(JOBS) tools/build_cores.sh --demo
 	touch $@
 
 # Build ppm_core (Release, -O3) for every Python Blender embeds, 3.10, 3.11 and 3.13, and install it into
@@ -28,7 +37,7 @@ build/.cores-installed: .venv/.setup-done tools/build_cores.sh $(ENGINE_SOURCES)
 
 # Render the bundled Cornell box (report figure 1) to out/cornell_3spheres.{exr,png}.
 # A bundled .blend rendered end to end through the add-on (Blender 5.0 as the bpy module).
-demo: setup
+demo: build/.demo-core-installed
 	$(PY) render.py blend_scenes/cornell_3spheres.blend --output out/cornell_3spheres.png --time-limit 20
 
 # The core alone, without Blender: the same scene built in Python and rendered through ppm_core.

@@ -2,20 +2,29 @@
 # Takes a fresh Debian 12 machine to a working state: Debian packages, a
 # Python 3.11 virtual environment in .venv with the PyPI packages, and one
 # virtual environment per Blender version the add-on is tested in (.venvs/,
-# see tests/blenders). The Makefile then builds ppm_core for Python 3.11 and
+# see tests/blenders). The Makefile then builds ppm_core for Python 3.10, 3.11 and
 # 3.13 and installs it into all of them (tools/build_cores.sh). Safe to run again.
+#
+# With --demo (make demo): only what rendering a bundled scene through the add-on needs, the
+# compiler's packages and .venv with Blender 5.0 as the bpy module (requirements-demo.txt).
 set -euo pipefail
 cd "$(dirname "$0")/.."
+DEMO=0
+[ "${1:-}" = "--demo" ] && DEMO=1
 
 # ccache: the engine's objects are the same for every Python's core (tools/build_cores.sh), compiled once.
-DEBIAN_PACKAGES=(build-essential cmake ninja-build ccache libglm-dev libgtest-dev googletest)
-# The add-on's tests: Debian's Blender 3.4 (embeds the system Python 3.11, so it gets numpy from
-# python3-numpy) and Xvfb for the GUI test.
-DEBIAN_PACKAGES+=(blender python3-numpy xvfb)
-# make test-cross: the C++ tests built for Linux aarch64 and run under qemu-user.
-DEBIAN_PACKAGES+=(g++-aarch64-linux-gnu qemu-user)
-# The Flamenco job type's test runs its JavaScript (addon/farm/flamenco) with Node.
-DEBIAN_PACKAGES+=(nodejs)
+DEBIAN_PACKAGES=(build-essential cmake ninja-build ccache libglm-dev)
+if ((DEMO == 0)); then
+  # The C++ tests.
+  DEBIAN_PACKAGES+=(libgtest-dev googletest)
+  # The add-on's tests: Debian's Blender 3.4 (embeds the system Python 3.11, so it gets numpy from
+  # python3-numpy) and Xvfb for the GUI test.
+  DEBIAN_PACKAGES+=(blender python3-numpy xvfb)
+  # make test-cross: the C++ tests built for Linux aarch64 and run under qemu-user.
+  DEBIAN_PACKAGES+=(g++-aarch64-linux-gnu qemu-user)
+  # The Flamenco job type's test runs its JavaScript (addon/farm/flamenco) with Node.
+  DEBIAN_PACKAGES+=(nodejs)
+fi
 
 missing=()
 for p in "${DEBIAN_PACKAGES[@]}"; do
@@ -45,6 +54,17 @@ if [ -z "$PYTHON" ]; then
   PYTHON=python3.11
 fi
 
+if [ ! -x .venv/bin/python ]; then
+  "$PYTHON" -m venv .venv
+fi
+.venv/bin/python -m pip install -q --upgrade pip
+if ((DEMO)); then
+  .venv/bin/python -m pip install -q -r requirements-demo.txt
+  echo "setup: the demo's packages installed"
+  exit 0
+fi
+.venv/bin/python -m pip install -q -r requirements.txt
+
 # Python 3.X from $3 (an override), PATH or pyenv, or exit naming what needs it ($2).
 find_python() {
   local version=$1 why=$2 override=$3 candidate
@@ -66,12 +86,6 @@ PYTHON313=$(find_python 3.13 "Blender 5.1+ embed it; the add-on's core is built 
 # built for it too (no bpy module of those versions is served for 3.10, so only the core is tested).
 PYTHON310=$(find_python 3.10 "blender.org's Blender 3.4-4.0 embed it; the add-on's core is built for it" \
   "${PYTHON310:-}")
-
-if [ ! -x .venv/bin/python ]; then
-  "$PYTHON" -m venv .venv
-fi
-.venv/bin/python -m pip install -q --upgrade pip
-.venv/bin/python -m pip install -q -r requirements.txt
 
 # bpy modules for the version matrix (tests/blenders): a virtual environment each, made once.
 blender_venv() {

@@ -28,6 +28,7 @@ that it flags stale names and nothing else:
 import ast
 import os
 import re
+import subprocess
 from pathlib import Path
 
 import pytest
@@ -140,3 +141,14 @@ def test_the_check_leaves_what_is_not_a_path():
             "`https://example.org/a/b`, `blend_scenes/*.blend`, `/path/ppm.zip`, `export/closure.py`, "
             "`.venv/bin/python`, [anchor](#settings), [site](https://www.blender.org/x), `make demo`\n")
     assert stale_names("README.md", text) == []
+
+
+def test_make_demo_installs_only_what_the_demo_needs():
+    """`make demo` sets up one environment and one core (tools/setup.sh --demo), not the test matrix:
+    the commands make would run for it from scratch (-n -B: print them all, run none)."""
+    run = subprocess.run(["make", "-n", "-B", "demo"], cwd=ROOT, capture_output=True, text=True, check=True)
+    commands = [line.strip() for line in run.stdout.splitlines()]
+    assert "tools/setup.sh --demo" in commands
+    assert any(c.endswith("tools/build_cores.sh --demo") for c in commands)
+    assert any("render.py blend_scenes/cornell_3spheres.blend" in c for c in commands)
+    assert not any(c == "tools/setup.sh" or ".venvs" in c or "pytest" in c for c in commands), commands
