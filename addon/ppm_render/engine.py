@@ -183,7 +183,7 @@ class PPMRenderEngine(bpy.types.RenderEngine):
         settings = {**render_settings(scene), "light_passes": layer.use_pass_emit or layer.use_pass_environment,
                     "component_passes": bool(components)}
         if ppm_scene.has_media:
-            settings = media_settings(settings, scene, self.warn)
+            settings = media_settings(settings, self.warn)
         try:
             renderer = ppm_core.Renderer(ppm_scene, **settings)
         except Exception as error:  # noqa: BLE001 - every failure must reach the user

@@ -66,7 +66,7 @@ class PPMSceneSettings(bpy.types.PropertyGroup):
     cycles_light_paths: BoolProperty(
         name="Cycles Light Paths", default=False,
         description="Limit bounces as the scene's Cycles settings do (Render Properties > Light Paths > Max "
-                    "Bounces: total, diffuse, glossy, transmission), to match a Cycles render; off, light "
+                    "Bounces: total, diffuse, glossy, transmission, volume), to match a Cycles render; off, light "
                     "bounces up to Max Bounces times of any kind. Lights' and the world's own Max Bounces "
                     "are honoured either way")
     samples_per_pixel: IntProperty(
@@ -144,17 +144,11 @@ def render_settings(scene):
     return {**core_settings(scene.ppm), **film_settings(scene), **light_path_settings(scene)}
 
 
-def media_settings(settings, scene, warn):
+def media_settings(settings, warn):
     """`settings` (render_settings') for a scene with media (fog, a world volume, a volume-only
-    material): these render with stochastic hit points for now, so Fixed gives way, warned; with Cycles
-    Light Paths on, Cycles' Max Bounces > Volume is not honoured yet (light scatters in media up to the
-    total), warned where it is below the total."""
+    material): these render with stochastic hit points for now, so Fixed gives way, warned."""
     if settings["hit_points"] == "fixed":
         warn("media render with stochastic hit points only (for now); Hit Points 'Fixed' is ignored")
-    cycles = getattr(scene, "cycles", None)
-    if settings.get("light_path_limits") and cycles is not None and cycles.volume_bounces < cycles.max_bounces:
-        warn(f"Cycles' Light Paths > Volume bounces ({cycles.volume_bounces}) is not honoured yet: light scatters "
-             f"in media up to the total ({cycles.max_bounces}), so thick media render brighter than in Cycles")
     return {**settings, "hit_points": "stochastic"}
 
 
@@ -173,10 +167,12 @@ def light_path_settings(scene):
     if not scene.ppm.cycles_light_paths:
         return {"light_path_limits": False}
     cycles = getattr(scene, "cycles", None)
-    limits = {"total_bounces": 12, "diffuse_bounces": 4, "glossy_bounces": 4, "transmission_bounces": 12}
+    limits = {"total_bounces": 12, "diffuse_bounces": 4, "glossy_bounces": 4, "transmission_bounces": 12,
+              "volume_bounces": 0}
     if cycles is not None:
         limits = {"total_bounces": cycles.max_bounces, "diffuse_bounces": cycles.diffuse_bounces,
-                  "glossy_bounces": cycles.glossy_bounces, "transmission_bounces": cycles.transmission_bounces}
+                  "glossy_bounces": cycles.glossy_bounces, "transmission_bounces": cycles.transmission_bounces,
+                  "volume_bounces": cycles.volume_bounces}
     return {"light_path_limits": True, **limits}
 
 

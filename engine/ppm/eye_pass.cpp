@@ -263,6 +263,7 @@ struct EyeTracer {
     h.medium = scene.medium_index(med);
     h.media = vm.stack;
     h.route = v.route;
+    h.chain = v.chain;
     out.volume.push_back(h);
     return step;
   }

@@ -85,6 +85,7 @@ struct VolumeHitPoint {
   int32_t medium;
   MediumStack media;  // the shadow rays' start
   uint8_t route;      // its eye chain's (light_components.h: what it files its light as)
+  Bounces chain;      // its eye chain's scatterings, with bounce limits (bounce_limits.h)
   // Found this pass: the gathered photons (flux times phase times weight) and the direct light;
   // the photons' bias sum in luminance (error_estimate.h's bias_sum_in_ball).
   uint32_t m;

@@ -376,6 +376,7 @@ bool PhotonPass::trace_into_chunks(const Scene& scene, const LightSampler& light
   if (guided && chunk_origin_.size() < chunks) chunk_origin_.resize(chunks);
   media_ = scene.has_media();
   if (media_ && chunk_volume_.size() < chunks) chunk_volume_.resize(chunks);
+  if (media_ && limits_.active && chunk_volume_bounces_.size() < chunks) chunk_volume_bounces_.resize(chunks);
   auto trace = [&](int, size_t chunk) {
     auto& buffer = chunk_photons_[chunk];
     buffer.clear();
@@ -395,10 +396,13 @@ bool PhotonPass::trace_into_chunks(const Scene& scene, const LightSampler& light
     }
     auto& volume = chunk_volume_[chunk];
     volume.clear();
+    std::vector<Bounces>* volume_bounces = limits_.active ? &chunk_volume_bounces_[chunk] : nullptr;
+    if (volume_bounces) volume_bounces->clear();
     trace_photons_in_media(
         scene, lights, settings_, limits_, first, last, rng_of, deposit,
-        [&](const Vec3& pos, const Vec3& dir, const Color& flux) {
+        [&](const Vec3& pos, const Vec3& dir, const Color& flux, const Bounces& used) {
           volume.push_back(VolumePhoton{pos, Vec3f(dir), Vec3f(flux)});
+          if (volume_bounces) volume_bounces->push_back(used);
         },
         guided ? &guide_ : nullptr);
   };
@@ -545,6 +549,7 @@ size_t PhotonPass::index_volume_photons(size_t chunks) {
   const size_t count = volume_traced_.size();
   volume_positions_.resize(count);
   volume_arrivals_.resize(count);
+  volume_arrival_bounces_.resize(limits_.active ? count : 0);
   if (count == 0) return 0;
   static const std::vector<double> kNoRadii;
   volume_grid_.build(volume_traced_, kNoRadii, threads_);
@@ -553,10 +558,11 @@ size_t PhotonPass::index_volume_photons(size_t chunks) {
   for (size_t i = 0; i < count; ++i) new_of_old[volume_old_of_new_[i]] = static_cast<uint32_t>(i);
   size_t k = 0;
   for (size_t c = 0; c < chunks; ++c)
-    for (const VolumePhoton& v : chunk_volume_[c]) {
+    for (size_t j = 0; j < chunk_volume_[c].size(); ++j, ++k) {
+      const VolumePhoton& v = chunk_volume_[c][j];
       volume_positions_[new_of_old[k]] = v.position;
       volume_arrivals_[new_of_old[k]] = VolumeArrival{v.direction, v.flux};
-      ++k;
+      if (limits_.active) volume_arrival_bounces_[new_of_old[k]] = chunk_volume_bounces_[c][j];
     }
   return count;
 }
@@ -580,13 +586,15 @@ bool PhotonPass::gather_volume(const Scene& scene, std::vector<VolumeHitPoint>& 
       const double sigma_s = luminance(medium.c.sigma_s);
       const Vec3 center = h.position, back = -Vec3(h.direction);
       const double r2 = h.r2, r = std::sqrt(r2);
+      const bool limited = limits_.active;
+      const Bounces budget = limited ? limits_.budget(h.chain) : Bounces{};
       Color sum(0.0), sum_d2(0.0);
       uint32_t m = 0;
       volume_grid_.for_each_run_in_box(center - r, center + r, [&](uint32_t begin, uint32_t end) {
         for (uint32_t p = begin; p < end; ++p) {
           const Vec3 d = volume_positions_[p] - center;
           const double d2 = glm::dot(d, d);
-          if (d2 > r2) continue;
+          if (d2 > r2 || (limited && !within(volume_arrival_bounces_[p], budget))) continue;
           const VolumeArrival& a = volume_arrivals_[p];
           ++m;
           const Color f = Color(a.flux) * phase.eval(Vec3(a.direction), back);
@@ -638,6 +646,8 @@ size_t PhotonPass::photon_bytes() const {
   for (const auto& v : chunk_caustic_) bytes += v.capacity();
   for (const auto& v : chunk_origin_) bytes += v.capacity() * sizeof(int32_t);
   for (const auto& v : chunk_volume_) bytes += v.capacity() * sizeof(VolumePhoton);
+  for (const auto& v : chunk_volume_bounces_) bytes += v.capacity() * sizeof(Bounces);
+  bytes += volume_arrival_bounces_.capacity() * sizeof(Bounces);
   bytes += (volume_traced_.capacity() + volume_positions_.capacity()) * sizeof(Vec3) +
            volume_arrivals_.capacity() * sizeof(VolumeArrival) + volume_old_of_new_.capacity() * sizeof(uint32_t);
   return bytes + (old_of_new_.capacity() + new_of_old_.capacity()) * sizeof(uint32_t);

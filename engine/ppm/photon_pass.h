@@ -181,9 +181,11 @@ class PhotonPass {
   };
   bool media_ = false;  // the pass's scene has media
   std::vector<std::vector<VolumePhoton>> chunk_volume_;
+  std::vector<std::vector<Bounces>> chunk_volume_bounces_;  // with bounce limits only, beside chunk_volume_
   QuantileGrid volume_grid_;
   std::vector<Vec3> volume_traced_, volume_positions_;
   std::vector<VolumeArrival> volume_arrivals_;
+  std::vector<Bounces> volume_arrival_bounces_;  // with bounce limits only, beside volume_arrivals_
   std::vector<uint32_t> volume_old_of_new_;
 };
 

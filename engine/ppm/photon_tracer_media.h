@@ -35,7 +35,8 @@ bool scatter_photon_in_medium(const Settings& settings, const BounceLimits& limi
   const Vec3 x = p.ray.origin + f.distance * p.ray.direction;
   p.flux *= f.weight;
   if (p.bounce > 0 || deposit_direct) {
-    deposit_volume(x, p.ray.direction, p.flux);
+    // With bounce limits: the path's counts with the hit point's own scattering here.
+    deposit_volume(x, p.ray.direction, p.flux, limits.active && p.bounce > 0 ? plus_volume(p.used) : p.used);
     ++deposits;
   }
   const double survive = std::fmin(1.0, max_component(f.weight));
@@ -46,9 +47,9 @@ bool scatter_photon_in_medium(const Settings& settings, const BounceLimits& limi
   if (!(s.pdf > 0.0)) return false;
   p.specular_only = false;
   p.scattered = true;
-  p.ray = Ray{x, s.direction, kDiffuseRay};  // a volume scattering counts as a diffuse bounce
+  p.ray = Ray{x, s.direction, kDiffuseRay};  // the Light Path node reads a diffuse ray
   if (limits.active) {
-    if (p.bounce > 0) p.used = plus(p.used, kDiffuseRay);
+    if (p.bounce > 0) p.used = plus_volume(p.used);  // counted as Cycles counts it (bounce_limits.h)
     if (!within(p.used, limits.max) || p.used.total >= limits.max.total) return false;
   }
   return ++p.bounce < settings.path_bounces();
@@ -99,7 +100,8 @@ inline MediaPhoton emit_media_photon(const Scene& scene, const LightSampler& lig
 }
 
 // Traces photons [first, last) as trace_photons does, through media: surface photons to
-// `deposit`, volume photons to `deposit_volume(position, travel_direction, flux)`.
+// `deposit`, volume photons to `deposit_volume(position, travel_direction, flux, bounces)` (`bounces`
+// as `deposit`'s: the path's counts with the hit point's own scattering, with bounce limits).
 template <class RngOf, class Deposit, class DepositVolume>
 uint64_t trace_photons_in_media(const Scene& scene, const LightSampler& lights, const Settings& settings,
                                 const BounceLimits& limits, uint64_t first, uint64_t last, RngOf&& rng_of,

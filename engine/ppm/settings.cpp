@@ -13,8 +13,8 @@ void Settings::validate() const {
   if (!(alpha > 0.0 && alpha < 1.0)) fail("alpha must be in (0, 1)");
   if (threshold == 0) fail("threshold must be at least 1");
   if (max_bounces < 1 || max_bounces > 1000) fail("max_bounces must be in [1, 1000]");
-  for (int limit : {total_bounces, diffuse_bounces, glossy_bounces, transmission_bounces})
-    if (limit < 0 || limit > 1024) fail("total, diffuse, glossy and transmission bounces must be in [0, 1024]");
+  for (int limit : {total_bounces, diffuse_bounces, glossy_bounces, transmission_bounces, volume_bounces})
+    if (limit < 0 || limit > 1024) fail("total, diffuse, glossy, transmission and volume bounces must be in [0, 1024]");
   if (samples_per_pixel < 1 || samples_per_pixel > 4096) fail("samples_per_pixel must be in [1, 4096]");
   if (threads < 0 || threads > 1024) fail("threads must be in [0, 1024]");
   if (!(initial_radius >= 0.0) || !std::isfinite(initial_radius)) fail("initial_radius must be >= 0");

@@ -45,13 +45,14 @@ struct Settings {
   int max_bounces = 12;             // photon path length and eye specular chain length
   // Cycles' Light Paths limits, honoured when light_path_limits is on (bounce_limits.h): a full
   // camera-to-light path then continues from at most total_bounces scatterings, of which at most
-  // diffuse_bounces diffuse, ... (Cycles' defaults). Photon paths and eye chains are then as long
-  // as total_bounces allows, and max_bounces is not used.
+  // diffuse_bounces diffuse, ..., volume_bounces in media (Cycles' defaults). Photon paths and eye
+  // chains are then as long as total_bounces allows, and max_bounces is not used.
   bool light_path_limits = false;
   int total_bounces = 12;
   int diffuse_bounces = 4;
   int glossy_bounces = 4;
   int transmission_bounces = 12;
+  int volume_bounces = 0;  // scatterings in media a path continues from (Cycles' default 0)
   int samples_per_pixel = 4;        // jittered eye samples per pixel (fixed hit points)
   uint64_t seed = 0;
   int threads = 0;                  // 0 = all cores

@@ -74,17 +74,19 @@ def test_cycles_light_paths_reach_the_core(spy, tmp_path):
     scene = simple_scene()
     cycles = scene.cycles
     cycles.max_bounces, cycles.diffuse_bounces, cycles.glossy_bounces, cycles.transmission_bounces = 7, 1, 2, 3
+    cycles.volume_bounces = 4
     lamp = next(o for o in scene.objects if o.type == "LIGHT")
     lamp.data.cycles.max_bounces = 5
     scene.world = bpy.data.worlds.new("limited world")
     scene.world.cycles.max_bounces = 2
     render_file(scene, tmp_path / "a.exr", passes=1, cycles_light_paths=True)
     assert {k: spy.kwargs[-1][k] for k in ("light_path_limits", "total_bounces", "diffuse_bounces",
-                                           "glossy_bounces", "transmission_bounces")} == {
+                                           "glossy_bounces", "transmission_bounces", "volume_bounces")} == {
         "light_path_limits": True, "total_bounces": 7, "diffuse_bounces": 1, "glossy_bounces": 2,
-        "transmission_bounces": 3}
+        "transmission_bounces": 3, "volume_bounces": 4}
     renderer = spy.renderers[-1]
     assert renderer.settings["light_path_limits"] is True and renderer.settings["diffuse_bounces"] == 1
+    assert renderer.settings["volume_bounces"] == 4
     assert export.visibility.own_max_bounces(lamp.data) == 5
     assert export.visibility.own_max_bounces(scene.world) == 2
     render_file(scene, tmp_path / "b.exr", passes=1, cycles_light_paths=False)
