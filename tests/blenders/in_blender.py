@@ -28,14 +28,15 @@ ROOT = os.path.dirname(os.path.dirname(HERE))
 sys.path.insert(0, HERE)
 
 import bpy
-import media_compare
 import numpy as np
 
 import alpha_compare
 import cycles_compare
+import cycles_references
 import lens_compare
 import light_paths_compare
 import materials_compare
+import media_compare
 import nodes_compare
 import stereo_compare
 import visibility_compare
@@ -48,7 +49,7 @@ RESOLUTION_PERCENT = 12  # 640x480 -> 76x57
 # cases that go through each version-dependent path (Principled's sockets, node groups, textures,
 # baked worlds, light path limits) at a third of the time. Every node case runs in every version.
 SUBSET_WORLDS = ("sunrise_backdrop", "procedural_sky")
-SUBSET_LIGHT_PATHS = ("diffuse_1", "light_max_bounces_1")
+SUBSET_LIGHT_PATHS = ("diffuse_1", "light_max_bounces_1", "fog_volume_0")
 SUBSET_MEDIA = ("fog_cube_spot", "ink_in_glass")
 SUBSET_MATERIALS = ["glass_clear", "mix_diffuse_glossy", "node_group", "principled_default", "principled_middle",
                     "principled_gold", "principled_glass", "principled_coat", "principled_alpha",
@@ -138,6 +139,7 @@ def main():
             report[part] = run()
             seconds[part] = round(time.monotonic() - start, 1)
 
+        cycles_references.RECORD = True
         timed("scenes", lambda: {os.path.basename(b): render_scene(b, args.workdir) for b in SCENES})
         report["core_file"] = sys.modules["ppm_core"].__file__  # loaded by the first render
         timed("cycles", lambda: cycles_compare.compare_kinds(cycles_compare.kinds_for_this_blender(), args.samples,
@@ -154,6 +156,7 @@ def main():
         timed("materials", lambda: materials_compare.compare_cases(names, samples=256, passes=32))
         timed("nodes", lambda: nodes_compare.compare_cases(package=module))
         print("in_blender: seconds per part:", seconds, flush=True)
+        report["cycles_references"] = {"found": len(cycles_references.found), "rendered": cycles_references.rendered}
     report["addon_warnings"] = found_warnings
     with open(args.report, "w") as f:
         json.dump(report, f, indent=1)

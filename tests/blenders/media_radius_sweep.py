@@ -16,10 +16,10 @@ import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import bpy
-import media_compare as mc
 import numpy as np
 
 import cycles_compare as cc
+import media_compare as mc
 
 OUT = os.environ.get("OUT", "/tmp/vr")
 CASES = ("smoke_ball", "world_fog", "fog_cube_spot", "glowing_cloud")

@@ -104,7 +104,7 @@ def test_zip_installs_renders_and_agrees_with_cycles(version, addon_zip, tmp_pat
     stereo = report["stereo"]
     assert max(stereo["max_block_error_L"], stereo["max_block_error_R"]) <= TOLERANCE and stereo["views_differ"] > 0.01
     light_paths = {row["case"]: row["max_block_error"] for row in report["light_paths"]}
-    assert len(light_paths) == (5 if full else 2), light_paths
+    assert len(light_paths) == (7 if full else 3), light_paths
     assert all(error <= TOLERANCE for error in light_paths.values()), light_paths
     media = {row["case"]: (row["max_block_error"], row["tolerance"]) for row in report["media"]}
     # The smoke ball in a fog room from 4.5 on (media_compare.FROM_BLENDER).
@@ -117,6 +117,13 @@ def test_zip_installs_renders_and_agrees_with_cycles(version, addon_zip, tmp_pat
     nodes = {row["case"]: (row["p99"], row["warnings"]) for row in report["nodes"]}
     assert len(nodes) >= 45 and all(row["ok"] for row in report["nodes"]), nodes
     assert report["addon_warnings"] == []
+    # Cycles' images of every case are stored for this version (cycles_references.py): a case new or
+    # changed since was rendered by Cycles and its image written for the next run.
+    references = report["cycles_references"]
+    assert references["found"] >= 40 and references["rendered"] == [], (
+        f"Cycles rendered {len(references['rendered'])} cases ({', '.join(references['rendered'][:5])}, ...) that "
+        f"tests/blenders/cycles_references/{report['blender']}/ had no image of for their scene: this run wrote "
+        "them there, commit them")
 
 
 def test_zip_without_a_core_for_this_python_says_so(tmp_path):
