@@ -47,7 +47,9 @@ bool scatter_photon_in_medium(const Settings& settings, const BounceLimits& limi
   if (!(s.pdf > 0.0)) return false;
   p.specular_only = false;
   p.scattered = true;
-  p.ray = Ray{x, s.direction, kDiffuseRay};  // the Light Path node reads a diffuse ray
+  // The ray goes on as a diffuse one for ray visibility and the Light Path node (Cycles has a
+  // volume-scatter kind of its own); the bounce counts below count it as a volume scattering.
+  p.ray = Ray{x, s.direction, kDiffuseRay};
   if (limits.active) {
     if (p.bounce > 0) p.used = plus_volume(p.used);  // counted as Cycles counts it (bounce_limits.h)
     if (!within(p.used, limits.max) || p.used.total >= limits.max.total) return false;
