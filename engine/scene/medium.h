@@ -8,13 +8,12 @@
 // Volume output alone) is a boundary only: rays cross it unchanged and only change medium.
 //
 // The medium stack (Cycles' volume stack): a path entering a mesh with a medium through a front
-// face pushes it, leaving through a back face removes it; the medium in effect is the innermost
-// (the stack's top), the world's where the stack is empty. So liquid in glass in fog resolves by
-// the order the path crossed the boundaries. Unlike Cycles, overlapping media do not add: the
-// innermost alone is in effect. Paths start in the world medium (cameras and lights inside a mesh
-// medium are not detected yet). Deeper than kMaxMediumStack, further entries are counted but not
-// kept (proper nesting assumed: a leave first undoes an uncounted enter), so 100 nested boxes
-// neither crash nor overflow.
+// face pushes it, leaving through a back face removes it; the media on it add up, with the world's
+// (Scene::medium_of: as Cycles sums the volumes on its stack, whose first is the world's), the
+// world's alone where the stack is empty. Paths start with the media around the camera or the light
+// (Scene::media_at). Deeper than kMaxMediumStack, further entries are counted but not kept (proper
+// nesting assumed: a leave first undoes an uncounted enter), so 100 nested boxes neither crash nor
+// overflow.
 #pragma once
 
 #include "math/types.h"

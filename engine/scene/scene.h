@@ -218,10 +218,11 @@ class Scene {
   // nothing: every media step is behind this test, once per pass or per path.
   bool has_media() const;
   bool has_mesh_media() const;  // a material carries a medium (a mesh bounds it)
-  // The medium a path with `stack` is in (nullptr: none). Where the stack holds several media, their
-  // sum, as Cycles adds the volumes on its stack (combined_medium).
+  // The medium a path with `stack` is in (nullptr: none). Where the stack holds several media, or
+  // one inside the world's, their sum, as Cycles adds the volumes on its stack, the world's among
+  // them (combined_medium).
   const Medium* medium_of(const MediumStack& stack) const {
-    if (stack.count > 1 && !combined_media_.empty()) return combined_medium(stack);
+    if (stack.count + (world_medium_ >= 0) > 1 && !combined_media_.empty()) return combined_medium(stack);
     const int id = stack.top(world_medium_);
     return id >= 0 ? &media_[static_cast<size_t>(id)] : nullptr;
   }
@@ -373,7 +374,8 @@ class Scene {
   int world_medium_ = -1;
   MediumStack camera_media_;
   // Overlapping media: the sums build() made (combine_overlapping_media), each with the media it
-  // adds, ascending. A stack whose media have none is in its innermost medium alone.
+  // adds, ascending; with a world medium, each mesh medium and each sum also with the world's. A
+  // stack whose media have none is in its innermost medium alone.
   struct CombinedMedium {
     Medium medium;
     int16_t ids[kMaxMediumStack] = {};

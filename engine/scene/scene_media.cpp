@@ -45,6 +45,7 @@ void Scene::set_world_medium(int medium) {
     fail("world", "medium index " + std::to_string(medium) + " out of range (scene has " +
                       std::to_string(media_.size()) + " media)");
   world_medium_ = medium;
+  lights_built_ = false;  // the media's sums with the world's (combine_overlapping_media)
 }
 
 void Scene::set_material_medium(uint32_t material, int medium, bool surface) {
@@ -165,11 +166,13 @@ Medium sum_of_media(const std::vector<Medium>& media, const int16_t* ids, int co
   return sum;
 }
 
-// The distinct media of `stack`, ascending; returns how many.
-int distinct_media(const MediumStack& stack, int16_t* ids) {
+// The distinct media of `stack`, and `world` if it is one (>= 0), ascending; returns how many
+// (`ids` holds kMaxMediumStack + 1).
+int distinct_media(const MediumStack& stack, int world, int16_t* ids) {
   int n = 0;
-  for (int k = 0; k < stack.count; ++k) {
-    int16_t id = stack.ids[k];
+  for (int k = 0; k <= stack.count; ++k) {
+    if (k == stack.count && world < 0) break;
+    const int16_t id = k < stack.count ? stack.ids[k] : static_cast<int16_t>(world);
     int j = n;
     while (j > 0 && ids[j - 1] > id) --j;
     if (j > 0 && ids[j - 1] == id) continue;
@@ -182,8 +185,8 @@ int distinct_media(const MediumStack& stack, int16_t* ids) {
 }  // namespace
 
 const Medium* Scene::combined_medium(const MediumStack& stack) const {
-  int16_t ids[kMaxMediumStack];
-  const int n = distinct_media(stack, ids);
+  int16_t ids[kMaxMediumStack + 1];
+  const int n = distinct_media(stack, stack.count > 0 ? world_medium_ : -1, ids);
   if (n == 1) return &media_[ids[0]];
   for (const CombinedMedium& c : combined_media_)
     if (c.count == n && std::equal(ids, ids + n, c.ids)) return &c.medium;
@@ -191,7 +194,9 @@ const Medium* Scene::combined_medium(const MediumStack& stack) const {
 }
 
 // Every pair, and triple, of media whose objects' boxes overlap gets its sum, so that a path in
-// both finds it (combined_medium); up to kMaxCombinedMedia.
+// both finds it (combined_medium); with a world medium, every mesh medium and every such sum gets
+// one with the world's too (Cycles' volume stack starts with the world's volume, and a mesh's adds
+// to it); up to kMaxCombinedMedia.
 void Scene::combine_overlapping_media() {
   combined_media_.clear();
   std::vector<std::pair<int16_t, Aabb>> regions;  // a medium and the box of one object's triangles of it
@@ -233,6 +238,15 @@ void Scene::combine_overlapping_media() {
         if (overlap(regions[i].second, regions[k].second) && overlap(regions[j].second, regions[k].second))
           add({regions[i].first, regions[j].first, regions[k].first});
     }
+  if (world_medium_ < 0) return;
+  const size_t sums = combined_media_.size();
+  const int16_t world = static_cast<int16_t>(world_medium_);
+  for (const auto& region : regions) add({region.first, world});
+  for (size_t k = 0; k < sums; ++k) {
+    std::vector<int16_t> ids(combined_media_[k].ids, combined_media_[k].ids + combined_media_[k].count);
+    ids.push_back(world);
+    add(ids);
+  }
 }
 
 void Scene::place_lights_in_media() {

@@ -106,6 +106,25 @@ def test_media_that_overlap_add_up(ink_material):
     np.testing.assert_allclose(image.reshape(-1, 3), np.tile(expected, (64, 1)), rtol=2e-3)
 
 
+def test_a_mesh_medium_adds_to_the_worlds():
+    """An emitter 3 m from the camera through World fog holding a 1 m box of ink: Cycles' volume stack
+    starts with the World's volume and the box's adds to it, so 2 exp(-(fog 3 + ink 1)) per channel,
+    exactly. The box's alone counted inside it: 2 exp(-(fog 2 + ink 1)), 1.1-1.6x brighter."""
+    fog_a, ink_a = np.array([0.5, 0.3, 0.1]), np.array([0.4, 1.0, 1.5])
+    scene = ppm_core.Scene()
+    scene.add_medium("fog", sigma_a=tuple(fog_a))
+    scene.set_world_medium("fog")
+    scene.add_medium("ink", sigma_a=tuple(ink_a))
+    ink = scene.add_material("ink", "diffuse", medium="ink", surface=False)
+    emitter = scene.add_material("emitter", "emission", emission=(2.0, 2.0, 2.0))
+    box(scene, "ink", (-0.5, -0.5, -0.5), (0.5, 0.5, 0.5), ink, 0)
+    quad(scene, "panel", [[-3, 1, -3], [-3, 1, 3], [3, 1, 3], [3, 1, -3]], emitter, object_id=1)
+    camera(scene, (0, -2, 0), (0, 0, 0), size=8, fov=0.01)
+    image, _ = render(scene, passes=2, photons_per_pass=2000)
+    expected = 2.0 * np.exp(-fog_a * 3.0 - ink_a * 1.0)
+    np.testing.assert_allclose(image.reshape(-1, 3), np.tile(expected, (64, 1)), rtol=2e-3)
+
+
 @pytest.mark.accuracy
 def test_shadow_ray_transmittance_to_a_surface():
     """A point light lights a diffuse floor through an absorbing box (a boundary only): the direct
