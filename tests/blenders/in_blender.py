@@ -10,7 +10,9 @@ ray-visibility, image-based-light, alpha, stereo, light-path-limit, media and ma
 (cycles_compare.py, lens_compare.py, visibility_compare.py, world_compare.py, alpha_compare.py,
 stereo_compare.py, light_paths_compare.py, media_compare.py, materials_compare.py; nodes_compare.py:
 texture and utility nodes pixel by pixel) and
-records every Python warning raised in the add-on's files (deprecations included). With --no-core
+records every Python warning raised in the add-on's files (deprecations included). Cycles' image of a
+case comes from tests/blenders/cycles_references when one is stored for exactly its scene, and is
+rendered and stored otherwise (cycles_references.py; the report lists what was rendered). With --no-core
 it only tries one render and records the error. The assertions are in test_blender_versions.py,
 which runs this in each version.
 """
