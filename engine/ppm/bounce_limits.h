@@ -75,7 +75,7 @@ inline bool within(const Bounces& b, const Bounces& limit) {
 struct BounceLimits {
   bool active = false;  // false: nothing to count (no setting and no light asks for a limit)
   bool by_kind = false; // the scene's Cycles limits are honoured (Settings::light_path_limits)
-  Bounces max{};        // per kind; all kBounceCap unless by_kind
+  Bounces max{};        // per kind; each at its cap unless by_kind
 
   static BounceLimits of(const Settings& settings, const Scene& scene) {
     BounceLimits l;
