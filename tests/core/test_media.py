@@ -58,6 +58,18 @@ def render(scene, passes, **settings):
 # ---- transmittance ----------------------------------------------------------------------------
 
 
+def emitter_seen_through(scene, panel_y, eye_y, object_id):
+    """The pixels (RGB rows) of an emitting panel of radiance 2 across y = panel_y, seen from (0, eye_y,
+    0) through the media of `scene` by a camera so narrow that every ray crosses the same lengths (to
+    1e-5)."""
+    emitter = scene.add_material("emitter", "emission", emission=(2.0, 2.0, 2.0))
+    corners = [[-3, panel_y, -3], [-3, panel_y, 3], [3, panel_y, 3], [3, panel_y, -3]]
+    quad(scene, "panel", corners, emitter, object_id=object_id)
+    camera(scene, (0, eye_y, 0), (0, 0, 0), size=8, fov=0.01)
+    image, _ = render(scene, passes=2, photons_per_pass=2000)
+    return image.reshape(-1, 3)
+
+
 @pytest.mark.accuracy
 @pytest.mark.parametrize("surface", [False, True])
 def test_absorbing_slab_transmits_exp_minus_sigma_d(surface):
@@ -72,13 +84,10 @@ def test_absorbing_slab_transmits_exp_minus_sigma_d(surface):
         slab = scene.add_material("glass", "glass", ior=1.0, base_color=1.0, medium="ink")
     else:
         slab = scene.add_material("ink", "diffuse", medium="ink", surface=False)
-    emitter = scene.add_material("emitter", "emission", emission=(2.0, 2.0, 2.0))
     box(scene, "slab", (-1.0, -d / 2, -1.0), (1.0, d / 2, 1.0), slab, 0)
-    quad(scene, "panel", [[-3, 3, -3], [-3, 3, 3], [3, 3, 3], [3, 3, -3]], emitter, object_id=1)
-    camera(scene, (0, -4, 0), (0, 0, 0), size=8, fov=0.01)  # narrow: every ray crosses d (to 1e-5)
-    image, _ = render(scene, passes=2, photons_per_pass=2000)
+    pixels = emitter_seen_through(scene, panel_y=3, eye_y=-4, object_id=1)
     expected = 2.0 * np.exp(-sigma_a * d)
-    np.testing.assert_allclose(image.reshape(-1, 3), np.tile(expected, (64, 1)), rtol=2e-3)
+    np.testing.assert_allclose(pixels, np.tile(expected, (64, 1)), rtol=2e-3)
 
 
 @pytest.mark.parametrize("ink_material", ["ink", "glass"])
@@ -96,14 +105,11 @@ def test_media_that_overlap_add_up(ink_material):
         ink = scene.add_material("glass", "glass", ior=1.0, base_color=1.0, medium="ink")
     else:
         ink = scene.add_material("ink", "diffuse", medium="ink", surface=False)
-    emitter = scene.add_material("emitter", "emission", emission=(2.0, 2.0, 2.0))
     box(scene, "fog", (-2, -2, -2), (2, 2, 2), fog, 0)
     box(scene, "ink", (-0.5, -0.5, -0.5), (0.5, 0.5, 0.5), ink, 1)
-    quad(scene, "panel", [[-3, 3, -3], [-3, 3, 3], [3, 3, 3], [3, 3, -3]], emitter, object_id=2)
-    camera(scene, (0, -4, 0), (0, 0, 0), size=8, fov=0.01)
-    image, _ = render(scene, passes=2, photons_per_pass=2000)
+    pixels = emitter_seen_through(scene, panel_y=3, eye_y=-4, object_id=2)
     expected = 2.0 * np.exp(-fog_a * 4.0 - ink_a * 1.0)
-    np.testing.assert_allclose(image.reshape(-1, 3), np.tile(expected, (64, 1)), rtol=2e-3)
+    np.testing.assert_allclose(pixels, np.tile(expected, (64, 1)), rtol=2e-3)
 
 
 def test_a_mesh_medium_adds_to_the_worlds():
@@ -116,13 +122,10 @@ def test_a_mesh_medium_adds_to_the_worlds():
     scene.set_world_medium("fog")
     scene.add_medium("ink", sigma_a=tuple(ink_a))
     ink = scene.add_material("ink", "diffuse", medium="ink", surface=False)
-    emitter = scene.add_material("emitter", "emission", emission=(2.0, 2.0, 2.0))
     box(scene, "ink", (-0.5, -0.5, -0.5), (0.5, 0.5, 0.5), ink, 0)
-    quad(scene, "panel", [[-3, 1, -3], [-3, 1, 3], [3, 1, 3], [3, 1, -3]], emitter, object_id=1)
-    camera(scene, (0, -2, 0), (0, 0, 0), size=8, fov=0.01)
-    image, _ = render(scene, passes=2, photons_per_pass=2000)
+    pixels = emitter_seen_through(scene, panel_y=1, eye_y=-2, object_id=1)
     expected = 2.0 * np.exp(-fog_a * 3.0 - ink_a * 1.0)
-    np.testing.assert_allclose(image.reshape(-1, 3), np.tile(expected, (64, 1)), rtol=2e-3)
+    np.testing.assert_allclose(pixels, np.tile(expected, (64, 1)), rtol=2e-3)
 
 
 @pytest.mark.accuracy
