@@ -15,7 +15,7 @@ constexpr size_t kChunk = 4096;
 // as well, times `scale`.
 Color light_contribution(const Scene& scene, const Light& light, const HitPoint& hp, const HitPointShading& sh,
                          double u1, double u2, int strategy, double scale, ClassColors* classes,
-                         const MediumStack* media) {
+                         const MediumStack* media, Rng& rng) {
   const Vec3 n(hp.normal);
   DirectSample ds;
   if (!sample_direct(light, hp.position, n, u1, u2, ds, strategy)) return Color(0.0);
@@ -39,7 +39,7 @@ Color light_contribution(const Scene& scene, const Light& light, const HitPoint&
     if (media == nullptr) {
       if (scene.occluded(Ray{origin, ds.wi, kShadowRay}, dist)) return Color(0.0);
     } else {
-      tr = scene.shadow_transmittance(Ray{origin, ds.wi, kShadowRay}, dist, *media);
+      tr = scene.shadow_transmittance(Ray{origin, ds.wi, kShadowRay}, dist, *media, rng);
       if (!(max_component(tr) > 0.0)) return Color(0.0);
       c *= tr;
     }
@@ -51,17 +51,18 @@ Color light_contribution(const Scene& scene, const Light& light, const HitPoint&
 }
 
 // One light sample at a hit point in a medium: the phase function instead of a BSDF and no cosine,
-// sigma_s times the hit point's weight (VolumeHitPoint), the transmittance to the light. `n` is a
+// `sigma_s` (the medium's there) times the hit point's weight (VolumeHitPoint), the transmittance
+// to the light (`rng`: through media that vary). `n` is a
 // direction the light's sampling takes as a surface normal: sample_direct covers the hemisphere
 // about it for the world (cosine and environment strategies), so the world is sampled about n and
 // -n (volume_light_sample's caller), every other light in full.
 Color volume_light_sample(const Scene& scene, const Light& light, const VolumeHitPoint& h, const Medium& med,
-                          const Vec3& n, double u1, double u2, int strategy) {
+                          const Color& sigma_s, const Vec3& n, double u1, double u2, int strategy, Rng& rng) {
   DirectSample ds;
   if (!sample_direct(light, h.position, n, u1, u2, ds, strategy)) return Color(0.0);
   // Light travels along -wi into the point and leaves back along the eye path, -direction.
   const double phase = med.c.phase.eval(-ds.wi, -Vec3(h.direction));
-  Color c = Color(h.weight) * med.c.sigma_s * (phase * ds.value);
+  Color c = Color(h.weight) * sigma_s * (phase * ds.value);
   if (!(max_component(c) > 0.0)) return Color(0.0);
   double dist = ds.distance;
   if (dist < kInf) {
@@ -69,7 +70,7 @@ Color volume_light_sample(const Scene& scene, const Light& light, const VolumeHi
     dist = dist * (1.0 - 1e-9) - 2.0 * ray_offset(target, scene.offset_floor());
     if (!(dist > 0.0)) return Color(0.0);
   }
-  if (light.cast_shadow) c *= scene.shadow_transmittance(Ray{h.position, ds.wi, kShadowRay}, dist, h.media);
+  if (light.cast_shadow) c *= scene.shadow_transmittance(Ray{h.position, ds.wi, kShadowRay}, dist, h.media, rng);
   return c;
 }
 
@@ -85,6 +86,7 @@ bool volume_direct_light_pass(const Scene& scene, const LightSampler& lights, co
       Rng rng(settings.seed, kVolumeDirectStream + pass, first_index + i);
       const Medium& med = scene.medium(static_cast<uint32_t>(h.medium));
       const Vec3 axis(h.direction);
+      const Color sigma_s = med.varies() ? scene.local_medium(med, h.position, axis).sigma_s : med.c.sigma_s;
       Color sum(0.0);
       for (uint32_t l : lights.analytic()) {
         const Light& light = scene.lights()[l];
@@ -92,14 +94,14 @@ bool volume_direct_light_pass(const Scene& scene, const LightSampler& lights, co
         for (int side = 0; side < (world ? 2 : 1); ++side)
           for (int strategy = 0; strategy < direct_samples(light); ++strategy) {
             const double u1 = rng.uniform(), u2 = rng.uniform();
-            sum += volume_light_sample(scene, light, h, med, side ? -axis : axis, u1, u2, strategy);
+            sum += volume_light_sample(scene, light, h, med, sigma_s, side ? -axis : axis, u1, u2, strategy, rng);
           }
       }
       if (lights.has_triangles()) {
         double pdf;
         const uint32_t l = lights.pick_triangle(rng.uniform(), pdf);
         const double u1 = rng.uniform(), u2 = rng.uniform();
-        sum += volume_light_sample(scene, scene.lights()[l], h, med, axis, u1, u2, 0) / pdf;
+        sum += volume_light_sample(scene, scene.lights()[l], h, med, sigma_s, axis, u1, u2, 0, rng) / pdf;
       }
       h.direct = Vec3f(sum);
     }
@@ -129,7 +131,8 @@ bool direct_light_pass(const Scene& scene, const LightSampler& lights, const Set
         for (int strategy = 0; strategy < direct_samples(light); ++strategy) {
           const double u1 = rng.uniform(), u2 = rng.uniform();
           if (depth > light.max_bounces) continue;  // its own Max Bounces (the numbers are drawn all the same)
-          sum += light_contribution(scene, light, hp.points[i], hp.shading[i], u1, u2, strategy, 1.0, classes, media);
+          sum += light_contribution(scene, light, hp.points[i], hp.shading[i], u1, u2, strategy, 1.0, classes, media,
+                                    rng);
         }
       }
       if (lights.has_triangles()) {
@@ -137,7 +140,7 @@ bool direct_light_pass(const Scene& scene, const LightSampler& lights, const Set
         const uint32_t l = lights.pick_triangle(rng.uniform(), pdf);
         const double u1 = rng.uniform(), u2 = rng.uniform();
         sum += light_contribution(scene, scene.lights()[l], hp.points[i], hp.shading[i], u1, u2, 0, 1.0 / pdf, classes,
-                                  media) /
+                                  media, rng) /
                pdf;
       }
       sums[i] = sum;

@@ -236,23 +236,34 @@ struct EyeTracer {
       emitted += v.throughput * light;
       return step;
     }
-    emitted += v.throughput * (light * transmittance(med->sigma_t, nearest) + medium_emission_along(*med, nearest));
-    if (v.emission_only || !med->scatters()) {
-      step.weight = transmittance(med->sigma_t, nearest);
-      return step;
-    }
-    const double u1 = rng.uniform(), u2 = rng.uniform();
-    const FreePathSample f = sample_free_path(med->sigma_t, med->c.sigma_s, v.throughput, nearest, u1, u2);
-    if (f.event == FreePathEvent::Exit) {
+    const bool may_scatter = !v.emission_only && med->scatters();
+    double distance;
+    Color unit(0.0);  // of a scattering: the free path's weight without sigma_s (see VolumeHitPoint)
+    if (med->varies()) {
+      if (max_component(light) > 0.0)
+        emitted += v.throughput * light * scene.track(*med, v.ray, nearest, v.throughput, false, rng).weight;
+      const TrackedSegment f = scene.track(*med, v.ray, nearest, v.throughput, may_scatter, rng);
+      emitted += v.throughput * f.emitted;
       step.weight = f.weight;
-      return step;
+      if (f.event == FreePathEvent::Exit) return step;
+      distance = f.distance, unit = f.unit;
+    } else {
+      emitted += v.throughput * (light * transmittance(med->sigma_t, nearest) + medium_emission_along(*med, nearest));
+      if (!may_scatter) {
+        step.weight = transmittance(med->sigma_t, nearest);
+        return step;
+      }
+      const double u1 = rng.uniform(), u2 = rng.uniform();
+      const FreePathSample f = sample_free_path(med->sigma_t, med->c.sigma_s, v.throughput, nearest, u1, u2);
+      step.weight = f.weight;
+      if (f.event == FreePathEvent::Exit) return step;
+      distance = f.distance;
+      for (int c = 0; c < 3; ++c) unit[c] = med->c.sigma_s[c] > 0.0 ? f.weight[c] / med->c.sigma_s[c] : 0.0;
     }
     step.scattered = true;
-    Color unit(0.0);  // f.weight without sigma_s: T / pdf (see VolumeHitPoint)
-    for (int c = 0; c < 3; ++c) unit[c] = med->c.sigma_s[c] > 0.0 ? f.weight[c] / med->c.sigma_s[c] : 0.0;
-    const Vec3 position = v.ray.origin + f.distance * v.ray.direction;
+    const Vec3 position = v.ray.origin + distance * v.ray.direction;
     double r = settings.initial_radius;
-    if (r <= 0.0) r = settings.volume_radius_scale * settings.initial_radius_pixels * pixel_size(v.length + f.distance);
+    if (r <= 0.0) r = settings.volume_radius_scale * settings.initial_radius_pixels * pixel_size(v.length + distance);
     r = std::fmax(r, 4.0 * ray_offset(position, scene.offset_floor()));
     VolumeHitPoint h{};
     h.position = position;

@@ -118,6 +118,11 @@ struct BallInside {
   double mean_d2 = 0.6;
 };
 
+// A medium's sigma_s at `x` (a ray along `direction` there).
+Color sigma_s_at(const Scene& scene, const Medium& m, const Vec3& x, const Vec3& direction) {
+  return m.varies() ? scene.local_medium(m, x, direction).sigma_s : m.c.sigma_s;
+}
+
 // sigma_s beyond the surface at `hit` over sigma_s here (luminance), for a ray leaving a point in
 // `media`: 0 where the surface is opaque or nothing scatters beyond.
 double scattering_beyond(const Scene& scene, const Hit& hit, const Vec3& direction, const MediumStack& media,
@@ -127,7 +132,7 @@ double scattering_beyond(const Scene& scene, const Hit& hit, const Vec3& directi
   MediumStack beyond = media;
   scene.cross(hit, direction, beyond);
   const Medium* b = scene.medium_of(beyond);
-  return b != nullptr && here > 0.0 ? luminance(b->c.sigma_s) / here : 0.0;
+  return b != nullptr && here > 0.0 ? luminance(sigma_s_at(scene, *b, hit.position, direction)) / here : 0.0;
 }
 
 BallInside ball_inside(const Scene& scene, const Vec3& c, double r, const MediumStack& media, double sigma_s) {
@@ -583,7 +588,6 @@ bool PhotonPass::gather_volume(const Scene& scene, std::vector<VolumeHitPoint>& 
       if (!any) continue;
       const Medium& medium = scene.medium(static_cast<uint32_t>(h.medium));
       const Phase& phase = medium.c.phase;
-      const double sigma_s = luminance(medium.c.sigma_s);
       const Vec3 center = h.position, back = -Vec3(h.direction);
       const double r2 = h.r2, r = std::sqrt(r2);
       const bool limited = limits_.active;
@@ -604,7 +608,8 @@ bool PhotonPass::gather_volume(const Scene& scene, std::vector<VolumeHitPoint>& 
       });
       h.m = m;
       BallInside inside;
-      if (settings_.volume_boundary && m > 0) inside = ball_inside(scene, center, r, h.media, sigma_s);
+      if (settings_.volume_boundary && m > 0)
+        inside = ball_inside(scene, center, r, h.media, luminance(sigma_s_at(scene, medium, center, Vec3(h.direction))));
       sum /= inside.share;
       sum_d2 /= inside.share;
       h.tau = Vec3f(sum * Color(h.weight));

@@ -95,7 +95,14 @@ inline MediaPhoton emit_media_photon(const Scene& scene, const LightSampler& lig
   // A shadow ray, as every photon leaving its light (emit_photon_path_from).
   const Ray ray{x, sample_uniform_sphere(u1, u2), kShadowRay};
   const Bounces start = limits.active ? limits.start(light) : Bounces{};
-  out.path = PhotonPath{rng, light.flux / (pick_pdf * lights.flux_unit()), ray, 0, start};
+  Color flux = light.flux / (pick_pdf * lights.flux_unit());
+  const Medium& med = scene.medium(static_cast<uint32_t>(scene.medium_region(light.region).medium));
+  if (med.varies()) {  // the light's power is its bound's: each photon carries the emission here against it
+    const Color e = scene.local_medium(med, x, ray.direction).emission;
+    for (int c = 0; c < 3; ++c) flux[c] *= med.emission_bound[c] > 0.0 ? e[c] / med.emission_bound[c] : 0.0;
+    out.emitted = out.emitted && max_component(flux) > 0.0;
+  }
+  out.path = PhotonPath{rng, flux, ray, 0, start};
   out.media.enter(scene.medium_region(light.region).medium);
   out.from_medium = true;
   return out;
@@ -123,7 +130,16 @@ uint64_t trace_photons_in_media(const Scene& scene, const LightSampler& lights, 
       const bool found = scene.intersect(p.ray, hit);
       if (const Medium* med = scene.medium_of(media)) {
         const double segment = found ? hit.t : kInf;
-        if (!med->scatters()) {
+        if (med->varies()) {
+          const TrackedSegment f = scene.track(*med, p.ray, segment, p.flux, true, p.rng);
+          if (f.event == FreePathEvent::Scatter) {
+            const FreePathSample at{FreePathEvent::Scatter, f.distance, f.weight};
+            if (!scatter_photon_in_medium(settings, limits, p, *med, at, deposit_direct, deposit_volume, deposits))
+              break;
+            continue;
+          }
+          p.flux *= f.weight;
+        } else if (!med->scatters()) {
           p.flux *= transmittance(med->sigma_t, segment);
         } else {
           const double u1 = p.rng.uniform(), u2 = p.rng.uniform();

@@ -3,6 +3,7 @@
 // material_bindings.cpp binds it, wrapped: bind_scene calls this after bind_materials).
 #include "python/bindings.h"
 #include "python/convert.h"
+#include "python/node_program_bindings.h"
 #include "scene/scene.h"
 
 #include <pybind11/pybind11.h>
@@ -22,7 +23,7 @@ int medium_index(const Scene& s, const py::handle& medium, const std::string& wh
   if (medium.is_none()) return -1;
   if (py::isinstance<py::str>(medium)) {
     const std::string name = medium.cast<std::string>();
-    for (size_t i = 0; i < s.media().size(); ++i)
+    for (size_t i = 0; i < s.added_media(); ++i)
       if (s.media()[i].name == name) return static_cast<int>(i);
     fail(what, "no medium named '" + printable(name) + "' (add it with add_medium first)");
   }
@@ -52,18 +53,46 @@ Phase phase_from(const std::string& kind, double anisotropy, double alpha, doubl
                  printable(kind) + "'");
 }
 
+// What varies in a medium: `program` (a node program's dict) and `terms` (dicts of sigma_a,
+// sigma_s, emission and the program's output `input` scaling them).
+std::shared_ptr<MediumField> field_from(const py::object& program, const py::object& terms, const std::string& what) {
+  if (program.is_none() && terms.is_none()) return nullptr;
+  if (program.is_none() || terms.is_none()) fail(what, "give a program and the terms it scales, or neither");
+  auto f = std::make_shared<MediumField>();
+  f->program = program_from(program, what);
+  for (const py::handle& item : terms.cast<py::list>()) {
+    const py::dict d = py::reinterpret_borrow<py::object>(item).cast<py::dict>();
+    for (const auto& [key, value] : d) {
+      const std::string k = key.cast<std::string>();
+      if (k != "sigma_a" && k != "sigma_s" && k != "emission" && k != "input")
+        fail(what, "a term has no field '" + printable(k) + "' (sigma_a, sigma_s, emission, input)");
+    }
+    MediumTerm t;
+    if (d.contains("sigma_a")) t.sigma_a = color(d["sigma_a"], what, "terms' sigma_a");
+    if (d.contains("sigma_s")) t.sigma_s = color(d["sigma_s"], what, "terms' sigma_s");
+    if (d.contains("emission")) t.emission = color(d["emission"], what, "terms' emission");
+    const int input = d.contains("input") ? d["input"].cast<int>() : 0;
+    if (input < 0 || input > 0xffff) fail(what, "a term's input must be one of the program's outputs");
+    t.input = static_cast<uint16_t>(input);
+    f->terms.push_back(t);
+  }
+  return f;
+}
+
 uint32_t add_medium(Scene& s, const std::string& name, const py::object& sigma_a, const py::object& sigma_s,
                     const py::object& emission, const std::string& phase, double anisotropy, double alpha,
-                    double backscatter, double ior, double diameter) {
+                    double backscatter, double ior, double diameter, const py::object& program,
+                    const py::object& terms) {
   const std::string what = "medium '" + checked_name(name, "medium") + "'";
-  for (const Medium& m : s.media())
-    if (m.name == name) fail(what, "a medium of that name exists already");
+  for (size_t i = 0; i < s.added_media(); ++i)
+    if (s.media()[i].name == name) fail(what, "a medium of that name exists already");
   Medium m;
   m.name = name;
   m.c.sigma_a = color(sigma_a, what, "sigma_a");
   m.c.sigma_s = color(sigma_s, what, "sigma_s");
   m.c.emission = color(emission, what, "emission");
   m.c.phase = phase_from(phase, anisotropy, alpha, backscatter, ior, diameter, what);
+  m.field = field_from(program, terms, what);
   return s.add_medium(std::move(m));
 }
 
@@ -75,17 +104,21 @@ void bind_media(SceneClass& cls) {
   cls.def("add_medium", &add_medium, py::arg("name"), py::arg("sigma_a") = 0.0, py::arg("sigma_s") = 0.0,
           py::arg("emission") = 0.0, py::arg("phase") = "henyey_greenstein", py::arg("anisotropy") = 0.0,
           py::arg("alpha") = 0.0, py::arg("backscatter") = 0.1, py::arg("ior") = 1.33, py::arg("diameter") = 10.0,
+          py::arg("program") = py::none(), py::arg("terms") = py::none(),
           "A homogeneous medium: RGB absorption sigma_a, scattering sigma_s (per metre, each a colour or a "
           "number) and emission (radiance per metre), with a phase function ('henyey_greenstein' with "
           "`anisotropy`, 'rayleigh', 'draine' (anisotropy, alpha), 'fournier_forand' (backscatter, ior), 'mie' "
-          "(diameter in micrometres)). NaN, Inf, negative values or coefficients above 1e30 are a ValueError "
-          "naming the medium and field. Returns its index; materials (add_material(medium=)) and the world "
-          "(set_world_medium) name it. Media render with hit_points='stochastic'.");
+          "(diameter in micrometres)). A medium that varies in space adds `terms` (dicts of sigma_a, sigma_s, "
+          "emission and `input`), each times output `input` of node `program` (as add_material's) run where "
+          "the path is, inside the object that bounds it (its coordinates; negative outputs count as 0). NaN, "
+          "Inf, negative values or coefficients above 1e30 are a ValueError naming the medium and field. "
+          "Returns its index; materials (add_material(medium=)) and the world (set_world_medium, homogeneous "
+          "only) name it. Media render with hit_points='stochastic'.");
   cls.def_property_readonly(
       "media",
       [](const Scene& s) {
         py::list names;
-        for (const Medium& m : s.media()) names.append(m.name);
+        for (size_t i = 0; i < s.added_media(); ++i) names.append(s.media()[i].name);
         return names;
       },
       "The media's names, by index.");
@@ -116,7 +149,7 @@ void bind_media(SceneClass& cls) {
         Scene& s = self.cast<Scene&>();
         // Checked before the material is added, so that a bad medium adds nothing.
         const int index = medium_index(s, medium, "material");
-        if (index >= static_cast<int>(s.media().size())) fail("material", "medium index out of range");
+        if (index >= static_cast<int>(s.added_media())) fail("material", "medium index out of range");
         py::object result = original(self, *args, **kwargs);
         if (index >= 0 || !surface) s.set_material_medium(result.cast<uint32_t>(), index, surface);
         return result;

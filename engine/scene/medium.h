@@ -19,18 +19,54 @@
 #include "math/types.h"
 #include "shading/free_path.h"
 #include "shading/medium_coefficients.h"
+#include "shading/node_program.h"
 
 #include <cstdint>
+#include <memory>
 #include <string>
+#include <vector>
 
 namespace ppm {
+
+// ---- Media that vary in space (heterogeneous). ----
+// What varies in a medium: terms, each RGB coefficients times one output of a node program run
+// where the path is (Blender: a volume shader's Density, Color or Strength driven by a texture),
+// added to the medium's constant coefficients. An output below 0 (or NaN) counts as 0.
+struct MediumTerm {
+  Color sigma_a{0.0}, sigma_s{0.0}, emission{0.0};
+  uint16_t input = 0;  // the program's output that scales them
+};
+constexpr size_t kMaxFieldOutputs = 8;
+struct MediumField {
+  NodeProgram program;  // at most kMaxFieldOutputs outputs
+  std::vector<MediumTerm> terms;
+};
+// A field as paths evaluate it: inside one object, whose coordinates (Texture Coordinate's
+// Generated and Object) the program reads, as Cycles' volume stack knows the object of each entry.
+struct FieldUse {
+  std::shared_ptr<const MediumField> field;
+  uint32_t object = 0;
+};
+// A medium's coefficients at one point.
+struct LocalMedium {
+  Color sigma_a{0.0}, sigma_s{0.0}, emission{0.0};
+  Color sigma_t() const { return sigma_a + sigma_s; }
+};
 
 struct Medium {
   std::string name;
   MediumCoefficients c;  // validated: finite, >= 0, coefficients at most kMaxCoefficient
   Color sigma_t{0.0};    // c.sigma_t()
-  bool scatters() const { return max_component(c.sigma_s) > 0.0; }
-  bool emits() const { return max_component(c.emission) > 0.0; }
+  // As added: what varies (null: homogeneous). Paths never evaluate it there: build() gives each
+  // object that bounds such a medium a copy of its own (Scene::medium_in) whose `uses` hold it.
+  std::shared_ptr<const MediumField> field;
+  std::vector<FieldUse> uses;  // what paths evaluate: a copy's field, or the fields of a sum's parts
+  // Per channel, at least as large as the coefficients anywhere in it (the constants where it is
+  // homogeneous): the trackers' majorant, and what says whether it scatters or emits at all.
+  Color sigma_t_bound{0.0}, sigma_s_bound{0.0}, emission_bound{0.0};
+  bool varies() const { return !uses.empty(); }
+  bool scatters() const { return max_component(sigma_s_bound) > 0.0; }
+  bool emits() const { return max_component(emission_bound) > 0.0; }
 };
 
 constexpr int kMaxMediumStack = 7;

@@ -27,10 +27,10 @@ void Scene::prepare_medium_lights(const Aabb& light_bounds) {
   // The triangles of each (object, emitting medium), as the mesh stores their corners.
   std::map<std::pair<uint32_t, int>, std::vector<TriangleCorners>> regions;
   for (uint32_t i = 0; i < meshes_.triangle_count(); ++i) {
-    const int medium = materials_[meshes_.info[i].material].medium;
+    const uint32_t object = meshes_.meshes[meshes_.info[i].mesh].object;
+    const int medium = medium_in(meshes_.info[i].material, object);
     if (medium < 0 || !media_[medium].emits()) continue;
     const TriangleVertices& v = triangle_vertices(i);
-    const uint32_t object = meshes_.meshes[meshes_.info[i].mesh].object;
     regions[{object, medium}].push_back({meshes_.vertices[v.v[0]], meshes_.vertices[v.v[1]], meshes_.vertices[v.v[2]]});
   }
   for (const auto& [key, triangles] : regions) {
@@ -50,7 +50,7 @@ void Scene::prepare_medium_lights(const Aabb& light_bounds) {
     Light l;
     l.kind = LightKind::Medium;
     l.name = what;
-    l.power = m.c.emission;
+    l.power = m.emission_bound;  // where it varies, each photon carries its point's share (emit_media_photon)
     l.position = r.box.center();
     l.region = static_cast<uint32_t>(medium_regions_.size());
     l.volume = volume;
@@ -69,7 +69,7 @@ bool Scene::inside_medium_region(uint32_t region, const Vec3& p, const Vec3& dir
     Hit hit;
     if (!intersect(ray, hit)) return inside;
     if (hit.object == r.object && hit.primitive < meshes_.triangle_count() &&
-        materials_[hit.material].medium == r.medium)
+        medium_in(hit.material, hit.object) == r.medium)
       inside = !inside;
     ray.origin = offset_point(hit.position, hit.geometric_normal, ray.direction, offset_floor_);
   }

@@ -409,7 +409,7 @@ void Scene::build() {
     lights_built_ = false;
   }
   if (!lights_built_) {
-    combine_overlapping_media();
+    prepare_media();
     prepare_lights();
     camera_media_placed_ = false;  // the geometry or the media changed
   }

@@ -18,6 +18,7 @@
 #include "shading/texture.h"
 
 #include <atomic>
+#include <map>
 #include <memory>
 #include <string>
 #include <unordered_map>
@@ -203,7 +204,10 @@ class Scene {
   // Material `material` carries medium `medium` (-1: none) inside; `surface` false: a boundary only.
   void set_material_medium(uint32_t material, int medium, bool surface);
   int world_medium() const { return world_medium_; }
+  // The media added (by index), then from added_media() on the copies build() made of those that
+  // vary, one per object bounding each (medium_in).
   const std::vector<Medium>& media() const { return media_; }
+  size_t added_media() const { return added_media_; }
   // Medium `id`: one added, or from media().size() on one of their sums (overlapping media, below).
   const Medium& medium(uint32_t id) const {
     return id < media_.size() ? media_[id] : combined_media_[id - media_.size()].medium;
@@ -226,10 +230,25 @@ class Scene {
     const int id = stack.top(world_medium_);
     return id >= 0 ? &media_[static_cast<size_t>(id)] : nullptr;
   }
+  // The medium inside `material` on `object`: the material's, or where that varies in space the
+  // object's copy of it (a copy per object: the field reads the object's coordinates); -1: none.
+  int medium_in(uint32_t material, uint32_t object) const {
+    const int id = materials_[material].medium;
+    if (id < 0 || !media_[static_cast<size_t>(id)].field) return id;
+    const auto found = copy_of_.find({id, object});
+    return found != copy_of_.end() ? found->second : id;
+  }
+  // A medium's coefficients at `x` for a path travelling along `direction` (Cycles' volume shading
+  // point: its normal and incoming direction face back along the ray).
+  LocalMedium local_medium(const Medium& m, const Vec3& x, const Vec3& direction) const;
+  // A medium that varies, along `ray` over (0, segment): free_path.h's track_segment, its
+  // coefficients local_medium's along the ray, against the medium's majorant.
+  TrackedSegment track(const Medium& m, const Ray& ray, double segment, const Color& throughput, bool may_scatter,
+                       Rng& rng) const;
   // A path travelling along `direction` crosses the surface at `hit` (refracted, transmitted or a
   // boundary only): its stack enters or leaves the material's medium by the side it came from.
   void cross(const Hit& hit, const Vec3& direction, MediumStack& stack) const {
-    const int id = materials_[hit.material].medium;
+    const int id = medium_in(hit.material, hit.object);
     if (id < 0) return;
     if (glm::dot(direction, hit.geometric_normal) < 0.0)
       stack.enter(id);
@@ -246,7 +265,8 @@ class Scene {
   const MediumStack& camera_media() const { return camera_media_; }
   // What arrives along a shadow ray over (0, distance) through media: the transmittance of each
   // medium it crosses (boundaries only are crossed, with the stack), 0 where a surface is in the way.
-  Color shadow_transmittance(const Ray& ray, double distance, MediumStack stack) const;
+  // Through media that vary, an unbiased estimate (ratio tracking, with `rng`).
+  Color shadow_transmittance(const Ray& ray, double distance, MediumStack stack, Rng& rng) const;
 
   // ---- Emitting media as lights (medium_lights.cpp). ----
   // The region of an emitting medium: the triangles of one object whose material carries it,
@@ -384,6 +404,11 @@ class Scene {
   std::vector<CombinedMedium> combined_media_;
   const Medium* combined_medium(const MediumStack& stack) const;
   void combine_overlapping_media();
+  size_t added_media_ = 0;  // media_ beyond these are copies (medium_in), remade by build()
+  std::map<std::pair<int, uint32_t>, int> copy_of_;  // (medium added, object) -> its copy
+  void prepare_media();  // the copies of media that vary, then the sums (build)
+  void copy_varying_media();
+  void bound_field(Medium& copy, const Aabb& box) const;
   bool camera_media_placed_ = false;
   std::vector<Texture> textures_;
   MeshStore meshes_;

@@ -24,6 +24,24 @@ void check_coefficient(const Color& c, const std::string& what, const std::strin
                    " per metre");
 }
 
+
+void check_field(const MediumField& f, size_t textures, const std::string& what) {
+  f.program.validate(textures, what);
+  if (f.program.outputs.size() > kMaxFieldOutputs)
+    fail(what, "a medium's program gives at most " + std::to_string(kMaxFieldOutputs) + " outputs");
+  if (f.terms.empty()) fail(what, "a program needs terms that it scales");
+  for (size_t k = 0; k < f.terms.size(); ++k) {
+    const MediumTerm& t = f.terms[k];
+    const std::string term = "terms[" + std::to_string(k) + "].";
+    check_coefficient(t.sigma_a, what, term + "sigma_a");
+    check_coefficient(t.sigma_s, what, term + "sigma_s");
+    check_power(t.emission, what, term + "emission");
+    if (t.input >= f.program.outputs.size())
+      fail(what, term + "input " + std::to_string(t.input) + " is not one of the program's " +
+                     std::to_string(f.program.outputs.size()) + " outputs");
+  }
+}
+
 }  // namespace
 
 uint32_t Scene::add_medium(Medium m) {
@@ -32,18 +50,27 @@ uint32_t Scene::add_medium(Medium m) {
   check_coefficient(m.c.sigma_a, what, "sigma_a");
   check_coefficient(m.c.sigma_s, what, "sigma_s");
   check_power(m.c.emission, what, "emission");
-  if (media_.size() >= static_cast<size_t>(std::numeric_limits<int16_t>::max()))
+  if (m.field) check_field(*m.field, textures_.size(), what);
+  if (added_media_ >= static_cast<size_t>(std::numeric_limits<int16_t>::max()))
     fail(what, "a scene takes at most 32767 media");
   m.sigma_t = m.c.sigma_t();
+  m.sigma_t_bound = m.sigma_t, m.sigma_s_bound = m.c.sigma_s, m.emission_bound = m.c.emission;
+  m.uses.clear();
+  media_.resize(added_media_);  // the copies go (build() makes them again)
   media_.push_back(std::move(m));
-  return static_cast<uint32_t>(media_.size() - 1);
+  added_media_ = media_.size();
+  invalidate_lights();
+  return static_cast<uint32_t>(added_media_ - 1);
 }
 
 void Scene::set_world_medium(int medium) {
   ensure_mutable();
-  if (medium < -1 || medium >= static_cast<int>(media_.size()))
+  if (medium < -1 || medium >= static_cast<int>(added_media_))
     fail("world", "medium index " + std::to_string(medium) + " out of range (scene has " +
-                      std::to_string(media_.size()) + " media)");
+                      std::to_string(added_media_) + " media)");
+  if (medium >= 0 && media_[static_cast<size_t>(medium)].field)
+    fail("world", quoted("medium", media_[static_cast<size_t>(medium)].name) +
+                      " varies in space: a world medium must be homogeneous");
   world_medium_ = medium;
   lights_built_ = false;  // the media's sums with the world's (combine_overlapping_media)
 }
@@ -52,9 +79,9 @@ void Scene::set_material_medium(uint32_t material, int medium, bool surface) {
   ensure_mutable();
   check_material(material, "material " + std::to_string(material));
   const std::string what = quoted("material", materials_[material].name);
-  if (medium < -1 || medium >= static_cast<int>(media_.size()))
+  if (medium < -1 || medium >= static_cast<int>(added_media_))
     fail(what, "medium index " + std::to_string(medium) + " out of range (scene has " +
-                   std::to_string(media_.size()) + " media)");
+                   std::to_string(added_media_) + " media)");
   if (!surface && materials_[material].emits())
     fail(what, "a boundary without a surface cannot emit (give the medium emission instead)");
   materials_[material].medium = medium;
@@ -107,7 +134,7 @@ MediumStack Scene::media_at(const Vec3& p, uint8_t ray_kind) const {
     Hit hit;
     for (int n = 0; n < kMaxInsideHits && intersect(ray, hit); ++n) {
       travelled += hit.t;
-      const int id = materials_[hit.material].medium;
+      const int id = medium_in(hit.material, hit.object);
       if (id >= 0) {
         const bool leaving = glm::dot(ray.direction, hit.geometric_normal) > 0.0;
         a.net[id] += leaving ? 1 : -1;
@@ -152,6 +179,9 @@ Medium sum_of_media(const std::vector<Medium>& media, const int16_t* ids, int co
     const Medium& m = media[ids[k]];
     sum.name += " '" + m.name + "'";
     sum.c.sigma_a += m.c.sigma_a, sum.c.sigma_s += m.c.sigma_s, sum.c.emission += m.c.emission;
+    sum.sigma_t_bound += m.sigma_t_bound, sum.sigma_s_bound += m.sigma_s_bound;
+    sum.emission_bound += m.emission_bound;
+    sum.uses.insert(sum.uses.end(), m.uses.begin(), m.uses.end());
     if (luminance(m.c.sigma_s) > luminance(strongest->c.sigma_s)) strongest = &m;
   }
   sum.c.phase = strongest->c.phase;
@@ -187,7 +217,7 @@ int distinct_media(const MediumStack& stack, int world, int16_t* ids) {
 const Medium* Scene::combined_medium(const MediumStack& stack) const {
   int16_t ids[kMaxMediumStack + 1];
   const int n = distinct_media(stack, stack.count > 0 ? world_medium_ : -1, ids);
-  if (n == 1) return &media_[ids[0]];
+  if (n == 1) return &media_[static_cast<size_t>(ids[0])];
   for (const CombinedMedium& c : combined_media_)
     if (c.count == n && std::equal(ids, ids + n, c.ids)) return &c.medium;
   return &media_[stack.top(world_medium_)];  // overlapping media build() did not foresee
@@ -202,9 +232,10 @@ void Scene::combine_overlapping_media() {
   std::vector<std::pair<int16_t, Aabb>> regions;  // a medium and the box of one object's triangles of it
   std::map<std::pair<uint32_t, int16_t>, size_t> region_of;  // (object, medium) -> its region
   for (uint32_t t = 0; t < meshes_.triangle_count(); ++t) {
-    const int medium = materials_[meshes_.info[t].material].medium;
+    const uint32_t object = meshes_.meshes[meshes_.info[t].mesh].object;
+    const int medium = medium_in(meshes_.info[t].material, object);
     if (medium < 0) continue;
-    const std::pair<uint32_t, int16_t> key{meshes_.meshes[meshes_.info[t].mesh].object, static_cast<int16_t>(medium)};
+    const std::pair<uint32_t, int16_t> key{object, static_cast<int16_t>(medium)};
     auto found = region_of.find(key);
     if (found == region_of.end()) {
       if (regions.size() >= kMaxCombinedMedia) continue;
@@ -276,13 +307,16 @@ void Scene::place_lights_in_media() {
   }
 }
 
-Color Scene::shadow_transmittance(const Ray& shadow, double distance, MediumStack stack) const {
+Color Scene::shadow_transmittance(const Ray& shadow, double distance, MediumStack stack, Rng& rng) const {
   Color tr(1.0);
   Ray ray = shadow;
   for (int crossing = 0; crossing <= kMaxMediumCrossings; ++crossing) {
     Hit hit;
     const bool found = intersect(ray, hit, distance);
-    if (const Medium* m = medium_of(stack)) tr *= transmittance(m->sigma_t, found ? hit.t : distance);
+    if (const Medium* m = medium_of(stack)) {
+      const double segment = found ? hit.t : distance;
+      tr *= m->varies() ? track(*m, ray, segment, tr, false, rng).weight : transmittance(m->sigma_t, segment);
+    }
     if (!found) return tr;
     if (materials_[hit.material].surface) return Color(0.0);
     if (!(max_component(tr) > 0.0)) return Color(0.0);

@@ -9,16 +9,16 @@
 // by the density averaged over the channels with those probabilities (the one-sample model with the
 // balance heuristic, "spectral MIS"), so each channel's estimate stays unbiased.
 //
-// Heterogeneous media (a scalar extinction along the segment, e.g. density times a grey sigma_t):
-// delta tracking samples a real collision, ratio tracking estimates transmittance, both against a
-// majorant (Woodcock et al. 1965; Novak et al. 2014). The density is a template callable, so no
-// virtual call happens per step.
+// Media that vary along the segment (RGB coefficients at each point): null-collision tracking against
+// a majorant (Woodcock et al. 1965; Novak et al. 2014; Kutz et al. 2017's spectral tracking), which
+// samples a real scattering, or with scattering off is ratio tracking and estimates transmittance.
+// The coefficients come from a template callable, so no virtual call happens per step.
 //
 // Bad input never hangs and never leaves finite arithmetic: a coefficient or density that is NaN or
 // negative counts as 0; +inf, or anything above kMaxCoefficient, as kMaxCoefficient (opaque); in the
-// trackers a density above the majorant counts as the majorant (the majorant must bound it; where
+// tracker a density above the majorant counts as the majorant (the majorant must bound it; where
 // it does not, the answer is biased, never undefined). A NaN or negative distance counts as 0; an
-// infinite one is allowed. The trackers stop after max_steps and say so (TrackingEnd::StepCap).
+// infinite one is allowed. The tracker stops after max_steps and says so (TrackedSegment::capped).
 #pragma once
 
 #include "math/types.h"
@@ -74,58 +74,91 @@ struct FreePathSample {
 FreePathSample sample_free_path(const Color& sigma_t, const Color& sigma_s, const Color& throughput, double segment,
                                 double u_channel, double u_distance);
 
-// ---- Heterogeneous media: the trackers. ----
-
-// A density as the trackers count it (see the top): within [0, majorant].
+// A density as the tracker counts it (see the top): within [0, majorant].
 inline double tracked_density(double sigma, double majorant) { return sigma > 0.0 ? std::min(sigma, majorant) : 0.0; }
 
-enum class TrackingEnd : uint8_t { Collision, Exit, StepCap };
+// ---- Heterogeneous RGB media: one tracker for eye paths, photons and shadow rays. ----
 
-struct DeltaTrackingResult {
-  TrackingEnd end = TrackingEnd::Exit;
-  double distance = 0.0;  // the collision's, or the segment's length
+// A medium's extinction, scattering and emission at a point along the segment, as the tracker
+// asks for them (`at(t)` returns one).
+struct TrackedCoefficients {
+  Color sigma_t{0.0}, sigma_s{0.0}, emission{0.0};
+};
+
+struct TrackedSegment {
+  FreePathEvent event = FreePathEvent::Exit;
+  double distance = 0.0;  // to the scattering, or the segment's length
+  Color weight{1.0};      // what the path's throughput is multiplied by (a scattering's sigma_s included)
+  Color unit{0.0};        // Scatter: `weight` without the point's sigma_s (a volume hit point's weight)
+  Color emitted{0.0};     // the emission met before the event: an estimate of int_0^t T(s) e(s) ds
   int steps = 0;          // tentative collisions drawn
+  bool capped = false;    // stopped at max_steps (counted as absorbed)
 };
 
-// Delta tracking: tentative collisions at majorant rate, each real with probability
-// sigma(t) / majorant, so the first real one is distributed as sigma(t) exp(-integral_0^t sigma).
-// `sigma_t_at(t)` returns the extinction at distance t; `uniform()` returns a uniform in [0, 1).
-// StepCap: no answer within max_steps (a caller counts the path as absorbed).
-template <class Density, class Uniform>
-DeltaTrackingResult delta_track(const Density& sigma_t_at, double majorant, double segment, Uniform&& uniform,
-                                int max_steps = kMaxTrackingSteps) {
+// Null-collision tracking of an RGB medium against a scalar majorant m >= every channel's sigma_t
+// (Kutz et al. 2017's spectral tracking, absorption in the weight): tentative collisions at rate m;
+// at each, a scattering with probability P_s = <f sigma_s> / (<f sigma_s> + <f sigma_n>), where f is
+// `throughput` times the weight so far, <.> the mean over channels and sigma_n = m - sigma_t the null
+// part; else a null collision. The weight takes sigma_s / (m P_s) or sigma_n / (m (1 - P_s)), so
+// that per channel the expected weight carried past a point is its transmittance and a scattering
+// at t has density sigma_s(t) T(t). A grey medium that does not absorb is plain delta tracking
+// (weights 1). With `may_scatter` false it is ratio tracking: the weight at the end estimates T.
+// Emission is summed at the tentative collisions (e / m each, times the weight there). Below a
+// weight of kTrackingRoulette Russian roulette ends the walk early (unbiased; where little is left,
+// so it adds little noise). The step cap counts as absorbed.
+constexpr double kTrackingRoulette = 0.01;
+
+template <class At, class Uniform>
+TrackedSegment track_segment(const At& at, double majorant, double segment, const Color& throughput,
+                             bool may_scatter, Uniform&& uniform, int max_steps = kMaxTrackingSteps) {
+  TrackedSegment out;
   const double m = safe_coefficient(majorant), d = safe_distance(segment);
-  if (m == 0.0) return {TrackingEnd::Exit, d, 0};
+  out.distance = d;
+  if (m == 0.0) return out;
   double t = 0.0;
+  Color w(1.0);
+  const auto absorbed = [&](double at) {
+    out.distance = std::min(at, d);
+    out.weight = Color(0.0);
+    return out;
+  };
   for (int step = 1; step <= max_steps; ++step) {
+    out.steps = step;
     t -= std::log1p(-safe_uniform(uniform())) / m;
-    if (!(t < d)) return {TrackingEnd::Exit, d, step};
-    if (safe_uniform(uniform()) * m < tracked_density(sigma_t_at(t), m)) return {TrackingEnd::Collision, t, step};
+    if (!(t < d)) {
+      out.weight = w;
+      return out;
+    }
+    const TrackedCoefficients c = at(t);
+    Color sigma_s(0.0), sigma_n(0.0);
+    for (int k = 0; k < 3; ++k) {
+      const double st = tracked_density(c.sigma_t[k], m);
+      sigma_s[k] = may_scatter ? std::min(safe_coefficient(c.sigma_s[k]), st) : 0.0;
+      sigma_n[k] = m - st;
+      const double e = c.emission[k];
+      if (e > 0.0 && e < kInf) out.emitted[k] += w[k] * e / m;
+    }
+    const Color f = throughput * w;
+    const double a_s = (f.x * sigma_s.x + f.y * sigma_s.y + f.z * sigma_s.z) / 3.0;
+    const double a_n = (f.x * sigma_n.x + f.y * sigma_n.y + f.z * sigma_n.z) / 3.0;
+    if (!(a_s + a_n > 0.0)) return absorbed(t);  // nothing goes on from here
+    const double p_s = a_s / (a_s + a_n);
+    if (safe_uniform(uniform()) < p_s) {
+      out.event = FreePathEvent::Scatter;
+      out.distance = t;
+      out.unit = w / (m * p_s);
+      out.weight = out.unit * sigma_s;
+      return out;
+    }
+    w *= sigma_n / (m * (1.0 - p_s));
+    const double peak = max_component(w);
+    if (peak < kTrackingRoulette) {
+      if (!(peak > 0.0) || safe_uniform(uniform()) * kTrackingRoulette >= peak) return absorbed(t);
+      w *= kTrackingRoulette / peak;
+    }
   }
-  return {TrackingEnd::StepCap, t, max_steps};
-}
-
-struct RatioTrackingResult {
-  double transmittance = 0.0;
-  int steps = 0;
-  bool capped = false;  // stopped at max_steps: transmittance 0 reported
-};
-
-// Ratio tracking: the product of (1 - sigma(t_i) / majorant) over tentative collisions t_i drawn
-// at majorant rate; its mean is exp(-integral_0^d sigma). Stops early once the product is 0.
-template <class Density, class Uniform>
-RatioTrackingResult ratio_track(const Density& sigma_t_at, double majorant, double segment, Uniform&& uniform,
-                                int max_steps = kMaxTrackingSteps) {
-  const double m = safe_coefficient(majorant), d = safe_distance(segment);
-  if (m == 0.0) return {1.0, 0, false};
-  double t = 0.0, tr = 1.0;
-  for (int step = 1; step <= max_steps; ++step) {
-    t -= std::log1p(-safe_uniform(uniform())) / m;
-    if (!(t < d)) return {tr, step, false};
-    tr *= 1.0 - tracked_density(sigma_t_at(t), m) / m;
-    if (tr == 0.0) return {0.0, step, false};
-  }
-  return {0.0, max_steps, true};
+  out.capped = true;
+  return absorbed(t);
 }
 
 }  // namespace ppm

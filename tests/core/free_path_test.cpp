@@ -95,55 +95,111 @@ TEST(FreePath, AnAbsorberIsCrossedWithItsTransmittance) {
   EXPECT_EQ(s.weight, transmittance(Color(1.0, 2.0, 3.0), 0.5));
 }
 
-// sigma(t) = 0.5 + 2.5 t / d on [0, d]: optical depth 1.75 d.
+// sigma(t) = 0.5 + 2.5 t / d on [0, d]: optical depth 1.75 d. Grey; `albedo` of it scatters, and
+// `emission` (per channel, times 1 + t) is emitted.
 struct Ramp {
   double d;
-  double operator()(double t) const { return 0.5 + 2.5 * t / d; }
+  Color albedo{1.0};
+  Color scale{1.0};  // per channel, times the grey ramp
+  Color emission{0.0};
+  double sigma(double t) const { return 0.5 + 2.5 * t / d; }
+  TrackedCoefficients operator()(double t) const {
+    return {scale * sigma(t), scale * sigma(t) * albedo, emission * (1.0 + t)};
+  }
+  // Optical depth from 0 to t of channel scale 1.
+  double depth(double t) const { return 0.5 * t + 1.25 * t * t / d; }
 };
 
+TrackedSegment track(const Ramp& ramp, double majorant, double segment, bool may_scatter, Rng& rng,
+                     const Color& throughput = Color(1.0), int max_steps = kMaxTrackingSteps) {
+  return track_segment(ramp, majorant, segment, throughput, may_scatter, [&] { return rng.uniform(); }, max_steps);
+}
+
+// Without scattering the tracker is ratio tracking: its weight's mean is exp(-tau). Scattering
+// allowed in a grey medium that does not absorb, it is delta tracking: weights 1, and the share that
+// passes is exp(-tau). Both for a tight majorant and a loose one.
 TEST(FreePath, TrackersMatchTheRampsTransmittance) {
-  const double d = 1.2, want = std::exp(-1.75 * d);
+  const Ramp ramp{1.2};
+  const double want = std::exp(-ramp.depth(ramp.d));
   const int n = test_samples(200000);
   for (const double majorant : {3.0, 10.0}) {
     Rng rng(23, uint64_t(majorant), 0);
-    auto uniform = [&] { return rng.uniform(); };
-    double ratio = 0.0, ratio2 = 0.0, passed = 0.0;
+    Tally ratio, passed;
     for (int i = 0; i < n; ++i) {
-      const double t = ratio_track(Ramp{d}, majorant, d, uniform).transmittance;
-      ratio += t;
-      ratio2 += t * t;
-      passed += delta_track(Ramp{d}, majorant, d, uniform).end == TrackingEnd::Exit;
+      ratio.add(track(ramp, majorant, ramp.d, false, rng).weight);
+      const TrackedSegment delta = track(ramp, majorant, ramp.d, true, rng);
+      ASSERT_NEAR(delta.weight.x, 1.0, 1e-12);
+      passed.add(Color(delta.event == FreePathEvent::Exit ? 1.0 : 0.0));
     }
-    const double ratio_mean = ratio / n, ratio_error = std::sqrt((ratio2 / n - ratio_mean * ratio_mean) / n);
-    const double delta_mean = passed / n, delta_error = std::sqrt(want * (1.0 - want) / n);
-    std::printf("  majorant %g: ratio tracking %.5f (%.1f sigma), delta tracking %.5f (%.1f sigma), exp(-tau) %.5f\n",
-                majorant, ratio_mean, (ratio_mean - want) / ratio_error, delta_mean, (delta_mean - want) / delta_error,
-                want);
-    EXPECT_NEAR(ratio_mean, want, 5.0 * ratio_error);
-    EXPECT_NEAR(delta_mean, want, 5.0 * delta_error);
+    expect_mean(ratio, Color(want), majorant < 5.0 ? "ratio tracking, majorant 3" : "ratio tracking, majorant 10");
+    expect_mean(passed, Color(want), majorant < 5.0 ? "delta tracking, majorant 3" : "delta tracking, majorant 10");
   }
 }
 
 // Delta tracking's collisions are distributed as sigma(t) exp(-integral_0^t sigma).
 TEST(FreePath, DeltaTrackingCollisionsFollowTheDensity) {
-  const double d = 1.2;
+  const Ramp ramp{1.2};
   const int n = test_samples(200000), bins = 24;
   std::vector<double> counts(bins + 1, 0.0);
   Rng rng(24, 0, 0);
-  auto uniform = [&] { return rng.uniform(); };
   for (int i = 0; i < n; ++i) {
-    const DeltaTrackingResult r = delta_track(Ramp{d}, 4.0, d, uniform);
-    counts[r.end == TrackingEnd::Exit ? bins : std::min(bins - 1, int(r.distance / d * bins))] += 1.0;
+    const TrackedSegment r = track(ramp, 4.0, ramp.d, true, rng);
+    counts[r.event == FreePathEvent::Exit ? bins : std::min(bins - 1, int(r.distance / ramp.d * bins))] += 1.0;
   }
-  const auto depth = [&](double t) { return 0.5 * t + 1.25 * t * t / d; };
   double chi = 0.0;
   for (int b = 0; b <= bins; ++b) {
-    const double p = b == bins ? std::exp(-depth(d))
-                               : std::exp(-depth(d * b / bins)) - std::exp(-depth(d * (b + 1) / bins));
+    const double p = b == bins ? std::exp(-ramp.depth(ramp.d))
+                               : std::exp(-ramp.depth(ramp.d * b / bins)) - std::exp(-ramp.depth(ramp.d * (b + 1) / bins));
     chi += (counts[b] - n * p) * (counts[b] - n * p) / (n * p);
   }
   std::printf("  delta tracking collisions: chi-square %.1f over %d bins\n", chi, bins + 1);
   EXPECT_LT(chi, bins + 5.0 * std::sqrt(2.0 * bins));
+}
+
+// An RGB medium whose channels differ tenfold, absorbing, under an uneven throughput: per channel the
+// mean weight of paths that pass is T, the mean weight of those that scatter is
+// int_0^d sigma_s(t) T(t) dt, and a scattering's weight is its unit weight times sigma_s there. The
+// emission met, scattering or not, averages int_0^d T(t) e(t) dt (the midpoint rule, 4000 steps).
+TEST(FreePath, ChromaticTrackingIsUnbiasedPerChannel) {
+  Ramp ramp{0.8};
+  ramp.scale = Color(0.2, 1.0, 2.0);
+  ramp.albedo = Color(0.9, 0.5, 0.3);
+  ramp.emission = Color(0.3, 1.0, 2.0);
+  const Color throughput(1.0, 0.2, 3.0);
+  Color want_t(0.0), want_s(0.0), want_e(0.0);
+  const int steps = 4000;
+  for (int c = 0; c < 3; ++c) {
+    want_t[c] = std::exp(-ramp.scale[c] * ramp.depth(ramp.d));
+    for (int k = 0; k < steps; ++k) {
+      const double t = (k + 0.5) * ramp.d / steps, tr = std::exp(-ramp.scale[c] * ramp.depth(t));
+      want_s[c] += ramp(t).sigma_s[c] * tr * ramp.d / steps;
+      want_e[c] += ramp(t).emission[c] * tr * ramp.d / steps;
+    }
+  }
+  const double majorant = 2.0 * (0.5 + 2.5);
+  for (const bool may_scatter : {true, false}) {
+    const int n = test_samples(300000);
+    Rng rng(25, may_scatter, 0);
+    Tally passed, scattered, emitted;
+    for (int i = 0; i < n; ++i) {
+      const TrackedSegment r = track(ramp, majorant, ramp.d, may_scatter, rng, throughput);
+      passed.add(r.event == FreePathEvent::Exit ? r.weight : Color(0.0));
+      scattered.add(r.event == FreePathEvent::Scatter ? r.weight : Color(0.0));
+      emitted.add(r.emitted);
+      if (r.event == FreePathEvent::Scatter) {
+        const Color expected = r.unit * ramp(r.distance).sigma_s;
+        for (int c = 0; c < 3; ++c) ASSERT_NEAR(r.weight[c], expected[c], 1e-12 * (1.0 + expected[c]));
+      }
+    }
+    if (may_scatter) {
+      expect_mean(passed, want_t, "tracked: passed weight = T");
+      expect_mean(scattered, want_s, "tracked: scattered = int sigma_s T");
+      expect_mean(emitted, want_e, "tracked: emission = int T e");
+    } else {
+      expect_mean(passed, want_t, "ratio: passed weight = T");
+      expect_mean(emitted, want_e, "ratio: emission = int T e");
+    }
+  }
 }
 
 // ---- Random walks: the samplers and the phase functions together. ----
@@ -286,39 +342,45 @@ TEST(FreePath, BadDensitiesAndMajorantsNeverHang) {
   Rng rng(29, 0, 0);
   auto uniform = [&] { return rng.uniform(); };
   const double nan = std::nan("");
+  auto grey = [](double sigma) { return [sigma](double) { return TrackedCoefficients{Color(sigma), Color(sigma)}; }; };
   // NaN and negative densities count as 0: nothing collides.
   for (const double bad : {nan, -5.0, -kInf}) {
-    const auto density = [bad](double) { return bad; };
-    EXPECT_EQ(ratio_track(density, 2.0, 1.0, uniform).transmittance, 1.0);
-    EXPECT_EQ(delta_track(density, 2.0, 1.0, uniform).end, TrackingEnd::Exit);
+    for (const bool may_scatter : {false, true}) {
+      const TrackedSegment r = track_segment(grey(bad), 2.0, 1.0, Color(1.0), may_scatter, uniform);
+      EXPECT_EQ(r.event, FreePathEvent::Exit);
+      EXPECT_EQ(r.weight, Color(1.0));
+    }
   }
   // Infinite densities (and any above the majorant) count as the majorant.
-  const auto infinite = [](double) { return kInf; };
   int passed = 0;
   const int n = 20000;
   for (int i = 0; i < n; ++i) {
-    EXPECT_EQ(ratio_track(infinite, 2.0, 1.0, uniform).transmittance >= 0.0, true);
-    passed += delta_track(infinite, 2.0, 1.0, uniform).end == TrackingEnd::Exit;
+    const TrackedSegment ratio = track_segment(grey(kInf), 2.0, 1.0, Color(1.0), false, uniform);
+    EXPECT_TRUE(is_finite(ratio.weight) && ratio.weight.x >= 0.0);
+    passed += track_segment(grey(kInf), 2.0, 1.0, Color(1.0), true, uniform).event == FreePathEvent::Exit;
   }
   EXPECT_NEAR(double(passed) / n, std::exp(-2.0), 5.0 * std::sqrt(std::exp(-2.0) / n));
-  // A majorant of 0 or NaN: an empty medium; an infinite one is opaque.
-  const auto ramp = Ramp{1.0};
-  EXPECT_EQ(ratio_track(ramp, 0.0, 1.0, uniform).transmittance, 1.0);
-  EXPECT_EQ(ratio_track(ramp, nan, 1.0, uniform).transmittance, 1.0);
-  EXPECT_EQ(delta_track(ramp, -1.0, 1.0, uniform).end, TrackingEnd::Exit);
-  // An empty infinite medium under a majorant, or a majorant far above a thin density: the step
-  // cap ends the walk, and says so.
-  const auto empty = [](double) { return 0.0; };
-  const DeltaTrackingResult capped = delta_track(empty, 1.0, kInf, uniform, 1000);
-  EXPECT_EQ(capped.end, TrackingEnd::StepCap);
+  // A majorant of 0, NaN or below 0: an empty medium.
+  const Ramp ramp{1.0};
+  for (const double majorant : {0.0, nan, -1.0})
+    EXPECT_EQ(track_segment(ramp, majorant, 1.0, Color(1.0), true, uniform).weight, Color(1.0));
+  // An empty infinite medium under a majorant, or an infinite majorant: the step cap ends the walk as
+  // absorbed, and says so.
+  const TrackedSegment capped = track_segment(grey(0.0), 1.0, kInf, Color(1.0), true, uniform, 1000);
+  EXPECT_TRUE(capped.capped);
   EXPECT_EQ(capped.steps, 1000);
-  const RatioTrackingResult capped_ratio = ratio_track(empty, kInf, 1.0, uniform);
-  EXPECT_TRUE(capped_ratio.capped);
-  EXPECT_EQ(capped_ratio.transmittance, 0.0);
-  EXPECT_EQ(capped_ratio.steps, kMaxTrackingSteps);
-  // A NaN or negative segment is empty.
-  EXPECT_EQ(ratio_track(ramp, 3.0, nan, uniform).transmittance, 1.0);
-  EXPECT_EQ(delta_track(ramp, 3.0, -2.0, uniform).end, TrackingEnd::Exit);
+  EXPECT_EQ(capped.weight, Color(0.0));
+  const TrackedSegment opaque = track_segment(ramp, kInf, 1.0, Color(1.0), false, uniform);
+  EXPECT_TRUE(opaque.capped);
+  EXPECT_EQ(opaque.weight, Color(0.0));
+  // A NaN or negative segment is empty; NaN emission and coefficients add nothing and stay finite.
+  EXPECT_EQ(track_segment(ramp, 3.0, nan, Color(1.0), true, uniform).weight, Color(1.0));
+  EXPECT_EQ(track_segment(ramp, 3.0, -2.0, Color(1.0), true, uniform).weight, Color(1.0));
+  const auto broken = [nan](double) { return TrackedCoefficients{Color(nan, 1.0, kInf), Color(nan, -1.0, 1.0), Color(nan, kInf, -1.0)}; };
+  for (int i = 0; i < 100; ++i) {
+    const TrackedSegment r = track_segment(broken, 2.0, 1.0, Color(1.0), true, uniform);
+    EXPECT_TRUE(is_finite(r.weight) && is_finite(r.emitted) && is_finite(r.unit));
+  }
 }
 
 }  // namespace

@@ -58,15 +58,15 @@ def render(scene, passes, **settings):
 # ---- transmittance ----------------------------------------------------------------------------
 
 
-def emitter_seen_through(scene, panel_y, eye_y, object_id):
+def emitter_seen_through(scene, panel_y, eye_y, object_id, passes=2):
     """The pixels (RGB rows) of an emitting panel of radiance 2 across y = panel_y, seen from (0, eye_y,
     0) through the media of `scene` by a camera so narrow that every ray crosses the same lengths (to
-    1e-5)."""
+    1e-5), after `passes`."""
     emitter = scene.add_material("emitter", "emission", emission=(2.0, 2.0, 2.0))
     corners = [[-3, panel_y, -3], [-3, panel_y, 3], [3, panel_y, 3], [3, panel_y, -3]]
     quad(scene, "panel", corners, emitter, object_id=object_id)
     camera(scene, (0, eye_y, 0), (0, 0, 0), size=8, fov=0.01)
-    image, _ = render(scene, passes=2, photons_per_pass=2000)
+    image, _ = render(scene, passes=passes, photons_per_pass=2000)
     return image.reshape(-1, 3)
 
 

@@ -1,0 +1,136 @@
+// Media that vary in space (scene/medium.h's MediumField): the copies build() makes, one per object
+// bounding such a medium, their bounds, and their coefficients along a path.
+//
+// A copy's bounds make the trackers' majorant. Each term's scale is bounded by what the node
+// program can give (NodeProgram::output_bound, which follows each instruction's range: a Noise
+// through a ColorRamp is bounded by the ramp's largest entry). Where that is unknown (an attribute,
+// an unbounded Math), the largest value found at kBoundSamples^3 points through the object's box,
+// times kSampledMargin: not a proof, and a density above the majorant counts as the majorant (a
+// biased image, never an undefined one; free_path.h).
+#include "geometry/bezier_revolve.h"
+#include "scene/scene.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+
+namespace ppm {
+namespace {
+
+constexpr int kBoundSamples = 24;
+constexpr double kSampledMargin = 1.5;
+constexpr double kRatioMajorantScale = 16.0;
+
+// Output `k` of `results` as a term's non-negative scale per channel.
+Color scale_of(const Vec3f& v) {
+  Color c(v);
+  for (int i = 0; i < 3; ++i) c[i] = c[i] > 0.0 ? std::min(c[i], kMaxCoefficient) : 0.0;
+  return c;
+}
+
+}  // namespace
+
+void Scene::prepare_media() {
+  copy_varying_media();
+  combine_overlapping_media();
+}
+
+void Scene::copy_varying_media() {
+  media_.resize(added_media_);
+  copy_of_.clear();
+  if (std::none_of(media_.begin(), media_.end(), [](const Medium& m) { return bool(m.field); })) return;
+  std::map<std::pair<int, uint32_t>, Aabb> boxes;  // (medium, object) -> the object's primitives carrying it
+  auto grow = [&](uint32_t material, uint32_t object, const Aabb& box) {
+    const int id = materials_[material].medium;
+    if (id >= 0 && media_[static_cast<size_t>(id)].field) boxes[{id, object}].grow(box);
+  };
+  for (uint32_t t = 0; t < meshes_.triangle_count(); ++t) {
+    const TrianglePrim p = triangle(t);
+    Aabb box;
+    box.grow(p.v0), box.grow(p.v0 + p.e1), box.grow(p.v0 + p.e2);
+    grow(meshes_.info[t].material, meshes_.meshes[meshes_.info[t].mesh].object, box);
+  }
+  for (const SphereInfo& s : spheres_)
+    grow(s.material, s.object, Aabb{s.sphere.center - Vec3(s.sphere.radius), s.sphere.center + Vec3(s.sphere.radius)});
+  for (const RevolveSegment& r : revolve_segments_)
+    grow(r.material, r.object, revolves_[r.revolve]->segment_bounds(r.segment));
+  for (const auto& [key, box] : boxes) {
+    if (media_.size() >= static_cast<size_t>(std::numeric_limits<int16_t>::max())) break;  // the added one serves
+    Medium copy = media_[static_cast<size_t>(key.first)];
+    copy.uses = {FieldUse{copy.field, key.second}};
+    bound_field(copy, box);
+    copy_of_[key] = static_cast<int>(media_.size());
+    media_.push_back(std::move(copy));
+  }
+}
+
+void Scene::bound_field(Medium& copy, const Aabb& box) const {
+  const MediumField& f = *copy.field;
+  const size_t outputs = f.program.outputs.size();
+  std::array<double, kMaxFieldOutputs> bound{};
+  bool sample = false;
+  for (size_t k = 0; k < outputs; ++k) {
+    bound[k] = f.program.output_bound(k, textures_);
+    sample = sample || !(bound[k] < kInf);
+  }
+  if (sample) {
+    std::array<double, kMaxFieldOutputs> found{};
+    std::array<Vec3f, kMaxFieldOutputs> results{};
+    ShadingContext ctx;
+    ctx.object = &object_info(copy.uses[0].object);
+    ctx.camera = &camera_;
+    const Vec3 step = box.extent() / double(kBoundSamples);
+    for (int i = 0; i < kBoundSamples; ++i)
+      for (int j = 0; j < kBoundSamples; ++j)
+        for (int k = 0; k < kBoundSamples; ++k) {
+          ctx.position = box.lo + (Vec3(i, j, k) + 0.5) * step;
+          f.program.run(ctx, textures_, results.data());
+          for (size_t o = 0; o < outputs; ++o) found[o] = std::max(found[o], max_component(scale_of(results[o])));
+        }
+    for (size_t o = 0; o < outputs; ++o)
+      if (!(bound[o] < kInf)) bound[o] = std::min(kSampledMargin * found[o], kMaxCoefficient);
+  }
+  for (const MediumTerm& t : f.terms) {
+    const double b = bound[t.input];
+    copy.sigma_t_bound += (t.sigma_a + t.sigma_s) * b;
+    copy.sigma_s_bound += t.sigma_s * b;
+    copy.emission_bound += t.emission * b;
+  }
+  for (int c = 0; c < 3; ++c) copy.sigma_t_bound[c] = std::min(copy.sigma_t_bound[c], kMaxCoefficient);
+}
+
+LocalMedium Scene::local_medium(const Medium& m, const Vec3& x, const Vec3& direction) const {
+  LocalMedium out{m.c.sigma_a, m.c.sigma_s, m.c.emission};
+  ShadingContext ctx;
+  ctx.position = x;
+  ctx.normal = ctx.true_normal = ctx.incoming = -direction;
+  ctx.camera = &camera_;
+  std::array<Vec3f, kMaxFieldOutputs> results;
+  for (const FieldUse& use : m.uses) {
+    ctx.object = &object_info(use.object);
+    use.field->program.run(ctx, textures_, results.data());
+    for (const MediumTerm& t : use.field->terms) {
+      const Color s = scale_of(results[t.input]);
+      out.sigma_a += t.sigma_a * s, out.sigma_s += t.sigma_s * s, out.emission += t.emission * s;
+    }
+  }
+  return out;
+}
+
+TrackedSegment Scene::track(const Medium& m, const Ray& ray, double segment, const Color& throughput,
+                            bool may_scatter, Rng& rng) const {
+  const auto at = [&](double t) {
+    const LocalMedium l = local_medium(m, ray.origin + t * ray.direction, ray.direction);
+    return TrackedCoefficients{l.sigma_t(), l.sigma_s, l.emission};
+  };
+  double majorant = max_component(m.sigma_t_bound);
+  // Ratio tracking's relative variance is at most exp(tau_bound sigma_bound / majorant) - 1: with the
+  // bound's own majorant e^4 - 1 = 54 through a dense 2 m box, every sample 0 or 1. Raised to
+  // tau_bound times the bound (at most kRatioMajorantScale times), it is at most e - 1, for
+  // tau_bound^2 steps.
+  if (!may_scatter) majorant *= std::clamp(majorant * safe_distance(segment), 1.0, kRatioMajorantScale);
+  return track_segment(at, majorant, segment, throughput, may_scatter, [&] { return rng.uniform(); });
+}
+
+}  // namespace ppm
