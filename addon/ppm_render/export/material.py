@@ -35,6 +35,7 @@ class MaterialExporter:
         self.tangents = {}  # core material -> the tangents its meshes need ("uv", "radial_z", ...)
         self.needed_tangents = None  # those of the material describe() read last
         self.with_program = set()  # core materials with a node program (their objects need object info)
+        self.medium_varies = False  # whether the medium volume() read last has one
         self.attributes = {}  # core material -> the mesh attribute its program reads
         self.needed_attribute = None  # that of the material describe() read last
         self.copied = set()  # core materials with a copy without emission (without_emission)
@@ -56,8 +57,9 @@ class MaterialExporter:
             self.pass_indices[self.indices[key]] = material.pass_index
             if self.needed_tangents:
                 self.tangents[self.indices[key]] = self.needed_tangents
-            if "program" in params:
+            if "program" in params or self.medium_varies:
                 self.with_program.add(self.indices[key])
+            if "program" in params:
                 if self.needed_attribute is not None:
                     self.attributes[self.indices[key]] = self.needed_attribute
             if any(c > 0.0 for c in params.get("emission", (0, 0, 0))):
@@ -133,9 +135,11 @@ class MaterialExporter:
         """add_material's medium keywords for `material`'s Volume output: {} without one; else its medium
         (None where it has no coefficient) and surface=False where nothing drives its Surface (Cycles
         renders that surface invisible: a boundary only)."""
+        self.medium_varies = False  # whether its medium has a node program (its objects need object info)
         if not self.volume_driven(material):
             return {}
-        keywords = volume.material_medium(material, self.warn, self.scene)
+        keywords = volume.material_medium(material, self.warn, self.scene, self.texture)
+        self.medium_varies = keywords is not None and "program" in keywords
         name = volume.add(self.scene, f"material '{material_key(material)}'", keywords, self.warn)
         return {"medium": name, "surface": volume.surface_driven(material.node_tree)}
 

@@ -1,4 +1,4 @@
-"""A material's or the world's Volume output -> the core's homogeneous medium (Scene.add_medium).
+"""A material's or the world's Volume output -> the core's medium (Scene.add_medium).
 
 Walks the Volume socket as closure.py walks the Surface (Mix and Add shaders, node groups, reroutes,
 muted nodes; constant networks folded) and sums what each volume shader adds, as Cycles' SVM computes
@@ -13,15 +13,18 @@ svm_node_volume_coefficients; the core's shading/medium_coefficients.h says the 
 - Emission: Color Strength, radiance per metre.
 Each times its Mix Shader factors. Densities are per Blender unit, as in Cycles.
 
-The core's media are homogeneous for now: a socket driven by a texture or an attribute (a density
-that varies in space, a Noise cloud) takes its own value, with one warning naming the material and
-node. Principled Volume's Density and Temperature Attributes multiply only on Volume objects and
-smoke domains, which the export leaves out (warned there), so on a mesh they are 1, as in Cycles.
-A medium's emission is seen along the rays through it but lights nothing yet (warned). Where
-scattering shaders with different phase functions mix, the core takes one: the
-Henyey-Greenstein of their scattering-weighted mean anisotropy (warned; Cycles samples each).
+A material's medium may vary in space: where a texture drives a Density, a Color, an Emission
+Strength or Color, a coefficient or a Mix factor (a Noise cloud), that product of sockets is
+compiled into the material's node program (node_program.py) and becomes a term, RGB coefficients
+times a program output that the core runs where the path is (Generated and Object coordinates as in
+Cycles' volumes: the object's, through its texture space). Other sockets (Anisotropy, Absorption
+Color, the blackbody's) and the World's medium take their own value where a texture drives them,
+with one warning naming the material and node. Principled Volume's Density and Temperature
+Attributes multiply only on Volume objects and smoke domains, which the export leaves out (warned
+there), so on a mesh they are 1, as in Cycles. Where scattering shaders with different phase
+functions mix, the core takes one: the Henyey-Greenstein of their scattering-weighted mean
+anisotropy (warned; Cycles samples each).
 """
-
 from __future__ import annotations
 
 import math
@@ -31,6 +34,7 @@ import numpy as np
 
 from . import blackbody, nodes, unrendered
 from .closure import ClosureReader
+from .node_program import Unsupported
 
 MAX_NESTING = 64  # Mix and Add shaders inside each other, as closure.py
 CUTOFF = 1e-6  # Cycles' CLOSURE_WEIGHT_CUTOFF
@@ -43,32 +47,44 @@ PHASES = {
     "RAYLEIGH": ("rayleigh", ()),
     "MIE": ("mie", (("diameter", "Diameter"),)),
 }
-VARYING = "varies in space (a texture or an attribute drives it): heterogeneous media are not rendered yet"
+# What a warning says of a socket a texture drives where the core takes only a constant.
+VARYING = {"material": "varies in space (a texture drives it), which only Density, Color, Emission Strength and "
+                       "Color, the coefficients and Mix factors can yet",
+           "world": "varies in space (a texture drives it): the World's medium is homogeneous here"}
 
 
 @dataclass
 class Medium:
-    """Coefficients per Blender unit, summed over the volume shaders read."""
+    """Coefficients per Blender unit, summed over the volume shaders read: constants, and terms that a
+    texture scales (each RGB coefficients times a program Value, for Scene.add_medium's `terms`)."""
     sigma_a: np.ndarray = field(default_factory=lambda: np.zeros(3))
     sigma_s: np.ndarray = field(default_factory=lambda: np.zeros(3))
     emission: np.ndarray = field(default_factory=lambda: np.zeros(3))
     phases: list = field(default_factory=list)  # (sigma_s part, phase keywords) per scattering shader
+    terms: list = field(default_factory=list)  # (coefficient name, RGB, Value)
 
     def empty(self):
-        return max(np.max(self.sigma_a), np.max(self.sigma_s), np.max(self.emission)) <= 0.0
+        constant = max(np.max(self.sigma_a), np.max(self.sigma_s), np.max(self.emission))
+        return constant <= 0.0 and not any(np.max(rgb) > 0.0 for _, rgb, _ in self.terms)
 
-    def scatter(self, sigma_s, phase):
-        if np.max(sigma_s) > 0.0:
-            self.sigma_s += sigma_s
-            self.phases.append((sigma_s, phase))
+
+@dataclass(frozen=True)
+class Part:
+    """A socket's value in a product: a constant `c` (a float or an RGB array) times the program Value
+    `v` a texture computes (None: constant)."""
+    c: object = 1.0
+    v: object = None
 
 
 class VolumeReader:
-    """Reads one Volume socket; warnings name the material (or world) and node, each once."""
+    """Reads one Volume socket; warnings name the material (or world) and node, each once. A material's
+    sockets that a texture drives become program Values (the medium varies in space); the World's take
+    their own value (warned): the core's World medium is homogeneous."""
 
-    def __init__(self, owner, name, warn, core):
-        self.values = ClosureReader(name, warn, None, core, kind=owner)
-        self.values.varying_note = VARYING
+    def __init__(self, owner, name, warn, core, texture=None):
+        self.values = ClosureReader(name, warn, texture, core, kind=owner)
+        self.values.varying_note = VARYING[owner]
+        self.program = self.values.program if owner == "material" else None
         self.out = Medium()
         self.depth = 0
 
@@ -85,9 +101,74 @@ class VolumeReader:
             rgb = np.nan_to_num(rgb, nan=0.0, posinf=0.0, neginf=0.0)
         return rgb
 
+    def part(self, node, name, ctx, default, color=False):
+        """Input `name` as a Part: a texture's Value (a material's), else its constant (as number/color)."""
+        socket = node.inputs.get(name)
+        if self.program is not None and socket is not None and self.values.source(socket, ctx)[0] is not None:
+            mark = self.program.mark()
+            try:
+                value = self.program.socket(socket, ctx, "color" if color else "float")
+                if value.varying:
+                    return Part(np.ones(3) if color else 1.0, value)
+            except Unsupported as error:
+                self.warn(node, f"'{name}': {error}; using the socket's own value")
+            self.program.rewind(mark)
+        return Part(self.color(node, name, ctx, default) if color else self.number(node, name, ctx, default))
+
+    def complement(self, part, color=False):
+        """1 - part (per channel for a colour), as a Part."""
+        if part.v is None:
+            return Part(1.0 - part.c)
+        one = self.program.constant((1.0, 1.0, 1.0))
+        if color:
+            zero = self.program.constant((0.0, 0.0, 0.0))
+            value = self.program.emit("vector_math", [one, part.v, zero, zero], outs=2, kinds=("color", "float"),
+                                      mode=self.program.mode("vector_math", "subtract"))[0]
+        else:
+            value = self.program.emit("math", [one, part.v, one], mode=self.program.mode("math", "subtract"))[0]
+        return Part(np.ones(3) if color else 1.0, value)
+
+    def unit(self, part):
+        """`part` clamped to [0, 1] (a Mix Shader's factor, as Cycles clamps it)."""
+        if part.v is None:
+            return Part(min(max(part.c, 0.0), 1.0))
+        zero = self.program.constant(0.0)
+        return Part(1.0, self.program.emit("math", [part.v, zero, zero], mode=self.program.mode("math", "add"),
+                                           flags=1)[0])
+
+    def add(self, coefficient, rgb, *parts):
+        """Adds rgb times the product of `parts` to `coefficient` (sigma_a, sigma_s or emission); returns
+        the constant RGB it adds (times the textures' Value where any varies)."""
+        rgb = np.asarray(rgb, float)
+        value = None
+        for p in parts:
+            rgb = rgb * p.c
+            if p.v is not None:
+                value = p.v if value is None else self._product(value, p.v)
+        rgb = np.maximum(rgb, 0.0)
+        if np.max(rgb) <= 0.0:
+            return rgb
+        if value is None:
+            setattr(self.out, coefficient, getattr(self.out, coefficient) + rgb)
+        else:
+            self.out.terms.append((coefficient, rgb, value))
+        return rgb
+
+    def _product(self, a, b):
+        zero = self.program.constant((0.0, 0.0, 0.0))
+        kind = "color" if "color" in (a.kind, b.kind) else "float"
+        return self.program.emit("vector_math", [a, b, zero, zero], outs=2, kinds=(kind, "float"),
+                                 mode=self.program.mode("vector_math", "multiply"))[0]
+
+    def scatter(self, rgb, phase, *parts):
+        added = self.add("sigma_s", rgb, *parts)
+        if np.max(added) > 0.0:
+            self.out.phases.append((added, phase))
+
     def closure(self, socket, ctx, weight):
-        """Adds what the volume closure on input `socket` contributes, times `weight` (a Mix factor)."""
-        if socket is None or weight <= CUTOFF:
+        """Adds what the volume closure on input `socket` contributes, times `weight` (a Part: the Mix
+        factors above it)."""
+        if socket is None or (weight.v is None and weight.c <= CUTOFF):
             return
         out, ctx, _ = self.values.source(socket, ctx)
         if out is None:
@@ -117,14 +198,40 @@ class VolumeReader:
             keywords["diameter"] = min(max(keywords["diameter"], 0.0), 50.0)  # Cycles' range of the fit
         return keywords
 
-    def density(self, node, ctx, weight):
-        return weight * max(self.number(node, "Density", ctx, 1.0), 0.0)
+    def density(self, node, ctx):
+        """The Density input as a Part (Cycles takes max(density, 0); the core counts a negative
+        textured value as 0)."""
+        d = self.part(node, "Density", ctx, 1.0)
+        return d if d.v is not None else Part(max(d.c, 0.0))
+
+    def field(self):
+        """Scene.add_medium's `program` and `terms` for the terms read ({} when nothing varies)."""
+        if not self.out.terms:
+            return {}
+        terms = []
+        for coefficient, rgb, value in self.out.terms:
+            try:
+                index = self.program.add_output(value)
+            except Unsupported as error:
+                self.warn(None, f"its Volume: {error}; that part is taken as its constant")
+                setattr(self.out, coefficient, getattr(self.out, coefficient) + rgb)
+                continue
+            terms.append({coefficient: _tuple(rgb), "input": index})
+        return {"program": self.program.program(), "terms": terms} if terms else {}
 
 
 def _mix(reader, node, ctx, weight):
-    fac = min(max(reader.number(node, "Fac", ctx, 0.5), 0.0), 1.0)
-    reader.closure(node.inputs[1], ctx, weight * (1.0 - fac))
-    reader.closure(node.inputs[2], ctx, weight * fac)
+    fac = reader.unit(reader.part(node, "Fac", ctx, 0.5))
+    complement = reader.complement(fac)
+    for part, socket in ((complement, node.inputs[1]), (fac, node.inputs[2])):
+        reader.closure(socket, ctx, _times(reader, weight, part))
+
+
+def _times(reader, a, b):
+    """The Part a * b (floats)."""
+    if a.v is None or b.v is None:
+        return Part(a.c * b.c, a.v if b.v is None else b.v)
+    return Part(a.c * b.c, reader._product(a.v, b.v))
 
 
 def _add(reader, node, ctx, weight):
@@ -133,46 +240,49 @@ def _add(reader, node, ctx, weight):
 
 
 def _absorption(reader, node, ctx, weight):
-    color = reader.color(node, "Color", ctx, (0.8, 0.8, 0.8))
-    reader.out.sigma_a += np.maximum(1.0 - color, 0.0) * reader.density(node, ctx, weight)
+    color = reader.part(node, "Color", ctx, (0.8, 0.8, 0.8), color=True)
+    reader.add("sigma_a", np.ones(3), reader.complement(color, color=True), reader.density(node, ctx), weight)
 
 
 def _scatter(reader, node, ctx, weight):
-    color = np.maximum(reader.color(node, "Color", ctx, (0.8, 0.8, 0.8)), 0.0)
-    reader.out.scatter(color * reader.density(node, ctx, weight), reader.phase(node, ctx))
+    color = reader.part(node, "Color", ctx, (0.8, 0.8, 0.8), color=True)
+    reader.scatter(np.ones(3), reader.phase(node, ctx), color, reader.density(node, ctx), weight)
 
 
 def _principled(reader, node, ctx, weight):
-    density = reader.density(node, ctx, weight)
-    color = reader.color(node, "Color", ctx, (0.5, 0.5, 0.5))
+    density = reader.density(node, ctx)
+    color = reader.part(node, "Color", ctx, (0.5, 0.5, 0.5), color=True)
     absorption = reader.color(node, "Absorption Color", ctx, (0.0, 0.0, 0.0))
-    reader.out.scatter(np.maximum(color, 0.0) * density,
-                       {"phase": "henyey_greenstein",
-                        "anisotropy": min(max(reader.number(node, "Anisotropy", ctx), -1.0), 1.0)})
-    reader.out.sigma_a += (np.maximum(1.0 - color, 0.0) * np.maximum(1.0 - np.sqrt(np.maximum(absorption, 0.0)), 0.0)
-                           * density)
-    strength = reader.number(node, "Emission Strength", ctx)
-    reader.out.emission += weight * strength * np.maximum(reader.color(node, "Emission Color", ctx), 0.0)
+    reader.scatter(np.ones(3), {"phase": "henyey_greenstein",
+                                "anisotropy": min(max(reader.number(node, "Anisotropy", ctx), -1.0), 1.0)},
+                   color, density, weight)
+    reader.add("sigma_a", np.maximum(1.0 - np.sqrt(np.maximum(absorption, 0.0)), 0.0),
+               reader.complement(color, color=True), density, weight)
+    reader.add("emission", np.ones(3), reader.part(node, "Emission Strength", ctx, 0.0),
+               reader.part(node, "Emission Color", ctx, (1.0, 1.0, 1.0), color=True), weight)
     intensity = reader.number(node, "Blackbody Intensity", ctx)
     temperature = max(reader.number(node, "Temperature", ctx, 1000.0), 0.0)
     if intensity > CUTOFF and temperature > 0.0:
         radiance = STEFAN_BOLTZMANN * 1e-6 / math.pi * (1.0 + (temperature ** 4 - 1.0) * intensity)
         tint = np.maximum(reader.color(node, "Blackbody Tint", ctx), 0.0)
         color = blackbody.blackbody_rgb(temperature, blackbody.kernel_rec709_to_scene_linear())  # the kernel's
-        reader.out.emission += weight * radiance * tint * np.asarray(color)
+        reader.add("emission", radiance * tint * np.asarray(color), weight)
 
 
 def _coefficients(reader, node, ctx, weight):
     """Blender 5.0's Volume Coefficients: the coefficients given (negative ones are 0 here)."""
-    reader.out.sigma_a += weight * np.maximum(reader.color(node, "Absorption Coefficients", ctx), 0.0)
-    reader.out.scatter(weight * np.maximum(reader.color(node, "Scatter Coefficients", ctx), 0.0),
-                       reader.phase(node, ctx))
-    reader.out.emission += weight * np.maximum(reader.color(node, "Emission Coefficients", ctx, (0.0, 0.0, 0.0)), 0.0)
+    reader.add("sigma_a", np.ones(3), reader.part(node, "Absorption Coefficients", ctx, (0.0,) * 3, color=True),
+               weight)
+    reader.scatter(np.ones(3), reader.phase(node, ctx),
+                   reader.part(node, "Scatter Coefficients", ctx, (0.0,) * 3, color=True), weight)
+    reader.add("emission", np.ones(3), reader.part(node, "Emission Coefficients", ctx, (0.0,) * 3, color=True),
+               weight)
 
 
 def _emission(reader, node, ctx, weight):
-    color = np.maximum(reader.color(node, "Color", ctx), 0.0)
-    reader.out.emission += weight * max(reader.number(node, "Strength", ctx, 1.0), 0.0) * color
+    strength = reader.part(node, "Strength", ctx, 1.0)
+    reader.add("emission", np.ones(3), strength if strength.v is not None else Part(max(strength.c, 0.0)),
+               reader.part(node, "Color", ctx, (1.0, 1.0, 1.0), color=True), weight)
 
 
 SHADERS = {
@@ -186,20 +296,22 @@ SHADERS = {
 }
 
 
-def read(socket, owner, name, warn, core):
+def read(socket, owner, name, warn, core, texture=None):
     """add_medium's keywords (without the name) for the Volume `socket` of material or world `name`
-    (`owner`: "material" or "world"); None when nothing is connected or every coefficient is 0."""
-    reader = VolumeReader(owner, name, warn, core)
-    reader.closure(socket, (), 1.0)
+    (`owner`: "material" or "world"; `texture` as closure.py's); None when nothing is connected or
+    every coefficient is 0."""
+    reader = VolumeReader(owner, name, warn, core, texture)
+    reader.closure(socket, (), Part(1.0))
     medium = reader.out
     if medium.empty():
         return None
+    field = reader.field()
     keywords = {"sigma_a": _tuple(medium.sigma_a), "sigma_s": _tuple(medium.sigma_s),
-                "emission": _tuple(medium.emission)}
+                "emission": _tuple(medium.emission), **field}
     keywords.update(_one_phase(reader, medium.phases))
     # A material's emitting medium is a light (the core emits photons from the closed mesh it fills);
     # the World's fills infinite space, whose power the core cannot emit.
-    if owner == "world" and np.max(medium.emission) > 0.0:
+    if owner == "world" and np.max(medium.emission) > 0.0:  # (the World's has no terms)
         reader.warn(None, "its Volume emits light, which is seen along rays but lights nothing else (the World's "
                           "medium fills infinite space and emits no photons): darker than in Cycles")
     return keywords
@@ -241,12 +353,12 @@ def surface_driven(tree):
     return output is not None and unrendered.output_driven(output.inputs["Surface"])
 
 
-def material_medium(material, warn, core):
+def material_medium(material, warn, core, texture=None):
     """add_medium's keywords for `material`'s Volume output, or None."""
     if not nodes.uses_nodes(material):
         return None
     socket = volume_socket(material.node_tree, "ShaderNodeOutputMaterial")
-    return read(socket, "material", material.name, warn, core) if socket is not None else None
+    return read(socket, "material", material.name, warn, core, texture) if socket is not None else None
 
 
 def add(core, name, keywords, warn):
