@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 from test_forgiving_input import export_scene, floor_scene
 
+import ppm_core
 from conftest import add, camera_looking_down, node_material, render_file
 from ppm_render.export import volume
 
@@ -122,16 +123,71 @@ def test_volume_scatter_phase_functions_are_read():
         assert {k: read_keywords[k] for k in keywords} == pytest.approx(keywords), enum
 
 
-def test_a_textured_density_is_warned_as_heterogeneous_and_takes_its_own_value():
+def read_with_program(mat):
+    """read(mat) with a core scene, which compiles what textures drive into a node program."""
+    warnings = []
+    return volume.material_medium(mat, warnings.append, ppm_core.Scene()), warnings
+
+
+def terms_by_coefficient(keywords):
+    return {name: rgb for term in keywords["terms"] for name, rgb in term.items() if name != "input"}
+
+
+def test_a_textured_density_makes_a_medium_that_varies_in_space():
+    """A Noise cloud: Principled Volume (Color 0.5) whose Density a Noise drives. Nothing constant is
+    left; sigma_s = 0.5 and sigma_a = (1 - 0.5)(1 - 0) per unit of the Noise's value, one output of the
+    node program; no warning, and the export gives the cube's object its coordinates."""
     mat, tree, node = volume_material("cloud", "ShaderNodeVolumePrincipled", Density=3.0)
     noise = tree.nodes.new("ShaderNodeTexNoise")
     tree.links.new(noise.outputs["Fac"], node.inputs["Density"])
+    keywords, warnings = read_with_program(mat)
+    assert warnings == []
+    assert keywords["sigma_s"] == (0.0, 0.0, 0.0) and keywords["sigma_a"] == (0.0, 0.0, 0.0)
+    assert len(keywords["program"]["outputs"]) == 1 and {t["input"] for t in keywords["terms"]} == {0}
+    assert terms_by_coefficient(keywords) == {"sigma_s": pytest.approx((0.5,) * 3),
+                                              "sigma_a": pytest.approx((0.5,) * 3)}
     scene = floor_scene()
     bpy.ops.mesh.primitive_cube_add(size=1.0, location=(0.0, 0.0, 0.5))
     bpy.context.object.data.materials.append(mat)
     core_scene, warnings = export_scene(scene)
-    assert len(warnings) == 1 and "material 'cloud'" in warnings[0] and "heterogeneous" in warnings[0], warnings
-    assert core_scene.media == ["material 'cloud'"] and core_scene.has_media
+    assert warnings == [] and core_scene.media == ["material 'cloud'"] and core_scene.has_media
+
+
+def test_a_textured_mix_factor_and_absorption_colour_vary_in_space():
+    """Mix Shader (Fac: a Gradient texture) of Volume Scatter (density 2) and Volume Absorption (Color: a
+    Checker, density 1): sigma_s = 2 (1 - fac) and sigma_a = (1 - colour) fac, each a term of its own
+    program output."""
+    mat, tree, out = node_material("mix")
+    scatter = add(tree, "ShaderNodeVolumeScatter", Density=2.0, Color=(1.0, 1.0, 1.0, 1.0))
+    absorb = add(tree, "ShaderNodeVolumeAbsorption", Density=1.0)
+    mix = add(tree, "ShaderNodeMixShader")
+    tree.links.new(scatter.outputs[0], mix.inputs[1])
+    tree.links.new(absorb.outputs[0], mix.inputs[2])
+    tree.links.new(mix.outputs[0], out.inputs["Volume"])
+    tree.links.new(tree.nodes.new("ShaderNodeTexGradient").outputs["Fac"], mix.inputs["Fac"])
+    tree.links.new(tree.nodes.new("ShaderNodeTexChecker").outputs["Color"], absorb.inputs["Color"])
+    keywords, warnings = read_with_program(mat)
+    assert warnings == []
+    assert len(keywords["terms"]) == 2 and len({t["input"] for t in keywords["terms"]}) == 2
+    assert terms_by_coefficient(keywords) == {"sigma_s": pytest.approx((2.0,) * 3),
+                                              "sigma_a": pytest.approx((1.0,) * 3)}
+
+
+def test_what_cannot_vary_takes_its_own_value_warned():
+    """A textured Anisotropy (one phase per medium), and a World's textured density (the World's medium
+    is homogeneous): each the socket's own value, one warning naming the socket."""
+    mat, tree, node = volume_material("aniso", "ShaderNodeVolumeScatter", Anisotropy=0.5)
+    tree.links.new(tree.nodes.new("ShaderNodeTexNoise").outputs["Fac"], node.inputs["Anisotropy"])
+    keywords, warnings = read_with_program(mat)
+    assert "terms" not in keywords and keywords["anisotropy"] == pytest.approx(0.5)
+    assert len(warnings) == 1 and "'Anisotropy'" in warnings[0] and "varies in space" in warnings[0], warnings
+    world = volume_world("foggy", "ShaderNodeVolumeScatter", Density=0.25)
+    fog = next(n for n in world.node_tree.nodes if n.bl_idname == "ShaderNodeVolumeScatter")
+    world.node_tree.links.new(world.node_tree.nodes.new("ShaderNodeTexNoise").outputs["Fac"], fog.inputs["Density"])
+    warnings = []
+    keywords = volume.world_medium(world, warnings.append, ppm_core.Scene())
+    assert "terms" not in keywords and keywords["sigma_s"] == pytest.approx((0.2,) * 3)
+    assert len(warnings) == 1 and "World's medium is homogeneous" in warnings[0], warnings
 
 
 @pytest.mark.parametrize("smoke_at, same, overlap", [((0.0, 0.0, 1.0), True, True), ((6.0, 0.0, 1.0), True, False),

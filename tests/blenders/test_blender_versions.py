@@ -108,8 +108,8 @@ def test_zip_installs_renders_and_agrees_with_cycles(version, addon_zip, tmp_pat
     assert all(error <= TOLERANCE for error in light_paths.values()), light_paths
     media = {row["case"]: (row["max_block_error"], row["tolerance"]) for row in report["media"]}
     # The smoke ball in a fog room from 4.5 on (media_compare.FROM_BLENDER).
-    full_media = 8 if tuple(map(int, version.split("."))) >= (4, 5) else 7
-    assert len(media) == (full_media if full else 2) and all(e <= tolerance for e, tolerance in media.values()), media
+    full_media = 10 if tuple(map(int, version.split("."))) >= (4, 5) else 9
+    assert len(media) == (full_media if full else 3) and all(e <= tolerance for e, tolerance in media.values()), media
     materials = {row["case"]: row["error"] for row in report["materials"] if not row["approximated"]}
     assert len(materials) >= (40 if full else 12), materials
     assert all(e <= MATERIAL_TOLERANCE for e in materials.values()), materials
