@@ -210,11 +210,41 @@ struct EyeTracer {
     bool behind_light = false;  // a light is nearer than the surface: the path ends there
   };
 
+  // A free path over v's ray up to `nearest` in medium `med`: whether it scattered, where, and its
+  // weight (without sigma_s when it scattered: a VolumeHitPoint's, see there). Adds what the segment
+  // shows to `emitted`: the medium's emission along it and `light` (a light at `nearest`) seen
+  // through it.
+  struct FreePath {
+    bool scattered = false;
+    double distance = 0.0;
+    Color weight{1.0};
+  };
+  FreePath free_path(const EyeVertex& v, const Medium& med, double nearest, const Color& light, Rng& rng,
+                     Color& emitted) const {
+    const bool may_scatter = !v.emission_only && med.scatters();
+    if (med.varies()) {  // tracked: the light's transmittance and the emission are estimates
+      if (max_component(light) > 0.0)
+        emitted += v.throughput * light * scene.track(med, v.ray, nearest, v.throughput, false, rng).weight;
+      const TrackedSegment f = scene.track(med, v.ray, nearest, v.throughput, may_scatter, rng);
+      emitted += v.throughput * f.emitted;
+      const bool scattered = f.event == FreePathEvent::Scatter;
+      return {scattered, f.distance, scattered ? f.unit : f.weight};
+    }
+    emitted += v.throughput * (light * transmittance(med.sigma_t, nearest) + medium_emission_along(med, nearest));
+    if (!may_scatter) return {false, nearest, transmittance(med.sigma_t, nearest)};
+    const double u1 = rng.uniform(), u2 = rng.uniform();
+    const FreePathSample f = sample_free_path(med.sigma_t, med.c.sigma_s, v.throughput, nearest, u1, u2);
+    if (f.event == FreePathEvent::Exit) return {false, f.distance, f.weight};
+    Color unit(0.0);
+    for (int c = 0; c < 3; ++c) unit[c] = med.c.sigma_s[c] > 0.0 ? f.weight[c] / med.c.sigma_s[c] : 0.0;
+    return {true, f.distance, unit};
+  }
+
   // Scenes with media: v's ray segment up to the surface at `t_surface` (kInf: none) in the medium
   // it is in. Lights nearer than the surface are seen with the medium's transmittance to them and
-  // the medium's emission along the segment is added (both exactly, whatever the free path does:
-  // they are terms of the volume rendering equation of their own), then a free path is drawn; a
-  // scattering event before the end records a hit point in the medium (stochastic hit points).
+  // the medium's emission along the segment is added (terms of the volume rendering equation of
+  // their own, whatever the free path does), then a free path is drawn; a scattering event before
+  // the end records a hit point in the medium (stochastic hit points).
   MediumStep medium_step(const EyeVertex& v, const EyeMedia& vm, double t_surface, Rng& rng, uint32_t pixel,
                          ChunkOutput& out, Color& emitted) const {
     MediumStep step;
@@ -236,38 +266,19 @@ struct EyeTracer {
       emitted += v.throughput * light;
       return step;
     }
-    const bool may_scatter = !v.emission_only && med->scatters();
-    double distance;
-    Color unit(0.0);  // of a scattering: the free path's weight without sigma_s (see VolumeHitPoint)
-    if (med->varies()) {
-      if (max_component(light) > 0.0)
-        emitted += v.throughput * light * scene.track(*med, v.ray, nearest, v.throughput, false, rng).weight;
-      const TrackedSegment f = scene.track(*med, v.ray, nearest, v.throughput, may_scatter, rng);
-      emitted += v.throughput * f.emitted;
+    const FreePath f = free_path(v, *med, nearest, light, rng, emitted);
+    if (!f.scattered) {
       step.weight = f.weight;
-      if (f.event == FreePathEvent::Exit) return step;
-      distance = f.distance, unit = f.unit;
-    } else {
-      emitted += v.throughput * (light * transmittance(med->sigma_t, nearest) + medium_emission_along(*med, nearest));
-      if (!may_scatter) {
-        step.weight = transmittance(med->sigma_t, nearest);
-        return step;
-      }
-      const double u1 = rng.uniform(), u2 = rng.uniform();
-      const FreePathSample f = sample_free_path(med->sigma_t, med->c.sigma_s, v.throughput, nearest, u1, u2);
-      step.weight = f.weight;
-      if (f.event == FreePathEvent::Exit) return step;
-      distance = f.distance;
-      for (int c = 0; c < 3; ++c) unit[c] = med->c.sigma_s[c] > 0.0 ? f.weight[c] / med->c.sigma_s[c] : 0.0;
+      return step;
     }
     step.scattered = true;
-    const Vec3 position = v.ray.origin + distance * v.ray.direction;
+    const Vec3 position = v.ray.origin + f.distance * v.ray.direction;
     double r = settings.initial_radius;
-    if (r <= 0.0) r = settings.volume_radius_scale * settings.initial_radius_pixels * pixel_size(v.length + distance);
+    if (r <= 0.0) r = settings.volume_radius_scale * settings.initial_radius_pixels * pixel_size(v.length + f.distance);
     r = std::fmax(r, 4.0 * ray_offset(position, scene.offset_floor()));
     VolumeHitPoint h{};
     h.position = position;
-    h.weight = Vec3f(v.throughput * unit);
+    h.weight = Vec3f(v.throughput * f.weight);
     h.direction = Vec3f(v.ray.direction);
     h.r2 = static_cast<float>(r * r);
     h.pixel = pixel;

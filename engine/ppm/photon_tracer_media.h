@@ -96,14 +96,15 @@ inline MediaPhoton emit_media_photon(const Scene& scene, const LightSampler& lig
   const Ray ray{x, sample_uniform_sphere(u1, u2), kShadowRay};
   const Bounces start = limits.active ? limits.start(light) : Bounces{};
   Color flux = light.flux / (pick_pdf * lights.flux_unit());
-  const Medium& med = scene.medium(static_cast<uint32_t>(scene.medium_region(light.region).medium));
+  const int id = scene.medium_region(light.region).medium;
+  const Medium& med = scene.medium(static_cast<uint32_t>(id));
   if (med.varies()) {  // the light's power is its bound's: each photon carries the emission here against it
     const Color e = scene.local_medium(med, x, ray.direction).emission;
     for (int c = 0; c < 3; ++c) flux[c] *= med.emission_bound[c] > 0.0 ? e[c] / med.emission_bound[c] : 0.0;
     out.emitted = out.emitted && max_component(flux) > 0.0;
   }
   out.path = PhotonPath{rng, flux, ray, 0, start};
-  out.media.enter(scene.medium_region(light.region).medium);
+  out.media.enter(id);
   out.from_medium = true;
   return out;
 }

@@ -24,7 +24,8 @@ void check_coefficient(const Color& c, const std::string& what, const std::strin
                    " per metre");
 }
 
-
+// A medium's field (MediumField): its program valid for the scene's textures, terms that are
+// coefficients and read one of its outputs.
 void check_field(const MediumField& f, size_t textures, const std::string& what) {
   f.program.validate(textures, what);
   if (f.program.outputs.size() > kMaxFieldOutputs)
