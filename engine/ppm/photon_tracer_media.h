@@ -10,7 +10,7 @@
 //
 // Emitting media are lights too (scene/light.h, LightKind::Medium): a photon picked from one
 // starts at a uniform point inside its region (Scene::sample_medium_region) in a uniform direction,
-// inside that medium (its stack holds it). No light sampling reaches such a light, so its photons
+// inside that medium and those around it (a glowing cloud in a fog room: both on its stack). No light sampling reaches such a light, so its photons
 // deposit from their first hit, surface or volume, as every photon does with direct_light="photons".
 // The eye sees the emission itself along its rays (medium_emission_along), never by photons: a
 // photon reaches the eye only through a hit point's gather, after a scattering there.
@@ -104,7 +104,7 @@ inline MediaPhoton emit_media_photon(const Scene& scene, const LightSampler& lig
     out.emitted = out.emitted && max_component(flux) > 0.0;
   }
   out.path = PhotonPath{rng, flux, ray, 0, start};
-  out.media.enter(id);
+  out.media = light.media;  // its own medium on top of those around it (Scene::place_lights_in_media)
   out.from_medium = true;
   return out;
 }

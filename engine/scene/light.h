@@ -73,7 +73,8 @@ struct Light {
   uint32_t region = 0;
   double volume = 0.0;
   // The mesh media a light inside them is in (Scene::media_at; its photons start there): a lamp in
-  // a fog box. Empty for suns, the world and emitting media (theirs is their region's).
+  // a fog box; an emitting medium's region: the media at a point inside it, its own on top. Empty
+  // for suns and the world.
   MediumStack media;
 
   // Derived by `prepare_light` once the scene bounds are known.

@@ -302,6 +302,14 @@ void Scene::place_lights_in_media() {
         l.media = found->second;
         break;
       }
+      case LightKind::Medium: {  // an emitting region: the media at a point inside it, its own on top
+        const int own = medium_regions_[l.region].medium;
+        Rng rng(0, l.region, 0);
+        Vec3 inside;
+        if (sample_medium_region(l.region, rng, inside)) l.media = media_at(inside, kShadowRay);
+        if (l.media.top(-1) != own) l.media.enter(own);
+        break;
+      }
       default:
         break;
     }
