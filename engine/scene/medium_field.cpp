@@ -7,7 +7,6 @@
 // an unbounded Math), the largest value found at kBoundSamples^3 points through the object's box,
 // times kSampledMargin: not a proof, and a density above the majorant counts as the majorant (a
 // biased image, never an undefined one; free_path.h).
-#include "geometry/bezier_revolve.h"
 #include "scene/scene.h"
 
 #include <algorithm>
@@ -40,27 +39,14 @@ void Scene::copy_varying_media() {
   media_.resize(added_media_);
   copy_of_.clear();
   if (std::none_of(media_.begin(), media_.end(), [](const Medium& m) { return bool(m.field); })) return;
-  std::map<std::pair<int, uint32_t>, Aabb> boxes;  // (medium, object) -> the object's primitives carrying it
-  auto grow = [&](uint32_t material, uint32_t object, const Aabb& box) {
-    const int id = materials_[material].medium;
-    if (id >= 0 && media_[static_cast<size_t>(id)].field) boxes[{id, object}].grow(box);
-  };
-  for (uint32_t t = 0; t < meshes_.triangle_count(); ++t) {
-    const TrianglePrim p = triangle(t);
-    Aabb box;
-    box.grow(p.v0), box.grow(p.v0 + p.e1), box.grow(p.v0 + p.e2);
-    grow(meshes_.info[t].material, meshes_.meshes[meshes_.info[t].mesh].object, box);
-  }
-  for (const SphereInfo& s : spheres_)
-    grow(s.material, s.object, Aabb{s.sphere.center - Vec3(s.sphere.radius), s.sphere.center + Vec3(s.sphere.radius)});
-  for (const RevolveSegment& r : revolve_segments_)
-    grow(r.material, r.object, revolves_[r.revolve]->segment_bounds(r.segment));
-  for (const auto& [key, box] : boxes) {
+  for (const auto& [key, box] : medium_boxes(false)) {
+    const auto [object, id] = key;
+    if (!media_[static_cast<size_t>(id)].field) continue;
     if (media_.size() >= static_cast<size_t>(std::numeric_limits<int16_t>::max())) break;  // the added one serves
-    Medium copy = media_[static_cast<size_t>(key.first)];
-    copy.uses = {FieldUse{copy.field, key.second}};
+    Medium copy = media_[static_cast<size_t>(id)];
+    copy.uses = {FieldUse{copy.field, object}};
     bound_field(copy, box);
-    copy_of_[key] = static_cast<int>(media_.size());
+    copy_of_[{id, object}] = static_cast<int>(media_.size());
     media_.push_back(std::move(copy));
   }
 }

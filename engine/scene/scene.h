@@ -408,6 +408,9 @@ class Scene {
   std::map<std::pair<int, uint32_t>, int> copy_of_;  // (medium added, object) -> its copy
   void prepare_media();  // the copies of media that vary, then the sums (build)
   void copy_varying_media();
+  // The box of each (object, medium)'s primitives: the material's medium, or with `copies` the
+  // object's copy of it (medium_in).
+  std::map<std::pair<uint32_t, int>, Aabb> medium_boxes(bool copies) const;
   void bound_field(Medium& copy, const Aabb& box) const;
   bool camera_media_placed_ = false;
   std::vector<Texture> textures_;

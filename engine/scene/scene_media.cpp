@@ -1,5 +1,6 @@
 // Participating media of the scene: the builders and the shadow rays through media (see
 // scene/medium.h and Scene's media section).
+#include "geometry/bezier_revolve.h"
 #include "scene/input_checks.h"
 #include "scene/scene.h"
 
@@ -230,22 +231,10 @@ const Medium* Scene::combined_medium(const MediumStack& stack) const {
 // to it); up to kMaxCombinedMedia.
 void Scene::combine_overlapping_media() {
   combined_media_.clear();
-  std::vector<std::pair<int16_t, Aabb>> regions;  // a medium and the box of one object's triangles of it
-  std::map<std::pair<uint32_t, int16_t>, size_t> region_of;  // (object, medium) -> its region
-  for (uint32_t t = 0; t < meshes_.triangle_count(); ++t) {
-    const uint32_t object = meshes_.meshes[meshes_.info[t].mesh].object;
-    const int medium = medium_in(meshes_.info[t].material, object);
-    if (medium < 0) continue;
-    const std::pair<uint32_t, int16_t> key{object, static_cast<int16_t>(medium)};
-    auto found = region_of.find(key);
-    if (found == region_of.end()) {
-      if (regions.size() >= kMaxCombinedMedia) continue;
-      found = region_of.emplace(key, regions.size()).first;
-      regions.push_back({key.second, Aabb{}});
-    }
-    const size_t r = found->second;
-    const TrianglePrim p = triangle(t);
-    regions[r].second.grow(p.v0), regions[r].second.grow(p.v0 + p.e1), regions[r].second.grow(p.v0 + p.e2);
+  std::vector<std::pair<int16_t, Aabb>> regions;  // a medium and the box of one object's primitives of it
+  for (const auto& [key, box] : medium_boxes(true)) {
+    if (regions.size() >= kMaxCombinedMedia) break;
+    regions.push_back({static_cast<int16_t>(key.second), box});
   }
   auto overlap = [](const Aabb& a, const Aabb& b) {
     return glm::all(glm::lessThan(glm::max(a.lo, b.lo), glm::min(a.hi, b.hi)));
@@ -279,6 +268,25 @@ void Scene::combine_overlapping_media() {
     ids.push_back(world);
     add(ids);
   }
+}
+
+std::map<std::pair<uint32_t, int>, Aabb> Scene::medium_boxes(bool copies) const {
+  std::map<std::pair<uint32_t, int>, Aabb> boxes;
+  auto grow = [&](uint32_t material, uint32_t object, const Aabb& box) {
+    const int id = copies ? medium_in(material, object) : materials_[material].medium;
+    if (id >= 0) boxes[{object, id}].grow(box);
+  };
+  for (uint32_t t = 0; t < meshes_.triangle_count(); ++t) {
+    const TrianglePrim p = triangle(t);
+    Aabb box;
+    box.grow(p.v0), box.grow(p.v0 + p.e1), box.grow(p.v0 + p.e2);
+    grow(meshes_.info[t].material, meshes_.meshes[meshes_.info[t].mesh].object, box);
+  }
+  for (const SphereInfo& s : spheres_)
+    grow(s.material, s.object, Aabb{s.sphere.center - Vec3(s.sphere.radius), s.sphere.center + Vec3(s.sphere.radius)});
+  for (const RevolveSegment& r : revolve_segments_)
+    grow(r.material, r.object, revolves_[r.revolve]->segment_bounds(r.segment));
+  return boxes;
 }
 
 void Scene::place_lights_in_media() {

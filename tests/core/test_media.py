@@ -112,6 +112,23 @@ def test_media_that_overlap_add_up(ink_material):
     np.testing.assert_allclose(pixels, np.tile(expected, (64, 1)), rtol=2e-3)
 
 
+def test_a_sphere_of_ink_in_fog_adds_up():
+    """A 1 m sphere of ink (a boundary only) in the middle of the 4 m fog box: the emitter behind
+    reads 2 exp(-(fog 4 + ink 1)) per channel through its centre, as for a box of ink. The sphere's
+    medium alone counted inside it (spheres were left out of the sums): 2 exp(-(fog 3 + ink 1))."""
+    fog_a, ink_a = np.array([0.5, 0.3, 0.1]), np.array([0.4, 1.0, 1.5])
+    scene = ppm_core.Scene()
+    scene.add_medium("fog", sigma_a=tuple(fog_a))
+    scene.add_medium("ink", sigma_a=tuple(ink_a))
+    fog = scene.add_material("fog", "diffuse", medium="fog", surface=False)
+    ink = scene.add_material("ink", "diffuse", medium="ink", surface=False)
+    box(scene, "fog", (-2, -2, -2), (2, 2, 2), fog, 0)
+    scene.add_sphere("ink", (0.0, 0.0, 0.0), 0.5, ink, object_id=1)
+    pixels = emitter_seen_through(scene, panel_y=3, eye_y=-4, object_id=2)
+    expected = 2.0 * np.exp(-fog_a * 4.0 - ink_a * 1.0)
+    np.testing.assert_allclose(pixels, np.tile(expected, (64, 1)), rtol=3e-3)  # the corners' chords 0.1% shorter
+
+
 def test_a_mesh_medium_adds_to_the_worlds():
     """An emitter 3 m from the camera through World fog holding a 1 m box of ink: Cycles' volume stack
     starts with the World's volume and the box's adds to it, so 2 exp(-(fog 3 + ink 1)) per channel,
