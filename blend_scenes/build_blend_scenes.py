@@ -9,8 +9,8 @@ cornell_3spheres (report figure 1), bezier_vase (figure 2), cornell_dof
 (figure 3), showcase (textured meshes, several light types, instances) and
 cornell_diffuse (diffuse only, for the accuracy benchmarks against Cycles), hdri_glass (image-based
 light from an HDRI Blender ships, packed, with glass and its caustic) and fog_caustic (a volumetric
-caustic: a spot light through a glass ball into a fog box) and fog_shafts (god rays in a fog-filled
-room, the camera in the fog).
+caustic: a spot light through a glass ball into a fog box), fog_shafts (god rays in a fog-filled
+room, the camera in the fog) and cloud (a medium that varies in space: a Noise cloud over a stage).
 Geometry mirrors blend_scenes/core_scenes.py where a core scene exists.
 """
 
@@ -444,9 +444,50 @@ def fog_shafts():
     render_settings()
 
 
+def cloud_material():
+    """Principled Volume (a warm white) whose Density is a Noise texture (its default coordinates,
+    Generated; scale 4, detail 3) through a ColorRamp (clear below 0.45, full above 0.65) times 6:
+    a cloud with clear gaps, as users make one."""
+    mat = bpy.data.materials.new("cloud")
+    if mat.node_tree is None or bpy.app.version < (5, 0, 0):
+        mat.use_nodes = True
+    nodes, links = mat.node_tree.nodes, mat.node_tree.links
+    nodes.clear()
+    output, volume = nodes.new("ShaderNodeOutputMaterial"), nodes.new("ShaderNodeVolumePrincipled")
+    volume.inputs["Color"].default_value = (0.95, 0.9, 0.85, 1.0)
+    noise, ramp, times = nodes.new("ShaderNodeTexNoise"), nodes.new("ShaderNodeValToRGB"), nodes.new("ShaderNodeMath")
+    noise.inputs["Scale"].default_value, noise.inputs["Detail"].default_value = 4.0, 3.0
+    ramp.color_ramp.elements[0].position, ramp.color_ramp.elements[1].position = 0.45, 0.65
+    times.operation, times.inputs[1].default_value = "MULTIPLY", 6.0
+    links.new(noise.outputs["Fac"], ramp.inputs["Fac"])
+    links.new(ramp.outputs["Color"], times.inputs[0])
+    links.new(times.outputs["Value"], volume.inputs["Density"])
+    links.new(volume.outputs[0], output.inputs["Volume"])
+    return mat
+
+
+def cloud():
+    """A cloud that varies in space (a Noise through a ColorRamp as its density) in a flattened ball
+    over a stage, a diffuse ball in its shadow, lit by a spot light from above and a dim fill; no glass,
+    so that Cycles converges (the equal-time bench's medium that varies)."""
+    reset()
+    stage = diffuse("stage", (0.55, 0.55, 0.55))
+    quad("floor", [(-5, -5, 0), (5, -5, 0), (5, 5, 0), (-5, 5, 0)], stage)
+    quad("back", [(-5, 4, 0), (5, 4, 0), (5, 4, 4), (-5, 4, 4)], stage)
+    uv_sphere("ball", (0.6, 1.0, 0.45), 0.45, diffuse("ball", (0.3, 0.45, 0.7)))
+    puff = uv_sphere("cloud", (0.0, 1.0, 1.9), 1.0, cloud_material(), segments=32, rings=16)
+    puff.scale = (1.5, 1.0, 0.7)
+    light("spot", "SPOT", (2.5, 0.5, 5.0), 1500.0, target=(0.0, 1.0, 0.6), spot_size=math.radians(45),
+          spot_blend=0.3, shadow_soft_size=0.1)
+    light("fill", "AREA", (-2.5, -2.5, 2.5), 40.0, target=(0.0, 1.0, 1.2), size=1.5)
+    camera((0.0, -3.6, 1.5), (0.0, 1.0, 1.3), lens=30.0)
+    world((0.03, 0.035, 0.045))
+    render_settings(passes=100)  # each pass about 2 s at 640x480: shadow rays track the cloud
+
+
 SCENES = {"cornell_3spheres": cornell_3spheres, "bezier_vase": bezier_vase,
           "cornell_dof": cornell_dof, "showcase": showcase, "cornell_diffuse": cornell_diffuse,
-          "hdri_glass": hdri_glass, "fog_caustic": fog_caustic, "fog_shafts": fog_shafts}
+          "hdri_glass": hdri_glass, "fog_caustic": fog_caustic, "fog_shafts": fog_shafts, "cloud": cloud}
 
 
 def save(path):
