@@ -181,3 +181,23 @@ def test_bad_fields_are_refused_with_a_message():
     with pytest.raises(ValueError, match="world medium must be homogeneous"):
         scene.set_world_medium("cloud")
     assert scene.media == ["cloud"]
+
+
+@pytest.mark.parametrize("operation, offset, transmitted", [("add", -100.0, 1.0), ("exponent", 80.0, 0.0)])
+def test_a_negative_or_huge_field_renders_finite(operation, offset, transmitted):
+    """A program whose output is negative everywhere (x - 100) counts as no medium; one of 5.5e34
+    (e^(x + 80) in floats; programs give no NaN or Inf, as Cycles' safe maths) as opaque (the
+    coefficients' cap, 1e30 per metre): the emitter behind reads 2 or 0, exactly, and the render
+    stays finite."""
+    code = [op("coord", "position", out=[2]), op("separate", 0, ins=[2], out=[3]),
+            op("math", "add", ins=[3, 1], out=[4]), op("math", operation, ins=[4, 4], out=[5])]
+    program = {"constants": [(offset,) * 3], "code": code, "outputs": [5 if operation == "exponent" else 4],
+               "registers": 6}
+    scene = ppm_core.Scene()
+    scene.add_medium("odd", program=program, terms=[{"sigma_a": (1.0, 1.0, 1.0), "input": 0}])
+    slab = scene.add_material("odd", "diffuse", medium="odd", surface=False)
+    box(scene, "slab", (-1.0, -0.5, -1.0), (1.0, 0.5, 1.0), slab, 0)
+    scene.set_object_info(0, np.eye(4))
+    pixels = emitter_seen_through(scene, panel_y=3, eye_y=-4, object_id=1)
+    assert np.all(np.isfinite(pixels))
+    np.testing.assert_allclose(pixels, 2.0 * transmitted, atol=1e-6)
