@@ -305,7 +305,7 @@ struct EyeTracer {
     std::conditional_t<kMedia, EyeMedia[2 * kSplitDepth + 4], EyeMedia*> media_of = {};  // kMedia: beside stack
     int top = 0;
     stack[top++] = EyeVertex{primary, weight, 0, 0.0, true, Bounces{}, false};
-    if constexpr (kMedia) media_of[0].stack = scene.camera_media();  // a camera in a fog box is in its fog
+    if constexpr (kMedia) media_of[0].stack = scene.camera_ray_media(primary.origin);  // a camera in fog is in it
     const double tmax0 = scene.camera().clip_end - scene.camera().clip_start;
     while (top > 0) {
       EyeVertex v = stack[--top];

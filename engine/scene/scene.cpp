@@ -413,7 +413,7 @@ void Scene::build() {
     prepare_lights();
     camera_media_placed_ = false;  // the geometry or the media changed
   }
-  if (!camera_media_placed_) camera_media_ = media_at(camera_.position(), kCameraRay);
+  if (!camera_media_placed_) place_camera_in_media();
   camera_media_placed_ = true;  // a built scene unchanged: build() writes nothing a render reads
 }
 

@@ -263,6 +263,15 @@ class Scene {
   MediumStack media_at(const Vec3& p, uint8_t ray_kind = kCameraRay) const;
   // The media the camera is in (media_at its position), set by build().
   const MediumStack& camera_media() const { return camera_media_; }
+  // The media a camera ray starting at `origin` is in (its origin is on the near clip plane, on the
+  // lens or in an orthographic window, as Cycles starts its rays): the camera's, changed by the
+  // boundaries between the camera's position and `origin`, where build() found that a medium's box
+  // reaches where rays start; else the camera's. Built scene.
+  MediumStack camera_ray_media(const Vec3& origin) const {
+    return rays_start_near_media_ ? media_along(camera_media_, camera_.position(), origin) : camera_media_;
+  }
+  // `stack` carried from `from` to `to` across the boundaries of media between them.
+  MediumStack media_along(MediumStack stack, const Vec3& from, const Vec3& to) const;
   // What arrives along a shadow ray over (0, distance) through media: the transmittance of each
   // medium it crosses (boundaries only are crossed, with the stack), 0 where a surface is in the way.
   // Through media that vary, an unbiased estimate (ratio tracking, with `rng`).
@@ -413,6 +422,8 @@ class Scene {
   std::map<std::pair<uint32_t, int>, Aabb> medium_boxes(bool copies) const;
   void bound_field(Medium& copy, const Aabb& box) const;
   bool camera_media_placed_ = false;
+  bool rays_start_near_media_ = false;  // camera_ray_media: a medium's box reaches where rays start
+  void place_camera_in_media();
   std::vector<Texture> textures_;
   MeshStore meshes_;
   std::vector<ObjectInfo> objects_;  // by object id (set_object_info)

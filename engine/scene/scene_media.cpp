@@ -270,6 +270,38 @@ void Scene::combine_overlapping_media() {
   }
 }
 
+// The camera's media (media_at its position), and whether any ray can start where the media
+// differ: the box of the rays' origins (the near plane's corners, or the orthographic window's,
+// widened by the aperture) meets the box of an object with a medium.
+void Scene::place_camera_in_media() {
+  camera_media_ = media_at(camera_.position(), kCameraRay);
+  rays_start_near_media_ = false;
+  if (!has_mesh_media()) return;
+  Aabb origins;
+  origins.grow(camera_.position());
+  for (const double px : {0.0, double(camera_.width)})
+    for (const double py : {0.0, double(camera_.height)}) origins.grow(camera_.generate_ray(px, py).origin);
+  const Vec3 widen(camera_.aperture_radius + ray_offset(camera_.position(), offset_floor_));
+  origins.lo -= widen, origins.hi += widen;
+  for (const auto& [key, box] : medium_boxes(true))
+    if (glm::all(glm::lessThanEqual(glm::max(origins.lo, box.lo), glm::min(origins.hi, box.hi))))
+      rays_start_near_media_ = true;
+}
+
+MediumStack Scene::media_along(MediumStack stack, const Vec3& from, const Vec3& to) const {
+  const Vec3 d = to - from;
+  double distance = glm::length(d);
+  if (!(distance > 0.0)) return stack;
+  Ray ray{from, d / distance, kCameraRay};
+  Hit hit;
+  for (int crossing = 0; crossing < kMaxMediumCrossings && intersect(ray, hit, distance); ++crossing) {
+    cross(hit, ray.direction, stack);
+    distance -= hit.t;
+    ray.origin = offset_point(hit.position, hit.geometric_normal, ray.direction, offset_floor_);
+  }
+  return stack;
+}
+
 std::map<std::pair<uint32_t, int>, Aabb> Scene::medium_boxes(bool copies) const {
   std::map<std::pair<uint32_t, int>, Aabb> boxes;
   auto grow = [&](uint32_t material, uint32_t object, const Aabb& box) {

@@ -129,6 +129,43 @@ def test_a_sphere_of_ink_in_fog_adds_up():
     np.testing.assert_allclose(pixels, np.tile(expected, (64, 1)), rtol=3e-3)  # the corners' chords 0.1% shorter
 
 
+def test_rays_that_start_inside_fog_past_the_near_clip_plane_are_in_it():
+    """A camera 1.5 m outside a 2 m box of absorbing fog whose near clip plane (2 m) lies inside it:
+    its rays start in the fog, as Cycles starts them on the near plane with the volumes there, and
+    cross 1.5 m of it: 2 exp(-1.5 sigma_a). Counted from the camera's position alone, they would
+    never have entered the fog: 2, unattenuated."""
+    sigma_a = np.array([0.5, 0.3, 0.1])
+    scene = ppm_core.Scene()
+    scene.add_medium("fog", sigma_a=tuple(sigma_a))
+    fog = scene.add_material("fog", "diffuse", medium="fog", surface=False)
+    box(scene, "fog", (-1, -1, -1), (1, 1, 1), fog, 0)
+    emitter = scene.add_material("emitter", "emission", emission=(2.0, 2.0, 2.0))
+    quad(scene, "panel", [[-3, 3, -3], [-3, 3, 3], [3, 3, 3], [3, 3, -3]], emitter, object_id=1)
+    scene.set_camera(look_at((0, -2.5, 0), (0, 0, 0)), 8, 8, fov=0.01, clip_start=2.0)
+    image, _ = render(scene, passes=2, photons_per_pass=2000)
+    np.testing.assert_allclose(image.reshape(-1, 3), np.tile(2.0 * np.exp(-1.5 * sigma_a), (64, 1)), rtol=2e-3)
+
+
+def test_an_orthographic_window_half_in_fog_starts_half_its_rays_in_it():
+    """An orthographic camera whose 4 m window reaches 2.5 m into a box of absorbing fog (x < 0) that
+    its position (x = 0.5) is outside: the rays that start in the fog (the window's left part) cross
+    the 6 m of it before an emitter, 2 exp(-6 sigma_a); the others see 2."""
+    sigma_a = np.array([0.2, 0.3, 0.4])
+    scene = ppm_core.Scene()
+    scene.add_medium("fog", sigma_a=tuple(sigma_a))
+    fog = scene.add_material("fog", "diffuse", medium="fog", surface=False)
+    box(scene, "fog", (-4, -6, -4), (0, 1, 4), fog, 0)
+    emitter = scene.add_material("emitter", "emission", emission=(2.0, 2.0, 2.0))
+    quad(scene, "panel", [[-9, 3, -9], [-9, 3, 9], [9, 3, 9], [9, 3, -9]], emitter, object_id=1)
+    scene.set_camera(look_at((0.5, -5, 0), (0.5, 0, 0)), 40, 4, projection="orthographic", ortho_scale=4.0)
+    image, _ = render(scene, passes=2, photons_per_pass=2000)
+    x = 0.5 + ((np.arange(40) + 0.5) / 40 - 0.5) * 4.0  # each column's x
+    inside, outside = image[:, x < -0.1].reshape(-1, 3), image[:, x > 0.1].reshape(-1, 3)
+    assert len(inside) == 4 * 14 and len(outside) == 4 * 24
+    np.testing.assert_allclose(inside, np.broadcast_to(2.0 * np.exp(-6.0 * sigma_a), inside.shape), rtol=2e-3)
+    np.testing.assert_allclose(outside, 2.0, rtol=2e-3)
+
+
 def test_a_mesh_medium_adds_to_the_worlds():
     """An emitter 3 m from the camera through World fog holding a 1 m box of ink: Cycles' volume stack
     starts with the World's volume and the box's adds to it, so 2 exp(-(fog 3 + ink 1)) per channel,
