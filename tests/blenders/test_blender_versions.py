@@ -108,7 +108,7 @@ def test_zip_installs_renders_and_agrees_with_cycles(version, addon_zip, tmp_pat
     assert all(error <= TOLERANCE for error in light_paths.values()), light_paths
     media = {row["case"]: (row["max_block_error"], row["tolerance"]) for row in report["media"]}
     # The smoke ball in a fog room from 4.5 on (media_compare.FROM_BLENDER).
-    full_media = 10 if tuple(map(int, version.split("."))) >= (4, 5) else 9
+    full_media = 11 if tuple(map(int, version.split("."))) >= (4, 5) else 10
     assert len(media) == (full_media if full else 3) and all(e <= tolerance for e, tolerance in media.values()), media
     materials = {row["case"]: row["error"] for row in report["materials"] if not row["approximated"]}
     assert len(materials) >= (40 if full else 12), materials
