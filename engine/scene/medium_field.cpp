@@ -20,7 +20,7 @@ namespace {
 constexpr int kBoundSamples = 24;
 constexpr double kSampledMargin = 1.5;
 
-// Output `k` of `results` as a term's non-negative scale per channel.
+// A program output as a term's scale per channel: NaN and negative values 0, at most kMaxCoefficient.
 Color scale_of(const Vec3f& v) {
   Color c(v);
   for (int i = 0; i < 3; ++i) c[i] = c[i] > 0.0 ? std::min(c[i], kMaxCoefficient) : 0.0;

@@ -144,7 +144,7 @@ class VolumeReader:
         for p in parts:
             rgb = rgb * p.c
             if p.v is not None:
-                value = p.v if value is None else self._product(value, p.v)
+                value = p.v if value is None else self.product(value, p.v)
         rgb = np.maximum(rgb, 0.0)
         if np.max(rgb) <= 0.0:
             return rgb
@@ -154,7 +154,8 @@ class VolumeReader:
             self.out.terms.append((coefficient, rgb, value))
         return rgb
 
-    def _product(self, a, b):
+    def product(self, a, b):
+        """The program Value a * b (per channel)."""
         zero = self.program.constant((0.0, 0.0, 0.0))
         kind = "color" if "color" in (a.kind, b.kind) else "float"
         return self.program.emit("vector_math", [a, b, zero, zero], outs=2, kinds=(kind, "float"),
@@ -231,7 +232,7 @@ def _times(reader, a, b):
     """The Part a * b (floats)."""
     if a.v is None or b.v is None:
         return Part(a.c * b.c, a.v if b.v is None else b.v)
-    return Part(a.c * b.c, reader._product(a.v, b.v))
+    return Part(a.c * b.c, reader.product(a.v, b.v))
 
 
 def _add(reader, node, ctx, weight):
