@@ -1,6 +1,7 @@
-// Participating media of the render scene (issue 48, first landing): homogeneous media, each
-// RGB coefficients and a phase function (shading/medium_coefficients.h), and the medium stack a
-// path carries to know which medium it is in.
+// Participating media of the render scene (issue 48): each RGB coefficients and a phase function
+// (shading/medium_coefficients.h), constant or plus terms a node program scales where the path is
+// (MediumField: a medium that varies in space), and the medium stack a path carries to know which
+// medium it is in.
 //
 // Where media are: a material may carry an interior medium (Blender: a material's Volume output
 // fills the closed mesh it is on); the world may carry a medium that fills all space outside the
