@@ -83,9 +83,10 @@ CASE_TOLERANCE = {"glowing_cloud": 0.05, "world_fog": 0.05, "fog_room": 0.05, "f
 # sample a hit point): fog_room at 64 passes 4.2% (3.4, against 1024 samples), 128 passes 1.2-1.9%,
 # 256 passes 1.5%.
 # The Noise cloud, Blender 5.0 against 1024 samples: worst block 2.99% at 64 passes, 2.66% at 128, 2.44%
-# at 256 (2.91% at 128 once ratio tracking took the bound as its majorant; 3.4: 2.72%); against 4096 samples (two seeds within 0.46%), 512 passes: the cloud's blocks 1.1-1.9% dark
-# (gather spheres average sigma_s over a ball, and hit points lie where the cloud is dense). The mixed
-# fog: 2.47%, 1.65%, 1.40%.
+# at 256 (2.91% at 128 once ratio tracking took the bound as its majorant; 3.4: 2.72%); against 4096
+# samples (two seeds within 0.46%), 512 passes: the cloud's blocks 1.1-1.9% dark (gather spheres
+# average sigma_s over a ball, and hit points lie where the cloud is dense). The mixed fog: 2.47%,
+# 1.65%, 1.40%.
 CASE_PASSES = {"glowing_cloud": 256, "smoke_ball": 256, "world_fog": 128, "fog_room": 128, "smoke_in_fog_room": 256,
                "ink_box_in_world_fog": 256, "noise_cloud": 128, "mixed_fog": 128, "noise_fire": 256}
 # Cycles samples where fewer keep the blocks: the world fog (Cycles' three seeds at 1024 agreed within
