@@ -482,7 +482,7 @@ def cloud():
     light("fill", "AREA", (-2.5, -2.5, 2.5), 40.0, target=(0.0, 1.0, 1.2), size=1.5)
     camera((0.0, -3.6, 1.5), (0.0, 1.0, 1.3), lens=30.0)
     world((0.03, 0.035, 0.045))
-    render_settings(passes=100)  # each pass about 2 s at 640x480: shadow rays track the cloud
+    render_settings(passes=100)  # each pass about 1.2 s at 640x480 on 2 cores: shadow rays track the cloud
 
 
 SCENES = {"cornell_3spheres": cornell_3spheres, "bezier_vase": bezier_vase,
