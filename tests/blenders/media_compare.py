@@ -132,24 +132,31 @@ def smoke_material():
                            **{"Absorption Color": (0.2, 0.3, 0.6, 1.0)})
 
 
-def noise_cloud_material():
-    """A cloud as users build one: Principled Volume whose Density is a Noise texture (its default
-    coordinates, Generated) through a ColorRamp (clear below 0.45, dense above 0.6) times 4."""
-    mat = volume_material("cloud", "ShaderNodeVolumePrincipled", Color=(0.9, 0.85, 0.8, 1.0))
+def noise_through_ramp(mat, socket, scale, low, high, times):
+    """Drives the Principled Volume's input `socket` of `mat` as users drive one with a Noise: a Noise
+    texture (its default coordinates, Generated; scale `scale`, detail 2) through a ColorRamp (0 below
+    `low`, 1 above `high`) times `times`."""
     nodes, links = mat.node_tree.nodes, mat.node_tree.links
     noise = nodes.new("ShaderNodeTexNoise")
-    noise.inputs["Scale"].default_value = 3.0
+    noise.inputs["Scale"].default_value = scale
     noise.inputs["Detail"].default_value = 2.0
     ramp = nodes.new("ShaderNodeValToRGB")
-    ramp.color_ramp.elements[0].position, ramp.color_ramp.elements[1].position = 0.45, 0.6
-    times = nodes.new("ShaderNodeMath")
-    times.operation = "MULTIPLY"
-    times.inputs[1].default_value = 4.0
+    ramp.color_ramp.elements[0].position, ramp.color_ramp.elements[1].position = low, high
+    product = nodes.new("ShaderNodeMath")
+    product.operation = "MULTIPLY"
+    product.inputs[1].default_value = times
     links.new(noise.outputs["Fac"], ramp.inputs["Fac"])
-    links.new(ramp.outputs["Color"], times.inputs[0])
+    links.new(ramp.outputs["Color"], product.inputs[0])
     volume = next(n for n in nodes if n.bl_idname == "ShaderNodeVolumePrincipled")
-    links.new(times.outputs["Value"], volume.inputs["Density"])
+    links.new(product.outputs["Value"], volume.inputs[socket])
     return mat
+
+
+def noise_cloud_material():
+    """A cloud as users build one: Principled Volume whose Density is a Noise (scale 3) through a
+    ColorRamp (clear below 0.45, dense above 0.6) times 4."""
+    mat = volume_material("cloud", "ShaderNodeVolumePrincipled", Color=(0.9, 0.85, 0.8, 1.0))
+    return noise_through_ramp(mat, "Density", 3.0, 0.45, 0.6, 4.0)
 
 
 def mixed_fog_material():
@@ -195,22 +202,10 @@ def mixed_fog_material():
 
 def noise_fire_material():
     """A glow as users make one: Principled Volume (density 0.5) whose Emission Strength is a Noise
-    through a ColorRamp (dark below 0.4, 4 above 0.65), an orange Emission Color."""
+    (scale 2.5) through a ColorRamp (dark below 0.4, 4 above 0.65), an orange Emission Color."""
     mat = volume_material("fire", "ShaderNodeVolumePrincipled", Density=0.5,
                           **{"Emission Color": (1.0, 0.45, 0.15, 1.0)})
-    nodes, links = mat.node_tree.nodes, mat.node_tree.links
-    noise = nodes.new("ShaderNodeTexNoise")
-    noise.inputs["Scale"].default_value = 2.5
-    ramp = nodes.new("ShaderNodeValToRGB")
-    ramp.color_ramp.elements[0].position, ramp.color_ramp.elements[1].position = 0.4, 0.65
-    times = nodes.new("ShaderNodeMath")
-    times.operation = "MULTIPLY"
-    times.inputs[1].default_value = 4.0
-    links.new(noise.outputs["Fac"], ramp.inputs["Fac"])
-    links.new(ramp.outputs["Color"], times.inputs[0])
-    volume = next(n for n in nodes if n.bl_idname == "ShaderNodeVolumePrincipled")
-    links.new(times.outputs["Value"], volume.inputs["Emission Strength"])
-    return mat
+    return noise_through_ramp(mat, "Emission Strength", 2.5, 0.4, 0.65, 4.0)
 
 
 def world_fog():
