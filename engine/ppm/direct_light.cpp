@@ -86,7 +86,7 @@ bool volume_direct_light_pass(const Scene& scene, const LightSampler& lights, co
       Rng rng(settings.seed, kVolumeDirectStream + pass, first_index + i);
       const Medium& med = scene.medium(static_cast<uint32_t>(h.medium));
       const Vec3 axis(h.direction);
-      const Color sigma_s = med.varies() ? scene.local_medium(med, h.position, axis).sigma_s : med.c.sigma_s;
+      const Color sigma_s = scene.sigma_s_at(med, h.position, axis);
       Color sum(0.0);
       for (uint32_t l : lights.analytic()) {
         const Light& light = scene.lights()[l];

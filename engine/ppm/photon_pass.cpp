@@ -118,11 +118,6 @@ struct BallInside {
   double mean_d2 = 0.6;
 };
 
-// A medium's sigma_s at `x` (a ray along `direction` there).
-Color sigma_s_at(const Scene& scene, const Medium& m, const Vec3& x, const Vec3& direction) {
-  return m.varies() ? scene.local_medium(m, x, direction).sigma_s : m.c.sigma_s;
-}
-
 // sigma_s beyond the surface at `hit` over sigma_s here (luminance), for a ray leaving a point in
 // `media`: 0 where the surface is opaque or nothing scatters beyond.
 double scattering_beyond(const Scene& scene, const Hit& hit, const Vec3& direction, const MediumStack& media,
@@ -132,7 +127,7 @@ double scattering_beyond(const Scene& scene, const Hit& hit, const Vec3& directi
   MediumStack beyond = media;
   scene.cross(hit, direction, beyond);
   const Medium* b = scene.medium_of(beyond);
-  return b != nullptr && here > 0.0 ? luminance(sigma_s_at(scene, *b, hit.position, direction)) / here : 0.0;
+  return b != nullptr && here > 0.0 ? luminance(scene.sigma_s_at(*b, hit.position, direction)) / here : 0.0;
 }
 
 BallInside ball_inside(const Scene& scene, const Vec3& c, double r, const MediumStack& media, double sigma_s) {
@@ -609,7 +604,7 @@ bool PhotonPass::gather_volume(const Scene& scene, std::vector<VolumeHitPoint>& 
       h.m = m;
       BallInside inside;
       if (settings_.volume_boundary && m > 0)
-        inside = ball_inside(scene, center, r, h.media, luminance(sigma_s_at(scene, medium, center, Vec3(h.direction))));
+        inside = ball_inside(scene, center, r, h.media, luminance(scene.sigma_s_at(medium, center, Vec3(h.direction))));
       sum /= inside.share;
       sum_d2 /= inside.share;
       h.tau = Vec3f(sum * Color(h.weight));

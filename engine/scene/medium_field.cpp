@@ -31,6 +31,7 @@ Color scale_of(const Vec3f& v) {
 
 void Scene::prepare_media() {
   copy_varying_media();
+  media_boxes_ = medium_boxes(true);
   combine_overlapping_media();
 }
 

@@ -241,6 +241,10 @@ class Scene {
   // A medium's coefficients at `x` for a path travelling along `direction` (Cycles' volume shading
   // point: its normal and incoming direction face back along the ray).
   LocalMedium local_medium(const Medium& m, const Vec3& x, const Vec3& direction) const;
+  // Its sigma_s alone: the constant where the medium does not vary (no program run).
+  Color sigma_s_at(const Medium& m, const Vec3& x, const Vec3& direction) const {
+    return m.varies() ? local_medium(m, x, direction).sigma_s : m.c.sigma_s;
+  }
   // A medium that varies, along `ray` over (0, segment): free_path.h's track_segment, its
   // coefficients local_medium's along the ray, against the medium's majorant.
   TrackedSegment track(const Medium& m, const Ray& ray, double segment, const Color& throughput, bool may_scatter,
@@ -415,11 +419,12 @@ class Scene {
   void combine_overlapping_media();
   size_t added_media_ = 0;  // media_ beyond these are copies (medium_in), remade by build()
   std::map<std::pair<int, uint32_t>, int> copy_of_;  // (medium added, object) -> its copy
-  void prepare_media();  // the copies of media that vary, then the sums (build)
+  void prepare_media();  // the copies of media that vary, media_boxes_, then the sums (build)
   void copy_varying_media();
   // The box of each (object, medium)'s primitives: the material's medium, or with `copies` the
   // object's copy of it (medium_in).
   std::map<std::pair<uint32_t, int>, Aabb> medium_boxes(bool copies) const;
+  std::map<std::pair<uint32_t, int>, Aabb> media_boxes_;  // medium_boxes(true) at the last prepare_media
   void bound_field(Medium& copy, const Aabb& box) const;
   bool camera_media_placed_ = false;
   bool rays_start_near_media_ = false;  // camera_ray_media: a medium's box reaches where rays start

@@ -232,7 +232,7 @@ const Medium* Scene::combined_medium(const MediumStack& stack) const {
 void Scene::combine_overlapping_media() {
   combined_media_.clear();
   std::vector<std::pair<int16_t, Aabb>> regions;  // a medium and the box of one object's primitives of it
-  for (const auto& [key, box] : medium_boxes(true)) {
+  for (const auto& [key, box] : media_boxes_) {
     if (regions.size() >= kMaxCombinedMedia) break;
     regions.push_back({static_cast<int16_t>(key.second), box});
   }
@@ -283,7 +283,7 @@ void Scene::place_camera_in_media() {
     for (const double py : {0.0, double(camera_.height)}) origins.grow(camera_.generate_ray(px, py).origin);
   const Vec3 widen(camera_.aperture_radius + ray_offset(camera_.position(), offset_floor_));
   origins.lo -= widen, origins.hi += widen;
-  for (const auto& [key, box] : medium_boxes(true))
+  for (const auto& [key, box] : media_boxes_)
     if (glm::all(glm::lessThanEqual(glm::max(origins.lo, box.lo), glm::min(origins.hi, box.hi))))
       rays_start_near_media_ = true;
 }
