@@ -58,13 +58,24 @@ def render(scene, passes, **settings):
 # ---- transmittance ----------------------------------------------------------------------------
 
 
+def emitting_panel(scene, y, half, object_id, radiance=2.0):
+    """An emitting square of `radiance` across y = `y`, facing -y, 2 `half` across."""
+    emitter = scene.add_material("emitter", "emission", emission=(radiance,) * 3)
+    corners = [[-half, y, -half], [-half, y, half], [half, y, half], [half, y, -half]]
+    quad(scene, "panel", corners, emitter, object_id=object_id)
+
+
+def absorbing_box(scene, sigma_a, lo, hi, object_id, name="fog"):
+    """A box (a boundary only) of a medium that absorbs `sigma_a` per metre."""
+    scene.add_medium(name, sigma_a=tuple(sigma_a))
+    box(scene, name, lo, hi, scene.add_material(name, "diffuse", medium=name, surface=False), object_id)
+
+
 def emitter_seen_through(scene, panel_y, eye_y, object_id, passes=2):
     """The pixels (RGB rows) of an emitting panel of radiance 2 across y = panel_y, seen from (0, eye_y,
     0) through the media of `scene` by a camera so narrow that every ray crosses the same lengths (to
     1e-5), after `passes`."""
-    emitter = scene.add_material("emitter", "emission", emission=(2.0, 2.0, 2.0))
-    corners = [[-3, panel_y, -3], [-3, panel_y, 3], [3, panel_y, 3], [3, panel_y, -3]]
-    quad(scene, "panel", corners, emitter, object_id=object_id)
+    emitting_panel(scene, panel_y, 3, object_id)
     camera(scene, (0, eye_y, 0), (0, 0, 0), size=8, fov=0.01)
     image, _ = render(scene, passes=passes, photons_per_pass=2000)
     return image.reshape(-1, 3)
@@ -118,11 +129,9 @@ def test_a_sphere_of_ink_in_fog_adds_up():
     medium alone counted inside it (spheres were left out of the sums): 2 exp(-(fog 3 + ink 1))."""
     fog_a, ink_a = np.array([0.5, 0.3, 0.1]), np.array([0.4, 1.0, 1.5])
     scene = ppm_core.Scene()
-    scene.add_medium("fog", sigma_a=tuple(fog_a))
+    absorbing_box(scene, fog_a, (-2, -2, -2), (2, 2, 2), 0)
     scene.add_medium("ink", sigma_a=tuple(ink_a))
-    fog = scene.add_material("fog", "diffuse", medium="fog", surface=False)
     ink = scene.add_material("ink", "diffuse", medium="ink", surface=False)
-    box(scene, "fog", (-2, -2, -2), (2, 2, 2), fog, 0)
     scene.add_sphere("ink", (0.0, 0.0, 0.0), 0.5, ink, object_id=1)
     pixels = emitter_seen_through(scene, panel_y=3, eye_y=-4, object_id=2)
     expected = 2.0 * np.exp(-fog_a * 4.0 - ink_a * 1.0)
@@ -136,11 +145,8 @@ def test_rays_that_start_inside_fog_past_the_near_clip_plane_are_in_it():
     never have entered the fog: 2, unattenuated."""
     sigma_a = np.array([0.5, 0.3, 0.1])
     scene = ppm_core.Scene()
-    scene.add_medium("fog", sigma_a=tuple(sigma_a))
-    fog = scene.add_material("fog", "diffuse", medium="fog", surface=False)
-    box(scene, "fog", (-1, -1, -1), (1, 1, 1), fog, 0)
-    emitter = scene.add_material("emitter", "emission", emission=(2.0, 2.0, 2.0))
-    quad(scene, "panel", [[-3, 3, -3], [-3, 3, 3], [3, 3, 3], [3, 3, -3]], emitter, object_id=1)
+    absorbing_box(scene, sigma_a, (-1, -1, -1), (1, 1, 1), 0)
+    emitting_panel(scene, 3, 3, 1)
     scene.set_camera(look_at((0, -2.5, 0), (0, 0, 0)), 8, 8, fov=0.01, clip_start=2.0)
     image, _ = render(scene, passes=2, photons_per_pass=2000)
     np.testing.assert_allclose(image.reshape(-1, 3), np.tile(2.0 * np.exp(-1.5 * sigma_a), (64, 1)), rtol=2e-3)
@@ -152,11 +158,8 @@ def test_an_orthographic_window_half_in_fog_starts_half_its_rays_in_it():
     the 6 m of it before an emitter, 2 exp(-6 sigma_a); the others see 2."""
     sigma_a = np.array([0.2, 0.3, 0.4])
     scene = ppm_core.Scene()
-    scene.add_medium("fog", sigma_a=tuple(sigma_a))
-    fog = scene.add_material("fog", "diffuse", medium="fog", surface=False)
-    box(scene, "fog", (-4, -6, -4), (0, 1, 4), fog, 0)
-    emitter = scene.add_material("emitter", "emission", emission=(2.0, 2.0, 2.0))
-    quad(scene, "panel", [[-9, 3, -9], [-9, 3, 9], [9, 3, 9], [9, 3, -9]], emitter, object_id=1)
+    absorbing_box(scene, sigma_a, (-4, -6, -4), (0, 1, 4), 0)
+    emitting_panel(scene, 3, 9, 1)
     scene.set_camera(look_at((0.5, -5, 0), (0.5, 0, 0)), 40, 4, projection="orthographic", ortho_scale=4.0)
     image, _ = render(scene, passes=2, photons_per_pass=2000)
     x = 0.5 + ((np.arange(40) + 0.5) / 40 - 0.5) * 4.0  # each column's x

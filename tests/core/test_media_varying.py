@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from test_media import box, camera, emitter_seen_through
+from test_media import box, camera, emitter_seen_through, emitting_panel
 from test_node_program import op
 
 import ppm_core
@@ -125,8 +125,7 @@ def test_each_object_reads_its_own_coordinates():
         matrix = np.eye(4)
         matrix[0, 3] = x
         scene.set_object_info(object_id, matrix)  # texture space: the box, (-1, 1) in object space
-    emitter = scene.add_material("emitter", "emission", emission=(1.0, 1.0, 1.0))
-    quad(scene, "panel", [[-9, 3, -9], [-9, 3, 9], [9, 3, 9], [9, 3, -9]], emitter, object_id=2)
+    emitting_panel(scene, 3, 9, 2, radiance=1.0)
     scene.set_camera(look_at((0, -5, 0), (0, 0, 0)), 80, 8, projection="orthographic", ortho_scale=10.0)
     r = ppm_core.Renderer(scene, hit_points="stochastic", seed=1, threads=2, photons_per_pass=1000)
     r.run(passes=64)
