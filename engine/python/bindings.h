@@ -28,6 +28,7 @@ void bind_render_passes(RendererClass& c);
 // The parts of the Scene class, one file each.
 void bind_materials(SceneClass& c);     // material_bindings.cpp
 void bind_textures(SceneClass& c);      // texture_bindings.cpp
+void bind_grids(SceneClass& c);         // grid_bindings.cpp
 void bind_meshes(SceneClass& c);        // mesh_bindings.cpp: meshes, spheres, revolves, removal
 void bind_object_info(SceneClass& c);   // object_info_bindings.cpp
 void bind_lights(SceneClass& c);        // light_bindings.cpp

@@ -42,6 +42,7 @@ const std::vector<std::pair<const char*, NodeOp>>& op_names() {
       {"vector_transform", NodeOp::VectorTransform}, {"transform", NodeOp::Transform},
       {"wavelength", NodeOp::Wavelength},
       {"blackbody", NodeOp::Blackbody},  {"gabor", NodeOp::Gabor},
+      {"grid", NodeOp::Grid},
   };
   return names;
 }

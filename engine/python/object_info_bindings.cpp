@@ -1,5 +1,6 @@
 // Python binding of Scene.set_object_info: what node programs know of an object (its matrix and
-// texture space, scene/object_info.h; Object Info's Random, Pass Index and Color; its attributes).
+// texture space, scene/object_info.h; Object Info's Random, Pass Index and Color; its attributes and
+// voxel grids).
 #include "python/bindings.h"
 #include "python/convert.h"
 #include "scene/object_info.h"
@@ -18,7 +19,8 @@ glm::vec4 rgba(const double* p, const std::string& what, const std::string& fiel
 
 void set_object_info(Scene& s, uint32_t object, const py::object& object_to_world,
                      const py::object& texspace_location, const py::object& texspace_size, double random,
-                     double pass_index, const py::object& color, const py::object& attributes) {
+                     double pass_index, const py::object& color, const py::object& attributes,
+                     const py::object& grids) {
   const std::string what = "object " + std::to_string(object);
   const Mat4 to_world = mat4(object_to_world, what, "matrix");
   const Vec3 location = vec3(texspace_location, what, "texspace_location");
@@ -32,6 +34,13 @@ void set_object_info(Scene& s, uint32_t object, const py::object& object_to_worl
     const DoubleArray a = matrix(attributes, 4, what, "attributes");
     for (py::ssize_t i = 0; i < a.shape(0); ++i) info.attributes.push_back(rgba(a.data() + 4 * i, what, "attributes"));
   }
+  if (!grids.is_none()) {
+    for (const py::handle g : py::cast<py::sequence>(grids)) {
+      const long long index = g.is_none() ? -1 : py::cast<long long>(g);
+      if (index >= static_cast<long long>(s.grid_count())) fail(what, "grids names a grid that does not exist");
+      info.grids.push_back(index < 0 ? nullptr : s.grid(static_cast<uint32_t>(index)));
+    }
+  }
   s.set_object_info(object, info);
 }
 
@@ -44,11 +53,12 @@ void bind_object_info(SceneClass& c) {
         py::arg("texspace_location") = py::make_tuple(0.0, 0.0, 0.0),
         py::arg("texspace_size") = py::make_tuple(1.0, 1.0, 1.0), py::arg("random") = 0.0,
         py::arg("pass_index") = 0.0, py::arg("color") = py::make_tuple(1.0, 1.0, 1.0, 1.0),
-        py::arg("attributes") = py::none(),
+        py::arg("attributes") = py::none(), py::arg("grids") = py::none(),
         "What node programs know of object id `object` (add_mesh's object_id): its object-to-world matrix "
         "(Texture Coordinate's Object), its texture space (Blender's texspace_location and _size: Generated), "
         "Object Info's Random, Pass Index and Color (RGBA), and `attributes`: (n, 4) RGBA values the "
-        "program's object_attribute coordinates read by slot (the instruction's data); finite numbers only.");
+        "program's object_attribute coordinates read by slot (the instruction's data); finite numbers only; "
+        "`grids`: add_grid indices by slot (None or -1: none), which the program's grid instructions read.");
 }
 
 }  // namespace ppm::python

@@ -53,6 +53,7 @@ void bind_scene(py::module_& m) {
   bind_materials(c);
   bind_object_info(c);
   bind_textures(c);
+  bind_grids(c);
   bind_meshes(c);
   bind_build(c);
   bind_lights(c);

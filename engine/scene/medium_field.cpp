@@ -56,15 +56,16 @@ void Scene::bound_field(Medium& copy, const Aabb& box) const {
   const size_t outputs = f.program.outputs.size();
   std::array<double, kMaxFieldOutputs> bound{};
   bool sample = false;
+  const ObjectInfo& object = object_info(copy.uses[0].object);
   for (size_t k = 0; k < outputs; ++k) {
-    bound[k] = f.program.output_bound(k, textures_);
+    bound[k] = f.program.output_bound(k, textures_, &object);
     sample = sample || !(bound[k] < kInf);
   }
   if (sample) {
     std::array<double, kMaxFieldOutputs> found{};
     std::array<Vec3f, kMaxFieldOutputs> results{};
     ShadingContext ctx;
-    ctx.object = &object_info(copy.uses[0].object);
+    ctx.object = &object;
     ctx.camera = &camera_;
     const Vec3 step = box.extent() / double(kBoundSamples);
     for (int i = 0; i < kBoundSamples; ++i)

@@ -779,6 +779,7 @@ size_t Scene::memory_bytes() const {
              bytes(materials_) + bytes(lights_) + bytes(user_lights_) + bytes(objects_);
   if (object_bvh_) b += object_bvh_->memory_bytes();
   for (const Texture& t : textures_) b += sizeof(Texture) + t.memory_bytes();
+  for (const auto& g : grids_) b += sizeof(VoxelGrid) + g->memory_bytes();
   return b;
 }
 
@@ -934,6 +935,17 @@ const ObjectInfo& Scene::object_info(uint32_t object) const {
   static const ObjectInfo kNone;
   if (object == kWorldObject) return world_object_;
   return object < objects_.size() ? objects_[object] : kNone;
+}
+
+uint32_t Scene::add_grid(std::shared_ptr<const VoxelGrid> grid) {
+  ensure_mutable();
+  grids_.push_back(std::move(grid));
+  return static_cast<uint32_t>(grids_.size() - 1);
+}
+
+std::shared_ptr<const VoxelGrid> Scene::grid(uint32_t index) const {
+  if (index >= grids_.size()) throw std::out_of_range("grid " + std::to_string(index) + " does not exist");
+  return grids_[index];
 }
 
 void Scene::set_object_info(uint32_t object, const ObjectInfo& info) {

@@ -191,6 +191,11 @@ class Scene {
   // objects never described are at the origin, unscaled, with generated = (object + 1) / 2.
   void set_object_info(uint32_t object, const ObjectInfo& info);
   const ObjectInfo& object_info(uint32_t object) const;
+  // Voxel grids (a smoke domain's density, colour, ...), which object infos hold by slot
+  // (ObjectInfo::grids); returns the grid's index for grid().
+  uint32_t add_grid(std::shared_ptr<const VoxelGrid> grid);
+  std::shared_ptr<const VoxelGrid> grid(uint32_t index) const;  // std::out_of_range beyond
+  size_t grid_count() const { return grids_.size(); }
   // Is the hit primitive part of a Holdout object (its visibility carries kHoldoutFlag)?
   bool is_holdout(const Hit& hit) const;
   double offset_floor() const { return offset_floor_; }  // see ray_offset()
@@ -432,6 +437,7 @@ class Scene {
   std::vector<Texture> textures_;
   MeshStore meshes_;
   std::vector<ObjectInfo> objects_;  // by object id (set_object_info)
+  std::vector<std::shared_ptr<const VoxelGrid>> grids_;  // add_grid's
   ObjectInfo world_object_;          // kWorldObject's
   std::vector<SphereInfo> spheres_;
   std::vector<std::unique_ptr<BezierRevolve>> revolves_;

@@ -51,6 +51,16 @@ glm::vec4 object_attribute(const ObjectInfo& o, uint32_t slot) {
   return slot < o.attributes.size() ? o.attributes[slot] : glm::vec4(0.0f);
 }
 
+// A Grid instruction's colour, fac and alpha (see NodeOp::Grid).
+void grid_op(const NodeInstruction& ins, const ShadingContext& c, Vec3f* r) {
+  const ObjectInfo& o = object_of(c);
+  const VoxelGrid* grid = ins.data < o.grids.size() ? o.grids[ins.data].get() : nullptr;
+  const glm::vec4 v = grid != nullptr ? grid->lookup(r[ins.in[0]]) : glm::vec4(ins.flags & 1 ? 1.0f : 0.0f);
+  r[ins.out[0]] = Vec3f(v);
+  r[ins.out[1]] = Vec3f((v.x + v.y + v.z) * (1.0f / 3.0f));
+  r[ins.out[2]] = Vec3f(v.w);
+}
+
 // `slot`: an object attribute's (ObjectInfo::attributes).
 Vec3f coordinate(CoordKind kind, const ShadingContext& c, uint32_t slot) {
   const ObjectInfo& o = object_of(c);
@@ -551,6 +561,7 @@ void NodeProgram::step(const NodeInstruction& ins, ShadingContext& at, const Sha
     case NodeOp::Wavelength: r[out[0]] = wavelength(f(0), operands()); break;
     case NodeOp::Blackbody: r[out[0]] = blackbody(f(0), operands()); break;
     case NodeOp::Transform: transform_op(ins, operands(), r); break;
+    case NodeOp::Grid: grid_op(ins, at, r); break;
   }
 }
 
@@ -634,7 +645,8 @@ void NodeProgram::validate(size_t texture_count, const std::string& what) const 
     for (uint16_t reg : ins.out)
       if (reg >= registers || (reg >= 1 && reg <= constants.size()))
         fail(at + " writes register " + std::to_string(reg) + ", which is a constant or beyond the program's");
-    if (static_cast<int>(ins.op) > static_cast<int>(NodeOp::Gabor)) fail(at + " has an unknown operation");
+    if (static_cast<int>(ins.op) > static_cast<int>(NodeOp::Grid)) fail(at + " has an unknown operation");
+    if (ins.op == NodeOp::Grid && (ins.flags > 1 || ins.data > 0xFFFF)) fail(at + " has an unknown flag or slot");
     if ((ins.op == NodeOp::Wavelength && size_t(ins.data) + 9 + 81 * 3 > data.size()) ||
         (ins.op == NodeOp::Blackbody && size_t(ins.data) + 9 + kBlackbodyFit > data.size()))
       fail(at + "'s table lies outside the data");
@@ -731,8 +743,15 @@ double image_bound(const NodeInstruction& ins, const std::vector<Texture>& textu
   return m;
 }
 
+// A Grid's colour and fac: its object's grid's largest value (1 or 0 where it has none).
+double grid_bound(const NodeInstruction& ins, const ObjectInfo* object) {
+  if (object == nullptr) return kInf;
+  const VoxelGrid* grid = ins.data < object->grids.size() ? object->grids[ins.data].get() : nullptr;
+  return grid != nullptr ? std::max(0.0, double(grid->max_value())) : (ins.flags & 1 ? 1.0 : 0.0);
+}
+
 double bound_of(const NodeInstruction& ins, const std::vector<double>& b, const std::vector<Texture>& textures,
-                const std::vector<float>& data) {
+                const std::vector<float>& data, const ObjectInfo* object) {
   const double inf = kInf;
   auto in = [&](int k) { return b[ins.in[k]]; };
   switch (ins.op) {
@@ -749,6 +768,7 @@ double bound_of(const NodeInstruction& ins, const std::vector<double>& b, const 
       return ins.mode == 0 ? std::max({in(0), in(1), in(2)}) : ins.mode == 1 ? in(2) : in(2) + in(1) * (1.0 + in(2));
     case NodeOp::Invert: return 1.0 + in(1);
     case NodeOp::Image: return image_bound(ins, textures, data);
+    case NodeOp::Grid: return grid_bound(ins, object);
     case NodeOp::Noise: return (ins.extra & 16) || ((ins.extra & 32) && ins.mode == 0) ? 1.0 : inf;
     case NodeOp::Voronoi: return inf;
     case NodeOp::WhiteNoise:
@@ -766,12 +786,12 @@ double bound_of(const NodeInstruction& ins, const std::vector<double>& b, const 
 
 }  // namespace
 
-double NodeProgram::output_bound(size_t i, const std::vector<Texture>& textures) const {
+double NodeProgram::output_bound(size_t i, const std::vector<Texture>& textures, const ObjectInfo* object) const {
   std::vector<double> b(static_cast<size_t>(std::max(registers, 1)), kInf);
   b[0] = 0.0;
   for (size_t k = 0; k < constants.size(); ++k) b[k + 1] = max_abs(Vec3(constants[k]));
   for (const NodeInstruction& ins : code) {
-    const double first = bound_of(ins, b, textures, data);
+    const double first = bound_of(ins, b, textures, data, object);
     b[ins.out[0]] = first;
     // Second outputs: alphas, facings, fac of colour textures and the like stay within [0, 1] or
     // follow the first; colour-and-fac textures (Checker, Brick) give a fac in [0, 1].
@@ -780,6 +800,12 @@ double NodeProgram::output_bound(size_t i, const std::vector<Texture>& textures)
                              ins.op == NodeOp::Wave || ins.op == NodeOp::WhiteNoise;
     if (ins.out[1] != 0) b[ins.out[1]] = unit_second ? 1.0 : (ins.op == NodeOp::Noise ? first : kInf);
     if (ins.out[2] != 0) b[ins.out[2]] = kInf;
+    if (ins.op == NodeOp::Grid) {  // fac: at most the colour's largest; alpha: the grid's alpha
+      const VoxelGrid* grid = object != nullptr && ins.data < object->grids.size() ? object->grids[ins.data].get()
+                                                                                 : nullptr;
+      if (ins.out[1] != 0) b[ins.out[1]] = first;
+      if (ins.out[2] != 0) b[ins.out[2]] = grid != nullptr ? grid->max_alpha() : object != nullptr ? 1.0 : kInf;
+    }
     if (ins.op == NodeOp::Voronoi && ins.data != 0) b[ins.data] = kInf;
     b[0] = kInf;  // scratch: whatever was written there last
   }

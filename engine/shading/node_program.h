@@ -10,8 +10,10 @@
 #include "geometry/ray.h"
 #include "geometry/camera.h"
 #include "shading/texture.h"
+#include "shading/voxel_grid.h"
 
 #include <array>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -30,6 +32,9 @@ struct ObjectInfo {
   float random = 0.0f, pass_index = 0.0f;
   glm::vec4 color{1.0f};  // Object Info's Color and Alpha: the object's viewport display colour
   std::vector<glm::vec4> attributes;
+  // Its voxel grids (a smoke domain's density, colour, flame, heat, temperature) by the slot the
+  // add-on gave each name; null: the object has none of that name.
+  std::vector<std::shared_ptr<const VoxelGrid>> grids;
 };
 
 // What Blender's Light Path node reads at a shading point: the ray that arrived and the path's
@@ -105,6 +110,9 @@ enum class NodeOp : uint8_t {
   Wavelength,     // in[0] nm; data: XYZ -> scene linear (3 x 3, rows), then 81 XYZ triples from 380 nm by 5
   Blackbody,      // in[0] kelvin; data: Rec.709 -> scene linear (3 x 3, rows), then the fit (kBlackbodyFit)
   Gabor,          // see textures/procedural.cpp
+  Grid,           // the object's voxel grid in slot `data` at in[0] (Generated): out colour, fac (the
+                  // colour's mean), alpha; an object without it reads 0, or with flag 1 reads 1 (the
+                  // Principled Volume's attributes multiply only where Cycles finds them)
 };
 
 // The floats of a Blackbody instruction's fit, after its matrix (export/blackbody.py lays them out):
@@ -150,7 +158,8 @@ class NodeProgram {
   // Runs the program at `ctx`; writes each output into `results` (outputs.size() of them).
   void run(const ShadingContext& ctx, const std::vector<Texture>& textures, Vec3f* results) const;
   // The largest value output `i` can take in any channel (for the energy bound); +inf: unknown.
-  double output_bound(size_t i, const std::vector<Texture>& textures) const;
+  // With `object`, for that object (its grids' largest values); without, grids are unbounded.
+  double output_bound(size_t i, const std::vector<Texture>& textures, const ObjectInfo* object = nullptr) const;
   // What running it reads beyond a hit's record: UV gradients (a Bump's steps), the mesh attribute.
   struct Needs {
     bool uv_gradients = false, attribute = false;

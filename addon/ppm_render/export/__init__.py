@@ -21,7 +21,7 @@ import re
 
 import numpy as np
 
-from . import bezier, camera, light, material, mesh, object_info, unrendered, world
+from . import bezier, camera, light, material, mesh, object_info, smoke, unrendered, world
 from .instance import Instance
 
 GEOMETRY_TYPES = {"MESH", "CURVE", "SURFACE", "META", "FONT"}
@@ -73,6 +73,7 @@ class Exporter:
         self.lights, self.objects = lights, objects
         self.attributes = object_info.AttributeTable(view_layer, scene)
         self.materials = material.MaterialExporter(self.scene, warn, self.attributes)
+        self.smoke = smoke.SmokeGrids(self.scene, scene.frame_current if scene is not None else 0, warn)
         self.meshes = {}  # mesh_key -> MeshData, for this depsgraph's instances sharing one
         self.next_id = 0
         self.triangles = 0
@@ -87,9 +88,12 @@ class Exporter:
         self.media_bounds = []
 
     def describe_object(self, item, slots):
-        """Object info for the node programs of the object's materials, if any has one."""
+        """Object info for the node programs of the object's materials, if any has one (with a smoke
+        domain's grids that they read)."""
         if any(i in self.materials.with_program for i in slots):
-            object_info.add_object_info(self.scene, item, self.attributes)
+            read = {smoke.GRID_NAMES[k] for i in slots for k in self.materials.grid_slots_of.get(i, ())}
+            grids = self.smoke.indices(item.obj, sorted(read)) if read else None
+            object_info.add_object_info(self.scene, item, self.attributes, grids)
 
     def object_id(self):
         self.next_id += 1
@@ -103,7 +107,8 @@ class Exporter:
         return PassIndices(objects, self.materials.pass_index_table())
 
     def slot_materials(self, obj):
-        slots = [self.materials.index(slot.material) for slot in obj.material_slots]
+        grids = smoke.gas_domain(obj) is not None
+        slots = [self.materials.index(slot.material, grids) for slot in obj.material_slots]
         return slots or [self.materials.index(None)]
 
     def mesh_key(self, obj):

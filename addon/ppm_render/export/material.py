@@ -41,17 +41,24 @@ class MaterialExporter:
         self.copied = set()  # core materials with a copy without emission (without_emission)
         self.pass_indices = {}  # core material -> its Blender material's Pass Index (Material Index pass)
         self.with_volume = set()  # core materials with a Volume output (a medium, or a boundary only)
+        self.grid_slots = ()  # the smoke grid slots the medium volume() read last reads
+        self.grid_slots_of = {}  # core material -> the smoke grid slots its medium reads
 
-    def index(self, material):
-        """Core material index for a Blender material (None = default grey)."""
+    def index(self, material, grids=False):
+        """Core material index for a Blender material (None = default grey); with `grids`, as it is on a
+        smoke domain (its Volume reads the domain's grids: a material of its own where it has a Volume)."""
         if material is None:
             if self.default is None:
                 self.default = self.scene.add_material("default", "diffuse", base_color=DEFAULT_GREY)
             return self.default
         key = material_key(material)
+        if grids and self.volume_driven(material):
+            key = (key, "on a smoke domain")
         if key not in self.indices:
-            params = {**self.in_range(self.describe(material), material.name), **self.volume(material)}
+            params = {**self.in_range(self.describe(material), material.name), **self.volume(material, grids)}
             self.indices[key] = self.scene.add_material(material.name, **params)
+            if self.grid_slots:
+                self.grid_slots_of[self.indices[key]] = self.grid_slots
             if "surface" in params:
                 self.with_volume.add(self.indices[key])
             self.pass_indices[self.indices[key]] = material.pass_index
@@ -131,15 +138,19 @@ class MaterialExporter:
         return nodes.uses_nodes(material) and volume.volume_socket(material.node_tree,
                                                                    "ShaderNodeOutputMaterial") is not None
 
-    def volume(self, material):
-        """add_material's medium keywords for `material`'s Volume output: {} without one; else its medium
-        (None where it has no coefficient) and surface=False where nothing drives its Surface (Cycles
-        renders that surface invisible: a boundary only)."""
+    def volume(self, material, grids=False):
+        """add_material's medium keywords for `material`'s Volume output (on a smoke domain with `grids`):
+        {} without one; else its medium (None where it has no coefficient) and surface=False where
+        nothing drives its Surface (Cycles renders that surface invisible: a boundary only)."""
         self.medium_varies = False  # whether its medium has a node program (its objects need object info)
+        self.grid_slots = ()
         if not self.volume_driven(material):
             return {}
-        keywords = volume.material_medium(material, self.warn, self.scene, self.texture)
+        keywords = volume.material_medium(material, self.warn, self.scene, self.texture, grids)
         self.medium_varies = keywords is not None and "program" in keywords
+        if self.medium_varies:
+            code = keywords["program"]["code"]
+            self.grid_slots = tuple(sorted({i["data"] for i in code if i["op"] == "grid"}))
         name = volume.add(self.scene, f"material '{material_key(material)}'", keywords, self.warn)
         return {"medium": name, "surface": volume.surface_driven(material.node_tree)}
 

@@ -21,6 +21,8 @@ from dataclasses import dataclass
 import bpy
 import numpy as np
 
+from . import smoke
+
 MAX_REGISTERS = 256  # the core's limit
 MAX_OUTPUTS = 8  # the core's limit of inputs per material
 # Nodes compiled inside each other (a handler compiles its inputs first) before the compile turns to the
@@ -379,8 +381,18 @@ def _attribute_outputs(c, node, name):
     return {"Color": Value(color.reg, "color", True), "Vector": color, "Fac": mean, "Alpha": alpha}
 
 
+def _grid_outputs(c, slot):
+    """A smoke domain's grid `slot` (smoke.GRID_NAMES) at the point's Generated coordinate: 0 on an object
+    without it, as Cycles' Attribute node reads a missing attribute."""
+    color, fac, alpha = c.emit("grid", [c.coordinate("generated")], outs=3, kinds=("color", "float", "float"),
+                               data=slot, pure=False)
+    return {"Color": color, "Vector": Value(color.reg, "vector", True), "Fac": fac, "Alpha": alpha}
+
+
 def _attribute(c, node, ctx):
     kind = getattr(node, "attribute_type", "GEOMETRY")
+    if kind == "GEOMETRY" and getattr(c.reader, "volume_grids", False) and smoke.slot(node.attribute_name) is not None:
+        return _grid_outputs(c, smoke.slot(node.attribute_name))
     if kind == "GEOMETRY":
         return _attribute_outputs(c, node, node.attribute_name)
     table = c.reader.attributes

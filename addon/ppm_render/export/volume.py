@@ -19,9 +19,10 @@ compiled into the material's node program (node_program.py) and becomes a term, 
 times a program output that the core runs where the path is (Generated and Object coordinates as in
 Cycles' volumes: the object's, through its texture space). Other sockets (Anisotropy, Absorption
 Color, the blackbody's) and the World's medium take their own value where a texture drives them,
-with one warning naming the material and node. Principled Volume's Density and Temperature
-Attributes multiply only on Volume objects and smoke domains, which the export leaves out (warned
-there), so on a mesh they are 1, as in Cycles. Where scattering shaders with different phase
+with one warning naming the material and node. Principled Volume's Density, Color and Temperature
+Attributes multiply only where the object has that grid (a smoke domain's: smoke.py), so on a mesh
+they are 1, as in Cycles; a material on a domain (read with `grids`) multiplies by the grid, its
+blackbody then a term of the temperature there, and its Attribute nodes read the domain's grids. Where scattering shaders with different phase
 functions mix, the core takes one: the Henyey-Greenstein of their scattering-weighted mean
 anisotropy (warned; Cycles samples each).
 """
@@ -32,7 +33,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import blackbody, nodes, unrendered
+from . import blackbody, nodes, smoke, unrendered
 from .closure import ClosureReader
 from .node_program import Unsupported
 
@@ -81,10 +82,12 @@ class VolumeReader:
     sockets that a texture drives become program Values (the medium varies in space); the World's take
     their own value (warned): the core's World medium is homogeneous."""
 
-    def __init__(self, owner, name, warn, core, texture=None):
+    def __init__(self, owner, name, warn, core, texture=None, grids=False):
         self.values = ClosureReader(name, warn, texture, core, kind=owner)
         self.values.varying_note = VARYING[owner]
         self.program = self.values.program if owner == "material" else None
+        self.grids = grids and self.program is not None  # read on a smoke domain: attributes are its grids
+        self.values.volume_grids = self.grids
         self.out = Medium()
         self.depth = 0
 
@@ -114,6 +117,19 @@ class VolumeReader:
                 self.warn(node, f"'{name}': {error}; using the socket's own value")
             self.program.rewind(mark)
         return Part(self.color(node, name, ctx, default) if color else self.number(node, name, ctx, default))
+
+    def attribute(self, node, name, color=False):
+        """Principled Volume's attribute socket `name` (e.g. "Density Attribute") as a Part: the grid it
+        names where the object has it, 1 elsewhere (Cycles multiplies only by an attribute it finds);
+        1 outside a smoke domain's material or for a name a domain does not give."""
+        one = Part(np.ones(3) if color else 1.0)
+        socket = node.inputs.get(name)
+        grid = smoke.slot(getattr(socket, "default_value", "") or getattr(node, name.lower().replace(" ", "_"), ""))
+        if not self.grids or grid is None:
+            return one
+        rgb, fac, _ = self.program.emit("grid", [self.program.coordinate("generated")], outs=3,
+                                        kinds=("color", "float", "float"), data=grid, flags=1, pure=False)
+        return Part(one.c, rgb if color else fac)
 
     def complement(self, part, color=False):
         """1 - part (per channel for a colour), as a Part."""
@@ -205,6 +221,39 @@ class VolumeReader:
         d = self.part(node, "Density", ctx, 1.0)
         return d if d.v is not None else Part(max(d.c, 0.0))
 
+    def blackbody(self, node, ctx, weight):
+        """Principled Volume's blackbody emission: tint sigma/pi 1e-6 (1 + (T^4 - 1) intensity) times the
+        blackbody colour of T = Temperature times the temperature grid where there is one (a term of
+        the program then), as Cycles' svm_node_principled_volume."""
+        intensity = self.number(node, "Blackbody Intensity", ctx)
+        temperature = max(self.number(node, "Temperature", ctx, 1000.0), 0.0)
+        if intensity <= CUTOFF or temperature <= 0.0:
+            return
+        tint = np.maximum(self.color(node, "Blackbody Tint", ctx), 0.0)
+        scale = STEFAN_BOLTZMANN * 1e-6 / math.pi
+        grid = self.attribute(node, "Temperature Attribute")
+        if grid.v is None:
+            radiance = scale * (1.0 + (temperature ** 4 - 1.0) * intensity)
+            color = blackbody.blackbody_rgb(temperature, blackbody.kernel_rec709_to_scene_linear())  # the kernel's
+            self.add("emission", radiance * tint * np.asarray(color), weight)
+            return
+        self.add("emission", tint, Part(1.0, self.blackbody_radiance(temperature, grid.v, intensity, scale)), weight)
+
+    def blackbody_radiance(self, temperature, grid, intensity, scale):
+        """The program Value scale (1 + (T^4 - 1) intensity) blackbody(T), T = temperature max(grid, 0)."""
+        p = self.program
+        math_mode = lambda name: p.mode("math", name)  # noqa: E731
+        zero = p.constant(0.0)
+        t = p.emit("math", [grid, zero, zero], mode=math_mode("maximum"))[0]
+        t = p.emit("math", [t, p.constant(temperature), zero], mode=math_mode("multiply"))[0]
+        t4 = p.emit("math", [t, p.constant(4.0), zero], mode=math_mode("power"))[0]
+        radiance = p.emit("math", [t4, p.constant(scale * intensity), p.constant(scale * (1.0 - intensity))],
+                          mode=math_mode("multiply_add"))[0]
+        offset = len(p.data)
+        p.data += blackbody.program_data()
+        color = p.emit("blackbody", [t], kinds=("color",), data=offset)[0]
+        return self.product(color, radiance)
+
     def field(self):
         """Scene.add_medium's `program` and `terms` for the terms read ({} when nothing varies)."""
         if not self.out.terms:
@@ -229,7 +278,7 @@ def _mix(reader, node, ctx, weight):
 
 
 def _times(reader, a, b):
-    """The Part a * b (floats)."""
+    """The Part a * b (floats, or colours)."""
     if a.v is None or b.v is None:
         return Part(a.c * b.c, a.v if b.v is None else b.v)
     return Part(a.c * b.c, reader.product(a.v, b.v))
@@ -251,8 +300,9 @@ def _scatter(reader, node, ctx, weight):
 
 
 def _principled(reader, node, ctx, weight):
-    density = reader.density(node, ctx)
-    color = reader.part(node, "Color", ctx, (0.5, 0.5, 0.5), color=True)
+    density = _times(reader, reader.density(node, ctx), reader.attribute(node, "Density Attribute"))
+    color = _times(reader, reader.part(node, "Color", ctx, (0.5, 0.5, 0.5), color=True),
+                   reader.attribute(node, "Color Attribute", color=True))
     absorption = reader.color(node, "Absorption Color", ctx, (0.0, 0.0, 0.0))
     reader.scatter(np.ones(3), {"phase": "henyey_greenstein",
                                 "anisotropy": min(max(reader.number(node, "Anisotropy", ctx), -1.0), 1.0)},
@@ -261,13 +311,7 @@ def _principled(reader, node, ctx, weight):
                reader.complement(color, color=True), density, weight)
     reader.add("emission", np.ones(3), reader.part(node, "Emission Strength", ctx, 0.0),
                reader.part(node, "Emission Color", ctx, (1.0, 1.0, 1.0), color=True), weight)
-    intensity = reader.number(node, "Blackbody Intensity", ctx)
-    temperature = max(reader.number(node, "Temperature", ctx, 1000.0), 0.0)
-    if intensity > CUTOFF and temperature > 0.0:
-        radiance = STEFAN_BOLTZMANN * 1e-6 / math.pi * (1.0 + (temperature ** 4 - 1.0) * intensity)
-        tint = np.maximum(reader.color(node, "Blackbody Tint", ctx), 0.0)
-        color = blackbody.blackbody_rgb(temperature, blackbody.kernel_rec709_to_scene_linear())  # the kernel's
-        reader.add("emission", radiance * tint * np.asarray(color), weight)
+    reader.blackbody(node, ctx, weight)
 
 
 def _coefficients(reader, node, ctx, weight):
@@ -297,11 +341,11 @@ SHADERS = {
 }
 
 
-def read(socket, owner, name, warn, core, texture=None):
+def read(socket, owner, name, warn, core, texture=None, grids=False):
     """add_medium's keywords (without the name) for the Volume `socket` of material or world `name`
-    (`owner`: "material" or "world"; `texture` as closure.py's); None when nothing is connected or
-    every coefficient is 0."""
-    reader = VolumeReader(owner, name, warn, core, texture)
+    (`owner`: "material" or "world"; `texture` as closure.py's; `grids`: read for a smoke domain);
+    None when nothing is connected or every coefficient is 0."""
+    reader = VolumeReader(owner, name, warn, core, texture, grids)
     reader.closure(socket, (), Part(1.0))
     medium = reader.out
     if medium.empty():
@@ -354,12 +398,12 @@ def surface_driven(tree):
     return output is not None and unrendered.output_driven(output.inputs["Surface"])
 
 
-def material_medium(material, warn, core, texture=None):
-    """add_medium's keywords for `material`'s Volume output, or None."""
+def material_medium(material, warn, core, texture=None, grids=False):
+    """add_medium's keywords for `material`'s Volume output (on a smoke domain with `grids`), or None."""
     if not nodes.uses_nodes(material):
         return None
     socket = volume_socket(material.node_tree, "ShaderNodeOutputMaterial")
-    return read(socket, "material", material.name, warn, core, texture) if socket is not None else None
+    return read(socket, "material", material.name, warn, core, texture, grids) if socket is not None else None
 
 
 def add(core, name, keywords, warn):
