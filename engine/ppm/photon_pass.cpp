@@ -7,6 +7,7 @@
 #include "ppm/photon_tracer_media.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cstring>
 #include <type_traits>
@@ -116,6 +117,10 @@ inline bool within_budget(const BounceLimits& limits, const HitPoints& hp, uint3
 struct BallInside {
   double share = 1.0;
   double mean_d2 = 0.6;
+  // The plane found (a unit normal towards it and its distance; none: distance inf) and sigma_s's
+  // ratio beyond it, for the share of a medium that varies (ball_share_varying).
+  Vec3 normal{0.0};
+  double distance = kInf, beyond = 0.0, cap = 0.0;  // cap: the ball's share beyond the plane
 };
 
 // sigma_s beyond the surface at `hit` over sigma_s here (luminance), for a ray leaving a point in
@@ -132,17 +137,18 @@ double scattering_beyond(const Scene& scene, const Hit& hit, const Vec3& directi
 
 BallInside ball_inside(const Scene& scene, const Vec3& c, double r, const MediumStack& media, double sigma_s) {
   double inverse_d2 = 0.0, nearest = kInf, beyond = 0.0;
+  Vec3 toward(0.0);  // 1/t_k along each axis, signed: the plane's normal times 1/d
   for (int k = 0; k < 3; ++k) {
-    double t = kInf;
+    double t = kInf, sign_of_t = 0.0;
     for (double sign : {1.0, -1.0}) {
       Ray ray{c, Vec3(0.0)};
       ray.direction[k] = sign;
       Hit hit;
       if (!scene.intersect(ray, hit, 4.0 * r)) continue;
-      t = std::min(t, hit.t);
+      if (hit.t < t) t = hit.t, sign_of_t = sign;
       if (hit.t < nearest) nearest = hit.t, beyond = scattering_beyond(scene, hit, ray.direction, media, sigma_s);
     }
-    if (t < kInf) inverse_d2 += 1.0 / (t * t);
+    if (t < kInf) inverse_d2 += 1.0 / (t * t), toward[k] = sign_of_t / t;
   }
   if (inverse_d2 == 0.0) return {};
   const double d = std::min(r, 1.0 / std::sqrt(inverse_d2)), r2 = r * r, r5 = r2 * r2 * r;
@@ -150,7 +156,43 @@ BallInside ball_inside(const Scene& scene, const Vec3& c, double r, const Medium
   const double moment = 0.8 * kPi * r5 - kPi / 2.0 * (r2 * r2 * (r - d) - (r5 - std::pow(d, 5)) / 5.0);
   // As dense beyond or denser: the weight's centre as if uncut (the error estimate's only).
   const double mean_d2 = beyond >= 1.0 ? BallInside{}.mean_d2 : moment / ((ball - cap) * r2);
-  return {1.0 - (1.0 - beyond) * cap / ball, mean_d2};
+  return {1.0 - (1.0 - beyond) * cap / ball, mean_d2, toward / std::sqrt(inverse_d2), d, beyond, cap / ball};
+}
+
+// Fixed points spread evenly through the unit ball (radii by equal volumes, directions on a
+// spherical Fibonacci spiral), where a varying medium's sigma_s is looked at over a gather ball.
+constexpr int kShareSamples = 16;
+const std::array<Vec3, kShareSamples>& ball_points() {
+  static const std::array<Vec3, kShareSamples> points = [] {
+    std::array<Vec3, kShareSamples> p{};
+    for (int i = 0; i < kShareSamples; ++i) {
+      const double z = 1.0 - (2.0 * i + 1.0) / kShareSamples, phi = i * kPi * (3.0 - std::sqrt(5.0));
+      const double radius = std::cbrt((((i * 7) % kShareSamples) + 0.5) / kShareSamples);
+      const double ring = std::sqrt(1.0 - z * z);
+      p[i] = radius * Vec3(ring * std::cos(phi), ring * std::sin(phi), z);
+    }
+    return p;
+  }();
+  return points;
+}
+
+// In a medium that varies, photons lie in proportion to sigma_s where they are, so a gather ball
+// holds the ball's mean of sigma_s times the fluence, not the centre's: at a cloud's thin edge next
+// to a dense part, too many (a smoke's wisps read bright), at a dense point among thin ones too few.
+// The share divides that out: the mean over the ball of sigma_s(y) / sigma_s(centre), on this side of
+// the nearest surface the mean at the centre and those of kShareSamples points that lie there, beyond
+// it its `beyond` ratio (ball_inside's plane and cap, exact for a field that is constant).
+double ball_share_varying(const Scene& scene, const Medium& medium, const Vec3& c, double r, const Vec3& direction,
+                          double here, const BallInside& plane) {
+  if (!(here > 0.0)) return plane.share;
+  double sum = 1.0;  // the centre's
+  int inside = 1;
+  for (const Vec3& u : ball_points()) {
+    if (glm::dot(u, plane.normal) * r > plane.distance) continue;
+    sum += luminance(scene.sigma_s_at(medium, c + r * u, direction)) / here;
+    ++inside;
+  }
+  return (1.0 - plane.cap) * sum / inside + plane.cap * plane.beyond;
 }
 
 }  // namespace
@@ -603,8 +645,11 @@ bool PhotonPass::gather_volume(const Scene& scene, std::vector<VolumeHitPoint>& 
       });
       h.m = m;
       BallInside inside;
-      if (settings_.volume_boundary && m > 0)
-        inside = ball_inside(scene, center, r, h.media, luminance(scene.sigma_s_at(medium, center, Vec3(h.direction))));
+      if (settings_.volume_boundary && m > 0) {
+        const double here = luminance(scene.sigma_s_at(medium, center, Vec3(h.direction)));
+        inside = ball_inside(scene, center, r, h.media, here);
+        if (medium.varies()) inside.share = ball_share_varying(scene, medium, center, r, Vec3(h.direction), here, inside);
+      }
       sum /= inside.share;
       sum_d2 /= inside.share;
       h.tau = Vec3f(sum * Color(h.weight));

@@ -1,0 +1,133 @@
+// Tests for voxel grids (a smoke domain's): values at cell centres, trilinear between them, zero
+// outside, NaN stored as 0, the largest value; and the node program's grid instruction reading an
+// object's grid by slot, its bound and a missing grid's 0 or 1.
+#include "shading/voxel_grid.h"
+
+#include "shading/node_program.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <stdexcept>
+#include <vector>
+
+namespace {
+
+using namespace ppm;
+
+// A 4 x 3 x 2 grid whose voxel (i, j, k) holds i + 10 j + 100 k.
+VoxelGrid ramp_grid() {
+  std::vector<float> v;
+  for (int k = 0; k < 2; ++k)
+    for (int j = 0; j < 3; ++j)
+      for (int i = 0; i < 4; ++i) v.push_back(float(i + 10 * j + 100 * k));
+  return VoxelGrid({4, 3, 2}, 1, v.data());
+}
+
+Vec3f centre(int i, int j, int k) { return Vec3f((i + 0.5f) / 4, (j + 0.5f) / 3, (k + 0.5f) / 2); }
+
+TEST(VoxelGrid, HoldsEachVoxelAtItsCellCentreXFastest) {
+  const VoxelGrid g = ramp_grid();
+  for (int k = 0; k < 2; ++k)
+    for (int j = 0; j < 3; ++j)
+      for (int i = 0; i < 4; ++i) EXPECT_FLOAT_EQ(g.lookup(centre(i, j, k)).x, float(i + 10 * j + 100 * k));
+  EXPECT_FLOAT_EQ(g.max_value(), 3 + 20 + 100);
+}
+
+TEST(VoxelGrid, IsTrilinearBetweenCentres) {
+  const VoxelGrid g = ramp_grid();
+  const Vec3f p = centre(1, 1, 0) + Vec3f(0.25f / 4, 0.5f / 3, 0.5f / 2);  // a quarter, a half, a half on
+  EXPECT_NEAR(g.lookup(p).x, 1.25f + 15.0f + 50.0f, 1e-4);
+}
+
+TEST(VoxelGrid, FadesToZeroOverTheHalfCellOutsideAndIsZeroBeyond) {
+  const VoxelGrid g = ramp_grid();
+  EXPECT_NEAR(g.lookup(Vec3f(1.0f, centre(3, 2, 1).y, centre(3, 2, 1).z)).x, 0.5f * 123.0f, 1e-3);
+  EXPECT_EQ(g.lookup(Vec3f(1.2f, 0.5f, 0.5f)).x, 0.0f);
+  EXPECT_EQ(g.lookup(Vec3f(-0.5f, 0.5f, 0.5f)).x, 0.0f);
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_EQ(g.lookup(Vec3f(nan, 0.5f, 0.5f)).x, 0.0f);
+  EXPECT_EQ(g.lookup(Vec3f(std::numeric_limits<float>::infinity())).x, 0.0f);
+}
+
+TEST(VoxelGrid, StoresValuesThatAreNotFiniteAsZeroAndCountsThem) {
+  const float v[4] = {1.0f, std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity(), 2.0f};
+  const VoxelGrid g({4, 1, 1}, 1, v);
+  EXPECT_EQ(g.not_finite(), 2u);
+  EXPECT_FLOAT_EQ(g.lookup(Vec3f(0.375f, 0.5f, 0.5f)).x, 0.0f);
+  EXPECT_FLOAT_EQ(g.max_value(), 2.0f);
+}
+
+TEST(VoxelGrid, KeepsColourAndAlphaApart) {
+  const float v[8] = {0.2f, 0.4f, 0.6f, 0.5f, 1.0f, 0.0f, 0.0f, 3.0f};
+  const VoxelGrid g({2, 1, 1}, 4, v);
+  const glm::vec4 c = g.lookup(Vec3f(0.25f, 0.5f, 0.5f));
+  EXPECT_FLOAT_EQ(c.y, 0.4f);
+  EXPECT_FLOAT_EQ(c.w, 0.5f);
+  EXPECT_FLOAT_EQ(g.max_value(), 1.0f);
+  EXPECT_FLOAT_EQ(g.max_alpha(), 3.0f);
+}
+
+TEST(VoxelGrid, RefusesShapesItCannotHold) {
+  EXPECT_THROW(check_grid_shape({0, 1, 1}, 1, "g"), std::invalid_argument);
+  EXPECT_THROW(check_grid_shape({4, 4, 4}, 2, "g"), std::invalid_argument);
+  EXPECT_THROW(check_grid_shape({8192, 8192, 8192}, 1, "g"), std::invalid_argument);
+  EXPECT_NO_THROW(check_grid_shape({256, 256, 256}, 4, "g"));
+}
+
+// Generated -> the grid in slot 0, its fac the program's output.
+NodeProgram grid_program(bool missing_is_one) {
+  NodeProgram p;
+  p.registers = 5;
+  NodeInstruction coord;
+  coord.op = NodeOp::Coord;
+  coord.mode = static_cast<uint8_t>(CoordKind::Generated);
+  coord.out = {1, 0, 0};
+  NodeInstruction grid;
+  grid.op = NodeOp::Grid;
+  grid.in[0] = 1;
+  grid.out = {2, 3, 4};
+  grid.flags = missing_is_one ? 1 : 0;
+  p.code = {coord, grid};
+  p.outputs = {3};
+  return p;
+}
+
+TEST(GridInstruction, ReadsTheObjectsGridAtGeneratedAndIsBoundedByItsLargestValue) {
+  ObjectInfo object;  // texture space [-1, 1]^3
+  object.grids.push_back(std::make_shared<const VoxelGrid>(ramp_grid()));
+  const NodeProgram p = grid_program(true);
+  p.validate(0, "test");
+  ShadingContext c;
+  c.object = &object;
+  const Vec3f g = centre(2, 1, 1);
+  c.position = Vec3(-1.0 + 2.0 * g.x, -1.0 + 2.0 * g.y, -1.0 + 2.0 * g.z);
+  Vec3f out[1];
+  p.run(c, {}, out);
+  EXPECT_NEAR(out[0].x, 112.0f, 1e-3);
+  EXPECT_DOUBLE_EQ(p.output_bound(0, {}, &object), 123.0);
+  EXPECT_FALSE(p.output_bound(0, {}) < std::numeric_limits<double>::infinity());  // no object: unknown
+}
+
+TEST(GridInstruction, AnObjectWithoutTheGridReadsZeroOrWithFlagOneOne) {
+  const ObjectInfo none;
+  ShadingContext c;
+  c.object = &none;
+  Vec3f out[1];
+  grid_program(false).run(c, {}, out);
+  EXPECT_EQ(out[0].x, 0.0f);
+  EXPECT_DOUBLE_EQ(grid_program(false).output_bound(0, {}, &none), 0.0);
+  grid_program(true).run(c, {}, out);
+  EXPECT_EQ(out[0].x, 1.0f);
+  EXPECT_DOUBLE_EQ(grid_program(true).output_bound(0, {}, &none), 1.0);
+}
+
+TEST(GridInstruction, AnUnknownFlagIsRefused) {
+  NodeProgram p = grid_program(false);
+  p.code[1].flags = 2;
+  EXPECT_THROW(p.validate(0, "test"), std::invalid_argument);
+}
+
+}  // namespace
