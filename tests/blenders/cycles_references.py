@@ -40,7 +40,10 @@ IGNORED = {"rna_type", "session_uid", "is_evaluated", "original", "users", "use_
             "tool_settings", "statistics", "is_missing", "library_weak_reference", "override_library",
             "asset_data", "id_data", "bl_rna", "is_embedded_data", "is_editmode", "select", "show_expanded",
             "location_absolute", "dimensions", "bake", "display", "keying_sets_all", "animation_visualization",
-            "ppm"}  # ppm: PPM's own settings
+            "ppm",  # PPM's own settings
+            # A fluid domain's simulated grids: reading them through the file's own (not the evaluated)
+            # object crashes Blender 3.4. They follow from the domain's settings, which are hashed.
+            "density_grid", "velocity_grid", "flame_grid", "color_grid", "heat_grid", "temperature_grid"}
 MAX_DEPTH = 8
 ATTRIBUTE_VALUE = {"FLOAT_VECTOR": ("vector", 3), "FLOAT2": ("vector", 2), "FLOAT_COLOR": ("color", 4),
                    "BYTE_COLOR": ("color", 4), "FLOAT": ("value", 1), "INT": ("value", 1),

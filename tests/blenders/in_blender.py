@@ -154,6 +154,7 @@ def main():
         timed("light_paths", lambda: light_paths_compare.compare_cases(
             SUBSET_LIGHT_PATHS if args.subset else tuple(light_paths_compare.CASES)))
         timed("media", lambda: media_compare.compare_cases(SUBSET_MEDIA if args.subset else media_compare.CASES))
+        report["fluid_simulates"] = media_compare.FLUID_SIMULATES  # (its smoke and fire cases then ran)
         names = SUBSET_MATERIALS if args.subset else list(materials_compare.material_library.MATERIALS)
         timed("materials", lambda: materials_compare.compare_cases(names, samples=256, passes=32))
         timed("nodes", lambda: nodes_compare.compare_cases(package=module))
