@@ -30,7 +30,7 @@ CURVE_TYPES = {"CURVE", "SURFACE", "FONT"}
 UNRENDERED_TYPES = {
     "CURVES": "hair curves are not rendered yet; left out",
     "POINTCLOUD": "point clouds are not rendered yet; left out",
-    "VOLUME": "Volume objects (OpenVDB grids, smoke) are not rendered yet; left out",
+    "VOLUME": "Volume objects (OpenVDB grids) are not rendered yet; left out",
     "GREASEPENCIL": "Grease Pencil is not rendered; left out",
     "GPENCIL": "Grease Pencil is not rendered; left out",
 }
