@@ -30,9 +30,10 @@ py::dict grid_info(const Scene& s, uint32_t index) {
   if (index >= s.grid_count()) throw py::index_error("grid index out of range");
   const auto g = s.grid(index);
   py::dict d;
-  d["size"] = py::make_tuple(g->size()[0], g->size()[1], g->size()[2]);
+  const auto lo = g->index_lo(), hi = g->index_hi();
+  d["index_lo"] = py::make_tuple(lo[0], lo[1], lo[2]), d["index_hi"] = py::make_tuple(hi[0], hi[1], hi[2]);
   d["channels"] = g->channels(), d["max_value"] = g->max_value(), d["not_finite"] = g->not_finite();
-  d["bytes"] = g->memory_bytes();
+  d["bricks"] = g->bricks(), d["bytes"] = g->memory_bytes();
   return d;
 }
 
@@ -46,7 +47,8 @@ void bind_grids(SceneClass& c) {
         "shape (nz, ny, nx) or (nz, ny, nx, channels) with 1, 3 or 4 channels; returns its index for "
         "set_object_info's `grids`. NaN and infinite values are stored as 0 (grid_info counts them).");
   c.def("grid_info", &grid_info, py::arg("index"),
-        "A grid's size (nx, ny, nz), channels, largest colour value, NaN/Inf values stored as 0, bytes.");
+        "A grid's index box (index_lo, index_hi: its bricks' of 8^3 voxels), channels, largest colour value, "
+        "NaN/Inf values stored as 0, bricks stored (empty ones are not) and bytes.");
 }
 
 }  // namespace ppm::python

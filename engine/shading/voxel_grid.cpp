@@ -1,15 +1,20 @@
-// A dense voxel grid's storage and trilinear lookup (see voxel_grid.h).
+// A voxel grid's bricks, table and trilinear lookup (see voxel_grid.h).
 #include "shading/voxel_grid.h"
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace ppm {
 
 namespace {
 constexpr long long kMaxAxis = 8192;
-constexpr long long kMaxValues = 1LL << 30;  // 4 GiB of floats
+constexpr long long kMaxValues = 1LL << 30;       // 4 GiB of floats
+constexpr long long kMaxTableEntries = 1LL << 27;  // 512 MiB of brick table
+
+int brick_of(int i) { return i >= 0 ? i / VoxelGrid::kBrick : -((-i + VoxelGrid::kBrick - 1) / VoxelGrid::kBrick); }
+int in_brick(int i) { return i & (VoxelGrid::kBrick - 1); }  // (two's complement: right for negatives too)
 }  // namespace
 
 void check_grid_shape(std::array<long long, 3> size, int channels, const std::string& what) {
@@ -23,41 +28,126 @@ void check_grid_shape(std::array<long long, 3> size, int channels, const std::st
   if (values > kMaxValues) fail("a grid of more than 2^30 values is not supported");
 }
 
-VoxelGrid::VoxelGrid(std::array<int, 3> size, int channels, const float* values)
-    : size_(size), channels_(channels) {
+VoxelGrid::VoxelGrid(Coord size, int channels, const float* values) : channels_(channels) {
   check_grid_shape({size[0], size[1], size[2]}, channels, "voxel grid");
-  values_.assign(values, values + voxels() * static_cast<size_t>(channels));
-  float most = 0.0f, alpha = channels == 4 ? 0.0f : 1.0f;
-  for (size_t i = 0; i < values_.size(); ++i) {
-    float& v = values_[i];
-    if (!std::isfinite(v)) {
-      v = 0.0f;
+  to_index_ = glm::mat4(1.0f);
+  for (int k = 0; k < 3; ++k) {
+    to_index_[k][k] = float(size[k]);
+    to_index_[3][k] = -0.5f;
+  }
+  std::vector<Coord> origins;
+  const size_t c = static_cast<size_t>(channels);
+  std::vector<float> brick(kBrickVoxels * c);
+  for (int bz = 0; bz * kBrick < size[2]; ++bz)
+    for (int by = 0; by * kBrick < size[1]; ++by)
+      for (int bx = 0; bx * kBrick < size[0]; ++bx) {
+        std::fill(brick.begin(), brick.end(), 0.0f);
+        bool any = false;
+        for (int x = 0; x < kBrick && bx * kBrick + x < size[0]; ++x)
+          for (int y = 0; y < kBrick && by * kBrick + y < size[1]; ++y)
+            for (int z = 0; z < kBrick && bz * kBrick + z < size[2]; ++z) {
+              const size_t from = ((size_t(bz * kBrick + z) * size[1] + (by * kBrick + y)) * size[0] + bx * kBrick + x) * c;
+              const size_t to = size_t(x * kBrick * kBrick + y * kBrick + z) * c;
+              for (size_t k = 0; k < c; ++k) {
+                brick[to + k] = values[from + k];
+                any = any || brick[to + k] != 0.0f;
+              }
+            }
+        if (!any) continue;  // the background's
+        origins.push_back({bx * kBrick, by * kBrick, bz * kBrick});
+        values_.insert(values_.end(), brick.begin(), brick.end());
+      }
+  bricks_ = origins.size();
+  constants_at_ = values_.size();
+  store(values_.data(), values_.size(), channels == 4);
+  make_table(origins, {}, "voxel grid");
+}
+
+VoxelGrid::VoxelGrid(int channels, const Mat4& to_index, const std::vector<Coord>& origins, const float* values,
+                     const std::vector<Coord>& constant_origins, const float* constant_values,
+                     const std::string& what)
+    : channels_(channels), to_index_(glm::mat4(to_index)), bricks_(origins.size()) {
+  auto fail = [&](const std::string& why) { throw std::invalid_argument(what + ": " + why); };
+  if (channels != 1 && channels != 3 && channels != 4) fail("a grid has 1, 3 or 4 channels");
+  if ((origins.size() * kBrickVoxels + constant_origins.size()) * size_t(channels) > size_t(kMaxValues))
+    fail("a grid of more than 2^30 values is not supported");
+  for (int r = 0; r < 4; ++r)
+    for (int k = 0; k < 4; ++k)
+      if (!std::isfinite(to_index[r][k])) fail("its transform is not finite");
+  const size_t c = static_cast<size_t>(channels);
+  values_.assign(values, values + origins.size() * kBrickVoxels * c);
+  constants_at_ = values_.size();
+  values_.insert(values_.end(), constant_values, constant_values + constant_origins.size() * c);
+  store(values_.data(), values_.size(), channels == 4);
+  make_table(origins, constant_origins, what);
+}
+
+void VoxelGrid::store(float* v, size_t count, bool alpha_last) {
+  float most = 0.0f, alpha = alpha_last ? 0.0f : 1.0f;
+  for (size_t i = 0; i < count; ++i) {
+    if (!std::isfinite(v[i])) {
+      v[i] = 0.0f;
       ++not_finite_;
     }
-    if (channels == 4 && i % 4 == 3)
-      alpha = std::max(alpha, v);
+    if (alpha_last && i % 4 == 3)
+      alpha = std::max(alpha, v[i]);
     else
-      most = std::max(most, v);
+      most = std::max(most, v[i]);
   }
   max_value_ = most;
   max_alpha_ = alpha;
 }
 
+void VoxelGrid::make_table(const std::vector<Coord>& origins, const std::vector<Coord>& constant_origins,
+                           const std::string& what) {
+  auto fail = [&](const std::string& why) { throw std::invalid_argument(what + ": " + why); };
+  Coord lo{std::numeric_limits<int>::max(), std::numeric_limits<int>::max(), std::numeric_limits<int>::max()};
+  Coord hi{std::numeric_limits<int>::min(), std::numeric_limits<int>::min(), std::numeric_limits<int>::min()};
+  auto extend = [&](const Coord& o) {
+    for (int k = 0; k < 3; ++k) {
+      if (in_brick(o[k]) != 0) fail("a brick's origin is not a multiple of 8");
+      lo[k] = std::min(lo[k], brick_of(o[k]));
+      hi[k] = std::max(hi[k], brick_of(o[k]));
+    }
+  };
+  for (const Coord& o : origins) extend(o);
+  for (const Coord& o : constant_origins) extend(o);
+  if (origins.empty() && constant_origins.empty()) return;  // empty: everything reads 0
+  long long entries = 1;
+  for (int k = 0; k < 3; ++k) entries *= static_cast<long long>(hi[k]) - lo[k] + 1;
+  if (entries > kMaxTableEntries) fail("its bricks spread over more than 2^27 brick places");
+  lo_ = lo;
+  dims_ = {hi[0] - lo[0] + 1, hi[1] - lo[1] + 1, hi[2] - lo[2] + 1};
+  table_.assign(static_cast<size_t>(entries), -1);
+  auto place = [&](const Coord& o) {
+    return (size_t(brick_of(o[2]) - lo_[2]) * dims_[1] + size_t(brick_of(o[1]) - lo_[1])) * dims_[0] +
+           size_t(brick_of(o[0]) - lo_[0]);
+  };
+  for (size_t b = 0; b < origins.size(); ++b) table_[place(origins[b])] = static_cast<int32_t>(b);
+  for (size_t t = 0; t < constant_origins.size(); ++t) table_[place(constant_origins[t])] = -2 - int32_t(t);
+}
+
 glm::vec4 VoxelGrid::voxel(int i, int j, int k) const {
-  if (i < 0 || j < 0 || k < 0 || i >= size_[0] || j >= size_[1] || k >= size_[2]) return glm::vec4(0.0f);
-  const size_t at = ((static_cast<size_t>(k) * size_[1] + j) * size_[0] + i) * channels_;
-  const float* v = values_.data() + at;
-  if (channels_ == 1) return glm::vec4(v[0], v[0], v[0], 1.0f);
-  return glm::vec4(v[0], v[1], v[2], channels_ == 4 ? v[3] : 1.0f);
+  const int bx = brick_of(i) - lo_[0], by = brick_of(j) - lo_[1], bz = brick_of(k) - lo_[2];
+  if (bx < 0 || by < 0 || bz < 0 || bx >= dims_[0] || by >= dims_[1] || bz >= dims_[2]) return glm::vec4(0.0f);
+  const int32_t entry = table_[(size_t(bz) * dims_[1] + by) * dims_[0] + bx];
+  if (entry == -1) return glm::vec4(0.0f);
+  const size_t c = static_cast<size_t>(channels_);
+  const float* v = entry >= 0 ? values_.data() + (size_t(entry) * kBrickVoxels +
+                                                  size_t(in_brick(i) * kBrick * kBrick + in_brick(j) * kBrick +
+                                                         in_brick(k))) * c
+                              : values_.data() + constants_at_ + size_t(-2 - entry) * c;
+  if (c == 1) return glm::vec4(v[0], v[0], v[0], 1.0f);
+  return glm::vec4(v[0], v[1], v[2], c == 4 ? v[3] : 1.0f);
 }
 
 glm::vec4 VoxelGrid::lookup(const Vec3f& p) const {
-  const float x = p.x * size_[0] - 0.5f, y = p.y * size_[1] - 0.5f, z = p.z * size_[2] - 0.5f;
-  if (!(x > -1.0f && y > -1.0f && z > -1.0f && x < size_[0] && y < size_[1] && z < size_[2]))
-    return glm::vec4(0.0f);  // (NaN too)
-  const float fx = std::floor(x), fy = std::floor(y), fz = std::floor(z);
+  const glm::vec4 q = to_index_ * glm::vec4(p, 1.0f);
+  constexpr float kFar = 1e9f;  // beyond any table (and not finite): 0, before the casts to int
+  if (!(std::fabs(q.x) < kFar && std::fabs(q.y) < kFar && std::fabs(q.z) < kFar)) return glm::vec4(0.0f);
+  const float fx = std::floor(q.x), fy = std::floor(q.y), fz = std::floor(q.z);
   const int i = static_cast<int>(fx), j = static_cast<int>(fy), k = static_cast<int>(fz);
-  const float ax = x - fx, ay = y - fy, az = z - fz;
+  const float ax = q.x - fx, ay = q.y - fy, az = q.z - fz;
   auto along_x = [&](int jj, int kk) { return voxel(i, jj, kk) * (1.0f - ax) + voxel(i + 1, jj, kk) * ax; };
   const glm::vec4 near = along_x(j, k) * (1.0f - ay) + along_x(j + 1, k) * ay;
   const glm::vec4 far = along_x(j, k + 1) * (1.0f - ay) + along_x(j + 1, k + 1) * ay;

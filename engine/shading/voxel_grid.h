@@ -1,8 +1,9 @@
-// A dense grid of voxels over an object's texture space: a smoke domain's density, colour, flame,
-// heat or temperature, as Blender's fluid simulation hands them over (x fastest, then y, then z).
-// Voxel (i, j, k) is the value at the centre of its cell, Generated ((i + 0.5) / nx, ...); between
-// centres the grid is trilinear, and cells outside it hold 0, as Cycles' grids do (a sparse grid's
-// background), so a domain's values fade to 0 over the half cell at its faces.
+// A grid of voxels: a smoke domain's density, colour, flame, heat or temperature (dense, over the
+// object's texture space), or an OpenVDB grid's (sparse, in its own index space). Both are kept as
+// bricks of 8^3 voxels (an OpenVDB leaf), an empty brick not stored; a table over the bricks' box says
+// which brick, constant (an OpenVDB tile) or nothing (0) covers each place. Voxel centres lie at
+// integer index coordinates; between them the grid is trilinear, and outside its bricks it is 0, as
+// Cycles' grids are (a sparse grid's background), so values fade to 0 over the half voxel beyond.
 #pragma once
 
 #include "math/types.h"
@@ -16,34 +17,53 @@ namespace ppm {
 
 class VoxelGrid {
  public:
-  // `values`: nx * ny * nz * channels floats (channels 1, 3 or 4: RGBA's alpha is kept apart).
-  // NaN and infinite values are stored as 0 and counted; negative ones are kept (a density's
-  // negative values count as 0 where a medium reads it, as Cycles clamps them).
-  VoxelGrid(std::array<int, 3> size, int channels, const float* values);
+  static constexpr int kBrick = 8;                            // voxels along a brick's edge
+  static constexpr int kBrickVoxels = kBrick * kBrick * kBrick;
+  using Coord = std::array<int, 3>;
 
-  std::array<int, 3> size() const { return size_; }
+  // A dense grid over Generated [0, 1]^3: `values` nx * ny * nz * channels floats, x fastest (a
+  // smoke domain's); voxel (i, j, k) at Generated ((i + 0.5) / nx, ...).
+  VoxelGrid(Coord size, int channels, const float* values);
+  // A sparse grid: bricks whose first voxels lie at `origins` (index coordinates, multiples of
+  // kBrick), `values` kBrick^3 * channels floats each with z fastest (OpenVDB's leaf order); constant
+  // bricks at `constant_origins`, `channels` floats each; `to_index` maps the instruction's input
+  // (object space) to index space. Throws std::invalid_argument naming `what` for what it cannot hold.
+  VoxelGrid(int channels, const Mat4& to_index, const std::vector<Coord>& origins, const float* values,
+            const std::vector<Coord>& constant_origins, const float* constant_values, const std::string& what);
+
   int channels() const { return channels_; }
-  size_t voxels() const { return static_cast<size_t>(size_[0]) * size_[1] * size_[2]; }
+  size_t bricks() const { return bricks_; }
   size_t not_finite() const { return not_finite_; }
   // The largest value a lookup can give in any colour channel (its mean included), and in alpha.
   float max_value() const { return max_value_; }
   float max_alpha() const { return max_alpha_; }
-  size_t memory_bytes() const { return values_.capacity() * sizeof(float); }
+  size_t memory_bytes() const { return values_.capacity() * sizeof(float) + table_.capacity() * sizeof(int32_t); }
+  // The box of index coordinates the bricks cover (lo inclusive, hi exclusive).
+  Coord index_lo() const { return {lo_[0] * kBrick, lo_[1] * kBrick, lo_[2] * kBrick}; }
+  Coord index_hi() const {
+    return {(lo_[0] + dims_[0]) * kBrick, (lo_[1] + dims_[1]) * kBrick, (lo_[2] + dims_[2]) * kBrick};
+  }
 
-  // The colour (a one-channel grid's value in all three) and alpha (1 without one) at Generated `p`.
+  // The colour (a one-channel grid's value in all three) and alpha (1 without one) at `p`.
   glm::vec4 lookup(const Vec3f& p) const;
 
  private:
+  void make_table(const std::vector<Coord>& origins, const std::vector<Coord>& constant_origins,
+                  const std::string& what);
+  void store(float* v, size_t count, bool alpha_last);
   glm::vec4 voxel(int i, int j, int k) const;
 
-  std::array<int, 3> size_{};
   int channels_ = 1;
-  std::vector<float> values_;
+  glm::mat4 to_index_{1.0f};
+  Coord lo_{}, dims_{};           // the brick table's box, in bricks
+  std::vector<int32_t> table_;    // per brick place: >= 0 a stored brick, -1 nothing, <= -2 constant -2 - k
+  std::vector<float> values_;     // the stored bricks, then the constants
+  size_t bricks_ = 0, constants_at_ = 0;
   size_t not_finite_ = 0;
   float max_value_ = 0.0f, max_alpha_ = 1.0f;
 };
 
-// Checks a grid's shape before it is built; throws std::invalid_argument naming `what`.
+// Checks a dense grid's shape before it is built; throws std::invalid_argument naming `what`.
 void check_grid_shape(std::array<long long, 3> size, int channels, const std::string& what);
 
 }  // namespace ppm

@@ -85,4 +85,4 @@ def test_values_that_are_not_finite_are_stored_as_zero_and_counted():
     scene = ppm_core.Scene()
     index = scene.add_grid("smoke", np.array([[[np.nan, 1.0, np.inf, -2.0]]]))
     info = scene.grid_info(index)
-    assert info["not_finite"] == 2 and info["max_value"] == 1.0 and info["size"] == (4, 1, 1)
+    assert info["not_finite"] == 2 and info["max_value"] == 1.0 and info["index_hi"] == (8, 8, 8)

@@ -5,6 +5,7 @@
 
 #include "shading/node_program.h"
 
+#include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -75,6 +76,48 @@ TEST(VoxelGrid, RefusesShapesItCannotHold) {
   EXPECT_THROW(check_grid_shape({4, 4, 4}, 2, "g"), std::invalid_argument);
   EXPECT_THROW(check_grid_shape({8192, 8192, 8192}, 1, "g"), std::invalid_argument);
   EXPECT_NO_THROW(check_grid_shape({256, 256, 256}, 4, "g"));
+}
+
+TEST(VoxelGrid, StoresNoBrickOfAnEmptyPart) {
+  std::vector<float> v(20 * 8 * 8, 0.0f);
+  v[19] = 1.0f;  // voxel (19, 0, 0): the third brick along x
+  const VoxelGrid g({20, 8, 8}, 1, v.data());
+  EXPECT_EQ(g.bricks(), 1u);
+  EXPECT_FLOAT_EQ(g.lookup(Vec3f(19.5f / 20, 0.5f / 8, 0.5f / 8)).x, 1.0f);
+  EXPECT_EQ(g.lookup(Vec3f(2.5f / 20, 0.5f / 8, 0.5f / 8)).x, 0.0f);
+}
+
+// A sparse grid: a brick at index (-8, 0, 16) holding its voxel's z (z fastest, OpenVDB's leaf
+// order), a constant brick of 5 beside it along x, index space = object space times 2.
+VoxelGrid sparse_grid() {
+  std::vector<float> brick(VoxelGrid::kBrickVoxels);
+  for (int o = 0; o < VoxelGrid::kBrickVoxels; ++o) brick[o] = float(o % 8);
+  const float constant = 5.0f;
+  return VoxelGrid(1, Mat4(glm::scale(glm::dmat4(1.0), glm::dvec3(2.0))), {{-8, 0, 16}}, brick.data(), {{0, 0, 16}},
+                   &constant, "test");
+}
+
+TEST(VoxelGrid, ReadsBricksAtTheirOriginsZFastestAndConstantsAsTiles) {
+  const VoxelGrid g = sparse_grid();
+  EXPECT_FLOAT_EQ(g.lookup(Vec3f(-3.0f, 1.0f, 9.5f)).x, 3.0f);   // index (-6, 2, 19): z 19 - 16
+  EXPECT_FLOAT_EQ(g.lookup(Vec3f(2.0f, 1.0f, 10.0f)).x, 5.0f);   // index (4, 2, 20): the constant
+  EXPECT_FLOAT_EQ(g.lookup(Vec3f(-0.25f, 1.0f, 9.5f)).x, 4.0f);  // index -0.5: half of 3 and of 5
+  EXPECT_EQ(g.lookup(Vec3f(-3.0f, 1.0f, 0.0f)).x, 0.0f);         // no brick there
+  const auto lo = g.index_lo(), hi = g.index_hi();
+  EXPECT_EQ(lo[0], -8);
+  EXPECT_EQ(hi[2], 24);
+  EXPECT_FLOAT_EQ(g.max_value(), 7.0f);
+}
+
+TEST(VoxelGrid, RefusesBricksOffTheirPlacesAndTransformsThatAreNotFinite) {
+  const float v[VoxelGrid::kBrickVoxels] = {};
+  EXPECT_THROW(VoxelGrid(1, Mat4(1.0), {{3, 0, 0}}, v, {}, nullptr, "g"), std::invalid_argument);
+  Mat4 bad(1.0);
+  bad[3][0] = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(VoxelGrid(1, bad, {{0, 0, 0}}, v, {}, nullptr, "g"), std::invalid_argument);
+  const std::vector<float> two(2 * VoxelGrid::kBrickVoxels, 0.0f);
+  EXPECT_THROW(VoxelGrid(1, Mat4(1.0), {{0, 0, 0}, {8000 * 8, 8000 * 8, 8000 * 8}}, two.data(), {}, nullptr, "g"),
+               std::invalid_argument);  // the table would be too large
 }
 
 // Generated -> the grid in slot 0, its fac the program's output.
