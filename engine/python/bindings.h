@@ -22,6 +22,7 @@ void bind_renderer(py::module_& m);     // renderer_bindings.cpp
 void bind_share(py::module_& m);        // share_bindings.cpp
 void bind_scene(py::module_& m);        // scene_bindings.cpp
 void bind_node_modes(py::module_& m);   // node_program_bindings.cpp
+void bind_blosc(py::module_& m);        // blosc_bindings.cpp
 
 // The parts of the Renderer class: the images it reads back (render_pass_bindings.cpp).
 void bind_render_passes(RendererClass& c);

@@ -21,4 +21,5 @@ PYBIND11_MODULE(ppm_core, m) {
   ppm::python::bind_renderer(m);
   ppm::python::bind_share(m);
   ppm::python::bind_node_modes(m);
+  ppm::python::bind_blosc(m);
 }
