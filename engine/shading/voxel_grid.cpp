@@ -28,13 +28,26 @@ void check_grid_shape(std::array<long long, 3> size, int channels, const std::st
   if (values > kMaxValues) fail("a grid of more than 2^30 values is not supported");
 }
 
-VoxelGrid::VoxelGrid(Coord size, int channels, const float* values) : channels_(channels) {
-  check_grid_shape({size[0], size[1], size[2]}, channels, "voxel grid");
-  to_index_ = glm::mat4(1.0f);
+namespace {
+Mat4 unit_box_to_index(const VoxelGrid::Coord& size) {
+  Mat4 m(1.0);
   for (int k = 0; k < 3; ++k) {
-    to_index_[k][k] = float(size[k]);
-    to_index_[3][k] = -0.5f;
+    m[k][k] = double(size[k]);
+    m[3][k] = -0.5;
   }
+  return m;
+}
+}  // namespace
+
+VoxelGrid::VoxelGrid(Coord size, int channels, const float* values)
+    : VoxelGrid(size, channels, values, unit_box_to_index(size)) {}
+
+VoxelGrid::VoxelGrid(Coord size, int channels, const float* values, const Mat4& to_index) : channels_(channels) {
+  check_grid_shape({size[0], size[1], size[2]}, channels, "voxel grid");
+  for (int r = 0; r < 4; ++r)
+    for (int k = 0; k < 4; ++k)
+      if (!std::isfinite(to_index[r][k])) throw std::invalid_argument("voxel grid: its transform is not finite");
+  to_index_ = glm::mat4(to_index);
   std::vector<Coord> origins;
   const size_t c = static_cast<size_t>(channels);
   std::vector<float> brick(kBrickVoxels * c);

@@ -21,9 +21,11 @@ class VoxelGrid {
   static constexpr int kBrickVoxels = kBrick * kBrick * kBrick;
   using Coord = std::array<int, 3>;
 
-  // A dense grid over Generated [0, 1]^3: `values` nx * ny * nz * channels floats, x fastest (a
-  // smoke domain's); voxel (i, j, k) at Generated ((i + 0.5) / nx, ...).
+  // A dense grid: `values` nx * ny * nz * channels floats, x fastest (a smoke domain's); `to_index`
+  // maps the instruction's input to index space (default: [0, 1]^3 onto the grid, voxel (i, j, k) at
+  // ((i + 0.5) / nx, ...), as a smoke domain's grid over Generated).
   VoxelGrid(Coord size, int channels, const float* values);
+  VoxelGrid(Coord size, int channels, const float* values, const Mat4& to_index);
   // A sparse grid: bricks whose first voxels lie at `origins` (index coordinates, multiples of
   // kBrick), `values` kBrick^3 * channels floats each with z fastest (OpenVDB's leaf order); constant
   // bricks at `constant_origins`, `channels` floats each; `to_index` maps the instruction's input
