@@ -99,7 +99,7 @@ inline MediaPhoton emit_media_photon(const Scene& scene, const LightSampler& lig
   const int id = scene.medium_region(light.region).medium;
   const Medium& med = scene.medium(static_cast<uint32_t>(id));
   if (med.varies()) {  // the light's power is its bound's: each photon carries the emission here against it
-    const Color e = scene.local_medium(med, x, ray.direction).emission;
+    const Color e = scene.local_medium(med, x, ray.direction, rng.next_u32() | 1u).emission;
     for (int c = 0; c < 3; ++c) flux[c] *= med.emission_bound[c] > 0.0 ? e[c] / med.emission_bound[c] : 0.0;
     out.emitted = out.emitted && max_component(flux) > 0.0;
   }

@@ -28,7 +28,8 @@ std::optional<Mat4> to_index_of(const py::object& to_index, const std::string& w
   return mat4(to_index, what, "to_index");
 }
 
-uint32_t add_grid(Scene& s, const std::string& name, const py::object& values, const py::object& to_index) {
+uint32_t add_grid(Scene& s, const std::string& name, const py::object& values, const py::object& to_index,
+                  bool stochastic) {
   const std::string what = "grid '" + checked_name(name, "grid") + "'";
   const py::array raw = real_array(values, what, "values");
   if (raw.ndim() != 3 && raw.ndim() != 4)
@@ -39,8 +40,10 @@ uint32_t add_grid(Scene& s, const std::string& name, const py::object& values, c
   const FloatArray a = array_or_null<FloatArray>(raw);
   const std::array<int, 3> size{int(raw.shape(2)), int(raw.shape(1)), int(raw.shape(0))};
   py::gil_scoped_release unlocked;
-  return s.add_grid(m ? std::make_shared<const VoxelGrid>(size, channels, a.data(), *m)
-                      : std::make_shared<const VoxelGrid>(size, channels, a.data()));
+  auto grid = m ? std::make_shared<VoxelGrid>(size, channels, a.data(), *m)
+                : std::make_shared<VoxelGrid>(size, channels, a.data());
+  grid->set_stochastic(stochastic);
+  return s.add_grid(std::move(grid));
 }
 
 std::vector<VoxelGrid::Coord> coords(const py::object& value, size_t count, const std::string& what,
@@ -55,7 +58,7 @@ std::vector<VoxelGrid::Coord> coords(const py::object& value, size_t count, cons
 
 uint32_t add_sparse_grid(Scene& s, const std::string& name, const py::object& values, const py::object& origins,
                          const py::object& to_index, const py::object& constant_origins,
-                         const py::object& constant_values) {
+                         const py::object& constant_values, bool stochastic) {
   const std::string what = "grid '" + checked_name(name, "grid") + "'";
   const py::array raw = real_array(values, what, "values");
   if (raw.ndim() != 2 && raw.ndim() != 3) fail(what, "values must be (bricks, 512) or (bricks, 512, channels)");
@@ -75,8 +78,10 @@ uint32_t add_sparse_grid(Scene& s, const std::string& name, const py::object& va
   }
   const Mat4 m = mat4(to_index, what, "to_index");
   py::gil_scoped_release unlocked;
-  return s.add_grid(std::make_shared<const VoxelGrid>(channels, m, at, a.data(), constant_at,
-                                                      constants ? constants.data() : nullptr, what));
+  auto grid = std::make_shared<VoxelGrid>(channels, m, at, a.data(), constant_at,
+                                          constants ? constants.data() : nullptr, what);
+  grid->set_stochastic(stochastic);
+  return s.add_grid(std::move(grid));
 }
 
 py::dict grid_info(const Scene& s, uint32_t index) {
@@ -96,16 +101,21 @@ namespace ppm::python {
 
 void bind_grids(SceneClass& c) {
   c.def("add_grid", &add_grid, py::arg("name"), py::arg("values"), py::arg("to_index") = py::none(),
+        py::arg("stochastic") = false,
         "Adds a dense voxel grid (Blender's smoke domain grids: x fastest), shape (nz, ny, nx) or (nz, ny, nx, "
         "channels) with 1, 3 or 4 channels; `to_index`, a 4x4 matrix, maps the grid instruction's input to "
-        "index space (voxel centres at integers; default: [0, 1]^3 onto the grid). Returns its index for "
-        "set_object_info's `grids`. NaN and infinite values are stored as 0 (grid_info counts them).");
+        "index space (voxel centres at integers; default: [0, 1]^3 onto the grid); `stochastic`: where paths "
+        "track a medium, a lookup picks one voxel by the trilinear weights, as Cycles 5.0+ reads volume "
+        "attributes (else it interpolates). Returns its index for set_object_info's `grids`. NaN and infinite "
+        "values are stored as 0 (grid_info counts them).");
   c.def("add_sparse_grid", &add_sparse_grid, py::arg("name"), py::arg("values"), py::arg("origins"),
         py::arg("to_index"), py::arg("constant_origins") = py::none(), py::arg("constant_values") = py::none(),
+        py::arg("stochastic") = false,
         "Adds a sparse voxel grid (an OpenVDB grid's leaves): bricks of 8^3 values (bricks, 512[, channels]), z "
         "fastest, whose first voxels lie at `origins` (bricks, 3: index coordinates, multiples of 8); "
         "constant bricks (an OpenVDB tile's) at `constant_origins` with `constant_values` (one per brick); "
-        "`to_index` maps the grid instruction's input (object space) to index space. Returns its index.");
+        "`to_index` maps the grid instruction's input (object space) to index space; `stochastic` as "
+        "add_grid's. Returns its index.");
   c.def("grid_info", &grid_info, py::arg("index"),
         "A grid's index box (index_lo, index_hi: its bricks' of 8^3 voxels), channels, largest colour value, "
         "NaN/Inf values stored as 0, bricks stored (empty ones are not) and bytes.");

@@ -20,7 +20,7 @@ glm::vec4 rgba(const double* p, const std::string& what, const std::string& fiel
 void set_object_info(Scene& s, uint32_t object, const py::object& object_to_world,
                      const py::object& texspace_location, const py::object& texspace_size, double random,
                      double pass_index, const py::object& color, const py::object& attributes,
-                     const py::object& grids) {
+                     const py::object& grids, double volume_density) {
   const std::string what = "object " + std::to_string(object);
   const Mat4 to_world = mat4(object_to_world, what, "matrix");
   const Vec3 location = vec3(texspace_location, what, "texspace_location");
@@ -34,6 +34,8 @@ void set_object_info(Scene& s, uint32_t object, const py::object& object_to_worl
     const DoubleArray a = matrix(attributes, 4, what, "attributes");
     for (py::ssize_t i = 0; i < a.shape(0); ++i) info.attributes.push_back(rgba(a.data() + 4 * i, what, "attributes"));
   }
+  if (!(volume_density >= 0.0 && volume_density <= 1e30)) fail(what, "volume_density must be in [0, 1e30]");
+  info.volume_density = static_cast<float>(volume_density);
   if (!grids.is_none()) {
     for (const py::handle g : py::cast<py::sequence>(grids)) {
       const long long index = g.is_none() ? -1 : py::cast<long long>(g);
@@ -53,12 +55,14 @@ void bind_object_info(SceneClass& c) {
         py::arg("texspace_location") = py::make_tuple(0.0, 0.0, 0.0),
         py::arg("texspace_size") = py::make_tuple(1.0, 1.0, 1.0), py::arg("random") = 0.0,
         py::arg("pass_index") = 0.0, py::arg("color") = py::make_tuple(1.0, 1.0, 1.0, 1.0),
-        py::arg("attributes") = py::none(), py::arg("grids") = py::none(),
+        py::arg("attributes") = py::none(), py::arg("grids") = py::none(), py::arg("volume_density") = 1.0,
         "What node programs know of object id `object` (add_mesh's object_id): its object-to-world matrix "
         "(Texture Coordinate's Object), its texture space (Blender's texspace_location and _size: Generated), "
         "Object Info's Random, Pass Index and Color (RGBA), and `attributes`: (n, 4) RGBA values the "
         "program's object_attribute coordinates read by slot (the instruction's data); finite numbers only; "
-        "`grids`: add_grid indices by slot (None or -1: none), which the program's grid instructions read.");
+        "`grids`: add_grid indices by slot (None or -1: none), which the program's grid instructions read; "
+        "`volume_density`: what its media that vary are multiplied by (Cycles' Volume objects follow their "
+        "scale so).");
 }
 
 }  // namespace ppm::python

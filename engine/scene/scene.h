@@ -245,7 +245,8 @@ class Scene {
   }
   // A medium's coefficients at `x` for a path travelling along `direction` (Cycles' volume shading
   // point: its normal and incoming direction face back along the ray).
-  LocalMedium local_medium(const Medium& m, const Vec3& x, const Vec3& direction) const;
+  // `voxel_random` (not 0): an LCG seed for stochastic grids' voxel picks (ShadingContext).
+  LocalMedium local_medium(const Medium& m, const Vec3& x, const Vec3& direction, uint32_t voxel_random = 0) const;
   // Its sigma_s alone: the constant where the medium does not vary (no program run).
   Color sigma_s_at(const Medium& m, const Vec3& x, const Vec3& direction) const {
     return m.varies() ? local_medium(m, x, direction).sigma_s : m.c.sigma_s;

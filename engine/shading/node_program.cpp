@@ -52,10 +52,11 @@ glm::vec4 object_attribute(const ObjectInfo& o, uint32_t slot) {
 }
 
 // A Grid instruction's colour, fac and alpha (see NodeOp::Grid).
-void grid_op(const NodeInstruction& ins, const ShadingContext& c, Vec3f* r) {
+void grid_op(const NodeInstruction& ins, ShadingContext& c, Vec3f* r) {
   const ObjectInfo& o = object_of(c);
   const VoxelGrid* grid = ins.data < o.grids.size() ? o.grids[ins.data].get() : nullptr;
-  const glm::vec4 v = grid != nullptr ? grid->lookup(r[ins.in[0]]) : glm::vec4(ins.flags & 1 ? 1.0f : 0.0f);
+  const glm::vec4 v = grid != nullptr ? grid->lookup(r[ins.in[0]], c.voxel_random != 0 ? &c.voxel_random : nullptr)
+                                      : glm::vec4(ins.flags & 1 ? 1.0f : 0.0f);
   r[ins.out[0]] = Vec3f(v);
   r[ins.out[1]] = Vec3f((v.x + v.y + v.z) * (1.0f / 3.0f));
   r[ins.out[2]] = Vec3f(v.w);

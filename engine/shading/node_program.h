@@ -35,6 +35,9 @@ struct ObjectInfo {
   // Its voxel grids (a smoke domain's density, colour, flame, heat, temperature) by the slot the
   // add-on gave each name; null: the object has none of that name.
   std::vector<std::shared_ptr<const VoxelGrid>> grids;
+  // What Cycles multiplies a Volume object's volume closures by (its density follows the object's
+  // scale: 1 / |M (1, 1, 1) / sqrt 3| when the Volume's space is Object); 1 for other objects.
+  float volume_density = 1.0f;
 };
 
 // What Blender's Light Path node reads at a shading point: the ray that arrived and the path's
@@ -67,6 +70,9 @@ struct ShadingContext {
   double footprint = 0.0;           // world size of a pixel here, seen by a camera ray; 0: unknown
   glm::vec4 attribute{0.0f};        // the mesh attribute here (Attribute, Color Attribute nodes)
   LightPath path = kCameraPath;
+  // Stochastic grids (VoxelGrid::stochastic) pick one voxel by trilinear weights with random numbers
+  // from this LCG state where it is not 0 (a tracker's point); 0: they interpolate.
+  uint32_t voxel_random = 0;
 };
 
 enum class NodeOp : uint8_t {

@@ -154,13 +154,22 @@ glm::vec4 VoxelGrid::voxel(int i, int j, int k) const {
   return glm::vec4(v[0], v[1], v[2], c == 4 ? v[3] : 1.0f);
 }
 
-glm::vec4 VoxelGrid::lookup(const Vec3f& p) const {
+namespace {
+float lcg_uniform(uint32_t* state) {  // (Numerical Recipes' LCG, its top 24 bits)
+  *state = *state * 1664525u + 1013904223u;
+  return float(*state >> 8) * (1.0f / 16777216.0f);
+}
+}  // namespace
+
+glm::vec4 VoxelGrid::lookup(const Vec3f& p, uint32_t* state) const {
   const glm::vec4 q = to_index_ * glm::vec4(p, 1.0f);
   constexpr float kFar = 1e9f;  // beyond any table (and not finite): 0, before the casts to int
   if (!(std::fabs(q.x) < kFar && std::fabs(q.y) < kFar && std::fabs(q.z) < kFar)) return glm::vec4(0.0f);
   const float fx = std::floor(q.x), fy = std::floor(q.y), fz = std::floor(q.z);
   const int i = static_cast<int>(fx), j = static_cast<int>(fy), k = static_cast<int>(fz);
   const float ax = q.x - fx, ay = q.y - fy, az = q.z - fz;
+  if (stochastic_ && state != nullptr)
+    return voxel(i + (lcg_uniform(state) < ax), j + (lcg_uniform(state) < ay), k + (lcg_uniform(state) < az));
   auto along_x = [&](int jj, int kk) { return voxel(i, jj, kk) * (1.0f - ax) + voxel(i + 1, jj, kk) * ax; };
   const glm::vec4 near = along_x(j, k) * (1.0f - ay) + along_x(j + 1, k) * ay;
   const glm::vec4 far = along_x(j, k + 1) * (1.0f - ay) + along_x(j + 1, k + 1) * ay;

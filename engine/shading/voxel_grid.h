@@ -46,8 +46,13 @@ class VoxelGrid {
     return {(lo_[0] + dims_[0]) * kBrick, (lo_[1] + dims_[1]) * kBrick, (lo_[2] + dims_[2]) * kBrick};
   }
 
-  // The colour (a one-channel grid's value in all three) and alpha (1 without one) at `p`.
-  glm::vec4 lookup(const Vec3f& p) const;
+  // The colour (a one-channel grid's value in all three) and alpha (1 without one) at `p`. A
+  // stochastic grid given an LCG `state` returns one voxel, picked along each axis with the
+  // trilinear weight (Cycles 5.0's volume attributes: the mean is the interpolation's, and a
+  // nonlinear function of it, a blackbody's T^4, averages over voxels as Cycles'); else trilinear.
+  glm::vec4 lookup(const Vec3f& p, uint32_t* state = nullptr) const;
+  void set_stochastic(bool on) { stochastic_ = on; }
+  bool stochastic() const { return stochastic_; }
 
  private:
   void make_table(const std::vector<Coord>& origins, const std::vector<Coord>& constant_origins,
@@ -63,6 +68,7 @@ class VoxelGrid {
   size_t bricks_ = 0, constants_at_ = 0;
   size_t not_finite_ = 0;
   float max_value_ = 0.0f, max_alpha_ = 1.0f;
+  bool stochastic_ = false;
 };
 
 // Checks a dense grid's shape before it is built; throws std::invalid_argument naming `what`.

@@ -7,9 +7,9 @@ gas domain told apart from a liquid one. Rendered against Cycles: tests/blenders
 from types import SimpleNamespace
 
 import numpy as np
-import ppm_core
 import pytest
 
+import ppm_core
 from ppm_render.export import smoke
 
 

@@ -7,9 +7,9 @@ import os
 import struct
 
 import numpy as np
-import ppm_core
 import pytest
 
+import ppm_core
 from ppm_render.export import vdb
 
 DATA = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "data")

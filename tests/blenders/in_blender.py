@@ -52,7 +52,7 @@ RESOLUTION_PERCENT = 12  # 640x480 -> 76x57
 # baked worlds, light path limits) at a third of the time. Every node case runs in every version.
 SUBSET_WORLDS = ("sunrise_backdrop", "procedural_sky")
 SUBSET_LIGHT_PATHS = ("diffuse_1", "light_max_bounces_1", "fog_volume_0")
-SUBSET_MEDIA = ("fog_cube_spot", "ink_in_glass", "noise_cloud")
+SUBSET_MEDIA = ("fog_cube_spot", "ink_in_glass", "noise_cloud", "vdb_smoke")
 SUBSET_MATERIALS = ["glass_clear", "mix_diffuse_glossy", "node_group", "principled_default", "principled_middle",
                     "principled_gold", "principled_glass", "principled_coat", "principled_alpha",
                     "metallic_physical_gold", "glossy_anisotropic", "normal_mapped", "proc_wood", "proc_cells"]

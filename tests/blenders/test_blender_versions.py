@@ -110,8 +110,8 @@ def test_zip_installs_renders_and_agrees_with_cycles(version, addon_zip, tmp_pat
     # The smoke ball in a fog room from 4.5 on (media_compare.FROM_BLENDER); simulated smoke and fire where
     # Blender runs fluid simulations: the blender binary (3.4), not Blender as a Python module.
     assert report["fluid_simulates"] == (BLENDERS[version][1][0] == "blender"), report["fluid_simulates"]
-    full_media = (11 if tuple(map(int, version.split("."))) >= (4, 5) else 10) + 2 * report["fluid_simulates"]
-    assert len(media) == (full_media if full else 3) and all(e <= tolerance for e, tolerance in media.values()), media
+    full_media = (12 if tuple(map(int, version.split("."))) >= (4, 5) else 11) + 2 * report["fluid_simulates"]
+    assert len(media) == (full_media if full else 4) and all(e <= tolerance for e, tolerance in media.values()), media
     materials = {row["case"]: row["error"] for row in report["materials"] if not row["approximated"]}
     assert len(materials) >= (40 if full else 12), materials
     assert all(e <= MATERIAL_TOLERANCE for e in materials.values()), materials

@@ -120,6 +120,24 @@ TEST(VoxelGrid, RefusesBricksOffTheirPlacesAndTransformsThatAreNotFinite) {
                std::invalid_argument);  // the table would be too large
 }
 
+TEST(VoxelGrid, AStochasticLookupPicksVoxelsByTheTrilinearWeights) {
+  VoxelGrid g = ramp_grid();
+  g.set_stochastic(true);
+  const Vec3f p = centre(1, 1, 0) + Vec3f(0.25f / 4, 0.5f / 3, 0.5f / 2);  // as IsTrilinearBetweenCentres
+  uint32_t state = 12345u;
+  double sum = 0.0, sum4 = 0.0;
+  const int n = 200000;
+  for (int k = 0; k < n; ++k) {
+    const float v = g.lookup(p, &state).x;
+    const int i = int(v) % 10, j = (int(v) / 10) % 10, kk = int(v) / 100;  // a voxel's own value
+    ASSERT_EQ(v, float(i + 10 * j + 100 * kk));
+    sum += v, sum4 += std::pow(double(v), 4);
+  }
+  EXPECT_NEAR(sum / n, 1.25 + 15.0 + 50.0, 0.5);  // the trilinear value, in the mean
+  EXPECT_GT(sum4 / n, 1.1 * std::pow(66.25, 4));  // and a nonlinear function of it averages voxels
+  EXPECT_NEAR(g.lookup(p).x, 66.25f, 1e-3);        // without a state: trilinear
+}
+
 // Generated -> the grid in slot 0, its fac the program's output.
 NodeProgram grid_program(bool missing_is_one) {
   NodeProgram p;

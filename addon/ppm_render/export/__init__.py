@@ -18,10 +18,12 @@ many instances it has. Only a scene without a camera object fails.
 
 import dataclasses
 import re
+import sys
 
+import bpy
 import numpy as np
 
-from . import bezier, camera, light, material, mesh, object_info, smoke, unrendered, world
+from . import bezier, camera, light, material, mesh, object_info, smoke, unrendered, volume_object, world
 from .instance import Instance
 
 GEOMETRY_TYPES = {"MESH", "CURVE", "SURFACE", "META", "FONT"}
@@ -30,7 +32,6 @@ CURVE_TYPES = {"CURVE", "SURFACE", "FONT"}
 UNRENDERED_TYPES = {
     "CURVES": "hair curves are not rendered yet; left out",
     "POINTCLOUD": "point clouds are not rendered yet; left out",
-    "VOLUME": "Volume objects (OpenVDB grids) are not rendered yet; left out",
     "GREASEPENCIL": "Grease Pencil is not rendered; left out",
     "GPENCIL": "Grease Pencil is not rendered; left out",
 }
@@ -73,7 +74,11 @@ class Exporter:
         self.lights, self.objects = lights, objects
         self.attributes = object_info.AttributeTable(view_layer, scene)
         self.materials = material.MaterialExporter(self.scene, warn, self.attributes)
-        self.smoke = smoke.SmokeGrids(self.scene, scene.frame_current if scene is not None else 0, warn)
+        # Cycles 5.0 on reads a volume's grids one voxel at a time, picked by the trilinear weights.
+        stochastic = bpy.app.version >= (5, 0, 0)
+        self.smoke = smoke.SmokeGrids(self.scene, scene.frame_current if scene is not None else 0, warn, stochastic)
+        module = getattr(core_scene, "core_module", None) or sys.modules[type(core_scene).__module__]
+        self.volumes = volume_object.VolumeObjects(self.scene, warn, module.blosc_decompress, stochastic)
         self.meshes = {}  # mesh_key -> MeshData, for this depsgraph's instances sharing one
         self.next_id = 0
         self.triangles = 0
@@ -92,8 +97,10 @@ class Exporter:
         domain's grids that they read)."""
         if any(i in self.materials.with_program for i in slots):
             read = {smoke.GRID_NAMES[k] for i in slots for k in self.materials.grid_slots_of.get(i, ())}
-            grids = self.smoke.indices(item.obj, sorted(read)) if read else None
-            object_info.add_object_info(self.scene, item, self.attributes, grids)
+            volume = item.obj.type == "VOLUME"
+            grids = (self.volumes if volume else self.smoke).indices(item.obj, sorted(read)) if read else None
+            density = volume_object.density_scale(item) if volume else 1.0
+            object_info.add_object_info(self.scene, item, self.attributes, grids, density)
 
     def object_id(self):
         self.next_id += 1
@@ -107,7 +114,7 @@ class Exporter:
         return PassIndices(objects, self.materials.pass_index_table())
 
     def slot_materials(self, obj):
-        grids = smoke.gas_domain(obj) is not None
+        grids = obj.type == "VOLUME" or smoke.gas_domain(obj) is not None
         slots = [self.materials.index(slot.material, grids) for slot in obj.material_slots]
         return slots or [self.materials.index(None)]
 
@@ -207,6 +214,22 @@ class Exporter:
         self.triangles += len(arguments["triangles"])
         return True
 
+    def add_volume(self, item):
+        """Adds a Volume object (a box around its grids, carrying its material's medium); returns its record."""
+        obj = item.obj
+        grids = self.volumes.grids(obj)
+        slots = self.slot_materials(obj) if grids is not None else []
+        if grids is not None and not any(i in self.materials.with_volume for i in slots):
+            self.skip(obj, "it has no material with a Volume output (Cycles renders its default volume); left out")
+            grids = None
+        data = volume_object.box_mesh(grids) if grids is not None else None
+        if data is None:
+            return Exported(detached(item), (), "volume")
+        self.describe_object(item, slots)
+        self.note_medium_bounds(item, data, slots)
+        added = self.put_mesh(data, item, slots, False)
+        return Exported(detached(item), self.mesh_key(obj)[1], "volume", data, added)
+
     def add_revolve(self, item):
         slots = self.slot_materials(item.obj)
         index = self.materials.without_emission(slots[0], f"'{item.name}'")
@@ -233,10 +256,10 @@ class Exporter:
             return None
 
     def role(self, instance):
-        """What a depsgraph instance is to the export: "light", "mesh", "revolve", "curve" (a curve whose
-        geometry may come as a MESH instance of its own: finish_curves), "none" (a revolve's Screw
-        preview), "unrendered" (a kind of geometry the core has not: UNRENDERED_TYPES) or None (nothing:
-        a camera, an empty, an object not shown)."""
+        """What a depsgraph instance is to the export: "light", "mesh", "revolve", "volume" (a Volume
+        object), "curve" (a curve whose geometry may come as a MESH instance of its own:
+        finish_curves), "none" (a revolve's Screw preview), "unrendered" (a kind of geometry the
+        core has not: UNRENDERED_TYPES) or None (nothing: a camera, an empty, an object not shown)."""
         obj = instance.object
         # For an instance: the object instanced (a curve lists its own evaluated mesh so) and the
         # object instancing it (an empty with a collection, a particle or Geometry Nodes host).
@@ -249,6 +272,8 @@ class Exporter:
             return "none" if bezier.is_revolve(instanced) else "mesh"
         if bezier.is_revolve(obj):
             return "revolve"
+        if obj.type == "VOLUME" and (instanced is not None or getattr(instance, "show_self", True)):
+            return "volume"
         if obj.type in CURVE_TYPES and instanced is None:
             return "curve"
         shown = instanced is not None or getattr(instance, "show_self", True)
@@ -293,7 +318,7 @@ class Exporter:
         elif role == "none":
             self.record(identity, Exported(detached(item), (), "none"))
         else:
-            export = self.add_geometry if role == "mesh" else self.add_revolve
+            export = {"mesh": self.add_geometry, "revolve": self.add_revolve, "volume": self.add_volume}[role]
             self.record(identity, self.guarded(obj, export, item) or Exported(detached(item), (), role))
 
     def record(self, identity, exported):
@@ -342,9 +367,9 @@ class Exporter:
         unchanged = not fresh and materials == record.materials
         if record.kind == "none" or (unchanged and np.array_equal(matrix, record.item.matrix)):
             return False
-        if record.kind == "revolve":
+        if record.kind in ("revolve", "volume"):
             self.scene.remove_object(item.object_id)
-            self.exported[identity] = self.add_revolve(item)
+            self.exported[identity] = (self.add_revolve if record.kind == "revolve" else self.add_volume)(item)
             return True
         slots = self.slot_materials(obj)
         data = record.data if unchanged else self.mesh_of(obj, slots)

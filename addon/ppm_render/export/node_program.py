@@ -382,9 +382,10 @@ def _attribute_outputs(c, node, name):
 
 
 def _grid_outputs(c, slot):
-    """A smoke domain's grid `slot` (smoke.GRID_NAMES) at the point's Generated coordinate: 0 on an object
-    without it, as Cycles' Attribute node reads a missing attribute."""
-    color, fac, alpha = c.emit("grid", [c.coordinate("generated")], outs=3, kinds=("color", "float", "float"),
+    """An object's grid `slot` (smoke.GRID_NAMES: a smoke domain's or a Volume object's) at the point's
+    Object coordinate (each grid maps it to its voxels): 0 on an object without it, as Cycles' Attribute
+    node reads a missing attribute."""
+    color, fac, alpha = c.emit("grid", [c.coordinate("object")], outs=3, kinds=("color", "float", "float"),
                                data=slot, pure=False)
     return {"Color": color, "Vector": Value(color.reg, "vector", True), "Fac": fac, "Alpha": alpha}
 

@@ -130,10 +130,11 @@ class AttributeTable:
         return rows
 
 
-def add_object_info(core_scene, item, attributes=None, grids=None):
+def add_object_info(core_scene, item, attributes=None, grids=None, volume_density=1.0):
     """Tells the core about object `item` (an Instance) for its materials' node programs (beyond the
     core's limit of ids, its Generated and Object coordinates are the world's). `attributes`: the
-    export's AttributeTable; `grids`: its smoke grids' indices by slot (smoke.SmokeGrids)."""
+    export's AttributeTable; `grids`: its grids' indices by slot (smoke.SmokeGrids,
+    volume_object.VolumeObjects); `volume_density`: volume_object.density_scale's."""
     if item.object_id >= MAX_OBJECT_ID:
         return
     obj = item.obj
@@ -144,4 +145,4 @@ def add_object_info(core_scene, item, attributes=None, grids=None):
     rows = attributes.values(item) if attributes is not None and attributes.slots else None
     core_scene.set_object_info(item.object_id, item.matrix, texspace_location=location, texspace_size=size,
                                random=item.random, pass_index=float(getattr(obj, "pass_index", 0)), color=color,
-                               attributes=rows, grids=grids)
+                               attributes=rows, grids=grids, volume_density=volume_density)

@@ -6,7 +6,8 @@ grids at the current frame (intern/cycles/blender/volume.cpp, BlenderSmokeLoader
 the domain's resolution (times the noise's upscale where Noise is on; heat never upscaled) over the
 evaluated mesh's texture space, empty outside the cache's frame range. The add-on reads the same
 arrays through Python (FluidDomainSettings.density_grid and the rest) and gives each object the
-grids its materials read, by the fixed slots of GRID_NAMES (node programs' grid instructions).
+grids its materials read, by the fixed slots of GRID_NAMES (node programs' grid instructions, which
+read a grid at the Object coordinate: each grid's to_index maps it through the texture space).
 """
 from __future__ import annotations
 
@@ -25,6 +26,21 @@ def gas_domain(obj):
             settings = modifier.domain_settings
             return settings if settings is not None and settings.domain_type == "GAS" else None
     return None
+
+
+def to_index(obj, shape):
+    """The 4x4 matrix from `obj`'s object space to the index space of a grid of `shape` (nz, ny, nx, ...)
+    over its texture space: Generated = (p - (location - size)) / (2 size), voxel i's centre at
+    Generated (i + 0.5) / n (a texture space of size 0 along an axis is 1 there, as Blender's)."""
+    data = getattr(obj, "data", None)
+    location = np.array(tuple(getattr(data, "texspace_location", (0.0, 0.0, 0.0))), float)
+    size = np.array(tuple(getattr(data, "texspace_size", (1.0, 1.0, 1.0))), float)
+    size = np.where(size == 0.0, 1.0, size)
+    counts = np.array(shape[:3][::-1], float)  # nx, ny, nz
+    m = np.eye(4)
+    m[:3, :3] = np.diag(counts / (2.0 * size))
+    m[:3, 3] = -(location - size) * counts / (2.0 * size) - 0.5
+    return m
 
 
 def slot(name):
@@ -62,8 +78,8 @@ def read_grid(domain, name, frame):
 class SmokeGrids:
     """Adds each domain's grids to the core once (instances of a domain share them)."""
 
-    def __init__(self, core_scene, frame, warn):
-        self.scene, self.frame, self.warn = core_scene, frame, warn
+    def __init__(self, core_scene, frame, warn, stochastic=False):
+        self.scene, self.frame, self.warn, self.stochastic = core_scene, frame, warn, stochastic
         self.added = {}  # (domain object name, grid name) -> grid index, or -1
 
     def indices(self, obj, names):
@@ -90,7 +106,8 @@ class SmokeGrids:
                       "(bake the simulation, or play it to this frame); it renders empty, as in Cycles")
             values = empty
         try:
-            return self.scene.add_grid(f"{obj.name}/{name}", values)
+            return self.scene.add_grid(f"{obj.name}/{name}", values, to_index=to_index(obj, values.shape),
+                                       stochastic=self.stochastic)
         except ValueError as error:
             self.warn(f"smoke domain '{obj.name}': its '{name}' is not rendered ({error}); it reads 0")
             return self.scene.add_grid(f"{obj.name}/{name} (empty)", empty)

@@ -20,11 +20,12 @@ times a program output that the core runs where the path is (Generated and Objec
 Cycles' volumes: the object's, through its texture space). Other sockets (Anisotropy, Absorption
 Color, the blackbody's) and the World's medium take their own value where a texture drives them,
 with one warning naming the material and node. Principled Volume's Density, Color and Temperature
-Attributes multiply only where the object has that grid (a smoke domain's: smoke.py), so on a mesh
-they are 1, as in Cycles; a material on a domain (read with `grids`) multiplies by the grid, its
-blackbody then a term of the temperature there, and its Attribute nodes read the domain's grids. Where scattering shaders with different phase
-functions mix, the core takes one: the Henyey-Greenstein of their scattering-weighted mean
-anisotropy (warned; Cycles samples each).
+Attributes multiply only where the object has that grid (a smoke domain's, smoke.py, or a Volume
+object's, volume_object.py), so on a mesh they are 1, as in Cycles; a material on such an object
+(read with `grids`) multiplies by the grid, its blackbody then a term of the temperature there, and
+its Attribute nodes read the grids. Where scattering shaders with different phase functions mix,
+the core takes one: the Henyey-Greenstein of their scattering-weighted mean anisotropy (warned;
+Cycles samples each).
 """
 from __future__ import annotations
 
@@ -127,7 +128,7 @@ class VolumeReader:
         grid = smoke.slot(getattr(socket, "default_value", "") or getattr(node, name.lower().replace(" ", "_"), ""))
         if not self.grids or grid is None:
             return one
-        rgb, fac, _ = self.program.emit("grid", [self.program.coordinate("generated")], outs=3,
+        rgb, fac, _ = self.program.emit("grid", [self.program.coordinate("object")], outs=3,
                                         kinds=("color", "float", "float"), data=grid, flags=1, pure=False)
         return Part(one.c, rgb if color else fac)
 
