@@ -116,6 +116,7 @@ void bind_grids(SceneClass& c) {
         "constant bricks (an OpenVDB tile's) at `constant_origins` with `constant_values` (one per brick); "
         "`to_index` maps the grid instruction's input (object space) to index space; `stochastic` as "
         "add_grid's. Returns its index.");
+  c.def("grid_count", &Scene::grid_count, "The number of grids added.");
   c.def("grid_info", &grid_info, py::arg("index"),
         "A grid's index box (index_lo, index_hi: its bricks' of 8^3 voxels), channels, largest colour value, "
         "NaN/Inf values stored as 0, bricks stored (empty ones are not) and bytes.");

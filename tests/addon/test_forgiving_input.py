@@ -318,7 +318,7 @@ def test_hair_curves_point_clouds_and_volume_objects_are_left_out_with_a_warning
     scene = floor_scene()
     unrendered_objects(scene)
     _, warnings = export_scene(scene)
-    for name, what in (("hair", "hair curves"), ("points", "point clouds"), ("smoke", "Volume objects")):
+    for name, what in (("hair", "hair curves"), ("points", "point clouds"), ("smoke", "it has no .vdb file")):
         assert sum(f"object '{name}': {what}" in w and "not rendered yet" in w for w in warnings) == 1, warnings
     renders(scene, tmp_path)  # refused the whole frame before ("Object does not have geometry data")
 

@@ -108,3 +108,62 @@ def test_corrupt_bytes_anywhere_read_or_raise_vdb_error_only():
             vdb.read_bytes(bytes(corrupt), blosc=ppm_core.blosc_decompress)
         except vdb.VdbError:
             pass
+
+
+def volume_object(scene, path, material=True):
+    """A Volume object of the .vdb at `path` (scaled 0.5), with a Principled Volume of density 4 (its
+    Density and Temperature Attributes read density and temperature) and a blackbody."""
+    import bpy
+
+    volume = bpy.data.volumes.new("vdb")
+    volume.filepath = path
+    obj = bpy.data.objects.new("vdb", volume)
+    obj.scale = (0.5, 0.5, 0.5)
+    scene.collection.objects.link(obj)
+    if material:
+        mat = bpy.data.materials.new("vdb")
+        if mat.node_tree is None or bpy.app.version < (5, 0, 0):
+            mat.use_nodes = True
+        nodes = mat.node_tree.nodes
+        nodes.clear()
+        out, principled = nodes.new("ShaderNodeOutputMaterial"), nodes.new("ShaderNodeVolumePrincipled")
+        principled.inputs["Density"].default_value = 4.0
+        principled.inputs["Blackbody Intensity"].default_value = 1.0
+        mat.node_tree.links.new(principled.outputs["Volume"], out.inputs["Volume"])
+        volume.materials.append(mat)
+    return obj
+
+
+def test_a_volume_object_exports_the_grids_its_material_reads_and_renders(tmp_path):
+    """The smoke cache as a Volume object: no warning; the core holds its density and temperature grids
+    (the material's attributes), not its shadow, flame or velocity; its glow shows in the render."""
+    from test_forgiving_input import export_scene, floor_scene, renders
+
+    scene = floor_scene()
+    volume_object(scene, os.path.join(DATA, "smoke_zip.vdb"))
+    core_scene, warnings = export_scene(scene)
+    assert warnings == [], warnings
+    assert core_scene.grid_count() == 2 and core_scene.grid_info(0)["max_value"] > 0.5
+    lit = renders(scene, tmp_path)
+    assert lit[..., 0].max() > 2.0 * np.median(lit[..., 0])  # the fire's glow above the floor
+
+
+@pytest.mark.parametrize("case, reason", [("missing", "cannot be loaded"), ("corrupt", "its file"),
+                                          ("no material", "no material with a Volume output")])
+def test_a_volume_object_it_cannot_render_is_named_once_and_the_frame_renders(case, reason, tmp_path):
+    from test_forgiving_input import export_scene, floor_scene, renders
+
+    scene = floor_scene()
+    path = os.path.join(DATA, "smoke_zip.vdb")
+    if case == "missing":
+        path = str(tmp_path / "gone.vdb")
+    elif case == "corrupt":
+        path = str(tmp_path / "corrupt.vdb")
+        with open(os.path.join(DATA, "smoke_zip.vdb"), "rb") as f:
+            data = bytearray(f.read())
+        with open(path, "wb") as f:
+            f.write(bytes(data[:len(data) // 3]))
+    volume_object(scene, path, material=case != "no material")
+    _, warnings = export_scene(scene)
+    assert sum("object 'vdb'" in w and reason in w for w in warnings) == 1, warnings
+    renders(scene, tmp_path)

@@ -217,7 +217,9 @@ class Exporter:
     def add_volume(self, item):
         """Adds a Volume object (a box around its grids, carrying its material's medium); returns its record."""
         obj = item.obj
-        grids = self.volumes.grids(obj)
+        grids, why = self.volumes.grids(obj)
+        if grids is None:
+            self.skip(obj, why + "; left out")
         slots = self.slot_materials(obj) if grids is not None else []
         if grids is not None and not any(i in self.materials.with_volume for i in slots):
             self.skip(obj, "it has no material with a Volume output (Cycles renders its default volume); left out")

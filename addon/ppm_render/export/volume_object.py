@@ -34,7 +34,7 @@ def file_of(obj):
     if not path:
         error = getattr(grids, "error_message", "")
         why = f"its file cannot be loaded ({error})" if error else \
-            "its grids are not from a .vdb file (made by modifiers or Geometry Nodes), which is not rendered yet"
+            "it has no .vdb file (grids made by modifiers or Geometry Nodes are not rendered yet)"
         return None, why
     import bpy  # (the add-on's modules import bpy only where Blender is there)
 
@@ -84,26 +84,25 @@ class VolumeObjects:
 
     def __init__(self, core_scene, warn, blosc, stochastic=False):
         self.scene, self.warn, self.blosc, self.stochastic = core_scene, warn, blosc, stochastic
-        self.files = {}  # path -> {name: Grid}, or None where it cannot be read
+        self.files = {}  # path -> {name: Grid}, or the VdbError it cannot be read for
         self.added = {}  # (path, name) -> grid index
 
     def grids(self, obj):
-        """{name: vdb.Grid} of `obj`'s file, or None (warned why)."""
+        """({name: vdb.Grid} of `obj`'s file, None) or (None, why it is left out)."""
         path, why = file_of(obj)
         if path is None:
-            self.warn(f"Volume object '{obj.name}': {why}; left out")
-            return None
+            return None, why
         if path not in self.files:
             try:
                 self.files[path] = vdb.read(path, blosc=self.blosc)
             except vdb.VdbError as error:
-                self.warn(f"Volume object '{obj.name}': '{os.path.basename(path)}' {error}; left out")
-                self.files[path] = None
+                self.files[path] = error
         grids = self.files[path]
-        if grids is not None and not grids:
-            self.warn(f"Volume object '{obj.name}': '{os.path.basename(path)}' holds no float or vector grid; left out")
-            return None
-        return grids
+        if isinstance(grids, vdb.VdbError):
+            return None, f"its file '{os.path.basename(path)}' {grids}"
+        if not grids:
+            return None, f"its file '{os.path.basename(path)}' holds no float or vector grid"
+        return grids, None
 
     def indices(self, obj, names):
         """add_sparse_grid indices by slot (smoke.GRID_NAMES) of the grids `names` that `obj`'s file has;
@@ -111,7 +110,8 @@ class VolumeObjects:
         as in Cycles)."""
         out = [-1] * len(smoke.GRID_NAMES)
         path, _ = file_of(obj)
-        grids = self.files.get(path) or {}
+        grids = self.files.get(path)
+        grids = grids if isinstance(grids, dict) else {}
         for name in names:
             if name not in grids:
                 continue
