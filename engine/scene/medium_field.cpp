@@ -104,7 +104,7 @@ LocalMedium Scene::local_medium(const Medium& m, const Vec3& x, const Vec3& dire
   for (const FieldUse& use : m.uses) {
     ctx.object = &object_info(use.object);
     use.field->program.run(ctx, textures_, results.data());
-    if (ctx.voxel_random != 0) ctx.voxel_random = (ctx.voxel_random * 747796405u + 2891336453u) | 1u;  // the next
+    if (ctx.voxel_random != 0) ctx.voxel_random = (ctx.voxel_random * 747796405u + 2891336453u) | 1u;  // own numbers
     for (const MediumTerm& t : use.field->terms) {
       const Color s = scale_of(results[t.input]) * double(ctx.object->volume_density);
       out.sigma_a += t.sigma_a * s, out.sigma_s += t.sigma_s * s, out.emission += t.emission * s;

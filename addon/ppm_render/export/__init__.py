@@ -93,8 +93,8 @@ class Exporter:
         self.media_bounds = []
 
     def describe_object(self, item, slots):
-        """Object info for the node programs of the object's materials, if any has one (with a smoke
-        domain's grids that they read)."""
+        """Object info for the node programs of the object's materials, if any has one (with the grids
+        of a smoke domain or a Volume object that they read)."""
         if any(i in self.materials.with_program for i in slots):
             read = {smoke.GRID_NAMES[k] for i in slots for k in self.materials.grid_slots_of.get(i, ())}
             volume = item.obj.type == "VOLUME"
