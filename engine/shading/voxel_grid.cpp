@@ -11,10 +11,13 @@ namespace ppm {
 namespace {
 constexpr long long kMaxAxis = 8192;
 constexpr long long kMaxValues = 1LL << 30;       // 4 GiB of floats
-constexpr long long kMaxTableEntries = 1LL << 27;  // 512 MiB of brick table
+constexpr long long kMaxBlockEntries = 1LL << 27;  // 512 MiB of block table: a box 65,536 voxels a side
 
-int brick_of(int i) { return i >= 0 ? i / VoxelGrid::kBrick : -((-i + VoxelGrid::kBrick - 1) / VoxelGrid::kBrick); }
+int floor_div(int i, int n) { return i >= 0 ? i / n : -((-i + n - 1) / n); }
+int brick_of(int i) { return floor_div(i, VoxelGrid::kBrick); }
+int block_of(int i) { return floor_div(i, VoxelGrid::kBrick * VoxelGrid::kBlock); }
 int in_brick(int i) { return i & (VoxelGrid::kBrick - 1); }  // (two's complement: right for negatives too)
+int place_in_block(int i) { return brick_of(i) & (VoxelGrid::kBlock - 1); }
 }  // namespace
 
 void check_grid_shape(std::array<long long, 3> size, int channels, const std::string& what) {
@@ -114,36 +117,48 @@ void VoxelGrid::store(float* v, size_t count, bool alpha_last) {
 void VoxelGrid::make_table(const std::vector<Coord>& origins, const std::vector<Coord>& constant_origins,
                            const std::string& what) {
   auto fail = [&](const std::string& why) { throw std::invalid_argument(what + ": " + why); };
-  Coord lo{std::numeric_limits<int>::max(), std::numeric_limits<int>::max(), std::numeric_limits<int>::max()};
-  Coord hi{std::numeric_limits<int>::min(), std::numeric_limits<int>::min(), std::numeric_limits<int>::min()};
+  constexpr int kMin = std::numeric_limits<int>::min(), kMax = std::numeric_limits<int>::max();
+  Coord lo{kMax, kMax, kMax}, hi{kMin, kMin, kMin}, block_lo = lo, block_hi = hi;
   auto extend = [&](const Coord& o) {
     for (int k = 0; k < 3; ++k) {
       if (in_brick(o[k]) != 0) fail("a brick's origin is not a multiple of 8");
-      lo[k] = std::min(lo[k], brick_of(o[k]));
-      hi[k] = std::max(hi[k], brick_of(o[k]));
+      if (o[k] > kMax - kBrick) fail("a brick's origin is out of range");
+      lo[k] = std::min(lo[k], o[k]), hi[k] = std::max(hi[k], o[k] + kBrick);
+      block_lo[k] = std::min(block_lo[k], block_of(o[k])), block_hi[k] = std::max(block_hi[k], block_of(o[k]));
     }
   };
   for (const Coord& o : origins) extend(o);
   for (const Coord& o : constant_origins) extend(o);
   if (origins.empty() && constant_origins.empty()) return;  // empty: everything reads 0
   long long entries = 1;
-  for (int k = 0; k < 3; ++k) entries *= static_cast<long long>(hi[k]) - lo[k] + 1;
-  if (entries > kMaxTableEntries) fail("its bricks spread over more than 2^27 brick places");
-  lo_ = lo;
-  dims_ = {hi[0] - lo[0] + 1, hi[1] - lo[1] + 1, hi[2] - lo[2] + 1};
-  table_.assign(static_cast<size_t>(entries), -1);
-  auto place = [&](const Coord& o) {
-    return (size_t(brick_of(o[2]) - lo_[2]) * dims_[1] + size_t(brick_of(o[1]) - lo_[1])) * dims_[0] +
-           size_t(brick_of(o[0]) - lo_[0]);
+  for (int k = 0; k < 3; ++k) entries *= static_cast<long long>(block_hi[k]) - block_lo[k] + 1;
+  if (entries > kMaxBlockEntries) fail("its bricks spread over more than 2^27 blocks of 128^3 voxels");
+  lo_ = lo, hi_ = hi, block_lo_ = block_lo;
+  block_dims_ = {block_hi[0] - block_lo[0] + 1, block_hi[1] - block_lo[1] + 1, block_hi[2] - block_lo[2] + 1};
+  blocks_.assign(static_cast<size_t>(entries), -1);
+  auto place = [&](const Coord& o) -> int32_t& {
+    int32_t& block = blocks_[(size_t(block_of(o[2]) - block_lo_[2]) * block_dims_[1] +
+                              size_t(block_of(o[1]) - block_lo_[1])) * block_dims_[0] +
+                             size_t(block_of(o[0]) - block_lo_[0])];
+    if (block < 0) {
+      block = static_cast<int32_t>(places_.size() / kBlockPlaces);
+      places_.resize(places_.size() + kBlockPlaces, -1);
+    }
+    const size_t in = (size_t(place_in_block(o[2])) * kBlock + place_in_block(o[1])) * kBlock + place_in_block(o[0]);
+    return places_[size_t(block) * kBlockPlaces + in];
   };
-  for (size_t b = 0; b < origins.size(); ++b) table_[place(origins[b])] = static_cast<int32_t>(b);
-  for (size_t t = 0; t < constant_origins.size(); ++t) table_[place(constant_origins[t])] = -2 - int32_t(t);
+  for (size_t b = 0; b < origins.size(); ++b) place(origins[b]) = static_cast<int32_t>(b);
+  for (size_t t = 0; t < constant_origins.size(); ++t) place(constant_origins[t]) = -2 - int32_t(t);
 }
 
 glm::vec4 VoxelGrid::voxel(int i, int j, int k) const {
-  const int bx = brick_of(i) - lo_[0], by = brick_of(j) - lo_[1], bz = brick_of(k) - lo_[2];
-  if (bx < 0 || by < 0 || bz < 0 || bx >= dims_[0] || by >= dims_[1] || bz >= dims_[2]) return glm::vec4(0.0f);
-  const int32_t entry = table_[(size_t(bz) * dims_[1] + by) * dims_[0] + bx];
+  const int bx = block_of(i) - block_lo_[0], by = block_of(j) - block_lo_[1], bz = block_of(k) - block_lo_[2];
+  if (bx < 0 || by < 0 || bz < 0 || bx >= block_dims_[0] || by >= block_dims_[1] || bz >= block_dims_[2])
+    return glm::vec4(0.0f);
+  const int32_t block = blocks_[(size_t(bz) * block_dims_[1] + by) * block_dims_[0] + bx];
+  if (block < 0) return glm::vec4(0.0f);
+  const int32_t entry = places_[size_t(block) * kBlockPlaces +
+                                (size_t(place_in_block(k)) * kBlock + place_in_block(j)) * kBlock + place_in_block(i)];
   if (entry == -1) return glm::vec4(0.0f);
   const size_t c = static_cast<size_t>(channels_);
   const float* v = entry >= 0 ? values_.data() + (size_t(entry) * kBrickVoxels +

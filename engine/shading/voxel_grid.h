@@ -1,9 +1,13 @@
 // A grid of voxels: a smoke domain's density, colour, flame, heat or temperature (dense, over the
 // object's texture space), or an OpenVDB grid's (sparse, in its own index space). Both are kept as
-// bricks of 8^3 voxels (an OpenVDB leaf), an empty brick not stored; a table over the bricks' box says
-// which brick, constant (an OpenVDB tile) or nothing (0) covers each place. Voxel centres lie at
-// integer index coordinates; between them the grid is trilinear, and outside its bricks it is 0, as
-// Cycles' grids are (a sparse grid's background), so values fade to 0 over the half voxel beyond.
+// bricks of 8^3 voxels (an OpenVDB leaf), an empty brick not stored; tables of 16^3 brick places (a
+// block of 128^3 voxels, an OpenVDB lower node), kept only for blocks that hold something and found
+// through a table over the blocks' box, say which brick, constant (an OpenVDB tile) or nothing (0)
+// covers each place: two clouds far apart cost their bricks, blocks and 4 bytes per block of their
+// box (two leaves 4000 voxels apart: 0.17 MB, where a table of every brick place took 503 MB). Voxel
+// centres lie at integer index coordinates; between them the grid is trilinear, and outside its
+// bricks it is 0, as Cycles' grids are (a sparse grid's background), so values fade to 0 over the
+// half voxel beyond.
 #pragma once
 
 #include "math/types.h"
@@ -19,6 +23,8 @@ class VoxelGrid {
  public:
   static constexpr int kBrick = 8;                            // voxels along a brick's edge
   static constexpr int kBrickVoxels = kBrick * kBrick * kBrick;
+  static constexpr int kBlock = 16;                           // brick places along a block's edge
+  static constexpr int kBlockPlaces = kBlock * kBlock * kBlock;
   using Coord = std::array<int, 3>;
 
   // A dense grid: `values` nx * ny * nz * channels floats, x fastest (a smoke domain's); `to_index`
@@ -39,12 +45,12 @@ class VoxelGrid {
   // The largest value a lookup can give in any colour channel (its mean included), and in alpha.
   float max_value() const { return max_value_; }
   float max_alpha() const { return max_alpha_; }
-  size_t memory_bytes() const { return values_.capacity() * sizeof(float) + table_.capacity() * sizeof(int32_t); }
-  // The box of index coordinates the bricks cover (lo inclusive, hi exclusive).
-  Coord index_lo() const { return {lo_[0] * kBrick, lo_[1] * kBrick, lo_[2] * kBrick}; }
-  Coord index_hi() const {
-    return {(lo_[0] + dims_[0]) * kBrick, (lo_[1] + dims_[1]) * kBrick, (lo_[2] + dims_[2]) * kBrick};
+  size_t memory_bytes() const {
+    return values_.capacity() * sizeof(float) + (blocks_.capacity() + places_.capacity()) * sizeof(int32_t);
   }
+  // The box of index coordinates the bricks cover (lo inclusive, hi exclusive).
+  Coord index_lo() const { return lo_; }
+  Coord index_hi() const { return hi_; }
 
   // The colour (a one-channel grid's value in all three) and alpha (1 without one) at `p`. A
   // stochastic grid given an LCG `state` returns one voxel, picked along each axis with the
@@ -62,8 +68,10 @@ class VoxelGrid {
 
   int channels_ = 1;
   glm::mat4 to_index_{1.0f};
-  Coord lo_{}, dims_{};           // the brick table's box, in bricks
-  std::vector<int32_t> table_;    // per brick place: >= 0 a stored brick, -1 nothing, <= -2 constant -2 - k
+  Coord lo_{}, hi_{};             // the bricks' box, in voxels
+  Coord block_lo_{}, block_dims_{};  // the block table's box, in blocks
+  std::vector<int32_t> blocks_;   // per block: its places' offset / kBlockPlaces, or -1 (nothing there)
+  std::vector<int32_t> places_;   // per brick place: >= 0 a stored brick, -1 nothing, <= -2 constant -2 - k
   std::vector<float> values_;     // the stored bricks, then the constants
   size_t bricks_ = 0, constants_at_ = 0;
   size_t not_finite_ = 0;

@@ -109,6 +109,16 @@ TEST(VoxelGrid, ReadsBricksAtTheirOriginsZFastestAndConstantsAsTiles) {
   EXPECT_FLOAT_EQ(g.max_value(), 7.0f);
 }
 
+TEST(VoxelGrid, TwoBricksFarApartCostTheirBlocksNotTheirBox) {
+  std::vector<float> two(2 * VoxelGrid::kBrickVoxels, 0.0f);
+  two[5] = 2.0f, two[VoxelGrid::kBrickVoxels + 7] = 3.0f;  // voxel (0, 0, 5) of each brick
+  const VoxelGrid g(1, Mat4(1.0), {{0, 0, 0}, {-4000, 4000, 4000}}, two.data(), {}, nullptr, "g");
+  EXPECT_LT(g.memory_bytes(), 1024u * 1024);  // (a table of every brick place in their box: 503 MB)
+  EXPECT_FLOAT_EQ(g.lookup(Vec3f(0.0f, 0.0f, 5.0f)).x, 2.0f);
+  EXPECT_FLOAT_EQ(g.lookup(Vec3f(-4000.0f, 4000.0f, 4007.0f)).x, 3.0f);
+  EXPECT_EQ(g.lookup(Vec3f(-2000.0f, 2000.0f, 2000.0f)).x, 0.0f);
+}
+
 TEST(VoxelGrid, RefusesBricksOffTheirPlacesAndTransformsThatAreNotFinite) {
   const float v[VoxelGrid::kBrickVoxels] = {};
   EXPECT_THROW(VoxelGrid(1, Mat4(1.0), {{3, 0, 0}}, v, {}, nullptr, "g"), std::invalid_argument);
@@ -116,7 +126,7 @@ TEST(VoxelGrid, RefusesBricksOffTheirPlacesAndTransformsThatAreNotFinite) {
   bad[3][0] = std::numeric_limits<double>::quiet_NaN();
   EXPECT_THROW(VoxelGrid(1, bad, {{0, 0, 0}}, v, {}, nullptr, "g"), std::invalid_argument);
   const std::vector<float> two(2 * VoxelGrid::kBrickVoxels, 0.0f);
-  EXPECT_THROW(VoxelGrid(1, Mat4(1.0), {{0, 0, 0}, {8000 * 8, 8000 * 8, 8000 * 8}}, two.data(), {}, nullptr, "g"),
+  EXPECT_THROW(VoxelGrid(1, Mat4(1.0), {{0, 0, 0}, {80000, 80000, 80000}}, two.data(), {}, nullptr, "g"),
                std::invalid_argument);  // the table would be too large
 }
 
