@@ -507,3 +507,17 @@ def test_an_export_that_fails_renders_nothing_and_keeps_its_error():
         session.export(Broken())
     session.start()
     assert session.thread is None and session.core_scene is None
+
+
+def test_a_volume_object_moved_in_the_viewport_renders_as_a_new_export_would():
+    """A Volume object (tests/data/smoke_zip.vdb, test_vdb.py's material) moved: the image is a fresh
+    export's, to the last bit."""
+    from test_vdb import DATA, volume_object
+
+    s = Session(open_file=True)
+    smoke = volume_object(s.scene, os.path.join(DATA, "smoke_zip.vdb"))
+    smoke.location = (0.0, 0.3, 0.2)
+    s.session.export(bpy.context.evaluated_depsgraph_get())
+    assert updated_after(s.session, lambda: setattr(smoke.location, "x", 0.4)) != {None}
+    assert s.session.core_scene.grid_count() == 2  # its density and temperature
+    edited_image_is_a_fresh_exports(s)
