@@ -13,7 +13,8 @@ from __future__ import annotations
 # Calls that only read the scene: not recorded (the node compiler folds constants with run_program
 # once per constant node).
 QUERIES = frozenset({"intersect", "run_program", "texture_info", "camera_rays", "geometry_layout", "light_count",
-                     "primitive_count", "subtrees_built", "texture_count", "triangles_copied"})
+                     "primitive_count", "subtrees_built", "texture_count", "triangles_copied", "grid_info",
+                     "grid_count"})
 
 
 class RecordedScene:
