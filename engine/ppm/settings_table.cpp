@@ -76,7 +76,8 @@ std::vector<SettingInfo> make_table() {
              "hit points in media: the automatic initial radius times this, (0, 1e6]"),
       number("volume_boundary", &Settings::volume_boundary,
              "hit points in media: divide their photons by the share of the gather ball on their side of "
-             "the nearest surface (found by rays along the axes), where no photon lies beyond"),
+             "the nearest surface (found by rays along the axes), where no photon lies beyond, and in a "
+             "medium that varies by the ball's mean density over the centre's"),
       number("density_radius", &Settings::density_radius,
              "widen the automatic initial radius where one pass's photons are sparser than pixels"),
       number("progress_interval", &Settings::progress_interval, "seconds between progress callbacks"),
