@@ -47,10 +47,11 @@ def test_a_domain_without_data_reads_nothing_warned_once_and_renders_empty():
     assert smoke.read_grid(obj.modifiers[0].domain_settings, "density", 1) is None  # 5 values, not 24
     warnings = []
     scene = ppm_core.Scene()
-    grids = smoke.SmokeGrids(scene, 1, warnings.append)
-    first = grids.indices(obj, ["density"])
-    assert grids.indices(obj, ["density"]) == first  # added once
-    assert first[smoke.slot("density")] >= 0 and first[smoke.slot("flame")] == -1
+    grids, table = smoke.SmokeGrids(scene, 1, warnings.append), smoke.GridNames()
+    first = grids.indices(obj, ["density"], table)
+    assert grids.indices(obj, ["density"], table) == first  # added once
+    assert first[table.slot("density")] >= 0 and first[table.slot("flame")] == -1
+    assert grids.indices(obj, ["Cd"], table) == [-1] * len(table.names)  # not a domain's grid
     assert scene.grid_info(first[0])["max_value"] == 0.0
     assert len(warnings) == 1 and "Smoke Domain" in warnings[0] and "no simulation data" in warnings[0]
 

@@ -167,3 +167,18 @@ def test_a_volume_object_it_cannot_render_is_named_once_and_the_frame_renders(ca
     _, warnings = export_scene(scene)
     assert sum("object 'vdb'" in w and reason in w for w in warnings) == 1, warnings
     renders(scene, tmp_path)
+
+
+def test_a_volume_objects_grid_of_any_name_is_read_by_the_attribute_that_names_it():
+    """The cache's "shadow" grid (not one of Cycles' standard names) read by the Principled Volume's
+    Density Attribute: the core holds it (its largest value, 1) beside the temperature."""
+    from test_forgiving_input import export_scene, floor_scene
+
+    scene = floor_scene()
+    obj = volume_object(scene, os.path.join(DATA, "smoke_zip.vdb"))
+    principled = next(n for n in obj.data.materials[0].node_tree.nodes if n.bl_idname == "ShaderNodeVolumePrincipled")
+    principled.inputs["Density Attribute"].default_value = "shadow"
+    core_scene, warnings = export_scene(scene)
+    assert warnings == [], warnings
+    maxima = sorted(core_scene.grid_info(i)["max_value"] for i in range(core_scene.grid_count()))
+    assert len(maxima) == 2 and maxima[0] == 1.0  # shadow (1.0) and temperature (2.9)

@@ -73,7 +73,8 @@ class Exporter:
         self.warn = warn
         self.lights, self.objects = lights, objects
         self.attributes = object_info.AttributeTable(view_layer, scene)
-        self.materials = material.MaterialExporter(self.scene, warn, self.attributes)
+        self.grid_names = smoke.GridNames()  # the slots of the grids materials read
+        self.materials = material.MaterialExporter(self.scene, warn, self.attributes, self.grid_names)
         # Cycles 5.0 on reads a volume's grids one voxel at a time, picked by the trilinear weights.
         stochastic = bpy.app.version >= (5, 0, 0)
         self.smoke = smoke.SmokeGrids(self.scene, scene.frame_current if scene is not None else 0, warn, stochastic)
@@ -96,9 +97,10 @@ class Exporter:
         """Object info for the node programs of the object's materials, if any has one (with the grids
         of a smoke domain or a Volume object that they read)."""
         if any(i in self.materials.with_program for i in slots):
-            read = {smoke.GRID_NAMES[k] for i in slots for k in self.materials.grid_slots_of.get(i, ())}
+            read = {self.grid_names.names[k] for i in slots for k in self.materials.grid_slots_of.get(i, ())}
             volume = item.obj.type == "VOLUME"
-            grids = (self.volumes if volume else self.smoke).indices(item.obj, sorted(read)) if read else None
+            source = self.volumes if volume else self.smoke
+            grids = source.indices(item.obj, sorted(read), self.grid_names) if read else None
             density = volume_object.density_scale(item) if volume else 1.0
             object_info.add_object_info(self.scene, item, self.attributes, grids, density)
 

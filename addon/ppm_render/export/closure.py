@@ -91,7 +91,7 @@ class ClosureReader:
         self.program = ProgramCompiler(self, texture, core) if core is not None else None
         # What a warning says of a socket that takes only constants when a texture drives it
         self.varying_note = "is driven by a texture, which is not supported for it"
-        self.volume_grids = False  # a smoke domain's Volume: Attribute nodes read its grids (volume.py)
+        self.grid_names = None  # smoke.GridNames where Attribute nodes read grids (volume.py)
 
     def warn(self, node, message):
         key = (node.name if node is not None else "", message)

@@ -12,7 +12,7 @@ import math
 
 import numpy as np
 
-from . import closure, nodes, volume
+from . import closure, nodes, smoke, volume
 from . import image as image_export
 
 DEFAULT_GREY = (0.8, 0.8, 0.8)
@@ -23,10 +23,11 @@ MAX_EMISSION = 1e20  # radiance, the core's limit
 class MaterialExporter:
     """Adds each Blender material to the core once; remembers its index."""
 
-    def __init__(self, core_scene, warn, attributes=None):
+    def __init__(self, core_scene, warn, attributes=None, grid_names=None):
         self.scene = core_scene
         self.warn = warn
         self.attributes_table = attributes  # object_info.AttributeTable: object and view-layer attributes
+        self.grid_names = grid_names  # smoke.GridNames: the slots of the grids Volumes read
         self.indices = {}
         self.emissive = set()
         self.textures = {}
@@ -146,7 +147,8 @@ class MaterialExporter:
         self.grid_slots = ()
         if not self.volume_driven(material):
             return {}
-        keywords = volume.material_medium(material, self.warn, self.scene, self.texture, grids)
+        names = (self.grid_names if self.grid_names is not None else smoke.GridNames()) if grids else None
+        keywords = volume.material_medium(material, self.warn, self.scene, self.texture, names)
         self.medium_varies = keywords is not None and "program" in keywords
         if self.medium_varies:
             code = keywords["program"]["code"]

@@ -21,8 +21,6 @@ from dataclasses import dataclass
 import bpy
 import numpy as np
 
-from . import smoke
-
 MAX_REGISTERS = 256  # the core's limit
 MAX_OUTPUTS = 8  # the core's limit of inputs per material
 # Nodes compiled inside each other (a handler compiles its inputs first) before the compile turns to the
@@ -382,7 +380,7 @@ def _attribute_outputs(c, node, name):
 
 
 def _grid_outputs(c, slot):
-    """An object's grid `slot` (smoke.GRID_NAMES: a smoke domain's or a Volume object's) at the point's
+    """An object's grid `slot` (smoke.GridNames: a smoke domain's or a Volume object's) at the point's
     Object coordinate (each grid maps it to its voxels): 0 on an object without it, as Cycles' Attribute
     node reads a missing attribute."""
     color, fac, alpha = c.emit("grid", [c.coordinate("object")], outs=3, kinds=("color", "float", "float"),
@@ -392,8 +390,9 @@ def _grid_outputs(c, slot):
 
 def _attribute(c, node, ctx):
     kind = getattr(node, "attribute_type", "GEOMETRY")
-    if kind == "GEOMETRY" and getattr(c.reader, "volume_grids", False) and smoke.slot(node.attribute_name) is not None:
-        return _grid_outputs(c, smoke.slot(node.attribute_name))
+    names = getattr(c.reader, "grid_names", None)  # a Volume on a smoke domain or a Volume object
+    if kind == "GEOMETRY" and names is not None and node.attribute_name:
+        return _grid_outputs(c, names.slot(node.attribute_name))
     if kind == "GEOMETRY":
         return _attribute_outputs(c, node, node.attribute_name)
     table = c.reader.attributes

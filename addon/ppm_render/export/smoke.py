@@ -43,9 +43,18 @@ def to_index(obj, shape):
     return m
 
 
-def slot(name):
-    """A grid name's slot (GRID_NAMES), or None for a name a domain does not give."""
-    return GRID_NAMES.index(name) if name in GRID_NAMES else None
+class GridNames:
+    """The grid names an export's materials read, each a slot of the objects' grids (GRID_NAMES first,
+    then any other name an Attribute node or attribute socket asks for: a Volume object's file may
+    hold grids of any name, "Cd" or "vel")."""
+
+    def __init__(self):
+        self.names = list(GRID_NAMES)
+
+    def slot(self, name):
+        if name not in self.names:
+            self.names.append(name)
+        return self.names.index(name)
 
 
 def _read_array(prop, count):
@@ -82,19 +91,21 @@ class SmokeGrids:
         self.scene, self.frame, self.warn, self.stochastic = core_scene, frame, warn, stochastic
         self.added = {}  # (domain object name, grid name) -> grid index, or -1
 
-    def indices(self, obj, names):
-        """add_grid indices by slot for object `obj` (a gas domain) and the grid `names` its materials
-        read; -1 where it is not read. A domain without simulation data at this frame reads 0 there,
-        as in Cycles (warned once)."""
+    def indices(self, obj, names, table):
+        """add_grid indices by slot of `table` (GridNames) for object `obj` (a gas domain) and the grid
+        `names` its materials read; -1 where it is not read or a domain has no such grid. A domain
+        without simulation data at this frame reads 0 there, as in Cycles (warned once)."""
         domain = gas_domain(obj)
-        out = [-1] * len(GRID_NAMES)
+        out = [-1] * len(table.names)
         if domain is None:
             return out
         for name in names:
+            if name not in GRID_NAMES:
+                continue
             key = (obj.name, name)
             if key not in self.added:
                 self.added[key] = self.add(obj, domain, name)
-            out[GRID_NAMES.index(name)] = self.added[key]
+            out[table.slot(name)] = self.added[key]
         return out
 
     def add(self, obj, domain, name):

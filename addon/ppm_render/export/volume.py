@@ -34,7 +34,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import blackbody, nodes, smoke, unrendered
+from . import blackbody, nodes, unrendered
 from .closure import ClosureReader
 from .node_program import Unsupported
 
@@ -83,12 +83,13 @@ class VolumeReader:
     sockets that a texture drives become program Values (the medium varies in space); the World's take
     their own value (warned): the core's World medium is homogeneous."""
 
-    def __init__(self, owner, name, warn, core, texture=None, grids=False):
+    def __init__(self, owner, name, warn, core, texture=None, grids=None):
         self.values = ClosureReader(name, warn, texture, core, kind=owner)
         self.values.varying_note = VARYING[owner]
         self.program = self.values.program if owner == "material" else None
-        self.grids = grids and self.program is not None  # read on a smoke domain: attributes are its grids
-        self.values.volume_grids = self.grids
+        # On a smoke domain or a Volume object (smoke.GridNames): attributes are its grids.
+        self.grids = grids if self.program is not None else None
+        self.values.grid_names = self.grids
         self.out = Medium()
         self.depth = 0
 
@@ -122,12 +123,13 @@ class VolumeReader:
     def attribute(self, node, name, color=False):
         """Principled Volume's attribute socket `name` (e.g. "Density Attribute") as a Part: the grid it
         names where the object has it, 1 elsewhere (Cycles multiplies only by an attribute it finds);
-        1 outside a smoke domain's material or for a name a domain does not give."""
+        1 outside the material of a smoke domain or a Volume object, or where the socket names none."""
         one = Part(np.ones(3) if color else 1.0)
         socket = node.inputs.get(name)
-        grid = smoke.slot(getattr(socket, "default_value", "") or getattr(node, name.lower().replace(" ", "_"), ""))
-        if not self.grids or grid is None:
+        grid_name = getattr(socket, "default_value", "") or getattr(node, name.lower().replace(" ", "_"), "")
+        if self.grids is None or not grid_name:
             return one
+        grid = self.grids.slot(grid_name)
         rgb, fac, _ = self.program.emit("grid", [self.program.coordinate("object")], outs=3,
                                         kinds=("color", "float", "float"), data=grid, flags=1, pure=False)
         return Part(one.c, rgb if color else fac)
@@ -342,10 +344,11 @@ SHADERS = {
 }
 
 
-def read(socket, owner, name, warn, core, texture=None, grids=False):
+def read(socket, owner, name, warn, core, texture=None, grids=None):
     """add_medium's keywords (without the name) for the Volume `socket` of material or world `name`
-    (`owner`: "material" or "world"; `texture` as closure.py's; `grids`: read for a smoke domain);
-    None when nothing is connected or every coefficient is 0."""
+    (`owner`: "material" or "world"; `texture` as closure.py's; `grids`: smoke.GridNames where it is
+    read for a smoke domain or a Volume object); None when nothing is connected or every coefficient
+    is 0."""
     reader = VolumeReader(owner, name, warn, core, texture, grids)
     reader.closure(socket, (), Part(1.0))
     medium = reader.out
@@ -399,8 +402,8 @@ def surface_driven(tree):
     return output is not None and unrendered.output_driven(output.inputs["Surface"])
 
 
-def material_medium(material, warn, core, texture=None, grids=False):
-    """add_medium's keywords for `material`'s Volume output (on a smoke domain with `grids`), or None."""
+def material_medium(material, warn, core, texture=None, grids=None):
+    """add_medium's keywords for `material`'s Volume output (with `grids` as read()'s), or None."""
     if not nodes.uses_nodes(material):
         return None
     socket = volume_socket(material.node_tree, "ShaderNodeOutputMaterial")

@@ -14,7 +14,7 @@ import os
 
 import numpy as np
 
-from . import smoke, vdb
+from . import vdb
 from .mesh import MeshData
 
 # The box's corners as index-space extremes (bit k of i: the high end along axis k) and its faces.
@@ -104,11 +104,11 @@ class VolumeObjects:
             return None, f"its file '{os.path.basename(path)}' holds no float or vector grid"
         return grids, None
 
-    def indices(self, obj, names):
-        """add_sparse_grid indices by slot (smoke.GRID_NAMES) of the grids `names` that `obj`'s file has;
-        -1 elsewhere (a Principled Volume's attribute then multiplies by 1, an Attribute node reads 0,
-        as in Cycles)."""
-        out = [-1] * len(smoke.GRID_NAMES)
+    def indices(self, obj, names, table):
+        """add_sparse_grid indices by slot of `table` (smoke.GridNames) of the grids `names` that `obj`'s
+        file has; -1 elsewhere (a Principled Volume's attribute then multiplies by 1, an Attribute node
+        reads 0, as in Cycles)."""
+        out = [-1] * len(table.names)
         path, _ = file_of(obj)
         grids = self.files.get(path)
         grids = grids if isinstance(grids, dict) else {}
@@ -117,7 +117,7 @@ class VolumeObjects:
                 continue
             if (path, name) not in self.added:
                 self.added[(path, name)] = self.add(obj, grids[name])
-            out[smoke.GRID_NAMES.index(name)] = self.added[(path, name)]
+            out[table.slot(name)] = self.added[(path, name)]
         return out
 
     def add(self, obj, grid):
