@@ -68,6 +68,11 @@ struct Medium {
   bool varies() const { return !uses.empty(); }
   bool scatters() const { return max_component(sigma_s_bound) > 0.0; }
   bool emits() const { return max_component(emission_bound) > 0.0; }
+  // sigma_t and the bounds from the constants alone (a copy that varies adds its terms' bounds next).
+  void bound_by_constants() {
+    sigma_t = c.sigma_t();
+    sigma_t_bound = sigma_t, sigma_s_bound = c.sigma_s, emission_bound = c.emission;
+  }
 };
 
 constexpr int kMaxMediumStack = 7;

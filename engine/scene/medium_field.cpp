@@ -48,8 +48,7 @@ void Scene::copy_varying_media() {
     copy.uses = {FieldUse{copy.field, object}};
     const double scale = object_info(object).volume_density;  // (the terms take it in local_medium)
     copy.c.sigma_a *= scale, copy.c.sigma_s *= scale, copy.c.emission *= scale;
-    copy.sigma_t = copy.c.sigma_t();
-    copy.sigma_t_bound = copy.sigma_t, copy.sigma_s_bound = copy.c.sigma_s, copy.emission_bound = copy.c.emission;
+    copy.bound_by_constants();
     bound_field(copy, box);
     copy_of_[{id, object}] = static_cast<int>(media_.size());
     media_.push_back(std::move(copy));

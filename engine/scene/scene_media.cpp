@@ -55,8 +55,7 @@ uint32_t Scene::add_medium(Medium m) {
   if (m.field) check_field(*m.field, textures_.size(), what);
   if (added_media_ >= static_cast<size_t>(std::numeric_limits<int16_t>::max()))
     fail(what, "a scene takes at most 32767 media");
-  m.sigma_t = m.c.sigma_t();
-  m.sigma_t_bound = m.sigma_t, m.sigma_s_bound = m.c.sigma_s, m.emission_bound = m.c.emission;
+  m.bound_by_constants();
   m.uses.clear();
   media_.resize(added_media_);  // the copies go (build() makes them again)
   media_.push_back(std::move(m));

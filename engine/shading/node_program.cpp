@@ -51,10 +51,13 @@ glm::vec4 object_attribute(const ObjectInfo& o, uint32_t slot) {
   return slot < o.attributes.size() ? o.attributes[slot] : glm::vec4(0.0f);
 }
 
+const VoxelGrid* object_grid(const ObjectInfo& o, uint32_t slot) {
+  return slot < o.grids.size() ? o.grids[slot].get() : nullptr;
+}
+
 // A Grid instruction's colour, fac and alpha (see NodeOp::Grid).
 void grid_op(const NodeInstruction& ins, ShadingContext& c, Vec3f* r) {
-  const ObjectInfo& o = object_of(c);
-  const VoxelGrid* grid = ins.data < o.grids.size() ? o.grids[ins.data].get() : nullptr;
+  const VoxelGrid* grid = object_grid(object_of(c), ins.data);
   const glm::vec4 v = grid != nullptr ? grid->lookup(r[ins.in[0]], c.voxel_random != 0 ? &c.voxel_random : nullptr)
                                       : glm::vec4(ins.flags & 1 ? 1.0f : 0.0f);
   r[ins.out[0]] = Vec3f(v);
@@ -747,7 +750,7 @@ double image_bound(const NodeInstruction& ins, const std::vector<Texture>& textu
 // A Grid's colour and fac: its object's grid's largest value (1 or 0 where it has none).
 double grid_bound(const NodeInstruction& ins, const ObjectInfo* object) {
   if (object == nullptr) return kInf;
-  const VoxelGrid* grid = ins.data < object->grids.size() ? object->grids[ins.data].get() : nullptr;
+  const VoxelGrid* grid = object_grid(*object, ins.data);
   return grid != nullptr ? std::max(0.0, double(grid->max_value())) : (ins.flags & 1 ? 1.0 : 0.0);
 }
 
@@ -802,8 +805,7 @@ double NodeProgram::output_bound(size_t i, const std::vector<Texture>& textures,
     if (ins.out[1] != 0) b[ins.out[1]] = unit_second ? 1.0 : (ins.op == NodeOp::Noise ? first : kInf);
     if (ins.out[2] != 0) b[ins.out[2]] = kInf;
     if (ins.op == NodeOp::Grid) {  // fac: at most the colour's largest; alpha: the grid's alpha
-      const VoxelGrid* grid = object != nullptr && ins.data < object->grids.size() ? object->grids[ins.data].get()
-                                                                                 : nullptr;
+      const VoxelGrid* grid = object != nullptr ? object_grid(*object, ins.data) : nullptr;
       if (ins.out[1] != 0) b[ins.out[1]] = first;
       if (ins.out[2] != 0) b[ins.out[2]] = grid != nullptr ? grid->max_alpha() : object != nullptr ? 1.0 : kInf;
     }

@@ -32,8 +32,8 @@ struct ObjectInfo {
   float random = 0.0f, pass_index = 0.0f;
   glm::vec4 color{1.0f};  // Object Info's Color and Alpha: the object's viewport display colour
   std::vector<glm::vec4> attributes;
-  // Its voxel grids (a smoke domain's density, colour, flame, heat, temperature) by the slot the
-  // add-on gave each name; null: the object has none of that name.
+  // Its voxel grids (a smoke domain's or a Volume object's) by the slot the add-on gave each name;
+  // null: the object has none of that name.
   std::vector<std::shared_ptr<const VoxelGrid>> grids;
   // What Cycles multiplies a Volume object's volume closures by (its density follows the object's
   // scale: 1 / |M (1, 1, 1) / sqrt 3| when the Volume's space is Object); 1 for other objects.
@@ -116,7 +116,7 @@ enum class NodeOp : uint8_t {
   Wavelength,     // in[0] nm; data: XYZ -> scene linear (3 x 3, rows), then 81 XYZ triples from 380 nm by 5
   Blackbody,      // in[0] kelvin; data: Rec.709 -> scene linear (3 x 3, rows), then the fit (kBlackbodyFit)
   Gabor,          // see textures/procedural.cpp
-  Grid,           // the object's voxel grid in slot `data` at in[0] (Generated): out colour, fac (the
+  Grid,           // the object's voxel grid in slot `data` at in[0] (its to_index maps it): out colour, fac (the
                   // colour's mean), alpha; an object without it reads 0, or with flag 1 reads 1 (the
                   // Principled Volume's attributes multiply only where Cycles finds them)
 };
