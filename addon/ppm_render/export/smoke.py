@@ -43,6 +43,12 @@ def to_index(obj, shape):
     return m
 
 
+def add_empty_grid(core_scene, name, channels):
+    """A grid that reads 0 everywhere (one voxel of 0): for a grid that is there but holds no data, as
+    Cycles renders it, or one the core refused."""
+    return core_scene.add_grid(f"{name} (empty)", np.zeros((1, 1, 1, channels), dtype=np.float32))
+
+
 class GridNames:
     """The grid names an export's materials read, each a slot of the objects' grids (GRID_NAMES first,
     then any other name an Attribute node or attribute socket asks for: a Volume object's file may
@@ -110,15 +116,14 @@ class SmokeGrids:
 
     def add(self, obj, domain, name):
         """The grid's index; an empty one (it reads 0) where the domain has no data or the core refuses it."""
-        empty = np.zeros((1, 1, 1, CHANNELS.get(name, 1)), dtype=np.float32)
         values = read_grid(domain, name, self.frame)
         if values is None:
             self.warn(f"smoke domain '{obj.name}': no simulation data of its '{name}' at frame {self.frame} "
                       "(bake the simulation, or play it to this frame); it renders empty, as in Cycles")
-            values = empty
+            return add_empty_grid(self.scene, f"{obj.name}/{name}", CHANNELS.get(name, 1))
         try:
             return self.scene.add_grid(f"{obj.name}/{name}", values, to_index=to_index(obj, values.shape),
                                        stochastic=self.stochastic)
         except ValueError as error:
             self.warn(f"smoke domain '{obj.name}': its '{name}' is not rendered ({error}); it reads 0")
-            return self.scene.add_grid(f"{obj.name}/{name} (empty)", empty)
+            return add_empty_grid(self.scene, f"{obj.name}/{name}", CHANNELS.get(name, 1))

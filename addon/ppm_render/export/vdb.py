@@ -238,7 +238,7 @@ class Tree:
         child_log2 = LEAF if log2 == INTERNAL4 else INTERNAL4
         span = 1 << (child_log2 if log2 == INTERNAL4 else child_log2 + LEAF)  # voxels a slot covers
         children, active = self.r.mask(log2), self.r.mask(log2)
-        values = self.value_record(1 << (3 * log2), active)
+        values = self.value_record(log2, active)
         slots = np.arange(1 << (3 * log2))
         offsets = np.stack([slots >> (2 * log2), (slots >> log2) & ((1 << log2) - 1), slots & ((1 << log2) - 1)], 1)
         for n in np.flatnonzero(~children & np.any(values != self.grid.background, axis=1)):
@@ -256,20 +256,20 @@ class Tree:
         values = np.empty((count, 512, self.c), np.float32)
         for k, (_, mask) in enumerate(self.leaves):
             self.r.mask(LEAF)  # the mask again
-            values[k] = self.value_record(512, mask)
+            values[k] = self.value_record(LEAF, mask)
         self.grid.values = values
 
-    def value_record(self, count, active):
-        """A node's `count` values (count, channels): the stored ones where `active`, the inactive ones
-        rebuilt from the record's metadata byte."""
-        r, c, bg = self.r, self.c, self.grid.background
+    def value_record(self, log2, active):
+        """The values (count, channels) of a node of 2^(3 log2) slots: the stored ones where `active`, the
+        inactive ones rebuilt from the record's metadata byte."""
+        r, c, bg, count = self.r, self.c, self.grid.background, 1 << (3 * log2)
         meta = r.unpack("b")
         inactive0, inactive1 = (bg if meta == 0 else -bg), bg
         if meta in (2, 4, 5):
             inactive0 = np.array(r.unpack(f"{c}f"), np.float32)
         if meta == 5:
             inactive1 = np.array(r.unpack(f"{c}f"), np.float32)
-        selection = r.mask({512: LEAF, 4096: INTERNAL4, 32768: INTERNAL5}[count]) if meta in (3, 4, 5) else None
+        selection = r.mask(log2) if meta in (3, 4, 5) else None
         stored = int(active.sum()) if (self.flags & ACTIVE_MASK) and meta != 6 else count
         data = self.values(stored)
         if stored == count:

@@ -14,10 +14,10 @@ import os
 
 import numpy as np
 
-from . import vdb
+from . import smoke, vdb
 from .mesh import MeshData
 
-# The box's corners as index-space extremes (bit k of i: the high end along axis k) and its faces.
+# A box's faces over its corners (_corners' order), counter-clockwise seen from outside.
 FACES = ((0, 2, 3, 1), (4, 5, 7, 6), (0, 1, 5, 4), (2, 6, 7, 3), (0, 4, 6, 2), (1, 3, 7, 5))
 
 
@@ -52,6 +52,11 @@ def density_scale(item):
     return 1.0 / length if length > 0.0 and np.isfinite(length) else 1.0
 
 
+def _corners(lo, hi):
+    """A box's 8 corners, corner i at the high end along axis k where bit k of i is set."""
+    return np.array([[(hi if (i >> k) & 1 else lo)[k] for k in range(3)] for i in range(8)], dtype=float)
+
+
 def box_mesh(grids):
     """MeshData of the closed box (object space) around every grid's bricks, one voxel beyond; None when
     the grids hold no voxel."""
@@ -60,14 +65,13 @@ def box_mesh(grids):
         box = grid.index_box()
         if box is None:
             continue
-        lo, hi = box[0] - 1.0, box[1].astype(float)
-        extremes = np.array([[(hi if (i >> k) & 1 else lo)[k] for k in range(3)] for i in range(8)])
+        extremes = _corners(box[0] - 1.0, box[1].astype(float))
         corners.append((np.c_[extremes, np.ones(8)] @ grid.index_to_object.T)[:, :3])
     if not corners:
         return None
     every = np.concatenate(corners)
     lo, hi = every.min(axis=0), every.max(axis=0)  # their union's box in object space
-    positions = np.array([[(hi if (i >> k) & 1 else lo)[k] for k in range(3)] for i in range(8)])
+    positions = _corners(lo, hi)
     triangles = np.array([t for a, b, c, d in FACES for t in ((a, b, c), (a, c, d))], dtype=np.int32)
     normals = np.repeat(_face_normals(positions, triangles)[:, None, :], 3, axis=1)
     return MeshData(positions, triangles, normals, None, np.zeros(len(triangles), dtype=np.int32))
@@ -85,6 +89,7 @@ class VolumeObjects:
     def __init__(self, core_scene, warn, blosc, stochastic=False):
         self.scene, self.warn, self.blosc, self.stochastic = core_scene, warn, blosc, stochastic
         self.files = {}  # path -> {name: Grid}, or the VdbError it cannot be read for
+        self.paths = {}  # object name -> the path grids() found for it
         self.added = {}  # (path, name) -> grid index
 
     def grids(self, obj):
@@ -92,6 +97,7 @@ class VolumeObjects:
         path, why = file_of(obj)
         if path is None:
             return None, why
+        self.paths[obj.name] = path
         if path not in self.files:
             try:
                 self.files[path] = vdb.read(path, blosc=self.blosc)
@@ -106,10 +112,10 @@ class VolumeObjects:
 
     def indices(self, obj, names, table):
         """add_sparse_grid indices by slot of `table` (smoke.GridNames) of the grids `names` that `obj`'s
-        file has; -1 elsewhere (a Principled Volume's attribute then multiplies by 1, an Attribute node
-        reads 0, as in Cycles)."""
+        file (as grids() found it) has; -1 elsewhere (a Principled Volume's attribute then multiplies by
+        1, an Attribute node reads 0, as in Cycles)."""
         out = [-1] * len(table.names)
-        path, _ = file_of(obj)
+        path = self.paths.get(obj.name)
         grids = self.files.get(path)
         grids = grids if isinstance(grids, dict) else {}
         for name in names:
@@ -134,5 +140,4 @@ class VolumeObjects:
                                               stochastic=self.stochastic)
         except (ValueError, np.linalg.LinAlgError) as error:
             self.warn(f"Volume object '{obj.name}': grid '{grid.name}' is not rendered ({error}); it reads 0")
-            empty = np.zeros((1, 1, 1, grid.channels), np.float32)
-            return self.scene.add_grid(f"{obj.name}/{grid.name} (empty)", empty)
+            return smoke.add_empty_grid(self.scene, f"{obj.name}/{grid.name}", grid.channels)
