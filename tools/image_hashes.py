@@ -19,6 +19,24 @@ import numpy as np
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "blend_scenes"))
 import core_scenes  # noqa: E402
 import ppm_core  # noqa: E402
+from media_throughput import FOG, fill_room  # noqa: E402
+
+
+def with_world_fog(scene):
+    scene.add_medium("fog", **FOG)
+    scene.set_world_medium("fog")
+    return scene
+
+
+def with_box(scene, cloud):
+    fill_room(scene, cloud)
+    return scene
+
+
+def with_scene_setting(scene, name, value):
+    setattr(scene, name, value)
+    return scene
+
 
 SCENES = {
     "cornell_3spheres": lambda: core_scenes.cornell_3spheres(96, 72),
@@ -26,6 +44,14 @@ SCENES = {
     "cornell_diffuse": lambda: core_scenes.cornell_diffuse(96, 72),
     "open_caustic": lambda: core_scenes.open_caustic(96, 72),
     "bezier_vase": lambda: core_scenes.bezier_vase(96, 72),
+    # The scene's own layouts of its geometry: an object-by-object BVH, triangles not copied.
+    "cornell_3spheres_dynamic": lambda: with_scene_setting(core_scenes.cornell_3spheres(96, 72), "dynamic", True),
+    "cornell_3spheres_compact": lambda: with_scene_setting(core_scenes.cornell_3spheres(96, 72), "geometry_layout",
+                                                           "compact"),
+    # Media: fog everywhere, fog in a box (a mesh bounds it), a cloud that varies in space.
+    "cornell_fog_media": lambda: with_world_fog(core_scenes.cornell_3spheres(96, 72)),
+    "cornell_box_media": lambda: with_box(core_scenes.cornell_3spheres(96, 72), cloud=False),
+    "cornell_cloud_media": lambda: with_box(core_scenes.cornell_3spheres(96, 72), cloud=True),
 }
 BASE = {"photons_per_pass": 20_000, "seed": 7, "threads": 2}
 CONFIGS = {
@@ -37,6 +63,8 @@ CONFIGS = {
     "passes": {"hit_points": "stochastic", "light_passes": True, "component_passes": True},
 }
 LENS_CONFIGS = {"dof_lens": {"dof_mode": "lens", "hit_points": "stochastic"}, "dof_post": {"dof_mode": "post"}}
+LAYOUT_CONFIGS = {name: CONFIGS[name] for name in ("fixed", "stochastic")}
+MEDIA_CONFIGS = {"stochastic": CONFIGS["stochastic"], "passes": CONFIGS["passes"]}
 
 
 def digest(array):
@@ -58,7 +86,8 @@ def fingerprints(scene_name, make_scene, config_name, config, passes=4):
 
 def main():
     for scene_name, make_scene in SCENES.items():
-        configs = LENS_CONFIGS if scene_name.endswith("_lens") else CONFIGS
+        configs = {"_lens": LENS_CONFIGS, "_dynamic": LAYOUT_CONFIGS, "_compact": LAYOUT_CONFIGS,
+                   "_media": MEDIA_CONFIGS}.get("_" + scene_name.rsplit("_", 1)[-1], CONFIGS)
         for config_name, config in configs.items():
             print("\n".join(fingerprints(scene_name, make_scene, config_name, config)), flush=True)
 
