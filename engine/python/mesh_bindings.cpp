@@ -107,7 +107,7 @@ MeshInput mesh_input(const std::string& name, const py::object& positions, const
 }
 
 // add_mesh and replace_mesh: the same arguments into a MeshInput for the scene's method.
-template <void (Scene::*method)(MeshInput)>
+template <void (Scene::*method)(const MeshInput&)>
 void mesh_call(Scene& s, const std::string& name, const py::object& positions, const py::object& triangles,
                const py::object& normals, const py::object& uvs, const py::object& materials, uint32_t object_id,
                const py::object& visible_to, bool holdout, const py::object& tangents, const py::object& colors) {

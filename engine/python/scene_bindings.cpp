@@ -12,7 +12,7 @@ using namespace ppm::py_convert;
 namespace {
 
 std::string geometry_layout(const Scene& s) {
-  const GeometryLayout l = s.geometry_layout();
+  const GeometryLayout l = s.geometry().layout();
   return std::string(l == GeometryLayout::Auto ? "auto" : l == GeometryLayout::Copies ? "copies" : "compact");
 }
 
@@ -24,11 +24,11 @@ void set_geometry_layout(Scene& s, const std::string& layout) {
 
 // How the scene builds its BVH and keeps its triangles.
 void bind_build(python::SceneClass& c) {
-  c.def_property_readonly("subtrees_built", &Scene::subtrees_built,
+  c.def_property_readonly("subtrees_built", [](const Scene& s) { return s.geometry().subtrees_built(); },
                           "How many objects' BVH subtrees the last build() of a dynamic scene built; the "
                           "others were kept (objects added or given other primitives are built, moved ones "
                           "refitted).");
-  c.def_property("dynamic", &Scene::dynamic, &Scene::set_dynamic,
+  c.def_property("dynamic", [](const Scene& s) { return s.geometry().dynamic(); }, &Scene::set_dynamic,
                  "Build the BVH object by object (False by default), so that objects can be added, moved, "
                  "reshaped and removed in a built scene at the cost of their own subtrees (the viewport); a "
                  "whole-scene BVH traces faster where objects overlap.");
@@ -36,10 +36,10 @@ void bind_build(python::SceneClass& c) {
                  "How the built scene keeps its triangles for ray tests: 'copies' (each triangle's corners copied beside "
                  "the BVH, 96 bytes a triangle more, the fastest), 'compact' (only its mesh's shared vertices) or 'auto' "
                  "(copies up to 4,000,000 triangles; the default). The hits are the same, bit for bit.");
-  c.def_property_readonly("triangles_copied", &Scene::triangles_copied,
+  c.def_property_readonly("triangles_copied", [](const Scene& s) { return s.geometry().triangles_copied(); },
                           "Whether the built scene keeps copies of its triangles (geometry_layout).");
   c.def("build", &Scene::build, "Builds the BVH (done automatically by Renderer and intersect).");
-  c.def_property_readonly("primitive_count", [](Scene& s) { s.build(); return s.primitive_count(); });
+  c.def_property_readonly("primitive_count", [](Scene& s) { s.build(); return s.geometry().primitive_count(); });
   c.def_property_readonly("light_count", [](Scene& s) { s.build(); return s.lights().size(); });
 }
 

@@ -26,12 +26,11 @@ void Scene::prepare_medium_lights(const Aabb& light_bounds) {
     light_notes_.push_back("photons from the world medium's emission: unbounded power (seen along eye rays only)");
   // The triangles of each (object, emitting medium), as the mesh stores their corners.
   std::map<std::pair<uint32_t, int>, std::vector<TriangleCorners>> regions;
-  for (uint32_t i = 0; i < meshes_.triangle_count(); ++i) {
-    const uint32_t object = meshes_.meshes[meshes_.info[i].mesh].object;
-    const int medium = medium_in(meshes_.info[i].material, object);
+  for (uint32_t i = 0; i < geometry_.triangle_count(); ++i) {
+    const uint32_t object = geometry_.triangle_object(i);
+    const int medium = medium_in(geometry_.triangle_material(i), object);
     if (medium < 0 || !media_[medium].emits()) continue;
-    const TriangleVertices& v = triangle_vertices(i);
-    regions[{object, medium}].push_back({meshes_.vertices[v.v[0]], meshes_.vertices[v.v[1]], meshes_.vertices[v.v[2]]});
+    regions[{object, medium}].push_back(geometry_.triangle_corners(i));
   }
   for (const auto& [key, triangles] : regions) {
     const Medium& m = media_[key.second];
@@ -68,10 +67,10 @@ bool Scene::inside_medium_region(uint32_t region, const Vec3& p, const Vec3& dir
   for (int crossing = 0; crossing < 4 * kMaxMediumCrossings; ++crossing) {
     Hit hit;
     if (!intersect(ray, hit)) return inside;
-    if (hit.object == r.object && hit.primitive < meshes_.triangle_count() &&
+    if (hit.object == r.object && hit.primitive < geometry_.triangle_count() &&
         medium_in(hit.material, hit.object) == r.medium)
       inside = !inside;
-    ray.origin = offset_point(hit.position, hit.geometric_normal, ray.direction, offset_floor_);
+    ray.origin = offset_point(hit.position, hit.geometric_normal, ray.direction, offset_floor());
   }
   return false;
 }

@@ -1,11 +1,7 @@
 // Scene building, validation and ray queries (see scene.h).
 #include "scene/scene.h"
 
-#include "geometry/bezier_revolve.h"
-#include "geometry/object_bvh.h"
 #include "math/sampling.h"
-#include "base/freed_memory.h"
-#include "base/parallel.h"
 #include "scene/input_checks.h"
 #include "shading/valid_reflection.h"
 
@@ -22,11 +18,6 @@ using namespace scene_input;
 void Scene::ensure_mutable() const {
   if (leases_.count.load() > 0)
     throw std::runtime_error("scene: cannot change a scene while a Renderer uses it; build a new Scene");
-}
-
-void Scene::invalidate() {
-  geometry_built_ = false;
-  lights_built_ = false;
 }
 
 // The lights and the world are prepared after the BVH, from it: changing them keeps the BVH.
@@ -146,10 +137,8 @@ void Scene::replace_material(uint32_t index, Material m) {
   check_material(index, what);
   check_new_material(m);
   if (m.emits()) {
-    for (const SphereInfo& s : spheres_)
-      if (s.material == index) fail(what, "a sphere uses it, and spheres cannot emit");
-    for (const RevolveSegment& r : revolve_segments_)
-      if (r.material == index) fail(what, "a Bezier revolve uses it, and revolves cannot emit");
+    if (geometry_.spheres_use(index)) fail(what, "a sphere uses it, and spheres cannot emit");
+    if (geometry_.revolves_use(index)) fail(what, "a Bezier revolve uses it, and revolves cannot emit");
   }
   materials_[index] = std::move(m);
   invalidate_lights();
@@ -200,6 +189,43 @@ void Scene::check_not_emissive(uint32_t material, const std::string& what) const
                    "' is supported on meshes only (use a sphere light, or tessellate)");
 }
 
+void Scene::add_mesh(const MeshInput& mesh) {
+  ensure_mutable();
+  const std::string what = quoted("mesh", mesh.name);
+  for (uint32_t m : mesh.materials) check_material(m, what);
+  geometry_.add_mesh(mesh, what);
+  invalidate_lights();
+}
+
+void Scene::replace_mesh(const MeshInput& mesh) {
+  ensure_mutable();
+  const std::string what = quoted("mesh", mesh.name);
+  for (uint32_t m : mesh.materials) check_material(m, what);
+  geometry_.replace_mesh(mesh, what);
+  invalidate_lights();
+}
+
+size_t Scene::remove_object(uint32_t object) {
+  ensure_mutable();
+  const size_t removed = geometry_.remove_object(object);
+  if (removed > 0) invalidate_lights();
+  return removed;
+}
+
+void Scene::set_dynamic(bool dynamic) {
+  ensure_mutable();
+  if (dynamic == geometry_.dynamic()) return;
+  geometry_.set_dynamic(dynamic);
+  invalidate_lights();
+}
+
+void Scene::set_geometry_layout(GeometryLayout layout) {
+  ensure_mutable();
+  if (layout == geometry_.layout()) return;
+  geometry_.set_layout(layout);
+  invalidate_lights();
+}
+
 void Scene::add_sphere(const std::string& name, const Vec3& center, double radius, uint32_t material,
                        uint32_t object_id, uint8_t visibility) {
   ensure_mutable();
@@ -209,8 +235,8 @@ void Scene::add_sphere(const std::string& name, const Vec3& center, double radiu
   check_size(radius, what, "radius");
   check_material(material, what);
   check_not_emissive(material, what);
-  spheres_.push_back(SphereInfo{SpherePrim{center, radius}, material, object_id, visibility});
-  geometry_changed(object_id);
+  geometry_.add_sphere(SpherePrim{center, radius}, material, object_id, visibility);
+  invalidate_lights();
 }
 
 void Scene::add_bezier_revolve(const std::string& name, const std::vector<Vec2>& points, bool cubic_chain,
@@ -220,26 +246,8 @@ void Scene::add_bezier_revolve(const std::string& name, const std::vector<Vec2>&
   const std::string what = quoted("bezier revolve", name);
   check_material(material, what);
   check_not_emissive(material, what);
-  try {
-    revolves_.push_back(std::make_unique<BezierRevolve>(
-        points, cubic_chain ? BezierProfileKind::CubicChain : BezierProfileKind::SingleCurve, object_to_world));
-  } catch (const std::invalid_argument& e) {
-    std::string message = e.what();
-    const std::string prefix = "BezierRevolve: ";
-    if (message.rfind(prefix, 0) == 0) message.erase(0, prefix.size());
-    fail(what, message);
-  }
-  for (size_t s = 0; s < revolves_.back()->segment_count(); ++s) {
-    const Aabb b = revolves_.back()->segment_bounds(s);
-    if (!is_finite(b.lo) || !is_finite(b.hi) || max_abs(b.lo) > kMaxCoordinate || max_abs(b.hi) > kMaxCoordinate) {
-      revolves_.pop_back();
-      fail(what, "the surface reaches beyond the supported " + number(kMaxCoordinate) + " m from the origin");
-    }
-  }
-  const uint32_t index = static_cast<uint32_t>(revolves_.size() - 1);
-  for (size_t s = 0; s < revolves_.back()->segment_count(); ++s)
-    revolve_segments_.push_back(RevolveSegment{index, static_cast<uint32_t>(s), material, object_id, visibility});
-  geometry_changed(object_id);
+  geometry_.add_revolve(points, cubic_chain, object_to_world, material, object_id, visibility, what);
+  invalidate_lights();
 }
 
 void Scene::add_light(Light light) {
@@ -373,41 +381,8 @@ void Scene::set_camera_background(uint32_t texture, const Color& strength) {
   invalidate_lights();
 }
 
-// A built scene keeps its triangles' vertex indices in the BVH's leaf records only (12 bytes a
-// triangle less); they come back in triangle order before the scene changes or is built again.
-void Scene::restore_triangles() {
-  std::vector<TriangleVertices>& triangles = meshes_.triangles;
-  if (triangles.size() == meshes_.info.size()) return;
-  triangles.resize(meshes_.info.size());
-  for (size_t i = 0; i < triangles.size(); ++i) triangles[i] = leaf_prims_[slot_of_triangle_[i]].vertices;
-}
-
-const TriangleVertices& Scene::triangle_vertices(uint32_t triangle) const {
-  const std::vector<TriangleVertices>& triangles = meshes_.triangles;
-  return triangles.size() == meshes_.info.size() ? triangles[triangle] : leaf_prims_[slot_of_triangle_[triangle]].vertices;
-}
-
-// After the build: the triangles are found through their leaf slots. What the build freed (the
-// triangle-ordered copy, the build's boxes and node lists, some in the arenas of the threads that
-// built subtrees) goes back to the system: glibc keeps freed memory resident otherwise, 70 bytes a
-// triangle of a 10^6-triangle mesh.
-void Scene::release_triangles() {
-  slot_of_triangle_.resize(meshes_.triangles.size());
-  for (uint32_t slot = 0; slot < leaf_prims_.size(); ++slot)
-    if (leaf_prims_[slot].kind == PrimitiveKind::Triangle) slot_of_triangle_[leaf_prims_[slot].index] = slot;
-  std::vector<TriangleVertices>().swap(meshes_.triangles);
-  meshes_.shrink_to_fit();
-  return_freed_memory();
-}
-
 void Scene::build() {
-  if (!geometry_built_ || !changed_objects_.empty()) {
-    build_geometry();
-    lights_built_ = false;
-  } else if (!moved_objects_.empty()) {
-    refit_moved_objects();
-    lights_built_ = false;
-  }
+  if (geometry_.build()) lights_built_ = false;
   if (!lights_built_) {
     prepare_media();
     prepare_lights();
@@ -417,170 +392,11 @@ void Scene::build() {
   camera_media_placed_ = true;  // a built scene unchanged: build() writes nothing a render reads
 }
 
-void Scene::build_geometry() {
-  restore_triangles();
-  const std::vector<TriangleVertices>& triangles = meshes_.triangles;
-  const auto box_of = [&](size_t i) { return primitive_box(prim_ref(static_cast<uint32_t>(i))); };
-  if (dynamic_) {
-    std::vector<Aabb> boxes(primitive_count());
-    for (size_t i = 0; i < boxes.size(); ++i) boxes[i] = box_of(i);
-    build_object_bvh(boxes, geometry_built_);
-  } else {
-    object_bvh_.reset();
-    bvh_.build(primitive_count(), box_of);  // the boxes made on the build's threads, never stored
-  }
-  moved_objects_.clear();
-  changed_objects_.clear();
-  const std::vector<uint32_t>& order = bvh_.prim_order();
-  leaf_prims_.resize(order.size());  // unwritten (HugePageFillVector)
-  parallel_for(hardware_threads(), order.size(), [&](size_t begin, size_t end) {
-    for (size_t slot = begin; slot < end; ++slot) {
-      const PrimRef ref = prim_ref(order[slot]);
-      const TriangleVertices vertices = ref.kind == PrimitiveKind::Triangle ? triangles[ref.index] : TriangleVertices{};
-      leaf_prims_[slot] = LeafPrim{vertices, ref.index, ref.kind, visibility_of(ref)};
-    }
-  });
-  bvh_.release_prim_order();  // the leaf records are in slot order
-  if (copies_triangles()) {
-    copy_leaf_triangles();
-  } else {
-    HugePageFillVector<CopiedLeaf>().swap(copied_leaves_);
-    if (!dynamic_) order_vertices_by_leaf();  // only the Compact layout's ray tests read the vertices
-  }
-  finish_geometry();
-  release_triangles();
-  geometry_built_ = true;
-}
-
-bool Scene::copies_triangles() const {
-  return layout_ == GeometryLayout::Copies ||
-         (layout_ == GeometryLayout::Auto && meshes_.triangle_count() <= kCopiedTrianglesMax);
-}
-
-// Written on every thread, the page faults too (huge pages: the kernel's compaction to find them):
-// 960 MB of copies at 10^7 triangles took 1.5-2.1 s to resize on one thread.
-void Scene::copy_leaf_triangles() {
-  copied_leaves_.resize(leaf_prims_.size());  // unwritten (HugePageFillVector)
-  parallel_for(hardware_threads(), leaf_prims_.size(), [&](size_t begin, size_t end) {
-    for (size_t slot = begin; slot < end; ++slot) {
-      const LeafPrim& p = leaf_prims_[slot];
-      copied_leaves_[slot] =
-          CopiedLeaf{p.kind == PrimitiveKind::Triangle ? meshes_.triangle(p.vertices) : TrianglePrim{}, p};
-    }
-  });
-}
-
-void Scene::set_geometry_layout(GeometryLayout layout) {
-  ensure_mutable();
-  if (layout == layout_) return;
-  restore_triangles();
-  layout_ = layout;
-  invalidate();
-}
-
-// Each mesh's vertices in the order the BVH leaves first name them, so that a leaf's triangles find
-// their vertices side by side (in the input's order they may lie anywhere in the mesh: random rays
-// through a 1.3 x 10^6-triangle grid and soup traced about 15% slower so, in the Compact layout). A
-// dynamic scene keeps the input's order, which replace_mesh writes in place.
-void Scene::order_vertices_by_leaf() {
-  constexpr uint32_t kUnseen = UINT32_MAX;
-  std::vector<uint32_t> position(meshes_.vertices.size(), kUnseen), next(meshes_.meshes.size());
-  for (size_t m = 0; m < next.size(); ++m) next[m] = meshes_.meshes[m].first_vertex;
-  for (const LeafPrim& p : leaf_prims_) {
-    if (p.kind != PrimitiveKind::Triangle) continue;
-    const uint32_t mesh = meshes_.info[p.index].mesh;
-    for (uint32_t v : p.vertices.v)
-      if (position[v] == kUnseen) position[v] = next[mesh]++;
-  }
-  for (size_t m = 0; m < next.size(); ++m) {  // vertices no triangle uses, at their mesh's end
-    const MeshRecord& r = meshes_.meshes[m];
-    for (uint32_t v = r.first_vertex; v < r.first_vertex + r.vertex_count; ++v)
-      if (position[v] == kUnseen) position[v] = next[m]++;
-  }
-  meshes_.reorder_vertices(position);
-  parallel_for(hardware_threads(), leaf_prims_.size(), [&](size_t begin, size_t end) {
-    for (size_t slot = begin; slot < end; ++slot)
-      if (leaf_prims_[slot].kind == PrimitiveKind::Triangle)
-        for (uint32_t& v : leaf_prims_[slot].vertices.v) v = position[v];
-  });
-}
-
-// Groups the primitives by object id and builds their BVH object by object; with `reuse_unchanged`
-// (the BVH was built and only some objects changed since) the others keep their subtrees.
-void Scene::build_object_bvh(const std::vector<Aabb>& boxes, bool reuse_unchanged) {
-  std::unordered_map<uint32_t, uint32_t> previous;
-  previous.swap(object_group_);
-  std::vector<uint32_t> group(boxes.size());
-  for (uint32_t i = 0; i < group.size(); ++i) {
-    const PrimRef ref = prim_ref(i);
-    const uint32_t object = ref.kind == PrimitiveKind::Triangle ? meshes_.meshes[meshes_.info[ref.index].mesh].object
-                            : ref.kind == PrimitiveKind::Sphere ? spheres_[ref.index].object
-                                                                : revolve_segments_[ref.index].object;
-    group[i] = object_group_.emplace(object, static_cast<uint32_t>(object_group_.size())).first->second;
-  }
-  std::vector<int32_t> reuse;
-  if (reuse_unchanged && object_bvh_) {
-    std::vector<uint32_t> edited = moved_objects_;
-    edited.insert(edited.end(), changed_objects_.begin(), changed_objects_.end());
-    std::sort(edited.begin(), edited.end());
-    reuse.assign(object_group_.size(), -1);
-    for (const auto& [object, g] : object_group_) {
-      const auto old = previous.find(object);
-      if (old != previous.end() && !std::binary_search(edited.begin(), edited.end(), object))
-        reuse[g] = static_cast<int32_t>(old->second);
-    }
-  } else {
-    object_bvh_ = std::make_unique<ObjectBvh>();
-  }
-  subtrees_built_ = object_bvh_->build(boxes, group, static_cast<uint32_t>(object_group_.size()), reuse);
-  bvh_.build_from_tree(object_bvh_->joined());
-}
-
-// The objects replace_mesh moved: their subtrees refit, the tree over them built again.
-void Scene::refit_moved_objects() {
-  std::sort(moved_objects_.begin(), moved_objects_.end());
-  moved_objects_.erase(std::unique(moved_objects_.begin(), moved_objects_.end()), moved_objects_.end());
-  std::vector<Aabb> boxes;
-  for (uint32_t object : moved_objects_) {
-    const uint32_t g = object_group_.at(object);
-    const uint32_t first = object_bvh_->first_slot(g);
-    boxes.resize(object_bvh_->slot_count(g));
-    for (size_t k = 0; k < boxes.size(); ++k) {
-      const TrianglePrim t = meshes_.triangle(leaf_prims_[first + k].vertices);
-      if (!copied_leaves_.empty()) copied_leaves_[first + k] = CopiedLeaf{t, leaf_prims_[first + k]};
-      boxes[k] = triangle_box(t);
-    }
-    object_bvh_->refit(g, boxes);
-  }
-  bvh_.build_from_tree(object_bvh_->joined());
-  bvh_.release_prim_order();
-  finish_geometry();
-  moved_objects_.clear();
-  subtrees_built_ = 0;
-}
-
-void Scene::finish_geometry() {
-  const size_t leaves = copied_leaves_.empty()
-                            ? leaf_prims_.size() * sizeof(LeafPrim) + meshes_.vertices.size() * sizeof(Vec3)
-                            : copied_leaves_.size() * sizeof(CopiedLeaf);
-  interleave_ = bvh_.nodes().size() * sizeof(BvhNode) + leaves > kInterleaveBytes;  // what a walk reads
-  const Aabb bounds = bvh_.bounds();
-  offset_floor_ = bounds.empty() ? 1e-12 : 1e-10 * max_abs(bounds.extent()) + 1e-300;
-}
-
-void Scene::set_dynamic(bool dynamic) {
-  ensure_mutable();
-  if (dynamic == dynamic_) return;
-  restore_triangles();
-  dynamic_ = dynamic;
-  invalidate();
-}
-
 // The user lights, the world, the emissive triangles (read from their leaf records) and the
 // emitting media's regions.
 void Scene::prepare_lights() {
   lights_.clear();
-  Aabb light_bounds = bvh_.bounds();
+  Aabb light_bounds = geometry_.bounds();
   for (const Light& l : user_lights_)
     if (l.kind != LightKind::Sun) light_bounds.grow(l.position);
   for (Light l : user_lights_) {
@@ -607,10 +423,10 @@ void Scene::prepare_lights() {
     prepare_light(l, light_bounds);
     lights_.push_back(l);
   }
-  for (uint32_t i = 0; i < meshes_.triangle_count(); ++i) {
-    const Material& m = materials_[meshes_.info[i].material];
+  for (uint32_t i = 0; i < geometry_.triangle_count(); ++i) {
+    const Material& m = materials_[geometry_.triangle_material(i)];
     if (!m.emits()) continue;
-    const TrianglePrim triangle = this->triangle(i);
+    const TrianglePrim triangle = geometry_.triangle(i);
     if (triangle_area(triangle) <= 0.0) continue;
     Light l;
     l.kind = LightKind::Triangle;
@@ -632,15 +448,13 @@ void Scene::prepare_lights() {
 // Photons and light samples take the emission where they start, so any positive estimate keeps them
 // unbiased; a floor keeps bright detail between the samples from never being chosen.
 void Scene::textured_emission(const Material& m, uint32_t triangle, Light& l) const {
-  const MeshRecord& mesh = meshes_.meshes[meshes_.info[triangle].mesh];
-  const TriangleVertices& v = triangle_vertices(triangle);
   l.program = &m.program;
   l.program_output = m.emission_input;
   l.textures = &textures_;
-  l.object = &object_info(mesh.object);
+  l.object = &object_info(geometry_.triangle_object(triangle));
   l.emission = m.emission;
-  for (int k = 0; k < 3; ++k)
-    l.uvs[k] = mesh.uvs.present() ? Vec2(meshes_.corner(meshes_.uvs, mesh.uvs, mesh, triangle, v.v[k], k)) : Vec2(0.0);
+  const std::array<Vec2, 3> uvs = geometry_.triangle_uvs(triangle);
+  for (int k = 0; k < 3; ++k) l.uvs[k] = uvs[k];
   constexpr int kSide = 4;
   Color sum(0.0), most(0.0);
   for (int i = 0; i < kSide; ++i)
@@ -687,200 +501,12 @@ void Scene::check_energy_range(int max_bounces) const {
         ", above the supported " + number(kMaxPhotonGain) + " (keep colours <= 1 or lower max_bounces)");
 }
 
-// Triangles, by far the most common, are tested inline; the rest out of line.
-bool Scene::is_holdout(const Hit& hit) const {
-  uint32_t id = hit.primitive;
-  if (id < meshes_.triangle_count()) return meshes_.meshes[meshes_.info[id].mesh].visibility & kHoldoutFlag;
-  id -= meshes_.triangle_count();
-  if (id < spheres_.size()) return spheres_[id].visibility & kHoldoutFlag;
-  id -= static_cast<uint32_t>(spheres_.size());
-  return id < revolve_segments_.size() && (revolve_segments_[id].visibility & kHoldoutFlag);
-}
-
-// Primitive i of a build: the triangles in order, then the spheres, then the revolve segments.
-Scene::PrimRef Scene::prim_ref(uint32_t i) const {
-  const uint32_t triangles = static_cast<uint32_t>(meshes_.info.size());
-  const uint32_t spheres = static_cast<uint32_t>(spheres_.size());
-  if (i < triangles) return {PrimitiveKind::Triangle, i};
-  if (i < triangles + spheres) return {PrimitiveKind::Sphere, i - triangles};
-  return {PrimitiveKind::BezierRevolve, i - triangles - spheres};
-}
-
-Aabb Scene::primitive_box(const PrimRef& ref) const {
-  switch (ref.kind) {
-    case PrimitiveKind::Triangle: return triangle_box(meshes_.triangle(meshes_.triangles[ref.index]));
-    case PrimitiveKind::Sphere: {
-      const SpherePrim& s = spheres_[ref.index].sphere;
-      return Aabb{s.center - Vec3(s.radius), s.center + Vec3(s.radius)};
-    }
-    default: {
-      const RevolveSegment& r = revolve_segments_[ref.index];
-      return revolves_[r.revolve]->segment_bounds(r.segment);
-    }
-  }
-}
-
-uint8_t Scene::visibility_of(const PrimRef& ref) const {
-  switch (ref.kind) {
-    case PrimitiveKind::Triangle: return meshes_.meshes[meshes_.info[ref.index].mesh].visibility;
-    case PrimitiveKind::Sphere: return spheres_[ref.index].visibility;
-    default: return revolve_segments_[ref.index].visibility;
-  }
-}
-
-inline bool Scene::intersect_slot(uint32_t slot, const Ray& ray, double& tmax, Hit& scratch) const {
-  if (!copied_leaves_.empty()) {
-    const CopiedLeaf& c = copied_leaves_[slot];
-    if (!(c.leaf.visibility & ray.kind)) return false;
-    if (c.leaf.kind != PrimitiveKind::Triangle) return intersect_non_triangle(slot, ray, tmax, scratch);
-    return record_triangle_hit(slot, c.leaf.index, c.tri, ray, tmax, scratch);
-  }
-  const LeafPrim& p = leaf_prims_[slot];
-  if (!(p.visibility & ray.kind)) return false;
-  if (p.kind != PrimitiveKind::Triangle) return intersect_non_triangle(slot, ray, tmax, scratch);
-  return record_triangle_hit(slot, p.index, meshes_.triangle(p.vertices), ray, tmax, scratch);
-}
-
-inline bool Scene::record_triangle_hit(uint32_t slot, uint32_t triangle, const TrianglePrim& tri, const Ray& ray,
-                                       double& tmax, Hit& scratch) const {
-  double t, b1, b2;
-  if (!intersect_triangle(tri, ray, tmax, t, b1, b2)) return false;
-  prefetch(&meshes_.info[triangle]);  // fill_hit reads it if this hit stays the closest
-  tmax = t;
-  scratch.t = t;
-  scratch.primitive = slot;
-  scratch.uv = Vec2(b1, b2);  // barycentrics until fill_hit
-  return true;
-}
-
-bool Scene::intersect_non_triangle(uint32_t slot, const Ray& ray, double& tmax, Hit& scratch) const {
-  const LeafPrim& p = leaf(slot);
-  if (p.kind == PrimitiveKind::Sphere) {
-    double t;
-    if (!intersect_sphere(spheres_[p.index].sphere, ray, tmax, t)) return false;
-    tmax = t;
-    scratch.t = t;
-    scratch.primitive = slot;
-    return true;
-  }
-  const RevolveSegment& r = revolve_segments_[p.index];
-  Hit h;
-  if (!revolves_[r.revolve]->intersect_segment(r.segment, ray, 0.0, tmax, h)) return false;
-  tmax = h.t;
-  scratch = h;
-  scratch.primitive = slot;
-  return true;
-}
-
 size_t Scene::memory_bytes() const {
   auto bytes = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
-  size_t b = meshes_.memory_bytes() + bytes(copied_leaves_) + bytes(spheres_) + bytes(revolve_segments_) +
-             bytes(slot_of_triangle_) + bytes(leaf_prims_) + bytes(bvh_.nodes()) + bytes(bvh_.prim_order()) +
-             bytes(materials_) + bytes(lights_) + bytes(user_lights_) + bytes(objects_);
-  if (object_bvh_) b += object_bvh_->memory_bytes();
+  size_t b = geometry_.memory_bytes() + bytes(materials_) + bytes(lights_) + bytes(user_lights_) + bytes(objects_);
   for (const Texture& t : textures_) b += sizeof(Texture) + t.memory_bytes();
   for (const auto& g : grids_) b += sizeof(VoxelGrid) + g->memory_bytes();
   return b;
-}
-
-bool Scene::intersect(const Ray& ray, Hit& hit, double tmax) const {
-  Hit scratch;
-  bvh_.closest(
-      ray.origin, ray.direction, tmax, [&](uint32_t slot, double& t) { return intersect_slot(slot, ray, t, scratch); },
-      [&](uint32_t first, uint32_t count) { prefetch_leaf(first, count); });
-  if (!scratch.found()) return false;
-  hit = scratch;
-  fill_hit(ray, hit, scratch.uv.x, scratch.uv.y);
-  return true;
-}
-
-void Scene::intersect_many(const Ray* rays, size_t count, Hit* hits) const {
-  for (size_t i = 0; i < count; ++i) hits[i] = Hit{};
-  if (!interleave_) {  // the BVH stays in cache: nothing to overlap, so no bookkeeping for it
-    for (size_t i = 0; i < count; ++i) intersect(rays[i], hits[i]);
-    return;
-  }
-  bvh_.closest_many(
-      count, [&](size_t i) -> const Ray& { return rays[i]; },
-      [&](size_t i, uint32_t slot, double& t) { return intersect_slot(slot, rays[i], t, hits[i]); },
-      [&](uint32_t first, uint32_t n) { prefetch_leaf(first, n); },
-      [&](size_t i) {
-        if (hits[i].found()) fill_hit(rays[i], hits[i], hits[i].uv.x, hits[i].uv.y);
-      });
-}
-
-bool Scene::occluded(const Ray& ray, double distance) const {
-  Hit scratch;
-  return bvh_.any(ray.origin, ray.direction, distance,
-                  [&](uint32_t slot, double& t) { return intersect_slot(slot, ray, t, scratch); });
-}
-
-// `hit.primitive` holds the leaf slot on entry and the primitive id on return.
-void Scene::fill_hit(const Ray& ray, Hit& hit, double b1, double b2) const {
-  const uint32_t slot = hit.primitive;
-  const LeafPrim& ref = leaf(slot);
-  // Primitive ids number triangles, then spheres, then revolve segments.
-  hit.primitive = ref.index;
-  if (ref.kind != PrimitiveKind::Triangle) hit.primitive += meshes_.triangle_count();
-  if (ref.kind == PrimitiveKind::BezierRevolve) hit.primitive += static_cast<uint32_t>(spheres_.size());
-  switch (ref.kind) {
-    case PrimitiveKind::Triangle: {
-      TrianglePrim scratch;
-      const TrianglePrim& t = leaf_triangle(slot, scratch);  // in cache from the test
-      const TriangleInfo& info = meshes_.info[ref.index];
-      const MeshRecord& mesh = meshes_.meshes[info.mesh];
-      const uint32_t* v = ref.vertices.v;
-      const double b0 = 1.0 - b1 - b2;
-      auto corners = [&](const auto& values, const AttributeRange& range) {
-        using T = std::decay_t<decltype(values[0])>;
-        std::array<T, 3> out;
-        for (int k = 0; k < 3; ++k) out[k] = meshes_.corner(values, range, mesh, ref.index, v[k], k);
-        return out;
-      };
-      hit.position = t.v0 + b1 * t.e1 + b2 * t.e2;
-      hit.geometric_normal = triangle_normal(t);
-      hit.shading_normal = hit.geometric_normal;
-      if (mesh.normals.present()) {
-        const auto n = corners(meshes_.normals, mesh.normals);
-        const Vec3 ns = b0 * Vec3(n[0]) + b1 * Vec3(n[1]) + b2 * Vec3(n[2]);
-        const double len = glm::length(ns);
-        if (len > 0.0) hit.shading_normal = ns / len;
-        // Keep the shading normal in the geometric hemisphere (flipped winding).
-        if (glm::dot(hit.shading_normal, hit.geometric_normal) < 0.0) hit.geometric_normal = -hit.geometric_normal;
-      }
-      hit.uv = Vec2(0.0);
-      if (mesh.uvs.present()) {
-        const auto uv = corners(meshes_.uvs, mesh.uvs);
-        hit.uv = b0 * Vec2(uv[0]) + b1 * Vec2(uv[1]) + b2 * Vec2(uv[2]);
-      }
-      hit.tangent = glm::vec4(0.0f);
-      if (mesh.tangents.present()) {  // interpolated as Cycles does, not re-orthogonalised
-        const auto tangent = corners(meshes_.tangents, mesh.tangents);
-        hit.tangent = static_cast<float>(b0) * tangent[0] + static_cast<float>(b1) * tangent[1] +
-                      static_cast<float>(b2) * tangent[2];
-        hit.tangent.w = tangent[0].w;
-      }
-      hit.material = info.material;
-      hit.object = mesh.object;
-      break;
-    }
-    case PrimitiveKind::Sphere: {
-      const SphereInfo& s = spheres_[ref.index];
-      const Vec3 n = glm::normalize(ray.origin + hit.t * ray.direction - s.sphere.center);
-      hit.position = s.sphere.center + s.sphere.radius * n;  // on the surface, not off by t's error
-      hit.geometric_normal = hit.shading_normal = n;
-      hit.uv = Vec2(0.5 + std::atan2(n.y, n.x) / (2.0 * kPi), 0.5 + std::asin(glm::clamp(n.z, -1.0, 1.0)) / kPi);
-      hit.material = s.material;
-      hit.object = s.object;
-      break;
-    }
-    case PrimitiveKind::BezierRevolve: {
-      const RevolveSegment& r = revolve_segments_[ref.index];
-      hit.material = r.material;
-      hit.object = r.object;
-      break;
-    }
-  }
 }
 
 namespace {
@@ -968,46 +594,8 @@ ShadingContext Scene::shading_context(const Hit& hit, const Vec3& wo, double foo
   c.path = path;
   c.object = &object_info(hit.object);
   c.camera = has_camera_ ? &camera_ : nullptr;
-  add_primitive_data(materials_[hit.material], hit.primitive, hit.position, c);
+  geometry_.add_primitive_data(materials_[hit.material].program.needs(), hit.primitive, hit.position, c);
   return c;
-}
-
-void Scene::add_primitive_data(const Material& m, uint32_t primitive, const Vec3& position, ShadingContext& c) const {
-  if (primitive >= meshes_.triangle_count()) return;  // primitive ids number the triangles first
-  const NodeProgram::Needs needs = m.program.needs();
-  if (!needs.uv_gradients && !needs.attribute) return;
-  const MeshRecord& mesh = meshes_.meshes[meshes_.info[primitive].mesh];
-  const TriangleVertices& v = triangle_vertices(primitive);
-  const TrianglePrim t = meshes_.triangle(v);
-  auto corners = [&](const auto& values, const AttributeRange& range) {
-    using T = std::decay_t<decltype(values[0])>;
-    std::array<T, 3> out;
-    for (int k = 0; k < 3; ++k) out[k] = meshes_.corner(values, range, mesh, primitive, v.v[k], k);
-    return out;
-  };
-  if (needs.uv_gradients && mesh.uvs.present()) uv_gradients(t, corners(meshes_.uvs, mesh.uvs).data(), c.du_dp, c.dv_dp);
-  if (needs.attribute && mesh.colors.present()) {
-    // Barycentric coordinates of the point: the dual basis of the edges (as uv_gradients).
-    const Vec3 n = glm::cross(t.e1, t.e2);
-    const double det = glm::dot(n, n);
-    if (!(det > 0.0)) return;
-    const Vec3 d = position - t.v0;
-    const double b1 = glm::dot(glm::cross(t.e2, n), d) / det, b2 = glm::dot(glm::cross(n, t.e1), d) / det;
-    const auto a = corners(meshes_.colors, mesh.colors);
-    c.attribute = float(1.0 - b1 - b2) * a[0] + float(b1) * a[1] + float(b2) * a[2];
-  }
-}
-
-// How u and v change along a triangle: the gradients whose dot products with its edges give the
-// UV differences along them (and zero along the normal).
-void Scene::uv_gradients(const TrianglePrim& t, const glm::vec2* uv, Vec3& du, Vec3& dv) {
-  const Vec3 n = glm::cross(t.e1, t.e2);
-  const double det = glm::dot(n, n);
-  if (!(det > 0.0)) return;
-  const Vec3 b1 = glm::cross(t.e2, n) / det, b2 = glm::cross(n, t.e1) / det;
-  const Vec2 d1 = Vec2(uv[1] - uv[0]), d2 = Vec2(uv[2] - uv[0]);
-  du = d1.x * b1 + d2.x * b2;
-  dv = d1.y * b1 + d2.y * b2;
 }
 
 SurfacePoint Scene::surface_point(const Hit& hit, const Vec3& wo, double footprint, const LightPath& path) const {
@@ -1056,7 +644,7 @@ SurfacePoint Scene::surface_point(const SurfaceRecord& r) const {
   c.object = &object_info(r.object);
   c.camera = has_camera_ ? &camera_ : nullptr;
   c.path = r.path;
-  add_primitive_data(m, r.primitive, r.position, c);
+  geometry_.add_primitive_data(m.program.needs(), r.primitive, r.position, c);
   m.program.run(c, textures_, sp.inputs.data());
   return sp;
 }

@@ -1,20 +1,17 @@
-// The scene: geometry (triangle meshes, spheres, Bézier revolves) under one
-// BVH, materials, textures, lights, camera. Builder calls validate their input
-// and throw std::invalid_argument naming the object and the field; `build()`
-// freezes the scene for rendering and ray casting.
+// The scene: its geometry (scene_geometry.h: triangle meshes, spheres, Bézier revolves under one
+// BVH), materials, textures, lights, media, the camera and the world. Builder calls validate their
+// input and throw std::invalid_argument naming the object and the field; `build()` makes what
+// rendering reads from them (the BVH, the prepared lights, the media's copies and sums) and leaves
+// the scene ready for rendering and ray casting.
 #pragma once
 
-#include "geometry/bvh.h"
-#include "geometry/ray.h"
-#include "geometry/sphere.h"
-#include "geometry/triangle.h"
-#include "scene/bsdf.h"
 #include "geometry/camera.h"
 #include "math/rng.h"
+#include "scene/bsdf.h"
 #include "scene/light.h"
 #include "scene/material.h"
 #include "scene/medium.h"
-#include "scene/mesh_store.h"
+#include "scene/scene_geometry.h"
 #include "shading/texture.h"
 
 #include <atomic>
@@ -25,9 +22,6 @@
 #include <vector>
 
 namespace ppm {
-
-class BezierRevolve;
-class ObjectBvh;
 
 // Ranges the builders accept (std::invalid_argument outside them). They keep
 // every square, product and float32 sum of the render finite:
@@ -45,23 +39,6 @@ constexpr double kMaxCoordinate = 1e30;
 constexpr double kMinSize = 1e-100;
 constexpr double kMaxPower = 1e20;
 constexpr double kMaxPhotonGain = 1e25;
-
-// What a walk reads (BVH nodes and the leaf tests' records, with the vertices they name where the
-// triangles are not copied) above which intersect_many interleaves rays' walks. Below it the BVH
-// stays in a core's cache, there are no misses to overlap, and the bookkeeping only costs. Measured
-// on the 2-core EPYC (2 MB L2 per core), asteroid meshes of bench/run.py raycast, with 80-byte leaf
-// records: up to 7,500 triangles (about 0.7 MB) cast 0-11% faster one ray at a time, 30,000 (about
-// 3 MB) broke even, and 99,372 (about 10 MB) gained 18-32%.
-constexpr double kInterleaveBytes = 2.0 * 1024 * 1024;
-
-// How a built scene keeps its triangles for the ray tests: beside its leaf records, a copy of each
-// triangle's corners in leaf order with its record (Copies: 96 bytes a triangle more; a leaf's test
-// reads one stretch of memory), or only the indices of its mesh's shared vertices (Compact: a
-// dependent read more a triangle; random rays through bench/run.py raycast's 10^6-triangle terrain
-// measured 30% slower). Auto copies up to kCopiedTrianglesMax triangles. Both find the same hits,
-// bit for bit.
-enum class GeometryLayout { Auto, Copies, Compact };
-constexpr size_t kCopiedTrianglesMax = 4'000'000;
 
 constexpr uint32_t kMaxObjectId = 1u << 24;  // objects a node program can tell apart
 // The object id a world's node program is run for (its coordinates are the direction's): kept
@@ -90,27 +67,17 @@ class Scene {
   // Texels that cannot be an albedo (see UnusableTexel) are an error naming the
   // first one, or, with clear_unusable, stay black (Texture::unusable_texels).
   uint32_t add_texture(const std::string& name, Texture texture, bool clear_unusable = false);
-  void add_mesh(MeshInput mesh);
-  // A dynamic scene builds its BVH object by object (geometry/object_bvh.h): slower to trace where
-  // objects overlap, but an object's mesh can then be replaced in place. Set before build().
-  void set_dynamic(bool dynamic);
-  bool dynamic() const { return dynamic_; }
+
+  // ---- Geometry: checked here (material indices, emission), kept by geometry() (scene_geometry.h
+  // says what each does). ----
+  void add_mesh(const MeshInput& mesh);
   // Set before build() (a built scene builds again).
+  void set_dynamic(bool dynamic);
   void set_geometry_layout(GeometryLayout layout);
-  GeometryLayout geometry_layout() const { return layout_; }
-  bool triangles_copied() const { return !copied_leaves_.empty(); }  // the built scene's choice
-  // The triangles of object `mesh.object_id` (it has no other primitives) become `mesh`'s: moved, or
-  // reshaped with any number of triangles and attributes, in the place of the object's first triangle.
-  // Moved or reshaped with as many triangles and vertices and the same attributes (the object one
-  // add_mesh's), a built dynamic scene's build() then refits the object's BVH subtree; otherwise it
-  // builds that subtree again and keeps the other objects'. Other scenes build their BVH afresh.
   // Throws std::invalid_argument naming the mesh where it cannot, the scene unchanged.
-  void replace_mesh(MeshInput mesh);
-  // Removes every primitive of object `object` (meshes, spheres, revolves); returns how many there were.
+  void replace_mesh(const MeshInput& mesh);
   // A built dynamic scene's build() then drops the object's subtree and keeps the others.
   size_t remove_object(uint32_t object);
-  // How many objects' subtrees the last build() of a dynamic scene built (the others were kept).
-  uint32_t subtrees_built() const { return subtrees_built_; }
   // `visibility`: the RayKinds that see the object (others pass through it), and
   // kHoldoutFlag for a Holdout object (a hole for camera rays, itself for others).
   void add_sphere(const std::string& name, const Vec3& center, double radius, uint32_t material,
@@ -118,6 +85,7 @@ class Scene {
   void add_bezier_revolve(const std::string& name, const std::vector<Vec2>& points, bool cubic_chain,
                           const Mat4& object_to_world, uint32_t material, uint32_t object_id,
                           uint8_t visibility = kAllRayKinds);
+
   void add_light(Light light);
   // Removes the lights add_light added (the world and emissive surfaces stay). The BVH is kept:
   // a scene whose lights alone change is built again in the time its lights take.
@@ -162,18 +130,16 @@ class Scene {
   // flux overflows a double, or the material whose colour above 1 could grow a
   // photon's share of the flux beyond kMaxPhotonGain over `max_bounces` scatterings.
   void check_energy_range(int max_bounces) const;
-  bool built() const { return geometry_built_ && moved_objects_.empty() && changed_objects_.empty() && lights_built_; }
+  bool built() const { return geometry_.built() && lights_built_; }
 
-  // Closest hit with 0 < t < tmax; fills the hit record.
-  bool intersect(const Ray& ray, Hit& hit, double tmax = kInf) const;
-  // Closest hits of `count` rays (t > 0), the same as intersect() ray by ray.
-  // When the BVH is larger than kInterleaveBytes, several rays' traversals
-  // are interleaved to overlap their cache misses (Bvh::closest_many). A miss
-  // leaves hits[i].found() false.
-  void intersect_many(const Ray* rays, size_t count, Hit* hits) const;
-  bool interleaves_walks() const { return interleave_; }
-  // Is anything in the way over (0, distance)?
-  bool occluded(const Ray& ray, double distance) const;
+  // The built geometry and the ray queries rendering makes most (SceneGeometry's).
+  const SceneGeometry& geometry() const { return geometry_; }
+  bool intersect(const Ray& ray, Hit& hit, double tmax = kInf) const { return geometry_.intersect(ray, hit, tmax); }
+  void intersect_many(const Ray* rays, size_t count, Hit* hits) const { geometry_.intersect_many(rays, count, hits); }
+  bool interleaves_walks() const { return geometry_.interleaves_walks(); }
+  bool occluded(const Ray& ray, double distance) const { return geometry_.occluded(ray, distance); }
+  bool is_holdout(const Hit& hit) const { return geometry_.is_holdout(hit); }
+  double offset_floor() const { return geometry_.offset_floor(); }  // see ray_offset()
 
   // The surface at a hit seen from direction `wo` (its material's program run there); `footprint`:
   // the world size of a pixel there, for a camera ray (a Bump node's steps), else 0.
@@ -196,9 +162,6 @@ class Scene {
   uint32_t add_grid(std::shared_ptr<const VoxelGrid> grid);
   std::shared_ptr<const VoxelGrid> grid(uint32_t index) const;  // std::out_of_range beyond
   size_t grid_count() const { return grids_.size(); }
-  // Is the hit primitive part of a Holdout object (its visibility carries kHoldoutFlag)?
-  bool is_holdout(const Hit& hit) const;
-  double offset_floor() const { return offset_floor_; }  // see ray_offset()
 
   // ---- Participating media (scene/medium.h; scene_media.cpp). ----
   // Validates (std::invalid_argument naming the medium and field: NaN, Inf, negative, a coefficient
@@ -314,100 +277,22 @@ class Scene {
   const std::vector<Light>& lights() const { return lights_; }
   const Camera& camera() const { return camera_; }
   bool has_camera() const { return has_camera_; }
-  Aabb bounds() const { return bvh_.bounds(); }
-  size_t triangle_count() const { return meshes_.info.size(); }
+  Aabb bounds() const { return geometry_.bounds(); }
   // Geometry (primitives, their attributes, the BVH), textures, materials and lights.
   size_t memory_bytes() const;
-  size_t primitive_count() const { return meshes_.info.size() + spheres_.size() + revolve_segments_.size(); }
 
  private:
-  struct PrimRef {
-    PrimitiveKind kind;
-    uint32_t index;  // into meshes_.info, spheres_ or revolve segments
-  };
-  struct SphereInfo {
-    SpherePrim sphere;
-    uint32_t material, object;
-    uint8_t visibility;
-  };
-  struct RevolveSegment {
-    uint32_t revolve, segment, material, object;
-    uint8_t visibility;
-  };
-
   void check_material(uint32_t material, const std::string& what) const;
-  // The meshes (indices into meshes_.meshes) of object `object`, refused where it has none or
-  // primitives of other kinds too.
-  std::vector<uint32_t> object_meshes(uint32_t object, const std::string& what) const;
-  void rewrite_mesh(uint32_t index, const MeshInput& mesh);
-  void rebuild_meshes(uint32_t object, const MeshInput* replacement);
-  void drop_unused_revolves();
-  void geometry_changed(uint32_t object);
-  // A triangle's vertex indices: in meshes_.triangles, or once built in its leaf record.
-  const TriangleVertices& triangle_vertices(uint32_t triangle) const;
-  TrianglePrim triangle(uint32_t triangle) const { return meshes_.triangle(triangle_vertices(triangle)); }
   void check_new_material(Material& m) const;  // validates and completes a material to be stored
   void check_not_emissive(uint32_t material, const std::string& what) const;
   void check_lobes(Material& m, const std::string& what) const;
   std::vector<double> check_inputs(const Material& m, const std::string& what) const;
-  static void uv_gradients(const TrianglePrim& t, const glm::vec2* uv, Vec3& du, Vec3& dv);
-  // What a program reads of primitive `primitive` at `position` on it: the UV gradients (a Bump's
-  // steps) and the mesh attribute there, where the material's program uses them.
-  void add_primitive_data(const Material& m, uint32_t primitive, const Vec3& position, ShadingContext& c) const;
   void textured_emission(const Material& m, uint32_t triangle, Light& l) const;
-  void invalidate();
   void invalidate_lights();
-  void build_geometry();
-  void build_object_bvh(const std::vector<Aabb>& boxes, bool reuse_unchanged);
-  void refit_moved_objects();
-  void finish_geometry();  // after the BVH changed: its derived figures
   void prepare_lights();
   void place_lights_in_media();  // each light's Light::media
   void prepare_medium_lights(const Aabb& light_bounds);
-  void restore_triangles();
-  void release_triangles();
-  void order_vertices_by_leaf();
-  bool copies_triangles() const;  // what the layout asks of the next build
-  void copy_leaf_triangles();
-  // The triangle at a leaf slot, from its copy or its vertices (`scratch` holds the latter).
-  const TrianglePrim& leaf_triangle(uint32_t slot, TrianglePrim& scratch) const {
-    if (!copied_leaves_.empty()) return copied_leaves_[slot].tri;
-    scratch = meshes_.triangle(leaf_prims_[slot].vertices);
-    return scratch;
-  }
-  bool record_triangle_hit(uint32_t slot, uint32_t triangle, const TrianglePrim& tri, const Ray& ray, double& tmax,
-                           Hit& scratch) const;
   void ensure_mutable() const;
-  // One record per BVH leaf slot (see Bvh::prim_order), in leaf order: a leaf's primitives sit side
-  // by side, and a triangle's record holds its vertices' indices, so testing a leaf reads its records
-  // and the vertices (shared by the mesh's triangles) they name.
-  struct LeafPrim {
-    TriangleVertices vertices;  // triangles only
-    uint32_t index;             // into meshes_.info, spheres_ or revolve_segments_
-    PrimitiveKind kind;
-    uint8_t visibility;  // RayKinds that see it
-  };
-  // A leaf slot's record where a ray test reads it: beside the triangle's copy, or alone.
-  const LeafPrim& leaf(uint32_t slot) const {
-    return copied_leaves_.empty() ? leaf_prims_[slot] : copied_leaves_[slot].leaf;
-  }
-  PrimRef prim_ref(uint32_t primitive) const;
-  Aabb primitive_box(const PrimRef& ref) const;  // while meshes_.triangles are restored
-  uint8_t visibility_of(const PrimRef& ref) const;
-
-  // Tests the primitive at a leaf slot; on a closer hit lowers tmax and
-  // records the slot in scratch.primitive (fill_hit turns it into the id).
-  bool intersect_slot(uint32_t slot, const Ray& ray, double& tmax, Hit& scratch) const;
-  bool intersect_non_triangle(uint32_t slot, const Ray& ray, double& tmax, Hit& scratch) const;
-  // Every cache line of a leaf's records, asked for when its box is hit.
-  void prefetch_leaf(uint32_t first, uint32_t count) const {
-    if (copied_leaves_.empty())
-      prefetch_lines(&leaf_prims_[first], count * sizeof(LeafPrim));
-    else
-      prefetch_lines(&copied_leaves_[first], count * sizeof(CopiedLeaf));
-  }
-  void fill_hit(const Ray& ray, Hit& hit, double b1, double b2) const;
-
   std::vector<Material> materials_;
   std::vector<Medium> media_;
   int world_medium_ = -1;
@@ -436,13 +321,10 @@ class Scene {
   bool rays_start_near_media_ = false;  // camera_ray_media: a medium's box reaches where rays start
   void place_camera_in_media();
   std::vector<Texture> textures_;
-  MeshStore meshes_;
+  SceneGeometry geometry_;
   std::vector<ObjectInfo> objects_;  // by object id (set_object_info)
   std::vector<std::shared_ptr<const VoxelGrid>> grids_;  // add_grid's
   ObjectInfo world_object_;          // kWorldObject's
-  std::vector<SphereInfo> spheres_;
-  std::vector<std::unique_ptr<BezierRevolve>> revolves_;
-  std::vector<RevolveSegment> revolve_segments_;
   std::vector<Light> user_lights_;
   std::vector<Light> lights_;  // user lights + background + emissive triangles + emitting media, prepared
   std::vector<MediumRegion> medium_regions_;
@@ -463,27 +345,6 @@ class Scene {
   Camera camera_;
   bool has_camera_ = false;
 
-  std::vector<uint32_t> slot_of_triangle_;  // once built: each triangle's leaf slot (meshes_.triangles is then empty)
-  Bvh bvh_;
-  HugePageFillVector<LeafPrim> leaf_prims_;
-  // A leaf slot's record with its triangle's corners copied (GeometryLayout::Copies): all the ray
-  // test and fill_hit read, a leaf's in one stretch of memory (leaf_prims_ are kept for the rest).
-  struct CopiedLeaf {
-    TrianglePrim tri;  // triangles only
-    LeafPrim leaf;
-  };
-  HugePageFillVector<CopiedLeaf> copied_leaves_;  // by slot; empty: the Compact layout
-  GeometryLayout layout_ = GeometryLayout::Auto;
-  bool dynamic_ = false;
-  std::unique_ptr<ObjectBvh> object_bvh_;                // a dynamic scene's, once built
-  std::unordered_map<uint32_t, uint32_t> object_group_;  // object id -> its index in object_bvh_
-  // Object ids since the BVH was last made: moved or reshaped in place (their subtrees refitted), and
-  // with primitives added, removed or replaced (their subtrees built again, the others kept).
-  std::vector<uint32_t> moved_objects_, changed_objects_;
-  uint32_t subtrees_built_ = 0;
-  double offset_floor_ = 1e-12;
-  bool interleave_ = false;  // BVH larger than kInterleaveBytes
-  bool geometry_built_ = false;  // the BVH and its leaf records
   bool lights_built_ = false;    // lights_ and the environments
   // The leases on this scene. Movable so that Scene is (a leased scene is never moved: its
   // renderers hold it by shared_ptr).

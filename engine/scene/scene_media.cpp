@@ -141,7 +141,7 @@ MediumStack Scene::media_at(const Vec3& p, uint8_t ray_kind) const {
         a.net[id] += leaving ? 1 : -1;
         if (leaving) a.first_exit[id] = std::min(a.first_exit[id], travelled);
       }
-      ray.origin = offset_point(hit.position, hit.geometric_normal, ray.direction, offset_floor_);
+      ray.origin = offset_point(hit.position, hit.geometric_normal, ray.direction, offset_floor());
     }
   }
   // A medium holds the point if most rays leave it more often than they enter, as many times as the
@@ -280,7 +280,7 @@ void Scene::place_camera_in_media() {
   origins.grow(camera_.position());
   for (const double px : {0.0, double(camera_.width)})
     for (const double py : {0.0, double(camera_.height)}) origins.grow(camera_.generate_ray(px, py).origin);
-  const Vec3 widen(camera_.aperture_radius + ray_offset(camera_.position(), offset_floor_));
+  const Vec3 widen(camera_.aperture_radius + ray_offset(camera_.position(), offset_floor()));
   origins.lo -= widen, origins.hi += widen;
   for (const auto& [key, box] : media_boxes_)
     if (glm::all(glm::lessThanEqual(glm::max(origins.lo, box.lo), glm::min(origins.hi, box.hi))))
@@ -296,7 +296,7 @@ MediumStack Scene::media_along(MediumStack stack, const Vec3& from, const Vec3& 
   for (int crossing = 0; crossing < kMaxMediumCrossings && intersect(ray, hit, distance); ++crossing) {
     cross(hit, ray.direction, stack);
     distance -= hit.t;
-    ray.origin = offset_point(hit.position, hit.geometric_normal, ray.direction, offset_floor_);
+    ray.origin = offset_point(hit.position, hit.geometric_normal, ray.direction, offset_floor());
   }
   return stack;
 }
@@ -307,16 +307,7 @@ std::map<std::pair<uint32_t, int>, Aabb> Scene::medium_boxes(bool copies) const 
     const int id = copies ? medium_in(material, object) : materials_[material].medium;
     if (id >= 0) boxes[{object, id}].grow(box);
   };
-  for (uint32_t t = 0; t < meshes_.triangle_count(); ++t) {
-    const TrianglePrim p = triangle(t);
-    Aabb box;
-    box.grow(p.v0), box.grow(p.v0 + p.e1), box.grow(p.v0 + p.e2);
-    grow(meshes_.info[t].material, meshes_.meshes[meshes_.info[t].mesh].object, box);
-  }
-  for (const SphereInfo& s : spheres_)
-    grow(s.material, s.object, Aabb{s.sphere.center - Vec3(s.sphere.radius), s.sphere.center + Vec3(s.sphere.radius)});
-  for (const RevolveSegment& r : revolve_segments_)
-    grow(r.material, r.object, revolves_[r.revolve]->segment_bounds(r.segment));
+  geometry_.for_each_primitive_box(grow);
   return boxes;
 }
 
@@ -330,12 +321,12 @@ void Scene::place_lights_in_media() {
         l.media = media_at(l.position, kShadowRay);  // a photon leaves its light as a shadow ray
         break;
       case LightKind::Triangle: {
-        const uint32_t object = meshes_.meshes[meshes_.info[l.primitive].mesh].object;
+        const uint32_t object = geometry_.triangle_object(l.primitive);
         auto found = object_media.find(object);
         if (found == object_media.end()) {
           const TrianglePrim& t = l.triangle;
           const Vec3 centre = t.v0 + (t.e1 + t.e2) / 3.0, normal = glm::normalize(glm::cross(t.e1, t.e2));
-          const Vec3 off = centre + 4.0 * ray_offset(centre, offset_floor_) * normal;
+          const Vec3 off = centre + 4.0 * ray_offset(centre, offset_floor()) * normal;
           found = object_media.emplace(object, media_at(off, kShadowRay)).first;
         }
         l.media = found->second;
@@ -370,7 +361,7 @@ Color Scene::shadow_transmittance(const Ray& shadow, double distance, MediumStac
     if (!(max_component(tr) > 0.0)) return Color(0.0);
     cross(hit, ray.direction, stack);
     distance -= hit.t;
-    ray.origin = offset_point(hit.position, hit.geometric_normal, ray.direction, offset_floor_);
+    ray.origin = offset_point(hit.position, hit.geometric_normal, ray.direction, offset_floor());
     if (!(distance > 0.0)) return tr;
   }
   return Color(0.0);
