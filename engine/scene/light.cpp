@@ -309,24 +309,37 @@ PhotonEmission emit_photon(const Light& l, double u1, double u2, double u3, doub
       break;
     }
     case LightKind::Spot: {
-      if (l.radius > 0.0) {  // from the sphere as a sphere light, weighted by the falloff: E[flux] = l.flux
-        const Vec3 n = sample_uniform_sphere(u1, u2);
-        const Vec3 d = to_world(sample_cosine_hemisphere(u3, u4), n);
-        e.ray = {l.position + l.radius * n, d};
-        e.flux = l.power * spot_attenuation(l, d);
-        break;
-      }
+      // A direction in the cone, uniformly (the falloff weighs it): E[flux] = l.flux. A spot with a
+      // radius is a sphere whose radiance the falloff of the direction alone masks, so its photons
+      // in direction d leave uniformly from the sphere's outline seen along d (its front half).
+      // Drawn from the whole sphere instead, a 7-degree spot wasted 999 photons in 1000 and gave
+      // the rest 1000 times the flux: fog around it showed single photons as specks.
       const Vec3 d = to_world(sample_uniform_cone(u1, u2, l.cos_half_spot), l.direction);
-      e.ray = {l.position, d};
+      Vec3 origin = l.position;
+      if (l.radius > 0.0) {
+        const Vec2 q = sample_uniform_disk(u3, u4);
+        origin += l.radius * to_world(Vec3(q, std::sqrt(std::fmax(0.0, 1.0 - glm::dot(q, q)))), d);
+      }
+      e.ray = {origin, d};
       const double cone = 2.0 * kPi * (1.0 - l.cos_half_spot);
       e.flux = l.power / (4.0 * kPi) * spot_attenuation(l, d) * cone;
       break;
     }
     case LightKind::Rectangle:
     case LightKind::Disk: {
-      const Vec3 local = sample_cosine_hemisphere(u3, u4);
+      // Cosine-weighted directions within the spread's half angle h, where its attenuation is not 0
+      // (the cosine-weighted hemisphere's disk shrunk to radius sin h, of probability sin^2 h): the
+      // attenuation's mean over the hemisphere is 1. A 30-degree softbox drew 15 of 16 photons
+      // outside it.
+      Vec3 local = sample_cosine_hemisphere(u3, u4);
+      double inside = 1.0;
+      if (l.spread < kPi) {
+        const double s = std::sin(0.5 * l.spread);
+        local = Vec3(s * local.x, s * local.y, std::sqrt(std::fmax(0.0, 1.0 - s * s * (local.x * local.x + local.y * local.y))));
+        inside = s * s;
+      }
       e.ray = {sample_area_point(l, u1, u2), to_world(local, l.direction)};
-      e.flux = l.flux * spread_attenuation(l, local.z);  // cosine-weighted: its mean is 1
+      e.flux = l.flux * (spread_attenuation(l, local.z) * inside);
       break;
     }
     case LightKind::Sun: {
