@@ -27,6 +27,7 @@ import weakref
 import bpy
 
 from . import export
+from .export import sync
 from .properties import render_settings
 
 # (pixel size, photons per pass) of the quick first images, before the full-resolution passes.
@@ -106,7 +107,8 @@ class ViewportSession:
         self.core_scene = None  # until the export succeeds: a failed one renders nothing and shows its error
         self.object_warnings, self.light_warnings, self.material_warnings, self.world_warnings = [], [], [], []
         exporter = export.scene_exporter(self.ppm_core, depsgraph, self.object_warnings.append, lights=False,
-                                         world_warn=self.world_warnings.append, dynamic=True)
+                                         world_warn=self.world_warnings.append,
+                                         exporter_class=sync.SyncingExporter)
         export.export_lights(exporter.scene, depsgraph, self.light_warnings.append)
         self.core_scene, self.exporter, self.materials = exporter.scene, exporter, exporter.materials
         self.world_textures = exporter.world_textures
@@ -146,7 +148,7 @@ class ViewportSession:
 
     def update_objects(self, depsgraph):
         """Brings the objects up to the depsgraph in place, stopping the thread: mesh objects neither
-        instanced nor instancing that moved or were reshaped alone (Exporter.update_placed), anything else
+        instanced nor instancing that moved or were reshaped alone (SyncingExporter.update_placed), anything else
         (objects added or removed, instancers moved, collections changed) through a walk over every
         instance (Exporter.sync), with the lights exported again. False (the scene then needs a whole
         export) where that cannot be. A camera object is the view's business (view_draw)."""
