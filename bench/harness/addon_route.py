@@ -46,14 +46,15 @@ def open_scene(name, width, height):
 
 
 def apply(scene, owner, settings):
-    """Sets `settings` on `owner`; dotted keys are paths from the scene."""
+    """Sets `settings` on `owner`; dotted keys are paths from the scene, in which a name picks an item
+    of a collection (`objects.spot.data.shadow_soft_size`)."""
     for key, value in settings.items():
         target, attribute = owner, key
         if "." in key:
             *path, attribute = key.split(".")
             target = scene
             for part in path:
-                target = getattr(target, part)
+                target = getattr(target, part) if hasattr(target, part) else target[part]
         if not hasattr(target, attribute):
             raise SystemExit(f"no setting {key!r} on {target!r}")
         setattr(target, attribute, value)

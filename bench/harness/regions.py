@@ -9,6 +9,10 @@ the add-on exports (the core's own camera rays and `Scene.intersect`).
   a glass object first (the glass's "shadow", where all light from that lamp arrives through the
   glass: the refraction caustic);
 - walls: every other diffuse pixel that sees geometry. A mirror's reflection caustic is in "walls".
+- beam (scenes with media): pixels whose camera ray, up to the first surface, passes through the
+  glass's shadow from a point or spot light in 4 or more of 64 points along it (where all light from
+  that lamp arrives through the glass: the volumetric caustic, and the dark around it). Objects whose
+  material has only a Volume (a fog box's boundary) are seen through, for every region.
 """
 
 from __future__ import annotations
@@ -17,15 +21,20 @@ import numpy as np
 
 from .addon_route import bpy, open_scene
 
-NAMES = ("all", "emitter", "glass", "mirror", "caustic", "walls")
+NAMES = ("all", "emitter", "glass", "mirror", "caustic", "walls", "beam")
+BEAM_POINTS, BEAM_MIN_POINTS = 64, 4
 
 
 def material_kind(obj):
-    """'glass', 'mirror' (mirror or metal) or 'diffuse', from the object's first material's nodes."""
+    """'glass', 'mirror' (mirror or metal), 'volume' (a Volume output alone) or 'diffuse', from the
+    object's first material's nodes."""
     for slot in obj.material_slots:
         mat = slot.material
         if mat is None or mat.node_tree is None:
             continue
+        outputs = [n for n in mat.node_tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial"]
+        if outputs and all(not o.inputs["Surface"].is_linked and o.inputs["Volume"].is_linked for o in outputs):
+            return "volume"
         for node in mat.node_tree.nodes:
             if node.bl_idname in ("ShaderNodeBsdfGlass", "ShaderNodeBsdfRefraction"):
                 return "glass"
@@ -68,33 +77,67 @@ def exported_scene(scene):
     return exporter.scene, names
 
 
-def caustic_pixels(core_scene, points, diffuse, glass_ids):
-    """Diffuse hit points whose segment to a point or spot light's centre crosses glass first."""
-    caustic = np.zeros(len(points), dtype=bool)
+def first_hits(core_scene, origins, directions, volume_ids):
+    """t and object of each ray's first hit, seen through objects in `volume_ids` (inf, -1: none)."""
+    t = np.zeros(len(origins))
+    obj = np.full(len(origins), -1)
+    todo = np.arange(len(origins))
+    start = origins.copy()
+    for _ in range(8):
+        hits = core_scene.intersect(np.ascontiguousarray(start[todo]), np.ascontiguousarray(directions[todo]))
+        ht, ho = np.asarray(hits["t"]), np.asarray(hits["object"])
+        t[todo] += np.where(np.isfinite(ht), ht, np.inf)
+        obj[todo] = np.where(np.isfinite(ht), ho, -1)
+        again = np.isfinite(ht) & np.isin(ho, volume_ids)
+        todo = todo[again]
+        if len(todo) == 0:
+            break
+        start[todo] = origins[todo] + (t[todo] + 1e-4)[:, None] * directions[todo]
+        t[todo] += 1e-4
+    return t, obj
+
+
+def glass_shadowed(core_scene, points, glass_ids, volume_ids):
+    """Which points' segment to a point or spot light's centre crosses glass first."""
+    shadowed = np.zeros(len(points), dtype=bool)
     for lamp in bpy.data.objects:
-        if lamp.type != "LIGHT" or lamp.data.type not in ("POINT", "SPOT") or not glass_ids:
+        if lamp.type != "LIGHT" or lamp.data.type not in ("POINT", "SPOT") or not glass_ids or not len(points):
             continue
-        to_lamp = np.array(lamp.matrix_world.translation) - points[diffuse]
+        to_lamp = np.array(lamp.matrix_world.translation) - points
         dist = np.linalg.norm(to_lamp, axis=1)
         dirs = to_lamp / dist[:, None]
-        shadow = core_scene.intersect(np.ascontiguousarray(points[diffuse] + 1e-4 * dirs), np.ascontiguousarray(dirs))
-        blocked = (np.asarray(shadow["t"]) < dist) & np.isin(np.asarray(shadow["object"]), glass_ids)
-        caustic[np.flatnonzero(diffuse)[blocked]] = True
-    return caustic
+        t, obj = first_hits(core_scene, points + 1e-4 * dirs, dirs, volume_ids)
+        shadowed |= (t < dist) & np.isin(obj, glass_ids)
+    return shadowed
+
+
+def beam_pixels(core_scene, origins, directions, t, glass_ids, volume_ids):
+    """Camera rays that pass through the glass's shadow in BEAM_MIN_POINTS of BEAM_POINTS points."""
+    if not volume_ids or not glass_ids:
+        return np.zeros(len(origins), dtype=bool)
+    end = np.where(np.isfinite(t), t, 0.0)
+    count = np.zeros(len(origins), dtype=int)
+    for k in range(BEAM_POINTS):
+        points = origins + ((k + 0.5) / BEAM_POINTS * end)[:, None] * directions
+        count += glass_shadowed(core_scene, points, glass_ids, volume_ids)
+    return count >= BEAM_MIN_POINTS
 
 
 def region_masks(name, reference, width, height):
     """Boolean (H, W) masks, top row first, of the regions the scene has (module docstring)."""
     core_scene, names = exported_scene(open_scene(name, width, height))
     origins, directions = core_scene.camera_rays()
-    hits = core_scene.intersect(origins, directions)
-    t, obj_id = np.asarray(hits["t"]), np.asarray(hits["object"])
     kinds = {i: material_kind(bpy.data.objects[n]) for i, n in names.items()}
+    glass_ids = [i for i, k in kinds.items() if k == "glass"]
+    volume_ids = [i for i, k in kinds.items() if k == "volume"]
+    t, obj_id = first_hits(core_scene, origins, directions, volume_ids)
     kind = np.array([kinds.get(int(i), "none") for i in obj_id])
     hit = np.isfinite(t)
     points = origins + np.where(hit, t, 0.0)[:, None] * directions
     diffuse = hit & (kind == "diffuse")
-    caustic = caustic_pixels(core_scene, points, diffuse, [i for i, k in kinds.items() if k == "glass"])
+    caustic = np.zeros(len(points), dtype=bool)
+    caustic[diffuse] = glass_shadowed(core_scene, points[diffuse], glass_ids, volume_ids)
+    beam = beam_pixels(core_scene, origins, directions, t, glass_ids, volume_ids) & (kind != "glass")
 
     def image(mask):
         return mask.reshape(height, width)[::-1]  # camera_rays: bottom row first
@@ -108,5 +151,6 @@ def region_masks(name, reference, width, height):
         "mirror": image(kind == "mirror") & ~emitter,
         "caustic": image(caustic) & ~emitter,
         "walls": image(diffuse & ~caustic) & ~emitter,
+        "beam": image(beam) & ~emitter,
     }
     return {k: m for k, m in masks.items() if m.any()}
