@@ -17,9 +17,10 @@ import sys
 import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "blend_scenes"))
+from media_throughput import FOG, fill_room  # noqa: E402
+
 import core_scenes  # noqa: E402
 import ppm_core  # noqa: E402
-from media_throughput import FOG, fill_room  # noqa: E402
 
 
 def with_world_fog(scene):
