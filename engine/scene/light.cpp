@@ -334,8 +334,8 @@ PhotonEmission emit_photon(const Light& l, double u1, double u2, double u3, doub
       Vec3 local = sample_cosine_hemisphere(u3, u4);
       double inside = 1.0;
       if (l.spread < kPi) {
-        const double s = std::sin(0.5 * l.spread);
-        local = Vec3(s * local.x, s * local.y, std::sqrt(std::fmax(0.0, 1.0 - s * s * (local.x * local.x + local.y * local.y))));
+        const double s = std::sin(0.5 * l.spread), rho2 = s * s * (local.x * local.x + local.y * local.y);
+        local = Vec3(s * local.x, s * local.y, std::sqrt(std::fmax(0.0, 1.0 - rho2)));
         inside = s * s;
       }
       e.ray = {sample_area_point(l, u1, u2), to_world(local, l.direction)};
