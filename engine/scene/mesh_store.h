@@ -10,6 +10,7 @@
 #include "math/types.h"
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <string>
 #include <unordered_map>
@@ -88,6 +89,13 @@ struct MeshStore {
                   uint32_t triangle, uint32_t vertex, int k) const {
     return values[static_cast<size_t>(range.first) +
                   (range.per_vertex ? vertex - mesh.first_vertex : 3 * size_t(triangle - mesh.first_triangle) + k)];
+  }
+  // Its values at the three corners (vertices `v`) of `triangle`.
+  template <class T>
+  std::array<T, 3> corners(const std::vector<T>& values, const AttributeRange& range, const MeshRecord& mesh,
+                           uint32_t triangle, const TriangleVertices& v) const {
+    return {corner(values, range, mesh, triangle, v.v[0], 0), corner(values, range, mesh, triangle, v.v[1], 1),
+            corner(values, range, mesh, triangle, v.v[2], 2)};
   }
   // Vertex v moves to position[v], each within its own mesh's range (per-vertex attributes with it);
   // `triangles` are the caller's to renumber.

@@ -214,16 +214,12 @@ size_t Scene::remove_object(uint32_t object) {
 
 void Scene::set_dynamic(bool dynamic) {
   ensure_mutable();
-  if (dynamic == geometry_.dynamic()) return;
-  geometry_.set_dynamic(dynamic);
-  invalidate_lights();
+  if (geometry_.set_dynamic(dynamic)) invalidate_lights();
 }
 
 void Scene::set_geometry_layout(GeometryLayout layout) {
   ensure_mutable();
-  if (layout == geometry_.layout()) return;
-  geometry_.set_layout(layout);
-  invalidate_lights();
+  if (geometry_.set_layout(layout)) invalidate_lights();
 }
 
 void Scene::add_sphere(const std::string& name, const Vec3& center, double radius, uint32_t material,

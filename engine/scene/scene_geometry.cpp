@@ -298,11 +298,12 @@ void SceneGeometry::copy_leaf_triangles() {
   });
 }
 
-void SceneGeometry::set_layout(GeometryLayout layout) {
-  if (layout == layout_) return;
+bool SceneGeometry::set_layout(GeometryLayout layout) {
+  if (layout == layout_) return false;
   restore_triangles();
   layout_ = layout;
   invalidate();
+  return true;
 }
 
 // Each mesh's vertices in the order the BVH leaves first name them, so that a leaf's triangles find
@@ -339,10 +340,7 @@ void SceneGeometry::build_object_bvh(const std::vector<Aabb>& boxes, bool reuse_
   previous.swap(object_group_);
   std::vector<uint32_t> group(boxes.size());
   for (uint32_t i = 0; i < group.size(); ++i) {
-    const PrimRef ref = prim_ref(i);
-    const uint32_t object = ref.kind == PrimitiveKind::Triangle ? meshes_.meshes[meshes_.info[ref.index].mesh].object
-                            : ref.kind == PrimitiveKind::Sphere ? spheres_[ref.index].object
-                                                                : revolve_segments_[ref.index].object;
+    const uint32_t object = object_of(prim_ref(i));
     group[i] = object_group_.emplace(object, static_cast<uint32_t>(object_group_.size())).first->second;
   }
   std::vector<int32_t> reuse;
@@ -395,11 +393,12 @@ void SceneGeometry::finish() {
   offset_floor_ = bounds.empty() ? 1e-12 : 1e-10 * max_abs(bounds.extent()) + 1e-300;
 }
 
-void SceneGeometry::set_dynamic(bool dynamic) {
-  if (dynamic == dynamic_) return;
+bool SceneGeometry::set_dynamic(bool dynamic) {
+  if (dynamic == dynamic_) return false;
   restore_triangles();
   dynamic_ = dynamic;
   invalidate();
+  return true;
 }
 
 // Primitive i of a build: the triangles in order, then the spheres, then the revolve segments.
@@ -413,7 +412,7 @@ SceneGeometry::PrimRef SceneGeometry::prim_ref(uint32_t i) const {
 
 Aabb SceneGeometry::primitive_box(const PrimRef& ref) const {
   switch (ref.kind) {
-    case PrimitiveKind::Triangle: return triangle_box(meshes_.triangle(meshes_.triangles[ref.index]));
+    case PrimitiveKind::Triangle: return triangle_box(triangle(ref.index));
     case PrimitiveKind::Sphere: {
       const SpherePrim& s = spheres_[ref.index].sphere;
       return Aabb{s.center - Vec3(s.radius), s.center + Vec3(s.radius)};
@@ -422,6 +421,22 @@ Aabb SceneGeometry::primitive_box(const PrimRef& ref) const {
       const RevolveSegment& r = revolve_segments_[ref.index];
       return revolves_[r.revolve]->segment_bounds(r.segment);
     }
+  }
+}
+
+uint32_t SceneGeometry::object_of(const PrimRef& ref) const {
+  switch (ref.kind) {
+    case PrimitiveKind::Triangle: return triangle_object(ref.index);
+    case PrimitiveKind::Sphere: return spheres_[ref.index].object;
+    default: return revolve_segments_[ref.index].object;
+  }
+}
+
+uint32_t SceneGeometry::material_of(const PrimRef& ref) const {
+  switch (ref.kind) {
+    case PrimitiveKind::Triangle: return triangle_material(ref.index);
+    case PrimitiveKind::Sphere: return spheres_[ref.index].material;
+    default: return revolve_segments_[ref.index].material;
   }
 }
 

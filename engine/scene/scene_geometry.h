@@ -63,10 +63,11 @@ class SceneGeometry {
   void add_revolve(const std::vector<Vec2>& points, bool cubic_chain, const Mat4& object_to_world,
                    uint32_t material, uint32_t object, uint8_t visibility, const std::string& what);
   // A dynamic scene builds its BVH object by object (geometry/object_bvh.h): slower to trace where
-  // objects overlap, but an object's mesh can then be replaced in place.
-  void set_dynamic(bool dynamic);
+  // objects overlap, but an object's mesh can then be replaced in place. The setters return whether
+  // they changed anything (the geometry is then built again).
+  bool set_dynamic(bool dynamic);
   bool dynamic() const { return dynamic_; }
-  void set_layout(GeometryLayout layout);
+  bool set_layout(GeometryLayout layout);
   GeometryLayout layout() const { return layout_; }
 
   // ---- Building. ----
@@ -165,9 +166,10 @@ class SceneGeometry {
   bool copies_triangles() const;  // what the layout asks of the next build
   void copy_leaf_triangles();
   PrimRef prim_ref(uint32_t primitive) const;
-  Aabb primitive_box(const PrimRef& ref) const;  // while meshes_.triangles are restored
+  Aabb primitive_box(const PrimRef& ref) const;
+  uint32_t object_of(const PrimRef& ref) const;
+  uint32_t material_of(const PrimRef& ref) const;
   uint8_t visibility_of(const PrimRef& ref) const;
-  Aabb revolve_segment_bounds(const RevolveSegment& r) const;
 
   // Ray tests.
   const LeafPrim& leaf(uint32_t slot) const {
@@ -218,15 +220,10 @@ class SceneGeometry {
 
 template <class F>
 void SceneGeometry::for_each_primitive_box(F&& f) const {
-  for (uint32_t t = 0; t < meshes_.triangle_count(); ++t) {
-    const TrianglePrim p = triangle(t);
-    Aabb box;
-    box.grow(p.v0), box.grow(p.v0 + p.e1), box.grow(p.v0 + p.e2);
-    f(triangle_material(t), triangle_object(t), box);
+  for (uint32_t i = 0; i < primitive_count(); ++i) {
+    const PrimRef ref = prim_ref(i);
+    f(material_of(ref), object_of(ref), primitive_box(ref));
   }
-  for (const SphereInfo& s : spheres_)
-    f(s.material, s.object, Aabb{s.sphere.center - Vec3(s.sphere.radius), s.sphere.center + Vec3(s.sphere.radius)});
-  for (const RevolveSegment& r : revolve_segments_) f(r.material, r.object, revolve_segment_bounds(r));
 }
 
 }  // namespace ppm

@@ -5,7 +5,6 @@
 #include "geometry/object_bvh.h"
 
 #include <algorithm>
-#include <type_traits>
 
 namespace ppm {
 
@@ -125,13 +124,9 @@ void SceneGeometry::fill_hit(const Ray& ray, Hit& hit, double b1, double b2) con
       const TrianglePrim& t = leaf_triangle(slot, scratch);  // in cache from the test
       const TriangleInfo& info = meshes_.info[ref.index];
       const MeshRecord& mesh = meshes_.meshes[info.mesh];
-      const uint32_t* v = ref.vertices.v;
       const double b0 = 1.0 - b1 - b2;
       auto corners = [&](const auto& values, const AttributeRange& range) {
-        using T = std::decay_t<decltype(values[0])>;
-        std::array<T, 3> out;
-        for (int k = 0; k < 3; ++k) out[k] = meshes_.corner(values, range, mesh, ref.index, v[k], k);
-        return out;
+        return meshes_.corners(values, range, mesh, ref.index, ref.vertices);
       };
       hit.position = t.v0 + b1 * t.e1 + b2 * t.e2;
       hit.geometric_normal = triangle_normal(t);
@@ -187,10 +182,7 @@ void SceneGeometry::add_primitive_data(const NodeProgram::Needs& needs, uint32_t
   const TriangleVertices& v = triangle_vertices(primitive);
   const TrianglePrim t = meshes_.triangle(v);
   auto corners = [&](const auto& values, const AttributeRange& range) {
-    using T = std::decay_t<decltype(values[0])>;
-    std::array<T, 3> out;
-    for (int k = 0; k < 3; ++k) out[k] = meshes_.corner(values, range, mesh, primitive, v.v[k], k);
-    return out;
+    return meshes_.corners(values, range, mesh, primitive, v);
   };
   if (needs.uv_gradients && mesh.uvs.present()) uv_gradients(t, corners(meshes_.uvs, mesh.uvs).data(), c.du_dp, c.dv_dp);
   if (needs.attribute && mesh.colors.present()) {
@@ -212,11 +204,9 @@ std::array<Vec3, 3> SceneGeometry::triangle_corners(uint32_t triangle) const {
 
 std::array<Vec2, 3> SceneGeometry::triangle_uvs(uint32_t triangle) const {
   const MeshRecord& mesh = meshes_.meshes[meshes_.info[triangle].mesh];
-  const TriangleVertices& v = triangle_vertices(triangle);
-  std::array<Vec2, 3> uvs{Vec2(0.0), Vec2(0.0), Vec2(0.0)};
-  if (mesh.uvs.present())
-    for (int k = 0; k < 3; ++k) uvs[k] = Vec2(meshes_.corner(meshes_.uvs, mesh.uvs, mesh, triangle, v.v[k], k));
-  return uvs;
+  if (!mesh.uvs.present()) return {Vec2(0.0), Vec2(0.0), Vec2(0.0)};
+  const auto uv = meshes_.corners(meshes_.uvs, mesh.uvs, mesh, triangle, triangle_vertices(triangle));
+  return {Vec2(uv[0]), Vec2(uv[1]), Vec2(uv[2])};
 }
 
 bool SceneGeometry::spheres_use(uint32_t material) const {
@@ -226,10 +216,6 @@ bool SceneGeometry::spheres_use(uint32_t material) const {
 bool SceneGeometry::revolves_use(uint32_t material) const {
   return std::any_of(revolve_segments_.begin(), revolve_segments_.end(),
                      [&](const RevolveSegment& r) { return r.material == material; });
-}
-
-Aabb SceneGeometry::revolve_segment_bounds(const RevolveSegment& r) const {
-  return revolves_[r.revolve]->segment_bounds(r.segment);
 }
 
 size_t SceneGeometry::memory_bytes() const {
