@@ -29,8 +29,8 @@ def with_world_fog(scene):
     return scene
 
 
-def with_box(scene, cloud):
-    fill_room(scene, cloud)
+def with_box(scene, kind):
+    fill_room(scene, kind)
     return scene
 
 
@@ -51,8 +51,8 @@ SCENES = {
                                                            "compact"),
     # Media: fog everywhere, fog in a box (a mesh bounds it), a cloud that varies in space.
     "cornell_fog_media": lambda: with_world_fog(core_scenes.cornell_3spheres(96, 72)),
-    "cornell_box_media": lambda: with_box(core_scenes.cornell_3spheres(96, 72), cloud=False),
-    "cornell_cloud_media": lambda: with_box(core_scenes.cornell_3spheres(96, 72), cloud=True),
+    "cornell_box_media": lambda: with_box(core_scenes.cornell_3spheres(96, 72), "box"),
+    "cornell_cloud_media": lambda: with_box(core_scenes.cornell_3spheres(96, 72), "cloud"),
 }
 BASE = {"photons_per_pass": 20_000, "seed": 7, "threads": 2}
 CONFIGS = {

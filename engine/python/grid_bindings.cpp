@@ -92,6 +92,7 @@ py::dict grid_info(const Scene& s, uint32_t index) {
   d["index_lo"] = py::make_tuple(lo[0], lo[1], lo[2]), d["index_hi"] = py::make_tuple(hi[0], hi[1], hi[2]);
   d["channels"] = g->channels(), d["max_value"] = g->max_value(), d["not_finite"] = g->not_finite();
   d["bricks"] = g->bricks(), d["bytes"] = g->memory_bytes();
+  d["blocks"] = g->blocks(), d["regions_4096"] = g->regions_4096();
   return d;
 }
 
@@ -119,7 +120,8 @@ void bind_grids(SceneClass& c) {
   c.def("grid_count", &Scene::grid_count, "The number of grids added.");
   c.def("grid_info", &grid_info, py::arg("index"),
         "A grid's index box (index_lo, index_hi: its bricks' of 8^3 voxels), channels, largest colour value, "
-        "NaN/Inf values stored as 0, bricks stored (empty ones are not) and bytes.");
+        "NaN/Inf values stored as 0, bricks stored (empty ones are not), bytes, blocks of 128^3 voxels and regions "
+        "of 4096^3 voxels holding something (OpenVDB's lower and upper nodes).");
 }
 
 }  // namespace ppm::python

@@ -122,6 +122,32 @@ void bind_media(SceneClass& cls) {
         return names;
       },
       "The media's names, by index.");
+  cls.def_property("majorant_grids", &Scene::majorant_grids, &Scene::set_majorant_grids,
+                   "Whether media that vary in space get a majorant grid where it pays (True by default): a "
+                   "coarse grid of bounds over the object, so that paths through a sparse cloud take tentative "
+                   "collisions at the rate of where they are, not of its densest voxel. False: one majorant a "
+                   "medium. The image is the same but for noise.");
+  cls.def_property_readonly(
+      "medium_majorants",
+      [](Scene& s) {
+        s.build();
+        py::list out;
+        for (size_t i = s.added_media(); i < s.media().size(); ++i) {
+          const Medium& m = s.media()[i];
+          py::dict d;
+          d["name"] = m.name;
+          d["majorant"] = max_component(m.sigma_t_bound);
+          if (!m.majorant_grids.empty()) {
+            const MajorantGrid& g = *m.majorant_grids[0];
+            d["cells"] = py::make_tuple(g.dims()[0], g.dims()[1], g.dims()[2]);
+            d["mean_cell"] = g.mean_majorant();
+          }
+          out.append(d);
+        }
+        return out;
+      },
+      "Per object's copy of a medium that varies (build() makes them): its name, its one majorant, and "
+      "where it has a majorant grid the grid's cells along x, y, z and their mean majorant.");
   cls.def_property_readonly("has_media", &Scene::has_media,
                             "Whether anything renders through media: a world medium, a material's medium, or a "
                             "material without a surface.");

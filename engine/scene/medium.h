@@ -19,6 +19,7 @@
 
 #include "math/types.h"
 #include "shading/free_path.h"
+#include "shading/majorant_grid.h"
 #include "shading/medium_coefficients.h"
 #include "shading/node_program.h"
 
@@ -54,6 +55,8 @@ struct LocalMedium {
   Color sigma_t() const { return sigma_a + sigma_s; }
 };
 
+constexpr size_t kMaxSummedGrids = 4;  // a sum of media with more majorant grids takes one majorant
+
 struct Medium {
   std::string name;
   MediumCoefficients c;  // validated: finite, >= 0, coefficients at most kMaxCoefficient
@@ -65,6 +68,12 @@ struct Medium {
   // Per channel, at least as large as the coefficients anywhere in it (the constants where it is
   // homogeneous): the trackers' majorant, and what says whether it scatters or emits at all.
   Color sigma_t_bound{0.0}, sigma_s_bound{0.0}, emission_bound{0.0};
+  // Where bounds per place pay (a sparse cloud): the trackers' majorant is the sum of these grids'
+  // cells along the path and `majorant_rest` (a sum's parts without a grid), emitting where a cell
+  // does or `rest_emits`; empty: max_component(sigma_t_bound) everywhere (Scene::track).
+  std::vector<std::shared_ptr<const MajorantGrid>> majorant_grids;
+  double majorant_rest = 0.0;
+  bool rest_emits = false;
   bool varies() const { return !uses.empty(); }
   bool scatters() const { return max_component(sigma_s_bound) > 0.0; }
   bool emits() const { return max_component(emission_bound) > 0.0; }
@@ -72,6 +81,7 @@ struct Medium {
   void bound_by_constants() {
     sigma_t = c.sigma_t();
     sigma_t_bound = sigma_t, sigma_s_bound = c.sigma_s, emission_bound = c.emission;
+    majorant_grids.clear();
   }
 };
 

@@ -9,6 +9,8 @@
 // biased image, never an undefined one; free_path.h).
 #include "scene/scene.h"
 
+#include "math/float_bounds.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -20,6 +22,9 @@ namespace {
 constexpr int kBoundSamples = 24;
 constexpr double kSampledMargin = 1.5;
 constexpr double kEmissionSamples = 4.0;  // tentative collisions a glowing segment has at least, on average
+// A majorant grid is kept where its cells' mean majorant is below this share of the one majorant
+// (walking its cells costs a little on every segment).
+constexpr double kGridPays = 0.9;
 
 // A program output as a term's scale per channel: NaN and negative values 0, at most kMaxCoefficient.
 Color scale_of(const Vec3f& v) {
@@ -27,6 +32,44 @@ Color scale_of(const Vec3f& v) {
   for (int i = 0; i < 3; ++i) c[i] = c[i] > 0.0 ? std::min(c[i], kMaxCoefficient) : 0.0;
   return c;
 }
+
+// The majorant along a ray through a medium with majorant grids: the sum of its grids' cells and
+// its rest, piece by piece (the pieces where none of the grids' cells change); where it emits, at
+// least `emission_floor`. Ratio tracking (`ratio`: a transmittance, no scattering) takes the
+// medium's one majorant wherever the cells' is not 0: ratio tracking's relative variance is
+// exp(tau sigma / majorant) - 1, so a tight majorant makes it a coin toss (a lamp seen through a
+// dense plume: 2x the noise at equal time), while delta tracking is indifferent to it.
+class SummedMajorant {
+ public:
+  SummedMajorant(const Medium& m, const Ray& ray, double emission_floor, bool ratio)
+      : rest_(m.majorant_rest), floor_(emission_floor), raise_to_(ratio ? max_component(m.sigma_t_bound) : 0.0),
+        rest_emits_(m.rest_emits), count_(m.majorant_grids.size()) {
+    for (size_t k = 0; k < count_; ++k) {
+      walks_[k] = m.majorant_grids[k]->walk(ray);
+      pieces_[k] = walks_[k].next();
+    }
+  }
+  MajorantPiece next() {
+    double end = kInf, sum = rest_;
+    bool emits = rest_emits_;
+    for (size_t k = 0; k < count_; ++k) {
+      end = std::min(end, pieces_[k].end);
+      sum += pieces_[k].cell->majorant;
+      emits = emits || pieces_[k].cell->emits;
+    }
+    for (size_t k = 0; k < count_; ++k)
+      if (!(pieces_[k].end > end)) pieces_[k] = walks_[k].next();
+    if (sum > 0.0) sum = std::max(sum, raise_to_);
+    return {end, emits ? std::max(sum, floor_) : sum};
+  }
+
+ private:
+  double rest_, floor_, raise_to_;
+  bool rest_emits_;
+  size_t count_;
+  std::array<MajorantGrid::Walk, kMaxSummedGrids> walks_;
+  std::array<MajorantGrid::Piece, kMaxSummedGrids> pieces_{};
+};
 
 }  // namespace
 
@@ -55,7 +98,7 @@ void Scene::copy_varying_media() {
   }
 }
 
-void Scene::bound_field(Medium& copy, const Aabb& box) const {
+std::array<double, kMaxFieldOutputs> Scene::field_output_bounds(const Medium& copy, const Aabb& box) const {
   const MediumField& f = *copy.field;
   const size_t outputs = f.program.outputs.size();
   std::array<double, kMaxFieldOutputs> bound{};
@@ -65,30 +108,60 @@ void Scene::bound_field(Medium& copy, const Aabb& box) const {
     bound[k] = f.program.output_bound(k, textures_, &object);
     sample = sample || !(bound[k] < kInf);
   }
-  if (sample) {
-    std::array<double, kMaxFieldOutputs> found{};
-    std::array<Vec3f, kMaxFieldOutputs> results{};
-    ShadingContext ctx;
-    ctx.object = &object;
-    ctx.camera = &camera_;
-    const Vec3 step = box.extent() / double(kBoundSamples);
-    for (int i = 0; i < kBoundSamples; ++i)
-      for (int j = 0; j < kBoundSamples; ++j)
-        for (int k = 0; k < kBoundSamples; ++k) {
-          ctx.position = box.lo + (Vec3(i, j, k) + 0.5) * step;
-          f.program.run(ctx, textures_, results.data());
-          for (size_t o = 0; o < outputs; ++o) found[o] = std::max(found[o], max_component(scale_of(results[o])));
-        }
-    for (size_t o = 0; o < outputs; ++o)
-      if (!(bound[o] < kInf)) bound[o] = std::min(kSampledMargin * found[o], kMaxCoefficient);
-  }
-  for (const MediumTerm& t : f.terms) {
+  if (!sample) return bound;
+  std::array<double, kMaxFieldOutputs> found{};
+  std::array<Vec3f, kMaxFieldOutputs> results{};
+  ShadingContext ctx;
+  ctx.object = &object;
+  ctx.camera = &camera_;
+  const Vec3 step = box.extent() / double(kBoundSamples);
+  for (int i = 0; i < kBoundSamples; ++i)
+    for (int j = 0; j < kBoundSamples; ++j)
+      for (int k = 0; k < kBoundSamples; ++k) {
+        ctx.position = box.lo + (Vec3(i, j, k) + 0.5) * step;
+        f.program.run(ctx, textures_, results.data());
+        for (size_t o = 0; o < outputs; ++o) found[o] = std::max(found[o], max_component(scale_of(results[o])));
+      }
+  for (size_t o = 0; o < outputs; ++o)
+    if (!(bound[o] < kInf)) bound[o] = std::min(kSampledMargin * found[o], kMaxCoefficient);
+  return bound;
+}
+
+void Scene::bound_field(Medium& copy, const Aabb& box) const {
+  const std::array<double, kMaxFieldOutputs> bound = field_output_bounds(copy, box);
+  const ObjectInfo& object = object_info(copy.uses[0].object);
+  for (const MediumTerm& t : copy.field->terms) {
     const double b = bound[t.input] * object.volume_density;
     copy.sigma_t_bound += (t.sigma_a + t.sigma_s) * b;
     copy.sigma_s_bound += t.sigma_s * b;
     copy.emission_bound += t.emission * b;
   }
   for (int c = 0; c < 3; ++c) copy.sigma_t_bound[c] = std::min(copy.sigma_t_bound[c], kMaxCoefficient);
+  if (majorant_grids_) bound_field_per_cell(copy, box, bound);
+}
+
+// A majorant grid over the copy's box where the program bounds its outputs more tightly by place
+// (grids read at the Object coordinate: NodeProgram::output_bound's region) and that pays: the cells'
+// mean majorant below kGridPays of the copy's one majorant.
+void Scene::bound_field_per_cell(Medium& copy, const Aabb& box,
+                                 const std::array<double, kMaxFieldOutputs>& bound) const {
+  const MediumField& f = *copy.field;
+  const ObjectInfo& object = object_info(copy.uses[0].object);
+  const double everywhere = max_component(copy.sigma_t_bound);
+  if (!(everywhere > 0.0) || box.empty() || !(box.half_area() > 0.0) || !(box.half_area() < kInf)) return;
+  const auto cell_bound = [&](const Aabb& cell) {
+    std::array<double, kMaxFieldOutputs> here{};
+    for (size_t k = 0; k < f.program.outputs.size(); ++k)
+      here[k] = std::min(bound[k], f.program.output_bound(k, textures_, &object, &cell));
+    Color sigma_t = copy.sigma_t, emission = copy.c.emission;
+    for (const MediumTerm& t : f.terms) {
+      sigma_t += (t.sigma_a + t.sigma_s) * (here[t.input] * object.volume_density);
+      emission += t.emission * (here[t.input] * object.volume_density);
+    }
+    return MajorantGrid::Cell{float_up(std::min(max_component(sigma_t), everywhere)), max_component(emission) > 0.0};
+  };
+  auto grid = std::make_shared<MajorantGrid>(box, MajorantGrid::Cell{float_up(everywhere), copy.emits()}, cell_bound);
+  if (grid->mean_majorant() < kGridPays * everywhere) copy.majorant_grids = {std::move(grid)};
 }
 
 LocalMedium Scene::local_medium(const Medium& m, const Vec3& x, const Vec3& direction,
@@ -126,8 +199,13 @@ TrackedSegment Scene::track(const Medium& m, const Ray& ray, double segment, con
   // smoke, or none) takes a majorant of at least kEmissionSamples over the segment: any majorant
   // above sigma_t is unbiased, and one of 0 saw no emission at all (a Principled Volume of density 0
   // glowing by a temperature grid read 0.63 of Cycles beside it).
+  const double floor = segment > 0.0 && segment < kInf ? kEmissionSamples / segment : 0.0;
+  if (!m.majorant_grids.empty()) {
+    SummedMajorant majorants(m, ray, floor, !may_scatter);
+    return track_segment_pieces(at, majorants, segment, throughput, may_scatter, [&] { return rng.uniform(); });
+  }
   double majorant = max_component(m.sigma_t_bound);
-  if (m.emits() && segment > 0.0 && segment < kInf) majorant = std::max(majorant, kEmissionSamples / segment);
+  if (m.emits()) majorant = std::max(majorant, floor);
   return track_segment(at, majorant, segment, throughput, may_scatter, [&] { return rng.uniform(); });
 }
 

@@ -14,6 +14,7 @@
 #include "scene/scene_geometry.h"
 #include "shading/texture.h"
 
+#include <array>
 #include <atomic>
 #include <map>
 #include <memory>
@@ -206,6 +207,10 @@ class Scene {
     const auto found = copy_of_.find({id, object});
     return found != copy_of_.end() ? found->second : id;
   }
+  // Whether media that vary get majorant grids where they pay (shading/majorant_grid.h; on by
+  // default; off: one majorant per medium, as before them). Set before build().
+  void set_majorant_grids(bool on);
+  bool majorant_grids() const { return majorant_grids_; }
   // A medium's coefficients at `x` for a path travelling along `direction` (Cycles' volume shading
   // point: its normal and incoming direction face back along the ray).
   // `voxel_random` (not 0): an LCG seed for stochastic grids' voxel picks (ShadingContext).
@@ -316,7 +321,10 @@ class Scene {
   // object's copy of it (medium_in).
   std::map<std::pair<uint32_t, int>, Aabb> medium_boxes(bool copies) const;
   std::map<std::pair<uint32_t, int>, Aabb> media_boxes_;  // medium_boxes(true) at the last prepare_media
+  std::array<double, kMaxFieldOutputs> field_output_bounds(const Medium& copy, const Aabb& box) const;
   void bound_field(Medium& copy, const Aabb& box) const;
+  void bound_field_per_cell(Medium& copy, const Aabb& box, const std::array<double, kMaxFieldOutputs>& bound) const;
+  bool majorant_grids_ = true;
   bool camera_media_placed_ = false;
   bool rays_start_near_media_ = false;  // camera_ray_media: a medium's box reaches where rays start
   void place_camera_in_media();

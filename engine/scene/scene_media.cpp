@@ -183,6 +183,9 @@ Medium sum_of_media(const std::vector<Medium>& media, const int16_t* ids, int co
     sum.sigma_t_bound += m.sigma_t_bound, sum.sigma_s_bound += m.sigma_s_bound;
     sum.emission_bound += m.emission_bound;
     sum.uses.insert(sum.uses.end(), m.uses.begin(), m.uses.end());
+    sum.majorant_grids.insert(sum.majorant_grids.end(), m.majorant_grids.begin(), m.majorant_grids.end());
+    sum.majorant_rest += m.majorant_grids.empty() ? max_component(m.sigma_t_bound) : m.majorant_rest;
+    sum.rest_emits = sum.rest_emits || (m.majorant_grids.empty() ? m.emits() : m.rest_emits);
     if (luminance(m.c.sigma_s) > luminance(strongest->c.sigma_s)) strongest = &m;
   }
   sum.c.phase = strongest->c.phase;
@@ -194,6 +197,7 @@ Medium sum_of_media(const std::vector<Medium>& media, const int16_t* ids, int co
     sum.c.phase.second_weight = sb / (sa + sb);
   }
   sum.sigma_t = sum.c.sigma_t();
+  if (sum.majorant_grids.size() > kMaxSummedGrids) sum.majorant_grids.clear();  // one majorant, as without
   return sum;
 }
 
@@ -365,6 +369,13 @@ Color Scene::shadow_transmittance(const Ray& shadow, double distance, MediumStac
     if (!(distance > 0.0)) return tr;
   }
   return Color(0.0);
+}
+
+void Scene::set_majorant_grids(bool on) {
+  ensure_mutable();
+  if (on == majorant_grids_) return;
+  majorant_grids_ = on;
+  invalidate_lights();  // build() prepares the media again
 }
 
 }  // namespace ppm

@@ -24,6 +24,7 @@
 #include "math/types.h"
 
 #include <algorithm>
+#include <utility>
 #include <cmath>
 #include <cstdint>
 
@@ -108,13 +109,28 @@ struct TrackedSegment {
 // so it adds little noise). The step cap counts as absorbed.
 constexpr double kTrackingRoulette = 0.01;
 
-template <class At, class Uniform>
-TrackedSegment track_segment(const At& at, double majorant, double segment, const Color& throughput,
-                             bool may_scatter, Uniform&& uniform, int max_steps = kMaxTrackingSteps) {
+// A majorant that varies along the segment (a majorant grid's cells, scene/majorant_grid.h): pieces
+// [previous end, end) each with its majorant, from next(); the last piece's end reaches the segment's.
+struct MajorantPiece {
+  double end = kInf;
+  double majorant = 0.0;
+};
+struct ConstantMajorant {  // one piece over everything
+  double majorant;
+  MajorantPiece next() const { return {kInf, majorant}; }
+};
+
+// The same as track_segment below, against a majorant that is constant over each of the pieces
+// `majorants.next()` gives in turn: tentative collisions at each piece's rate (an optical depth
+// drawn once, spent piece by piece), so that empty space (a majorant of 0) costs no collision.
+template <class At, class Majorants, class Uniform>
+TrackedSegment track_segment_pieces(const At& at, Majorants& majorants, double segment, const Color& throughput,
+                                    bool may_scatter, Uniform&& uniform, int max_steps = kMaxTrackingSteps) {
   TrackedSegment out;
-  const double m = safe_coefficient(majorant), d = safe_distance(segment);
+  const double d = safe_distance(segment);
   out.distance = d;
-  if (m == 0.0) return out;
+  MajorantPiece piece = majorants.next();
+  double m = safe_coefficient(piece.majorant);
   double t = 0.0;
   Color w(1.0);
   const auto absorbed = [&](double at) {
@@ -124,7 +140,18 @@ TrackedSegment track_segment(const At& at, double majorant, double segment, cons
   };
   for (int step = 1; step <= max_steps; ++step) {
     out.steps = step;
-    t -= std::log1p(-safe_uniform(uniform())) / m;
+    double depth = -std::log1p(-safe_uniform(uniform()));  // optical depth to the next tentative collision
+    for (;;) {  // spend it over the pieces
+      const double next = m > 0.0 ? t + depth / m : kInf;
+      if (next < piece.end || !(piece.end < d)) {
+        t = next;
+        break;
+      }
+      depth -= (piece.end - t) * m;
+      t = piece.end;
+      piece = majorants.next();
+      m = safe_coefficient(piece.majorant);
+    }
     if (!(t < d)) {
       out.weight = w;
       return out;
@@ -159,6 +186,19 @@ TrackedSegment track_segment(const At& at, double majorant, double segment, cons
   }
   out.capped = true;
   return absorbed(t);
+}
+
+template <class At, class Uniform>
+TrackedSegment track_segment(const At& at, double majorant, double segment, const Color& throughput,
+                             bool may_scatter, Uniform&& uniform, int max_steps = kMaxTrackingSteps) {
+  if (!(safe_coefficient(majorant) > 0.0)) {
+    TrackedSegment out;
+    out.distance = safe_distance(segment);
+    return out;
+  }
+  ConstantMajorant constant{majorant};
+  return track_segment_pieces(at, constant, segment, throughput, may_scatter, std::forward<Uniform>(uniform),
+                              max_steps);
 }
 
 }  // namespace ppm

@@ -747,6 +747,17 @@ double image_bound(const NodeInstruction& ins, const std::vector<Texture>& textu
   return m;
 }
 
+// The box in object space that holds `world` (its corners through world_to_object).
+Aabb object_space_box(const Aabb& world, const ObjectInfo& object) {
+  Aabb local;
+  for (int corner = 0; corner < 8; ++corner) {
+    const Vec3 p((corner & 1) ? world.hi.x : world.lo.x, (corner & 2) ? world.hi.y : world.lo.y,
+                 (corner & 4) ? world.hi.z : world.lo.z);
+    local.grow(Vec3(object.world_to_object * glm::dvec4(p, 1.0)));
+  }
+  return local;
+}
+
 // A Grid's colour and fac: its object's grid's largest value (1 or 0 where it has none).
 double grid_bound(const NodeInstruction& ins, const ObjectInfo* object) {
   if (object == nullptr) return kInf;
@@ -790,13 +801,28 @@ double bound_of(const NodeInstruction& ins, const std::vector<double>& b, const 
 
 }  // namespace
 
-double NodeProgram::output_bound(size_t i, const std::vector<Texture>& textures, const ObjectInfo* object) const {
+double NodeProgram::output_bound(size_t i, const std::vector<Texture>& textures, const ObjectInfo* object,
+                                 const Aabb* region) const {
   std::vector<double> b(static_cast<size_t>(std::max(registers, 1)), kInf);
   b[0] = 0.0;
   for (size_t k = 0; k < constants.size(); ++k) b[k + 1] = max_abs(Vec3(constants[k]));
+  // Registers holding the Object (1) or Generated (2) coordinate, and the region's box in each.
+  std::vector<uint8_t> coordinate(b.size(), 0);
+  std::array<Aabb, 3> local{};
+  if (region != nullptr && object != nullptr) {
+    local[1] = object_space_box(*region, *object);
+    for (const Vec3& corner : {local[1].lo, local[1].hi})
+      local[2].grow((corner - object->texspace_min) / object->texspace_size);
+  }
   for (const NodeInstruction& ins : code) {
-    const double first = bound_of(ins, b, textures, data, object);
+    double first = bound_of(ins, b, textures, data, object);
+    const Aabb& box = local[coordinate[ins.in[0]]];
+    if (ins.op == NodeOp::Grid && !box.empty())
+      if (const VoxelGrid* grid = object_grid(*object, ins.data)) first = std::max(0.0, double(grid->max_in(box.lo, box.hi)));
     b[ins.out[0]] = first;
+    for (uint16_t out : ins.out) coordinate[out] = 0;
+    if (ins.op == NodeOp::Coord && static_cast<CoordKind>(ins.mode) == CoordKind::Object) coordinate[ins.out[0]] = 1;
+    if (ins.op == NodeOp::Coord && static_cast<CoordKind>(ins.mode) == CoordKind::Generated) coordinate[ins.out[0]] = 2;
     // Second outputs: alphas, facings, fac of colour textures and the like stay within [0, 1] or
     // follow the first; colour-and-fac textures (Checker, Brick) give a fac in [0, 1].
     const bool unit_second = ins.op == NodeOp::Image || ins.op == NodeOp::LayerWeight || ins.op == NodeOp::Table ||
@@ -809,7 +835,7 @@ double NodeProgram::output_bound(size_t i, const std::vector<Texture>& textures,
       if (ins.out[1] != 0) b[ins.out[1]] = first;
       if (ins.out[2] != 0) b[ins.out[2]] = grid != nullptr ? grid->max_alpha() : object != nullptr ? 1.0 : kInf;
     }
-    if (ins.op == NodeOp::Voronoi && ins.data != 0) b[ins.data] = kInf;
+    if (ins.op == NodeOp::Voronoi && ins.data != 0) b[ins.data] = kInf, coordinate[ins.data] = 0;
     b[0] = kInf;  // scratch: whatever was written there last
   }
   const double limit = i < output_max.size() ? double(output_max[i]) : kInf;

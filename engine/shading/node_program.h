@@ -6,6 +6,7 @@
 // Cycles' to float rounding; a float sits in all three channels of its register.
 #pragma once
 
+#include "math/aabb.h"
 #include "math/types.h"
 #include "geometry/ray.h"
 #include "geometry/camera.h"
@@ -165,7 +166,10 @@ class NodeProgram {
   void run(const ShadingContext& ctx, const std::vector<Texture>& textures, Vec3f* results) const;
   // The largest value output `i` can take in any channel (for the energy bound); +inf: unknown.
   // With `object`, for that object (its grids' largest values); without, grids are unbounded.
-  double output_bound(size_t i, const std::vector<Texture>& textures, const ObjectInfo* object = nullptr) const;
+  // With `region` too (a box in world space), at points in it: a grid read at the Object or
+  // Generated coordinate is bounded by its largest value there (a medium's majorant grid, scene/majorant_grid.h).
+  double output_bound(size_t i, const std::vector<Texture>& textures, const ObjectInfo* object = nullptr,
+                      const Aabb* region = nullptr) const;
   // What running it reads beyond a hit's record: UV gradients (a Bump's steps), the mesh attribute.
   struct Needs {
     bool uv_gradients = false, attribute = false;

@@ -51,28 +51,34 @@ VoxelGrid::VoxelGrid(Coord size, int channels, const float* values, const Mat4& 
     for (int k = 0; k < 4; ++k)
       if (!std::isfinite(to_index[r][k])) throw std::invalid_argument("voxel grid: its transform is not finite");
   to_index_ = glm::mat4(to_index);
-  std::vector<Coord> origins;
   const size_t c = static_cast<size_t>(channels);
-  std::vector<float> brick(kBrickVoxels * c);
+  // A brick's voxels in its place of a dense grid (x fastest) and of a brick (z fastest), for each
+  // voxel of the brick at (bx, by, bz) inside the grid.
+  auto for_each_voxel = [&](int bx, int by, int bz, auto&& visit) {
+    for (int x = 0; x < kBrick && bx * kBrick + x < size[0]; ++x)
+      for (int y = 0; y < kBrick && by * kBrick + y < size[1]; ++y)
+        for (int z = 0; z < kBrick && bz * kBrick + z < size[2]; ++z)
+          visit(((size_t(bz * kBrick + z) * size[1] + (by * kBrick + y)) * size[0] + bx * kBrick + x) * c,
+                size_t(x * kBrick * kBrick + y * kBrick + z) * c);
+  };
+  // The bricks holding anything (an empty one is the background's), then exactly their values.
+  std::vector<Coord> origins;
   for (int bz = 0; bz * kBrick < size[2]; ++bz)
     for (int by = 0; by * kBrick < size[1]; ++by)
       for (int bx = 0; bx * kBrick < size[0]; ++bx) {
-        std::fill(brick.begin(), brick.end(), 0.0f);
         bool any = false;
-        for (int x = 0; x < kBrick && bx * kBrick + x < size[0]; ++x)
-          for (int y = 0; y < kBrick && by * kBrick + y < size[1]; ++y)
-            for (int z = 0; z < kBrick && bz * kBrick + z < size[2]; ++z) {
-              const size_t from = ((size_t(bz * kBrick + z) * size[1] + (by * kBrick + y)) * size[0] + bx * kBrick + x) * c;
-              const size_t to = size_t(x * kBrick * kBrick + y * kBrick + z) * c;
-              for (size_t k = 0; k < c; ++k) {
-                brick[to + k] = values[from + k];
-                any = any || brick[to + k] != 0.0f;
-              }
-            }
-        if (!any) continue;  // the background's
-        origins.push_back({bx * kBrick, by * kBrick, bz * kBrick});
-        values_.insert(values_.end(), brick.begin(), brick.end());
+        for_each_voxel(bx, by, bz, [&](size_t from, size_t) {
+          for (size_t k = 0; k < c; ++k) any = any || values[from + k] != 0.0f;
+        });
+        if (any) origins.push_back({bx * kBrick, by * kBrick, bz * kBrick});
       }
+  values_.assign(origins.size() * kBrickVoxels * c, 0.0f);
+  for (size_t b = 0; b < origins.size(); ++b) {
+    float* brick = values_.data() + b * kBrickVoxels * c;
+    for_each_voxel(origins[b][0] / kBrick, origins[b][1] / kBrick, origins[b][2] / kBrick, [&](size_t from, size_t to) {
+      for (size_t k = 0; k < c; ++k) brick[to + k] = values[from + k];
+    });
+  }
   bricks_ = origins.size();
   constants_at_ = values_.size();
   store(values_.data(), values_.size(), channels == 4);
@@ -91,6 +97,7 @@ VoxelGrid::VoxelGrid(int channels, const Mat4& to_index, const std::vector<Coord
     for (int k = 0; k < 4; ++k)
       if (!std::isfinite(to_index[r][k])) fail("its transform is not finite");
   const size_t c = static_cast<size_t>(channels);
+  values_.reserve((origins.size() * kBrickVoxels + constant_origins.size()) * c);  // exactly: no growth's slack
   values_.assign(values, values + origins.size() * kBrickVoxels * c);
   constants_at_ = values_.size();
   values_.insert(values_.end(), constant_values, constant_values + constant_origins.size() * c);
@@ -112,6 +119,14 @@ void VoxelGrid::store(float* v, size_t count, bool alpha_last) {
   }
   max_value_ = most;
   max_alpha_ = alpha;
+  // Each brick's (and constant's) largest colour value, for max_in.
+  const size_t c = static_cast<size_t>(channels_), colours = c == 4 ? 3 : c;
+  const size_t per_brick = size_t(kBrickVoxels) * c;
+  brick_max_.assign(bricks_ + (count - constants_at_) / c, 0.0f);
+  for (size_t i = 0; i < count; ++i) {
+    const size_t b = i < constants_at_ ? i / per_brick : bricks_ + (i - constants_at_) / c;
+    if (i % c < colours) brick_max_[b] = std::max(brick_max_[b], v[i]);
+  }
 }
 
 void VoxelGrid::make_table(const std::vector<Coord>& origins, const std::vector<Coord>& constant_origins,
@@ -149,6 +164,7 @@ void VoxelGrid::make_table(const std::vector<Coord>& origins, const std::vector<
   };
   for (size_t b = 0; b < origins.size(); ++b) place(origins[b]) = static_cast<int32_t>(b);
   for (size_t t = 0; t < constant_origins.size(); ++t) place(constant_origins[t]) = -2 - int32_t(t);
+  places_.shrink_to_fit();  // (grown block by block)
 }
 
 glm::vec4 VoxelGrid::voxel(int i, int j, int k) const {
@@ -167,6 +183,67 @@ glm::vec4 VoxelGrid::voxel(int i, int j, int k) const {
                               : values_.data() + constants_at_ + size_t(-2 - entry) * c;
   if (c == 1) return glm::vec4(v[0], v[0], v[0], 1.0f);
   return glm::vec4(v[0], v[1], v[2], c == 4 ? v[3] : 1.0f);
+}
+
+float VoxelGrid::max_in(const Vec3& lo, const Vec3& hi) const {
+  if (blocks_.empty()) return 0.0f;
+  if (!is_finite(lo) || !is_finite(hi)) return max_value_;
+  // The box in index space (its eight corners through the transform), widened by a thousandth of
+  // a voxel against rounding (lookup transforms in float); a lookup there reads the voxels from
+  // floor(q) to floor(q) + 1.
+  Vec3 ilo(kInf), ihi(-kInf);
+  const glm::dmat4 to_index(to_index_);
+  for (int corner = 0; corner < 8; ++corner) {
+    const Vec3 p((corner & 1) ? hi.x : lo.x, (corner & 2) ? hi.y : lo.y, (corner & 4) ? hi.z : lo.z);
+    const Vec3 q(to_index * glm::dvec4(p, 1.0));
+    ilo = glm::min(ilo, q), ihi = glm::max(ihi, q);
+  }
+  Coord first{}, last{};
+  for (int k = 0; k < 3; ++k) {
+    const double margin = 1e-3 + 1e-6 * std::max(std::fabs(ilo[k]), std::fabs(ihi[k]));
+    const double a = std::max(std::floor(ilo[k] - margin), double(lo_[k]) - 1.0);
+    const double b = std::min(std::floor(ihi[k] + margin) + 1.0, double(hi_[k]));
+    if (!(a <= b)) return 0.0f;  // outside every brick
+    first[k] = brick_of(int(a)), last[k] = brick_of(int(b));
+  }
+  // Block by block (an absent one holds nothing), then the brick places of each that the box covers.
+  float most = 0.0f;
+  Coord block_first{}, block_last{};
+  for (int k = 0; k < 3; ++k) {
+    block_first[k] = std::max(floor_div(first[k], kBlock), block_lo_[k]);
+    block_last[k] = std::min(floor_div(last[k], kBlock), block_lo_[k] + block_dims_[k] - 1);
+  }
+  for (int kz = block_first[2]; kz <= block_last[2]; ++kz)
+    for (int ky = block_first[1]; ky <= block_last[1]; ++ky)
+      for (int kx = block_first[0]; kx <= block_last[0]; ++kx) {
+        const int32_t block = blocks_[(size_t(kz - block_lo_[2]) * block_dims_[1] + size_t(ky - block_lo_[1])) *
+                                          block_dims_[0] + size_t(kx - block_lo_[0])];
+        if (block < 0) continue;
+        const int32_t* places = places_.data() + size_t(block) * kBlockPlaces;
+        const Coord at{kx * kBlock, ky * kBlock, kz * kBlock};
+        Coord from{}, to{};
+        for (int k = 0; k < 3; ++k)
+          from[k] = std::max(first[k], at[k]) - at[k], to[k] = std::min(last[k], at[k] + kBlock - 1) - at[k];
+        for (int z = from[2]; z <= to[2]; ++z)
+          for (int y = from[1]; y <= to[1]; ++y)
+            for (int x = from[0]; x <= to[0]; ++x) {
+              const int32_t entry = places[(size_t(z) * kBlock + size_t(y)) * kBlock + size_t(x)];
+              if (entry != -1) most = std::max(most, brick_max_[entry >= 0 ? size_t(entry) : bricks_ + size_t(-2 - entry)]);
+            }
+      }
+  return most;
+}
+
+size_t VoxelGrid::regions_4096() const {
+  std::vector<Coord> regions;
+  for (int z = 0; z < block_dims_[2]; ++z)
+    for (int y = 0; y < block_dims_[1]; ++y)
+      for (int x = 0; x < block_dims_[0]; ++x)
+        if (blocks_[(size_t(z) * block_dims_[1] + y) * block_dims_[0] + x] >= 0)
+          regions.push_back({floor_div(block_lo_[0] + x, 32), floor_div(block_lo_[1] + y, 32),
+                             floor_div(block_lo_[2] + z, 32)});
+  std::sort(regions.begin(), regions.end());
+  return size_t(std::unique(regions.begin(), regions.end()) - regions.begin());
 }
 
 namespace {

@@ -41,12 +41,20 @@ class VoxelGrid {
 
   int channels() const { return channels_; }
   size_t bricks() const { return bricks_; }
+  size_t blocks() const { return places_.size() / kBlockPlaces; }  // blocks of 128^3 voxels holding something
+  // Regions of 4096^3 voxels (32^3 blocks, aligned as OpenVDB's upper nodes) holding something.
+  size_t regions_4096() const;
   size_t not_finite() const { return not_finite_; }
   // The largest value a lookup can give in any colour channel (its mean included), and in alpha.
   float max_value() const { return max_value_; }
   float max_alpha() const { return max_alpha_; }
+  // The largest value a lookup (trilinear or stochastic) can give in any colour channel at a point
+  // of the box [lo, hi] of its input space: the largest of the bricks its voxels' neighbours lie in
+  // (a majorant grid's cell, scene/majorant_grid.h). max_value() where the box is not finite.
+  float max_in(const Vec3& lo, const Vec3& hi) const;
   size_t memory_bytes() const {
-    return values_.capacity() * sizeof(float) + (blocks_.capacity() + places_.capacity()) * sizeof(int32_t);
+    return (values_.capacity() + brick_max_.capacity()) * sizeof(float) +
+           (blocks_.capacity() + places_.capacity()) * sizeof(int32_t);
   }
   // The box of index coordinates the bricks cover (lo inclusive, hi exclusive).
   Coord index_lo() const { return lo_; }
@@ -73,6 +81,7 @@ class VoxelGrid {
   std::vector<int32_t> blocks_;   // per block: its places' offset / kBlockPlaces, or -1 (nothing there)
   std::vector<int32_t> places_;   // per brick place: >= 0 a stored brick, -1 nothing, <= -2 constant -2 - k
   std::vector<float> values_;     // the stored bricks, then the constants
+  std::vector<float> brick_max_;  // per stored brick, then per constant: its largest colour value
   size_t bricks_ = 0, constants_at_ = 0;
   size_t not_finite_ = 0;
   float max_value_ = 0.0f, max_alpha_ = 1.0f;

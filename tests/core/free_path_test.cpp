@@ -156,6 +156,57 @@ TEST(FreePath, DeltaTrackingCollisionsFollowTheDensity) {
   EXPECT_LT(chi, bins + 5.0 * std::sqrt(2.0 * bins));
 }
 
+// A majorant in pieces (a majorant grid's cells along the path): a medium empty over [0, 0.4) and
+// the ramp beyond, against pieces of 0 there and the ramp's bound beyond (split once more at 0.7):
+// ratio tracking's mean is the transmittance, delta tracking's collisions follow the density, and
+// no tentative collision falls where the majorant is 0.
+struct SteppedRamp {
+  Ramp ramp;
+  double gap;
+  TrackedCoefficients operator()(double t) const {
+    EXPECT_GE(t, gap) << "a tentative collision where the majorant is 0";
+    return t < gap ? TrackedCoefficients{} : ramp(t);
+  }
+  double depth(double t) const { return t < gap ? 0.0 : ramp.depth(t) - ramp.depth(gap); }
+};
+struct Pieces {
+  std::vector<MajorantPiece> pieces;
+  size_t next_piece = 0;
+  MajorantPiece next() { return pieces[std::min(next_piece++, pieces.size() - 1)]; }
+};
+
+TEST(FreePath, TrackersAgainstMajorantsInPiecesMatchTheTransmittance) {
+  const SteppedRamp medium{Ramp{1.2}, 0.4};
+  const double want = std::exp(-medium.depth(medium.ramp.d));
+  const int n = test_samples(200000), bins = 16;
+  Rng rng(25, 0, 0);
+  Tally ratio, passed;
+  std::vector<double> counts(bins + 1, 0.0);
+  for (int i = 0; i < n; ++i) {
+    Pieces a{{{0.4, 0.0}, {0.7, 2.0}, {kInf, 3.1}}}, b = a;
+    ratio.add(track_segment_pieces(medium, a, medium.ramp.d, Color(1.0), false, [&] { return rng.uniform(); }).weight);
+    const TrackedSegment delta = track_segment_pieces(medium, b, medium.ramp.d, Color(1.0), true,
+                                                      [&] { return rng.uniform(); });
+    passed.add(Color(delta.event == FreePathEvent::Exit ? 1.0 : 0.0));
+    counts[delta.event == FreePathEvent::Exit ? bins : std::min(bins - 1, int(delta.distance / medium.ramp.d * bins))] += 1;
+  }
+  expect_mean(ratio, Color(want), "ratio tracking, majorant in pieces");
+  expect_mean(passed, Color(want), "delta tracking, majorant in pieces");
+  double chi = 0.0;
+  int dof = 0;
+  for (int b = 0; b <= bins; ++b) {
+    const double d = medium.ramp.d;
+    const double p = b == bins ? want : std::exp(-medium.depth(d * b / bins)) - std::exp(-medium.depth(d * (b + 1) / bins));
+    if (p == 0.0) {
+      EXPECT_EQ(counts[b], 0.0) << "a collision in the empty part, bin " << b;
+      continue;
+    }
+    chi += (counts[b] - n * p) * (counts[b] - n * p) / (n * p), ++dof;
+  }
+  std::printf("  delta tracking in pieces: chi-square %.1f over %d bins\n", chi, dof);
+  EXPECT_LT(chi, dof + 5.0 * std::sqrt(2.0 * dof));
+}
+
 // An RGB medium whose channels differ tenfold, absorbing, under an uneven throughput: per channel the
 // mean weight of paths that pass is T, the mean weight of those that scatter is
 // int_0^d sigma_s(t) T(t) dt, and a scattering's weight is its unit weight times sigma_s there. The

@@ -23,18 +23,23 @@ def grid_density():
             "outputs": [3], "registers": 5}
 
 
-def slab_of_grid(values):
+def slab_of_grid(values, majorant_grids=True, majorants=None):
     """An absorbing slab 2 x DEPTH x 2 m about the origin whose texture space is its box, its density
     the grid `values` ((nz, ny, nx)), sigma_a SIGMA_A per unit density; an emitter of radiance 2 seen
-    through it along y by rays that all cross it at Generated x = z = 0.5. Returns the pixels."""
+    through it along y by rays that all cross it at Generated x = z = 0.5. Returns the pixels;
+    `majorants` (a list) gets the scene's medium_majorants."""
     scene = ppm_core.Scene()
+    scene.majorant_grids = majorant_grids
     grid = scene.add_grid("density", np.asarray(values, dtype=np.float32))
     scene.add_medium("smoke", program=grid_density(), terms=[{"sigma_a": tuple(SIGMA_A), "input": 0}])
     slab = scene.add_material("smoke", "diffuse", medium="smoke", surface=False)
     box(scene, "slab", (-1.0, -DEPTH / 2, -1.0), (1.0, DEPTH / 2, 1.0), slab, 0)
     scene.set_object_info(0, np.eye(4), texspace_location=(0, 0, 0), texspace_size=(1.0, DEPTH / 2, 1.0),
                           grids=[grid])
-    return emitter_seen_through(scene, panel_y=3, eye_y=-4, object_id=1, passes=400)
+    pixels = emitter_seen_through(scene, panel_y=3, eye_y=-4, object_id=1, passes=400)
+    if majorants is not None:
+        majorants.extend(scene.medium_majorants)
+    return pixels
 
 
 def assert_transmits(pixels, optical_depth):
@@ -65,6 +70,28 @@ def test_one_dense_voxel_between_the_sampled_points_is_not_missed():
     values = np.zeros((64, 64, 64), dtype=np.float32)
     values[31:33, 2, 31:33] = 40.0
     assert_transmits(slab_of_grid(values), 40.0 * DEPTH / 64)
+
+
+@pytest.mark.accuracy
+def test_a_sparse_cloud_is_tracked_cell_by_cell_and_transmits_the_same():
+    """A 64^3 grid empty but for a block of density 3 on the rays' path (16 voxels along y) and one
+    voxel of 40 in a corner: the medium's majorant grid bounds the block's cells by 3 and the empty
+    ones by 0 (not everywhere by the corner's 40), and the slab transmits exp(-16 x 3 DEPTH / 64) (15
+    cells between the end voxels' centres, and half a cell of each end voxel fading to its empty
+    neighbour) as with one majorant."""
+    values = np.zeros((64, 64, 64), dtype=np.float32)
+    values[28:36, 24:40, 28:36] = 3.0
+    values[1, 62, 1] = 40.0
+    depth = 16 * 3.0 * DEPTH / 64
+    majorants = []
+    assert_transmits(slab_of_grid(values, majorants=majorants), depth)
+    (copy,) = majorants
+    assert copy["majorant"] == pytest.approx(40.0 * SIGMA_A.max())
+    assert copy["cells"] == (32, 24, 32)  # the box's 2 x DEPTH x 2 m
+    assert copy["mean_cell"] < 0.01 * copy["majorant"]
+    majorants = []
+    assert_transmits(slab_of_grid(values, majorant_grids=False, majorants=majorants), depth)
+    assert "cells" not in majorants[0]
 
 
 def test_grids_that_cannot_be_one_are_refused_with_their_name():
