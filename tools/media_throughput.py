@@ -5,15 +5,18 @@ room (a boundary only); `--cloud`: the box's fog times twice a Noise texture (3-
 detail 2, normalised: about the box's density on average), a medium that varies in space; `--smoke`:
 the box's density a rising plume on a 128^3 grid (plume(): mostly empty space around it), sigma_s 4
 and sigma_a 1 per unit, read at the Object coordinate as the add-on reads grids: a sparse cloud;
-`--one-majorant` renders it with Scene.majorant_grids off. One JSON line per run:
+`--one-majorant` renders it with Scene.majorant_grids off; `--variance S` gives instead the image's
+relative variance after S seconds at 160x120 (variance_at_equal_time). One JSON line per run:
 
     PYTHONPATH=build/py311 .venv/bin/python tools/media_throughput.py [--fog | --box | --cloud | --smoke]
+        [--one-majorant] [--variance SECONDS]
 
 Alternate the cores being compared run by run, and time only on an idle machine."""
 
 import json
 import os
 import sys
+import time
 
 import numpy as np
 
@@ -80,9 +83,8 @@ def fill_room(scene, kind):
         scene.set_object_info(99, np.eye(4), grids=[smoke_grid(scene)])
 
 
-def main():
-    fog = next((a[2:] for a in sys.argv[1:] if a in ("--fog", "--box", "--cloud", "--smoke")), None)
-    scene = core_scenes.cornell_3spheres(W, H)
+def scene_of(fog, width=W, height=H):
+    scene = core_scenes.cornell_3spheres(width, height)
     if "--one-majorant" in sys.argv:
         scene.majorant_grids = False
     if fog == "fog":
@@ -90,6 +92,36 @@ def main():
         scene.set_world_medium("fog")
     elif fog:
         fill_room(scene, fog)
+    return scene
+
+
+def variance_at_equal_time(fog, seconds):
+    """The image's relative variance (the mean squared difference of two seeds' luminance over 2,
+    over the mean squared), rendered at 160x120 with 50,000 photons a pass for `seconds` each, without
+    the pixels above 10 times the median (the lamp, seen through the medium)."""
+    images = []
+    for seed in (1, 2):
+        renderer = ppm_core.Renderer(scene_of(fog, 160, 120), hit_points="stochastic", photons_per_pass=50_000,
+                                     threads=2, seed=seed)
+        start, passes = time.monotonic(), 0
+        while time.monotonic() - start < seconds:
+            renderer.run(passes=1)
+            passes += 1
+        images.append((renderer.image().mean(axis=-1), passes))
+    (a, pa), (b, pb) = images
+    keep = (a + b) / 2 < 10 * np.median((a + b) / 2)
+    variance = np.mean(((a - b) ** 2)[keep]) / 2 / np.mean((a + b)[keep] / 2) ** 2
+    return {"passes": [pa, pb], "relative_variance": round(float(variance), 5)}
+
+
+def main():
+    fog = next((a[2:] for a in sys.argv[1:] if a in ("--fog", "--box", "--cloud", "--smoke")), None)
+    if "--variance" in sys.argv:
+        seconds = float(sys.argv[sys.argv.index("--variance") + 1])
+        print(json.dumps({"fog": fog, "one_majorant": "--one-majorant" in sys.argv, "seconds": seconds,
+                          **variance_at_equal_time(fog, seconds)}))
+        return
+    scene = scene_of(fog)
     renderer = ppm_core.Renderer(scene, hit_points="stochastic", photons_per_pass=PHOTONS, threads=2, seed=1)
     renderer.run(passes=PASSES)
     s = renderer.stats()["seconds"]
