@@ -36,8 +36,26 @@ struct PhotonPath {
   bool specular_only = false;
   bool scattered = false;
   int32_t origin = -1;  // with guiding (photon_guide.h): slot * kBins + the bin it left in
+  // From a sphere (or sphere spot) with Cycles' soft falloff: the light, and the squared distance
+  // of the photon's first ray from its centre (soft_falloff_reaches).
+  const Light* soft = nullptr;
+  double soft_rho2 = 0.0;
   bool caustic() const { return scattered && specular_only; }
 };
+
+// Cycles' soft falloff (Light::soft_falloff): a receiver sees the sphere as the disk of its radius r
+// facing it, which subtends less than the sphere does near it (atan(r / D) against asin(r / D) at D
+// from the centre), with the sphere's radiance. So the sphere's photon along a ray rho from the
+// centre reaches its first point x only if x sees that ray within the disk: rho^2 (D^2 + r^2) <=
+// r^2 D^2; otherwise Cycles' light never arrives there that way. Far from the light nothing is lost.
+// Measured: fog_caustic's spot of radius 1 m (soft falloff, Blender's default) read 3.7% above
+// Cycles 5.0 with the whole sphere's photons, and 0.1% without the falloff in both engines.
+inline bool soft_falloff_reaches(const PhotonPath& p, const Vec3& x) {
+  if (p.soft == nullptr || p.bounce > 0) return true;
+  const Vec3 to_x = x - p.soft->position;
+  const double d2 = glm::dot(to_x, to_x), r2 = p.soft->radius * p.soft->radius;
+  return p.soft_rho2 * (d2 + r2) <= r2 * d2;
+}
 
 // What a deposit tells of its photon's path besides its flux.
 struct PhotonTag {
@@ -72,6 +90,7 @@ inline PhotonPath emit_photon_path_from(const Scene& scene, const LightSampler& 
   const Bounces start = limits.active ? limits.start(light) : Bounces{};
   PhotonPath path{rng, e.flux / (pick_pdf * lights.flux_unit()), e.ray, 0, start};  // its share of the total
   path.origin = origin;
+  if (light.soft_falloff && e.rho2 >= 0.0) path.soft = &light, path.soft_rho2 = e.rho2;
   return path;
 }
 
@@ -95,7 +114,7 @@ inline PhotonPath emit_photon_path(const Scene& scene, const LightSampler& light
 template <class Deposit>
 bool bounce_photon(const Scene& scene, const Settings& settings, const BounceLimits& limits, PhotonPath& p,
                    const Hit* hit, bool deposit_direct, Deposit&& deposit, uint64_t& deposits) {
-  if (hit == nullptr) return false;
+  if (hit == nullptr || !soft_falloff_reaches(p, hit->position)) return false;
   const Material& m = scene.material(hit->material);
   if (is_black(m)) return false;
   const Vec3 wo = -p.ray.direction;

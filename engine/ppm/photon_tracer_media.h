@@ -33,6 +33,7 @@ bool scatter_photon_in_medium(const Settings& settings, const BounceLimits& limi
                               const FreePathSample& f, bool deposit_direct, DepositVolume&& deposit_volume,
                               uint64_t& deposits) {
   const Vec3 x = p.ray.origin + f.distance * p.ray.direction;
+  if (!soft_falloff_reaches(p, x)) return false;
   p.flux *= f.weight;
   if (p.bounce > 0 || deposit_direct) {
     // With bounce limits: the path's counts with the hit point's own scattering here.
@@ -78,7 +79,8 @@ inline MediaPhoton emit_media_photon(const Scene& scene, const LightSampler& lig
   MediaPhoton out;
   if (light.kind != LightKind::Medium) {
     out.path = emit_photon_path_from(scene, lights, limits, rng, index, pick_pdf, guide);
-    out.media = light.media;
+    out.media = light.straddles_media ? scene.media_along(light.media, light.position, out.path.ray.origin, kShadowRay)
+                                      : light.media;
     // Light from infinitely far crossed an infinite stretch of the world medium first: nothing of it
     // is left where that medium has extinction (Cycles: a world volume leaves suns and the world's
     // light no effect), as the eye's and hit points' rays to it find.

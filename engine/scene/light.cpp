@@ -280,6 +280,7 @@ PhotonEmission emit_photon_towards(const Light& l, const Vec3& d, double u1, dou
       // own emission (uniform points, cosine directions) seen from the direction's side.
       const Vec3 n = to_world(sample_cosine_hemisphere(u1, u2), d);
       e.ray = {l.position + l.radius * n, d};
+      e.rho2 = l.radius * l.radius * std::fmax(0.0, 1.0 - glm::dot(n, d) * glm::dot(n, d));
       if (l.kind == LightKind::Spot) e.flux = l.power * spot_attenuation(l, d);
       break;
     }
@@ -306,6 +307,8 @@ PhotonEmission emit_photon(const Light& l, double u1, double u2, double u3, doub
     case LightKind::Sphere: {
       const Vec3 n = sample_uniform_sphere(u1, u2);
       e.ray = {l.position + l.radius * n, to_world(sample_cosine_hemisphere(u3, u4), n)};
+      const double cos_n = glm::dot(n, e.ray.direction);
+      e.rho2 = l.radius * l.radius * std::fmax(0.0, 1.0 - cos_n * cos_n);
       break;
     }
     case LightKind::Spot: {
@@ -319,6 +322,7 @@ PhotonEmission emit_photon(const Light& l, double u1, double u2, double u3, doub
       if (l.radius > 0.0) {
         const Vec2 q = sample_uniform_disk(u3, u4);
         origin += l.radius * to_world(Vec3(q, std::sqrt(std::fmax(0.0, 1.0 - glm::dot(q, q)))), d);
+        e.rho2 = l.radius * l.radius * glm::dot(q, q);
       }
       e.ray = {origin, d};
       const double cone = 2.0 * kPi * (1.0 - l.cos_half_spot);

@@ -76,6 +76,9 @@ struct Light {
   // a fog box; an emitting medium's region: the media at a point inside it, its own on top. Empty
   // for suns and the world.
   MediumStack media;
+  // The light reaches across a mesh medium's boundary (a soft box half inside a fog box): each
+  // photon's stack is `media` carried from the light's centre to where it leaves (Scene::media_along).
+  bool straddles_media = false;
 
   // Derived by `prepare_light` once the scene bounds are known.
   Color radiance{0.0};  // sphere, area, triangle, sun (per sr), background
@@ -116,6 +119,9 @@ Light make_light(const LightSpec& spec);
 struct PhotonEmission {
   Ray ray;
   Color flux;  // flux carried by this sample, an unbiased estimate of the light's total
+  // A sphere's (a sphere spot's) photon: its ray's squared distance from the centre, for the
+  // soft falloff (photon_tracer.h: soft_falloff_reaches); -1 for other lights.
+  double rho2 = -1.0;
 };
 
 struct DirectSample {

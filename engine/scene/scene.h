@@ -248,8 +248,9 @@ class Scene {
   MediumStack camera_ray_media(const Vec3& origin) const {
     return rays_start_near_media_ ? media_along(camera_media_, camera_.position(), origin) : camera_media_;
   }
-  // `stack` carried from `from` to `to` across the boundaries of media between them.
-  MediumStack media_along(MediumStack stack, const Vec3& from, const Vec3& to) const;
+  // `stack` carried from `from` to `to` across the boundaries of media between them (those rays of
+  // `ray_kind` meet).
+  MediumStack media_along(MediumStack stack, const Vec3& from, const Vec3& to, uint8_t ray_kind = kCameraRay) const;
   // What arrives along a shadow ray over (0, distance) through media: the transmittance of each
   // medium it crosses (boundaries only are crossed, with the stack), 0 where a surface is in the way.
   // Through media that vary, an unbiased estimate (ratio tracking, with `rng`).
@@ -295,7 +296,8 @@ class Scene {
   void textured_emission(const Material& m, uint32_t triangle, Light& l) const;
   void invalidate_lights();
   void prepare_lights();
-  void place_lights_in_media();  // each light's Light::media
+  void place_lights_in_media();  // each light's Light::media and straddles_media
+  bool crosses_medium_boundary(const Aabb& box) const;
   void prepare_medium_lights(const Aabb& light_bounds);
   void ensure_mutable() const;
   std::vector<Material> materials_;

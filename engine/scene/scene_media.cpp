@@ -291,11 +291,11 @@ void Scene::place_camera_in_media() {
       rays_start_near_media_ = true;
 }
 
-MediumStack Scene::media_along(MediumStack stack, const Vec3& from, const Vec3& to) const {
+MediumStack Scene::media_along(MediumStack stack, const Vec3& from, const Vec3& to, uint8_t ray_kind) const {
   const Vec3 d = to - from;
   double distance = glm::length(d);
   if (!(distance > 0.0)) return stack;
-  Ray ray{from, d / distance, kCameraRay};
+  Ray ray{from, d / distance, ray_kind};
   Hit hit;
   for (int crossing = 0; crossing < kMaxMediumCrossings && intersect(ray, hit, distance); ++crossing) {
     cross(hit, ray.direction, stack);
@@ -315,6 +315,32 @@ std::map<std::pair<uint32_t, int>, Aabb> Scene::medium_boxes(bool copies) const 
   return boxes;
 }
 
+namespace {
+// The box of the points a light's photons leave from.
+Aabb light_extent(const Light& l) {
+  Aabb box;
+  if (l.kind == LightKind::Rectangle || l.kind == LightKind::Disk) {
+    for (const double u : {-1.0, 1.0})
+      for (const double v : {-1.0, 1.0}) box.grow(l.position + u * l.axis_u + v * l.axis_v);
+  } else {
+    box.grow(l.position - Vec3(l.radius));
+    box.grow(l.position + Vec3(l.radius));
+  }
+  return box;
+}
+}  // namespace
+
+// Whether `box` reaches into the box of a mesh medium without lying inside it (conservative: the
+// media's boxes, not their meshes).
+bool Scene::crosses_medium_boundary(const Aabb& box) const {
+  for (const auto& [key, medium_box] : media_boxes_) {
+    const bool overlaps = glm::all(glm::lessThanEqual(glm::max(box.lo, medium_box.lo), glm::min(box.hi, medium_box.hi)));
+    const bool inside = glm::all(glm::greaterThan(box.lo, medium_box.lo)) && glm::all(glm::lessThan(box.hi, medium_box.hi));
+    if (overlaps && !inside) return true;
+  }
+  return false;
+}
+
 void Scene::place_lights_in_media() {
   if (!has_mesh_media()) return;
   std::map<uint32_t, MediumStack> object_media;  // emitting meshes: one point of each object's first light decides
@@ -323,6 +349,7 @@ void Scene::place_lights_in_media() {
       case LightKind::Point: case LightKind::Sphere: case LightKind::Spot: case LightKind::Rectangle:
       case LightKind::Disk:
         l.media = media_at(l.position, kShadowRay);  // a photon leaves its light as a shadow ray
+        l.straddles_media = crosses_medium_boundary(light_extent(l));
         break;
       case LightKind::Triangle: {
         const uint32_t object = geometry_.triangle_object(l.primitive);
