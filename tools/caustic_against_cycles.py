@@ -21,13 +21,13 @@ for site in glob.glob(os.path.join(ROOT, ".venv", "lib", "python%d.%d" % sys.ver
     if site not in sys.path:
         sys.path.append(site)
 sys.path.insert(0, os.path.join(ROOT, "bench"))
+sys.path.insert(0, os.path.join(ROOT, "tools"))
 
 import bpy  # noqa: E402
 import numpy as np  # noqa: E402
+from light_radius_sweep import REGIONS, SCENE, SIZE  # noqa: E402
 
 from harness import addon_route, regions  # noqa: E402
-
-SCENE, SIZE, REGIONS = "fog_caustic", (160, 120), ("all", "beam", "caustic", "glass", "walls")
 
 
 def main():

@@ -29,11 +29,24 @@ struct Aabb {
     const Vec3 e = extent();
     return e.x * e.y + e.y * e.z + e.z * e.x;
   }
+  // Whether the closed boxes share a point.
+  bool touches(const Aabb& b) const { return glm::all(glm::lessThanEqual(glm::max(lo, b.lo), glm::min(hi, b.hi))); }
   int longest_axis() const {
     const Vec3 e = extent();
     return e.x > e.y ? (e.x > e.z ? 0 : 2) : (e.y > e.z ? 1 : 2);
   }
 };
+
+// The box holding `box`'s eight corners through the affine map `m`.
+inline Aabb transformed(const Aabb& box, const glm::dmat4& m) {
+  Aabb out;
+  for (int corner = 0; corner < 8; ++corner) {
+    const Vec3 p((corner & 1) ? box.hi.x : box.lo.x, (corner & 2) ? box.hi.y : box.lo.y,
+                 (corner & 4) ? box.hi.z : box.lo.z);
+    out.grow(Vec3(m * glm::dvec4(p, 1.0)));
+  }
+  return out;
+}
 
 // A box in float that contains the double box it was made from (its bounds rounded outwards,
 // float_bounds.h): half the bytes, for what ends in the BVH's float boxes anyway.

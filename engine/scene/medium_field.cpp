@@ -33,6 +33,18 @@ Color scale_of(const Vec3f& v) {
   return c;
 }
 
+// The terms' coefficients at the outputs' scales `scale` times `density` (an object's
+// volume_density), added to sigma_t, sigma_s and emission.
+void add_terms(const std::vector<MediumTerm>& terms, const std::array<double, kMaxFieldOutputs>& scale, double density,
+               Color& sigma_t, Color& sigma_s, Color& emission) {
+  for (const MediumTerm& t : terms) {
+    const double b = scale[t.input] * density;
+    sigma_t += (t.sigma_a + t.sigma_s) * b;
+    sigma_s += t.sigma_s * b;
+    emission += t.emission * b;
+  }
+}
+
 // The majorant along a ray through a medium with majorant grids: the sum of its grids' cells and
 // its rest, piece by piece (the pieces where none of the grids' cells change); where it emits, at
 // least `emission_floor`. Ratio tracking (`ratio`: a transmittance, no scattering) takes the
@@ -131,12 +143,8 @@ std::array<double, kMaxFieldOutputs> Scene::field_output_bounds(const Medium& co
 void Scene::bound_field(Medium& copy, const Aabb& box) const {
   const std::array<double, kMaxFieldOutputs> bound = field_output_bounds(copy, box);
   const ObjectInfo& object = object_info(copy.uses[0].object);
-  for (const MediumTerm& t : copy.field->terms) {
-    const double b = bound[t.input] * object.volume_density;
-    copy.sigma_t_bound += (t.sigma_a + t.sigma_s) * b;
-    copy.sigma_s_bound += t.sigma_s * b;
-    copy.emission_bound += t.emission * b;
-  }
+  add_terms(copy.field->terms, bound, object.volume_density, copy.sigma_t_bound, copy.sigma_s_bound,
+            copy.emission_bound);
   for (int c = 0; c < 3; ++c) copy.sigma_t_bound[c] = std::min(copy.sigma_t_bound[c], kMaxCoefficient);
   if (majorant_grids_) bound_field_per_cell(copy, box, bound);
 }
@@ -154,11 +162,8 @@ void Scene::bound_field_per_cell(Medium& copy, const Aabb& box,
     std::array<double, kMaxFieldOutputs> here{};
     for (size_t k = 0; k < f.program.outputs.size(); ++k)
       here[k] = std::min(bound[k], f.program.output_bound(k, textures_, &object, &cell));
-    Color sigma_t = copy.sigma_t, emission = copy.c.emission;
-    for (const MediumTerm& t : f.terms) {
-      sigma_t += (t.sigma_a + t.sigma_s) * (here[t.input] * object.volume_density);
-      emission += t.emission * (here[t.input] * object.volume_density);
-    }
+    Color sigma_t = copy.sigma_t, sigma_s = copy.c.sigma_s, emission = copy.c.emission;
+    add_terms(f.terms, here, object.volume_density, sigma_t, sigma_s, emission);
     return MajorantGrid::Cell{float_up(std::min(max_component(sigma_t), everywhere)), max_component(emission) > 0.0};
   };
   auto grid = std::make_shared<MajorantGrid>(box, MajorantGrid::Cell{float_up(everywhere), copy.emits()}, cell_bound);

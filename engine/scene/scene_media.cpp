@@ -287,8 +287,7 @@ void Scene::place_camera_in_media() {
   const Vec3 widen(camera_.aperture_radius + ray_offset(camera_.position(), offset_floor()));
   origins.lo -= widen, origins.hi += widen;
   for (const auto& [key, box] : media_boxes_)
-    if (glm::all(glm::lessThanEqual(glm::max(origins.lo, box.lo), glm::min(origins.hi, box.hi))))
-      rays_start_near_media_ = true;
+    if (origins.touches(box)) rays_start_near_media_ = true;
 }
 
 MediumStack Scene::media_along(MediumStack stack, const Vec3& from, const Vec3& to, uint8_t ray_kind) const {
@@ -334,9 +333,8 @@ Aabb light_extent(const Light& l) {
 // media's boxes, not their meshes).
 bool Scene::crosses_medium_boundary(const Aabb& box) const {
   for (const auto& [key, medium_box] : media_boxes_) {
-    const bool overlaps = glm::all(glm::lessThanEqual(glm::max(box.lo, medium_box.lo), glm::min(box.hi, medium_box.hi)));
     const bool inside = glm::all(glm::greaterThan(box.lo, medium_box.lo)) && glm::all(glm::lessThan(box.hi, medium_box.hi));
-    if (overlaps && !inside) return true;
+    if (box.touches(medium_box) && !inside) return true;
   }
   return false;
 }

@@ -49,13 +49,10 @@ class MajorantGrid {
         }
   }
 
-  const Aabb& box() const { return box_; }
   std::array<int, 3> dims() const { return dims_; }
-  const Cell& cell(int x, int y, int z) const { return cells_[index(x, y, z)]; }
   const Cell& outside() const { return outside_; }
   // The cells' mean majorant over the box's volume (to tell whether the grid pays).
   double mean_majorant() const;
-  size_t memory_bytes() const { return cells_.capacity() * sizeof(Cell) + sizeof(*this); }
 
   // The cells along ray.origin + t ray.direction, t from 0 on: pieces [previous end, end) with
   // the cell's majorant and whether it emits; before and after the box the outside's, the last

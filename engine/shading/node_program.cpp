@@ -747,17 +747,6 @@ double image_bound(const NodeInstruction& ins, const std::vector<Texture>& textu
   return m;
 }
 
-// The box in object space that holds `world` (its corners through world_to_object).
-Aabb object_space_box(const Aabb& world, const ObjectInfo& object) {
-  Aabb local;
-  for (int corner = 0; corner < 8; ++corner) {
-    const Vec3 p((corner & 1) ? world.hi.x : world.lo.x, (corner & 2) ? world.hi.y : world.lo.y,
-                 (corner & 4) ? world.hi.z : world.lo.z);
-    local.grow(Vec3(object.world_to_object * glm::dvec4(p, 1.0)));
-  }
-  return local;
-}
-
 // A Grid's colour and fac: its object's grid's largest value (1 or 0 where it has none).
 double grid_bound(const NodeInstruction& ins, const ObjectInfo* object) {
   if (object == nullptr) return kInf;
@@ -810,7 +799,7 @@ double NodeProgram::output_bound(size_t i, const std::vector<Texture>& textures,
   std::vector<uint8_t> coordinate(b.size(), 0);
   std::array<Aabb, 3> local{};
   if (region != nullptr && object != nullptr) {
-    local[1] = object_space_box(*region, *object);
+    local[1] = transformed(*region, object->world_to_object);
     for (const Vec3& corner : {local[1].lo, local[1].hi})
       local[2].grow((corner - object->texspace_min) / object->texspace_size);
   }

@@ -1,6 +1,8 @@
 // A voxel grid's bricks, table and trilinear lookup (see voxel_grid.h).
 #include "shading/voxel_grid.h"
 
+#include "math/aabb.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -167,11 +169,14 @@ void VoxelGrid::make_table(const std::vector<Coord>& origins, const std::vector<
   places_.shrink_to_fit();  // (grown block by block)
 }
 
+int32_t VoxelGrid::block_at(int x, int y, int z) const {
+  x -= block_lo_[0], y -= block_lo_[1], z -= block_lo_[2];
+  if (x < 0 || y < 0 || z < 0 || x >= block_dims_[0] || y >= block_dims_[1] || z >= block_dims_[2]) return -1;
+  return blocks_[(size_t(z) * block_dims_[1] + size_t(y)) * block_dims_[0] + size_t(x)];
+}
+
 glm::vec4 VoxelGrid::voxel(int i, int j, int k) const {
-  const int bx = block_of(i) - block_lo_[0], by = block_of(j) - block_lo_[1], bz = block_of(k) - block_lo_[2];
-  if (bx < 0 || by < 0 || bz < 0 || bx >= block_dims_[0] || by >= block_dims_[1] || bz >= block_dims_[2])
-    return glm::vec4(0.0f);
-  const int32_t block = blocks_[(size_t(bz) * block_dims_[1] + by) * block_dims_[0] + bx];
+  const int32_t block = block_at(block_of(i), block_of(j), block_of(k));
   if (block < 0) return glm::vec4(0.0f);
   const int32_t entry = places_[size_t(block) * kBlockPlaces +
                                 (size_t(place_in_block(k)) * kBlock + place_in_block(j)) * kBlock + place_in_block(i)];
@@ -191,13 +196,8 @@ float VoxelGrid::max_in(const Vec3& lo, const Vec3& hi) const {
   // The box in index space (its eight corners through the transform), widened by a thousandth of
   // a voxel against rounding (lookup transforms in float); a lookup there reads the voxels from
   // floor(q) to floor(q) + 1.
-  Vec3 ilo(kInf), ihi(-kInf);
-  const glm::dmat4 to_index(to_index_);
-  for (int corner = 0; corner < 8; ++corner) {
-    const Vec3 p((corner & 1) ? hi.x : lo.x, (corner & 2) ? hi.y : lo.y, (corner & 4) ? hi.z : lo.z);
-    const Vec3 q(to_index * glm::dvec4(p, 1.0));
-    ilo = glm::min(ilo, q), ihi = glm::max(ihi, q);
-  }
+  const Aabb index_box = transformed(Aabb{lo, hi}, glm::dmat4(to_index_));
+  const Vec3 &ilo = index_box.lo, &ihi = index_box.hi;
   Coord first{}, last{};
   for (int k = 0; k < 3; ++k) {
     const double margin = 1e-3 + 1e-6 * std::max(std::fabs(ilo[k]), std::fabs(ihi[k]));
@@ -216,8 +216,7 @@ float VoxelGrid::max_in(const Vec3& lo, const Vec3& hi) const {
   for (int kz = block_first[2]; kz <= block_last[2]; ++kz)
     for (int ky = block_first[1]; ky <= block_last[1]; ++ky)
       for (int kx = block_first[0]; kx <= block_last[0]; ++kx) {
-        const int32_t block = blocks_[(size_t(kz - block_lo_[2]) * block_dims_[1] + size_t(ky - block_lo_[1])) *
-                                          block_dims_[0] + size_t(kx - block_lo_[0])];
+        const int32_t block = block_at(kx, ky, kz);
         if (block < 0) continue;
         const int32_t* places = places_.data() + size_t(block) * kBlockPlaces;
         const Coord at{kx * kBlock, ky * kBlock, kz * kBlock};
@@ -235,13 +234,13 @@ float VoxelGrid::max_in(const Vec3& lo, const Vec3& hi) const {
 }
 
 size_t VoxelGrid::regions_4096() const {
+  constexpr int kBlocksPerRegion = 4096 / (kBrick * kBlock);
   std::vector<Coord> regions;
-  for (int z = 0; z < block_dims_[2]; ++z)
-    for (int y = 0; y < block_dims_[1]; ++y)
-      for (int x = 0; x < block_dims_[0]; ++x)
-        if (blocks_[(size_t(z) * block_dims_[1] + y) * block_dims_[0] + x] >= 0)
-          regions.push_back({floor_div(block_lo_[0] + x, 32), floor_div(block_lo_[1] + y, 32),
-                             floor_div(block_lo_[2] + z, 32)});
+  for (int z = block_lo_[2]; z < block_lo_[2] + block_dims_[2]; ++z)
+    for (int y = block_lo_[1]; y < block_lo_[1] + block_dims_[1]; ++y)
+      for (int x = block_lo_[0]; x < block_lo_[0] + block_dims_[0]; ++x)
+        if (block_at(x, y, z) >= 0)
+          regions.push_back({floor_div(x, kBlocksPerRegion), floor_div(y, kBlocksPerRegion), floor_div(z, kBlocksPerRegion)});
   std::sort(regions.begin(), regions.end());
   return size_t(std::unique(regions.begin(), regions.end()) - regions.begin());
 }

@@ -73,6 +73,7 @@ class VoxelGrid {
                   const std::string& what);
   void store(float* v, size_t count, bool alpha_last);
   glm::vec4 voxel(int i, int j, int k) const;
+  int32_t block_at(int x, int y, int z) const;  // block (x, y, z)'s table entry; -1 outside the table
 
   int channels_ = 1;
   glm::mat4 to_index_{1.0f};
