@@ -84,6 +84,13 @@ class PPMSceneSettings(bpy.types.PropertyGroup):
                     "room or outdoors, the camera close on a detail): half the error at equal time in such a "
                     "scene. In a closed room every photon is seen anyway, and guiding's cost loses up to a fifth "
                     "of the passes")
+    volume_beams: BoolProperty(
+        name="Volume Beams", default=False,
+        description="Camera rays through thin fog of one density gather its light along their whole length "
+                    "(the beam radiance estimate), where off they gather it only where they happen to scatter, "
+                    "which in thin fog is rarely: in the bundled volumetric caustic 0.6 of the noise at equal "
+                    "time. Darkens a fog's edges seen against nothing until the radius shrinks (no boundary "
+                    "correction yet). Dense media and media whose density varies gather at points either way")
     seed: IntProperty(name="Seed", default=0, min=0,
                       description="Random seed; same seed and threads give the same image")
     animated_seed: BoolProperty(
@@ -115,7 +122,7 @@ class PPMObjectSettings(bpy.types.PropertyGroup):
 
 # The core's settings keys that scene.ppm carries one-to-one.
 CORE_KEYS = ("photons_per_pass", "alpha", "threshold", "max_bounces", "samples_per_pixel", "seed", "threads",
-             "target_error", "error_confidence", "adaptive_samples", "photon_guiding")
+             "target_error", "error_confidence", "adaptive_samples", "photon_guiding", "volume_beams")
 
 
 def core_settings(settings):

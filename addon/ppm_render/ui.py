@@ -95,6 +95,7 @@ class RENDER_PT_ppm_sampling(PPMRenderPanel, bpy.types.Panel):
         sub.active = settings.hit_points != 'FIXED'
         sub.prop(settings, "adaptive_samples")
         col.prop(settings, "photon_guiding")
+        col.prop(settings, "volume_beams")
 
 
 class RENDER_PT_ppm_viewport(PPMRenderPanel, bpy.types.Panel):

@@ -266,6 +266,8 @@ struct EyeTracer {
       emitted += v.throughput * light;
       return step;
     }
+    const bool beam = settings.volume_beams && !med->varies() && !v.emission_only && med->scatters();
+    if (beam) record_beam(v, *med, nearest, pixel, out);
     const FreePath f = free_path(v, *med, nearest, light, rng, emitted);
     if (!f.scattered) {
       step.weight = f.weight;
@@ -286,8 +288,34 @@ struct EyeTracer {
     h.media = vm.stack;
     h.route = v.route;
     h.chain = v.chain;
+    h.photons = true;
+    if (beam) out.beams.back().point = static_cast<uint32_t>(out.volume.size());
     out.volume.push_back(h);
     return step;
+  }
+
+  // v's segment up to `nearest` in the homogeneous medium `med` as a beam (VolumeBeam). Its radius,
+  // as a hit point's there would have, at the depth of a mean free path into the segment or its end:
+  // a pixel's first beam gives its pixel's initial radius (StochasticHitPoints::beam_band).
+  void record_beam(const EyeVertex& v, const Medium& med, double nearest, uint32_t pixel, ChunkOutput& out) const {
+    double depth = std::fmin(nearest, 1.0 / std::fmax(max_component(med.sigma_t), 1e-30));
+    if (!std::isfinite(depth)) depth = 0.0;  // no extinction and no end
+    double r = settings.initial_radius;
+    if (r <= 0.0) r = settings.volume_radius_scale * settings.initial_radius_pixels * pixel_size(v.length + depth);
+    r = std::fmax(r, 4.0 * ray_offset(v.ray.origin, scene.offset_floor()));
+    VolumeBeam b{};
+    b.r2 = static_cast<float>(r * r);
+    b.origin = v.ray.origin;
+    b.direction = Vec3f(v.ray.direction);
+    b.length = static_cast<float>(std::fmin(nearest, 3.0e38));
+    b.weight = Vec3f(v.throughput);
+    b.sigma_t = Vec3f(med.sigma_t);
+    b.pixel = pixel;
+    b.medium = scene.medium_index(&med);
+    b.route = v.route;
+    b.chain = v.chain;
+    b.point = kNoPoint;
+    out.beams.push_back(b);
   }
 
   // Adds what the path sees directly to `emitted` and what of it is transparent to `transparency`.
@@ -498,6 +526,7 @@ void clear_chunk(ChunkOutput& o, size_t samples, bool chains) {
   o.route.clear();
   o.media.clear();
   o.volume.clear();
+  o.beams.clear();
   o.points.reserve(samples);
   o.shading.reserve(samples);
   if (chains) o.chain.reserve(samples);
@@ -563,15 +592,23 @@ void join_chunks(std::vector<ChunkOutput>& outputs, size_t chunks, const EyePass
   out.chain.resize(chains ? total : 0);
   out.route.resize(options.record_components ? total : 0);
   bool media = false;
-  size_t volume = 0;
-  for (size_t c = 0; c < chunks; ++c) media |= !outputs[c].media.empty(), volume += outputs[c].volume.size();
+  size_t volume = 0, beams = 0;
+  for (size_t c = 0; c < chunks; ++c)
+    media |= !outputs[c].media.empty(), volume += outputs[c].volume.size(), beams += outputs[c].beams.size();
   out.media.resize(media ? total : 0);
   out.volume.clear();
-  if (media || volume) {  // scenes with media: their stacks beside the hit points, and the hit points in media
+  out.beams.clear();
+  if (media || volume || beams) {  // scenes with media: their stacks beside the hit points, hit points and beams in media
     out.volume.reserve(volume);
+    out.beams.reserve(beams);
     for (size_t c = 0; c < chunks; ++c) {
       std::copy(outputs[c].media.begin(), outputs[c].media.end(), out.media.begin() + first[c]);
+      const auto points_before = static_cast<uint32_t>(out.volume.size());
       out.volume.insert(out.volume.end(), outputs[c].volume.begin(), outputs[c].volume.end());
+      for (VolumeBeam b : outputs[c].beams) {
+        if (b.point != kNoPoint) b.point += points_before;
+        out.beams.push_back(b);
+      }
     }
   }
   out.components.resize(options.record_components ? total : 0);
@@ -608,7 +645,8 @@ size_t EyePassScratch::memory_bytes() const {
   size_t bytes = counts.capacity() * sizeof(uint32_t);
   for (const Chunk& c : chunks)
     bytes += c.points.capacity() * sizeof(HitPoint) + c.shading.capacity() * sizeof(HitPointShading) +
-             c.chain.capacity() * sizeof(Bounces) + c.route.capacity();
+             c.chain.capacity() * sizeof(Bounces) + c.route.capacity() + c.media.capacity() * sizeof(MediumStack) +
+             c.volume.capacity() * sizeof(VolumeHitPoint) + c.beams.capacity() * sizeof(VolumeBeam);
   return bytes;
 }
 

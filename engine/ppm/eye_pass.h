@@ -49,6 +49,7 @@ struct EyePassScratch {
     std::vector<uint8_t> route;    // with record_components
     std::vector<MediumStack> media;       // scenes with media: each hit point's
     std::vector<VolumeHitPoint> volume;   // scenes with media: the hit points in media
+    std::vector<VolumeBeam> beams;        // ... and beams (Settings::volume_beams)
   };
   std::vector<Chunk> chunks;
   std::vector<uint32_t> counts;  // hit points per pixel

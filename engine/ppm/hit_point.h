@@ -86,11 +86,43 @@ struct VolumeHitPoint {
   MediumStack media;  // the shadow rays' start
   uint8_t route;      // its eye chain's (light_components.h: what it files its light as)
   Bounces chain;      // its eye chain's scatterings, with bounce limits (bounce_limits.h)
+  bool photons;       // whether it gathers volume photons (false: its segment's VolumeBeam does)
   // Found this pass: the gathered photons (flux times phase times weight) and the direct light;
   // the photons' bias sum in luminance (error_estimate.h's bias_sum_in_ball).
   uint32_t m;
   Vec3f tau;
   Vec3f direct;
+  float pass_bias;
+};
+
+// An eye ray's segment through a homogeneous medium (Settings::volume_beams): the beam radiance
+// estimate (Jarosz et al. 2008) gathers the volume photons within r of the whole segment, each
+// times the transmittance exp(-sigma_t t) to its projection t on the beam and the phase function
+// towards the eye, over pi r^2 (a 2-D kernel across the beam). Every camera ray through fog then
+// sees the fog's photons, where a point estimate needs its free path to end near them: in thin fog
+// most never do. Where a beam gathers, the hit point its segment's free path may still draw
+// (`point`) samples direct light only. Beams gather in optically thin media only (sigma_t r at
+// most kThinBeam): a disc across a camera ray that enters a dense medium reaches out of it where
+// the ray's light comes from, and counts no photons there (a dense smoke ball 13% dark in a
+// block); points divide by their ball's share inside (volume_boundary) instead.
+constexpr double kThinBeam = 0.1;
+constexpr uint32_t kNoPoint = ~0u;
+struct VolumeBeam {
+  Vec3 origin;
+  Vec3f direction;
+  float length;
+  Vec3f weight;   // the eye path's throughput at origin
+  Vec3f sigma_t;  // the medium's extinction
+  float r2;
+  uint32_t pixel;
+  int32_t medium;
+  uint8_t route;  // as VolumeHitPoint's
+  Bounces chain;
+  uint32_t point;  // the segment's VolumeHitPoint in HitPoints::volume, or kNoPoint
+  // Found this pass: photons, their flux (times transmittance, phase and weight) and bias sum
+  // (error_estimate.h's bias_sum over their distances across the beam), in luminance.
+  uint32_t m;
+  Vec3f tau;
   float pass_bias;
 };
 
@@ -118,12 +150,13 @@ struct HitPoints {
   // band's hit points in media, in pixel order.
   std::vector<MediumStack> media;
   std::vector<VolumeHitPoint> volume;
+  std::vector<VolumeBeam> beams;  // with Settings::volume_beams, in pixel order
   size_t size() const { return points.size(); }
   size_t memory_bytes() const {
     return points.capacity() * sizeof(HitPoint) + shading.capacity() * sizeof(HitPointShading) +
            stats.capacity() * sizeof(HitPointStats) + chain.capacity() * sizeof(Bounces) + route.capacity() +
            components.capacity() * sizeof(HitPointComponents) + media.capacity() * sizeof(MediumStack) +
-           volume.capacity() * sizeof(VolumeHitPoint) + pixel_bytes();
+           volume.capacity() * sizeof(VolumeHitPoint) + beams.capacity() * sizeof(VolumeBeam) + pixel_bytes();
   }
   // Of which per pixel.
   size_t pixel_bytes() const {

@@ -592,7 +592,9 @@ size_t PhotonPass::index_volume_photons(size_t chunks) {
   volume_positions_.resize(count);
   volume_arrivals_.resize(count);
   volume_arrival_bounces_.resize(limits_.active ? count : 0);
+  volume_bounds_ = Aabb{};
   if (count == 0) return 0;
+  for (const Vec3& p : volume_traced_) volume_bounds_.grow(p);
   static const std::vector<double> kNoRadii;
   volume_grid_.build(volume_traced_, kNoRadii, threads_);
   volume_grid_.relabel_in_cell_order(volume_old_of_new_);
@@ -622,7 +624,7 @@ bool PhotonPass::gather_volume(const Scene& scene, std::vector<VolumeHitPoint>& 
       h.m = 0;
       h.tau = Vec3f(0.0f);
       h.pass_bias = 0.0f;
-      if (!any) continue;
+      if (!any || !h.photons) continue;
       const Medium& medium = scene.medium(static_cast<uint32_t>(h.medium));
       const Phase& phase = medium.c.phase;
       const Vec3 center = h.position, back = -Vec3(h.direction);

@@ -55,6 +55,10 @@ class PhotonPass {
   // the hit point's weight). False if cancelled.
   bool gather_volume(const Scene& scene, std::vector<VolumeHitPoint>& points, std::atomic<bool>& cancel,
                      const std::function<bool()>& poll, PhotonPassCounters& counters);
+  // The same into beams through homogeneous media (hit_point.h's VolumeBeam; photon_pass_beams.cpp):
+  // their m, tau and bias sum from the photons within r of each. False if cancelled.
+  bool gather_beams(const Scene& scene, std::vector<VolumeBeam>& beams, std::atomic<bool>& cancel,
+                    const std::function<bool()>& poll, PhotonPassCounters& counters);
   size_t volume_photons() const { return volume_positions_.size(); }
 
   // The photons (as traced and in cell order), the spatial index, and what the pass keeps per hit point.
@@ -187,6 +191,8 @@ class PhotonPass {
   std::vector<VolumeArrival> volume_arrivals_;
   std::vector<Bounces> volume_arrival_bounces_;  // with bounce limits only, beside volume_arrivals_
   std::vector<uint32_t> volume_old_of_new_;
+  Aabb volume_bounds_;  // of the pass's volume photons
+  void gather_beam(const Scene& scene, VolumeBeam& beam) const;
 };
 
 }  // namespace ppm

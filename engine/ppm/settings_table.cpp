@@ -74,6 +74,10 @@ std::vector<SettingInfo> make_table() {
       number("initial_radius_pixels", &Settings::initial_radius_pixels, "automatic initial radius in pixel footprints"),
       number("volume_radius_scale", &Settings::volume_radius_scale,
              "hit points in media: the automatic initial radius times this, (0, 1e6]"),
+      number("volume_beams", &Settings::volume_beams,
+             "eye rays through homogeneous media gather the volume photons along each segment (the beam "
+             "radiance estimate; a free path's scattering then samples direct light only); false: at the "
+             "point where a free path scatters"),
       number("volume_boundary", &Settings::volume_boundary,
              "hit points in media: divide their photons by the share of the gather ball on their side of "
              "the nearest surface (found by rays along the axes), where no photon lies beyond, and in a "

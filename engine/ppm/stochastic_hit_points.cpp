@@ -23,10 +23,12 @@ bool StochasticHitPoints::prepare(const Poll&) {
   // The global schedule keeps no volume statistics: the pass's volume radiance joins its mean.
   const bool volume_stats = media_ && c_.settings.radius_schedule != RadiusSchedule::Global;
   const bool volume_components = volume_stats && c_.settings.component_passes;
+  beams_ = media_ && c_.settings.volume_beams;
+  const int volume_sets = volume_stats ? 1 + beams_ : 0;  // hit points' and beams'
   const size_t optional = (c_.settings.light_passes ? sizeof(SeenMeans) : 0) + (c_.settings.adaptive_samples > 1) +
                           (c_.settings.component_passes ? sizeof(PixelComponents) : 0) +
-                          (volume_stats ? sizeof(FloatPhotonStats) : 0) +
-                          (volume_components ? sizeof(PixelVolumeComponents) : 0);
+                          volume_sets * sizeof(FloatPhotonStats) +
+                          (volume_components ? volume_sets * sizeof(PixelVolumeComponents) : 0);
   check_memory(static_cast<size_t>(pixels * (sizeof(PixelStats) + sizeof(PixelErrorStats) + 2 * sizeof(float) +
                                               4 * sizeof(float) + optional)),
                "stochastic hit points at " + std::to_string(cam.width) + "x" + std::to_string(cam.height),
@@ -37,6 +39,8 @@ bool StochasticHitPoints::prepare(const Poll&) {
   components_.assign(c_.settings.component_passes ? pixels_.size() : 0, PixelComponents{});
   volume_pixels_.assign(volume_stats ? pixels_.size() : 0, FloatPhotonStats{});
   volume_components_.assign(volume_components ? pixels_.size() : 0, PixelVolumeComponents{});
+  beam_pixels_.assign(volume_stats && beams_ ? pixels_.size() : 0, FloatPhotonStats{});
+  beam_components_.assign(volume_components && beams_ ? pixels_.size() : 0, PixelVolumeComponents{});
   current_ = PassInProgress{};
   return true;
 }
@@ -92,7 +96,9 @@ bool StochasticHitPoints::band(const EyePassOptions& eye, uint64_t pass, const P
                            c_.cancel, poll, current_.hit_points))
       return false;
   }
+  if (beams_) start_beams(index(pass));
   if (media_ && !volume_band(first_pixel, index(pass), eye.pixel_samples, poll)) return false;
+  if (beams_ && !beam_band(first_pixel, eye.pixel_samples, poll)) return false;
   {  // not polled: a band is folded whole or not at all
     ScopedSeconds timer(stats.update_seconds);
     if (global)
@@ -102,7 +108,7 @@ bool StochasticHitPoints::band(const EyePassOptions& eye, uint64_t pass, const P
     if (eye.record_depth) std::copy(fresh.depth.begin(), fresh.depth.end(), depth_.begin() + first_pixel);
   }
   c_.photon_pass.keep_band_credit();
-  current_.hit_points += fresh.size() + fresh.volume.size();
+  current_.hit_points += fresh.size() + fresh.volume.size() + fresh.beams.size();
   return true;
 }
 
@@ -152,6 +158,63 @@ bool StochasticHitPoints::volume_band(size_t first_pixel, uint64_t pass, const u
     hit_points_.emitted[p] += Color(f.direct);
   }
   return true;
+}
+
+// Each beam at its pixel's beam radius (a pixel's first beam sets it, no smaller than the volume
+// photons' spacing) or the global schedule's; in a medium thin at that radius it gathers in place
+// of its segment's hit point, else (r2 0) the hit point gathers.
+void StochasticHitPoints::start_beams(uint64_t pass) {
+  const bool global = c_.settings.radius_schedule == RadiusSchedule::Global;
+  const double factor = global ? global_radius_factor(pass + 1, c_.settings.alpha) : 1.0;
+  for (VolumeBeam& b : hit_points_.beams) {
+    const double initial = std::max<double>(b.r2, c_.min_volume_r2);
+    if (global) {
+      b.r2 = static_cast<float>(initial * factor);
+    } else {
+      FloatPhotonStats& px = beam_pixels_[b.pixel];
+      if (px.r2 == 0.0f) px.r2 = static_cast<float>(initial);
+      b.r2 = px.r2;
+    }
+    if (max_component(Color(b.sigma_t)) * std::sqrt(static_cast<double>(b.r2)) > kThinBeam)
+      b.r2 = 0.0f;
+    else if (b.point != kNoPoint)
+      hit_points_.volume[b.point].photons = false;
+  }
+}
+
+bool StochasticHitPoints::beam_band(size_t first_pixel, const uint8_t* pixel_samples, const Poll& poll) {
+  std::vector<VolumeBeam>& beams = hit_points_.beams;
+  const bool global = c_.settings.radius_schedule == RadiusSchedule::Global;
+  if (c_.analysis.trace_photons && !c_.photon_pass.gather_beams(*c_.scene, beams, c_.cancel, poll, current_.counters))
+    return false;
+  sum_beam_band(first_pixel);
+  if (global) return true;
+  for (size_t p = 0; p < beam_band_.size(); ++p) {
+    const VolumeFound& f = beam_band_[p];
+    const uint32_t samples = pixel_samples ? pixel_samples[first_pixel + p] : 1;
+    const double ratio = beam_pixels_[first_pixel + p].fold((f.m + samples / 2) / samples, f.tau, c_.settings.alpha,
+                                                            c_.settings.threshold);
+    if (!beam_components_.empty()) beam_components_[first_pixel + p].fold(beam_parts_[p].tau, ratio);
+  }
+  return true;
+}
+
+// The band's beams summed per band pixel: photon count and flux, and their radiance from this pass
+// alone at the radius they gathered with (a disc's: pass_radiance_scale).
+void StochasticHitPoints::sum_beam_band(size_t first_pixel) {
+  const double photons = static_cast<double>(current_.counters.emitted - c_.stats.photon.emitted);
+  const size_t band_pixels = hit_points_.pixel_begin.size() - 1;
+  beam_band_.assign(band_pixels, VolumeFound{0, Vec3f(0.0f), Vec3f(0.0f), Vec3f(0.0f), 0.0f});
+  beam_parts_.assign(components_.empty() ? 0 : band_pixels, VolumeParts{});
+  for (const VolumeBeam& b : hit_points_.beams) {
+    VolumeFound& f = beam_band_[b.pixel - first_pixel];
+    const float scale = static_cast<float>(c_.pass_radiance_scale(b.r2, photons));
+    f.m += b.m, f.tau += b.tau, f.radiance += b.tau * scale, f.bias += b.pass_bias * scale;
+    if (beam_parts_.empty()) continue;
+    VolumeParts& parts = beam_parts_[b.pixel - first_pixel];
+    const int k = volume_slot(b.route);
+    parts.tau[k] += b.tau, parts.radiance[k] += b.tau * scale;
+  }
 }
 
 // The global schedule in a medium: every hit point gathers at its own initial radius times the
@@ -205,6 +268,8 @@ void StochasticHitPoints::add_volume_direct(size_t p, ComponentLight& light) con
 void StochasticHitPoints::add_volume_radiance(size_t p, ComponentLight& light) const {
   if (volume_parts_.empty()) return;
   for (int k = 0; k < kVolumeSlots; ++k) light.light[volume_photon_component(k)] += volume_parts_[p].radiance[k];
+  if (beam_parts_.empty()) return;
+  for (int k = 0; k < kVolumeSlots; ++k) light.light[volume_photon_component(k)] += beam_parts_[p].radiance[k];
 }
 
 // Every hit point gathers with its pixel's current radius; a pixel's first comes from its first
@@ -324,6 +389,7 @@ void StochasticHitPoints::fold_band_global(size_t first_pixel, uint64_t pass) {
         pass_bias += scale * s.pass_bias;
       }
       if (media_) photon_light += Color(volume_band_[p].radiance);  // its hit points' in media
+      if (beams_) photon_light += Color(beam_band_[p].radiance);     // and beams
       errors_[first_pixel + p].add(luminance(light) + pass_value + volume_pass_value(p),
                                    pass_bias + volume_pass_bias(p), pass);
       const PixelPass found{0, Vec3f(0.0f), Vec3f(light + photon_light), static_cast<float>(fresh.transparency[p])};
@@ -364,6 +430,7 @@ PixelValue StochasticHitPoints::pixel(size_t p) const {
     if (c_.analysis.trace_photons)
       volume = volume_photon_radiance(v.r2, v.in_double(), emitted, c_.lights.flux_unit());
   }
+  if (!beam_pixels_.empty()) volume += c_.photon_radiance(beam_pixels_[p].r2, beam_pixels_[p].in_double(), emitted);
   return PixelValue{Color(px.light) + c_.photon_radiance(px.r2, px.in_double(), emitted) + volume, px.transparency};
 }
 
@@ -374,6 +441,8 @@ ComponentLight StochasticHitPoints::components(size_t p) const {
   ComponentLight out = components_[p].value(c_.pass_radiance_scale(pixels_[p].r2, emitted));
   if (!volume_components_.empty())
     volume_components_[p].add_to(out, c_.volume_radiance_scale(volume_pixels_[p].r2, emitted));
+  if (!beam_components_.empty())
+    beam_components_[p].add_to(out, c_.pass_radiance_scale(beam_pixels_[p].r2, emitted));
   return out;
 }
 
@@ -397,9 +466,11 @@ double StochasticHitPoints::radius_mean() const {
 void StochasticHitPoints::add_memory(MemoryUse& use) const {
   use.pixels += pixels_.capacity() * sizeof(PixelStats) + errors_.capacity() * sizeof(PixelErrorStats) +
                 depth_.capacity() * sizeof(float) + eye_samples_.capacity() + seen_.capacity() * sizeof(SeenMeans) +
-                components_.capacity() * sizeof(PixelComponents) + volume_pixels_.capacity() * sizeof(FloatPhotonStats) +
-                volume_components_.capacity() * sizeof(PixelVolumeComponents);
-  use.hit_points += volume_band_.capacity() * sizeof(VolumeFound) + volume_parts_.capacity() * sizeof(VolumeParts);
+                components_.capacity() * sizeof(PixelComponents) +
+                (volume_pixels_.capacity() + beam_pixels_.capacity()) * sizeof(FloatPhotonStats) +
+                (volume_components_.capacity() + beam_components_.capacity()) * sizeof(PixelVolumeComponents);
+  use.hit_points += (volume_band_.capacity() + beam_band_.capacity()) * sizeof(VolumeFound) +
+                    (volume_parts_.capacity() + beam_parts_.capacity()) * sizeof(VolumeParts);
   use.hit_points += hit_points_.memory_bytes() + eye_scratch_.memory_bytes();
 }
 

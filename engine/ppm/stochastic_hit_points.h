@@ -62,6 +62,13 @@ class StochasticHitPoints : public Estimator {
   bool volume_band(size_t first_pixel, uint64_t pass, const uint8_t* pixel_samples, const Poll& poll);
   void start_volume_at_global_radii(uint64_t index);
   void sum_volume_band(size_t first_pixel);
+  // With Settings::volume_beams: the band's beams at their pixels' beam radii (the 2-D rule: a
+  // pixel's beams share one radius, as its surface hit points do) or the global schedule's, their
+  // photons summed per band pixel into beam_band_, then folded into beam_pixels_.
+  // start_beams (before the hit points in media gather) sets the radii and which beams gather.
+  void start_beams(uint64_t pass);
+  bool beam_band(size_t first_pixel, const uint8_t* pixel_samples, const Poll& poll);
+  void sum_beam_band(size_t first_pixel);
   float density_form(const VolumeHitPoint& h) const;
   // With component passes: band pixel p's hit points in media's direct light, and (the global
   // schedule) their photons' radiance this pass, into `light` by component (light_components.h).
@@ -71,8 +78,14 @@ class StochasticHitPoints : public Estimator {
   // pass's value in the error estimate (their direct light is in the pixel's `emitted` already).
   // With the progressive radii it is what they add to the pixel's volume estimate: tau / r^3 is
   // unchanged by the 3-D update as tau / r^2 by the 2-D one (error_estimate.h).
-  double volume_pass_value(size_t p) const { return media_ ? luminance(Color(volume_band_[p].radiance)) : 0.0; }
-  double volume_pass_bias(size_t p) const { return media_ ? volume_band_[p].bias : 0.0; }
+  // Beams' radiance (gathered in a disc across them) is added the same way.
+  double volume_pass_value(size_t p) const {
+    if (!media_) return 0.0;
+    return luminance(Color(volume_band_[p].radiance)) + (beams_ ? luminance(Color(beam_band_[p].radiance)) : 0.0);
+  }
+  double volume_pass_bias(size_t p) const {
+    return media_ ? volume_band_[p].bias + (beams_ ? beam_band_[p].bias : 0.0) : 0.0;
+  }
   template <class Scale>
   void pass_components(size_t p, ComponentLight& light, Vec3f photons[], Scale&& photon_scale) const;
   // The index in the still of this renderer's pass `pass` (its random numbers and global radius).
@@ -112,6 +125,13 @@ class StochasticHitPoints : public Estimator {
   };
   std::vector<VolumeParts> volume_parts_;
   std::vector<PixelVolumeComponents> volume_components_;
+  // With Settings::volume_beams, the same for beams: per pixel their photon statistics (r2 their
+  // radius squared), per band pixel what the band's beams found, and their flux by slot.
+  bool beams_ = false;
+  std::vector<FloatPhotonStats> beam_pixels_;
+  std::vector<VolumeFound> beam_band_;
+  std::vector<VolumeParts> beam_parts_;
+  std::vector<PixelVolumeComponents> beam_components_;
   HitPoints hit_points_;      // the band being made, reused: no pass allocates once sizes settle
   EyePassScratch eye_scratch_;
 };

@@ -26,6 +26,7 @@ import math
 import os
 import sys
 import tempfile
+import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 CHECKOUT_ADDON = os.path.join(ROOT, "addon")
@@ -368,13 +369,15 @@ def block_comparison(name, workdir, samples, passes, bounces=4, per_channel=Fals
 
 def run_cases(label, cases, compare_one, describe):
     """compare_one(case, workdir) for each case in one temporary folder, printing
-    "<label>: Blender <version> <case> <describe(row)>" for each; the rows."""
+    "<label>: Blender <version> <case> <describe(row)> (<seconds>)" for each; the rows."""
     rows = []
     with tempfile.TemporaryDirectory() as workdir:
         for case in cases:
+            start = time.monotonic()
             row = {"case": case, **compare_one(case, workdir)}
             rows.append(row)
-            print(f"{label}: Blender {row['blender']} {case:28s} {describe(row)}", flush=True)
+            print(f"{label}: Blender {row['blender']} {case:28s} {describe(row)} "
+                  f"({time.monotonic() - start:.1f} s)", flush=True)
     return rows
 
 

@@ -428,13 +428,21 @@ def fog_share(scene, first_pass, passes, **settings):
     return r.share()
 
 
-def test_fog_shares_merge_into_the_single_render():
+# Beams (volume_beams) gather in the fog box at a radius where it is thin (sigma_t r at most the
+# core's kThinBeam, 0.1): 0.1 m.
+BEAMS = {"volume_beams": True, "initial_radius": 0.1}
+
+
+@pytest.mark.parametrize("beams", [False, True])
+def test_fog_shares_merge_into_the_single_render(beams):
     """Passes 0-1, 2-4 and 5 of a fog scene, rendered apart and merged, are the image and error
     estimate of one renderer's passes 0-5 (to float rounding): the volume radius follows the
-    global schedule too, so no pass depends on another."""
+    global schedule too, so no pass depends on another; with beams too."""
     scene = fog_floor_scene()
-    merged = ppm_core.merge_shares([fog_share(scene, 5, 1), fog_share(scene, 0, 2), fog_share(scene, 2, 3)])
-    whole, renderer = render(scene, passes=6, **GLOBAL)
+    extra = BEAMS if beams else {}
+    merged = ppm_core.merge_shares([fog_share(scene, 5, 1, **extra), fog_share(scene, 0, 2, **extra),
+                                    fog_share(scene, 2, 3, **extra)])
+    whole, renderer = render(scene, passes=6, **{**GLOBAL, **extra})
     assert merged.ranges == [(0, 2), (2, 3), (5, 1)]
     np.testing.assert_allclose(merged.image()[..., :3], whole, rtol=1e-5, atol=1e-6 * whole.max())
     expected = renderer.stats()["error"]
@@ -466,13 +474,15 @@ def test_fog_global_schedule_converges_to_the_progressive_image():
 COMPONENTS = ["DiffDir", "DiffInd", "GlossDir", "GlossInd", "TransDir", "TransInd", "VolumeDir", "VolumeInd"]
 
 
+@pytest.mark.parametrize("beams", [False, True])
 @pytest.mark.parametrize("schedule", ["progressive", "global"])
-def test_fog_light_passes_add_up_to_the_image(schedule):
+def test_fog_light_passes_add_up_to_the_image(schedule, beams):
     """Emit, Env and the light components add up to the image in a fog scene, and the fog's light is
     filed as Cycles files it: the light sampled at a camera path's first scattering in the medium
-    as Volume Direct, its photons as Volume Indirect."""
-    renderer = ppm_core.Renderer(fog_floor_scene(), **{**MEDIA, "photons_per_pass": 4000, "initial_radius": 0.15},
-                                 radius_schedule=schedule, light_passes=True, component_passes=True)
+    as Volume Direct, its photons (at points or along beams) as Volume Indirect."""
+    settings = {**MEDIA, "photons_per_pass": 4000, "initial_radius": 0.15, **(BEAMS if beams else {})}
+    renderer = ppm_core.Renderer(fog_floor_scene(), **settings, radius_schedule=schedule, light_passes=True,
+                                 component_passes=True)
     renderer.run(passes=6)
     image, seen, parts = renderer.image()[..., :3], renderer.light_passes(), renderer.component_passes()
     total = seen["Emit"] + seen["Env"] + sum(parts[name] for name in COMPONENTS)
@@ -512,13 +522,15 @@ def test_fog_seen_in_a_mirror_is_glossy_light():
 # ---- the error estimate -------------------------------------------------------------------------
 
 
+@pytest.mark.parametrize("beams", [False, True])
 @pytest.mark.parametrize("schedule", ["progressive", "global"])
-def test_the_error_estimate_measures_the_fog(schedule):
+def test_the_error_estimate_measures_the_fog(schedule, beams):
     """Photons carry all the light (direct_light 'photons'), so the fog's light reaches the camera
     through the volume estimate alone where it is seen against nothing. The error estimate's pass
     values are the image's own (their mean is the pixel, exactly but for float rounding), its noise
     is not zero in the fog, and the image's estimated error shrinks as passes are added."""
-    settings = {**MEDIA, "photons_per_pass": 4000, "initial_radius": 0.15, "direct_light": "photons"}
+    settings = {**MEDIA, "photons_per_pass": 4000, "initial_radius": 0.15, "direct_light": "photons",
+                **(BEAMS if beams else {})}
     renderer = ppm_core.Renderer(fog_floor_scene(), radius_schedule=schedule, **settings)
     renderer.run(passes=10)
     early = renderer.stats()["error"]["relative"]
@@ -627,8 +639,11 @@ def test_a_dense_slab_lit_from_above_matches_single_scattering_at_its_face():
     counts 0.834 of the light at r = 0.05 m, 0.911 at 0.025 m (numpy, 2000 points a ball); the radii
     shrink a little in 64 passes. Measured, seeds 3 and 5: without volume_boundary 0.859 and 0.858
     (0.944 and 0.933 at volume_radius_scale 0.5); with it, dividing by the ball's share inside the
-    face, 0.999 and 0.995."""
-    assert slab_against_single_scattering(10.0) == pytest.approx(1.0, abs=0.025)
+    face, 0.999 and 0.995. Beams keep out of a medium this dense (sigma_t r 0.5, above the core's
+    kThinBeam): with volume_beams the points gather, the same image."""
+    corrected = slab_against_single_scattering(10.0)
+    assert corrected == pytest.approx(1.0, abs=0.025)
+    assert slab_against_single_scattering(10.0, volume_beams=True) == corrected
     uncorrected = slab_against_single_scattering(10.0, volume_boundary=False)
     half = slab_against_single_scattering(10.0, volume_boundary=False, volume_radius_scale=0.5)
     assert 0.80 < uncorrected < 0.90
