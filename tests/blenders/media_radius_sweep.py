@@ -36,7 +36,7 @@ def cycles(case):
         return
     scene = mc.build(case)
     cc.configure_cycles(scene, SAMPLES, mc.BOUNCES)
-    mc.configure(scene, "CYCLES")
+    mc.configure_for(case)(scene, "CYCLES")
     scene.render.threads = int(os.environ.get("THREADS", "2"))
     t = time.time()
     rgb = cc.render_to_array(scene, f"{OUT}/cycles_{case}.exr")
