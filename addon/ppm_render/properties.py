@@ -88,9 +88,9 @@ class PPMSceneSettings(bpy.types.PropertyGroup):
         name="Volume Beams", default=False,
         description="Camera rays through thin fog of one density gather its light along their whole length "
                     "(the beam radiance estimate), where off they gather it only where they happen to scatter, "
-                    "which in thin fog is rarely: in the bundled volumetric caustic 0.6 of the noise at equal "
-                    "time. Darkens a fog's edges seen against nothing until the radius shrinks (no boundary "
-                    "correction yet). Dense media and media whose density varies gather at points either way")
+                    "which in thin fog is rarely: less noise in a volumetric caustic's cone, but each pass takes "
+                    "longer, and a fog's edges seen against nothing read darker until the radius shrinks. Dense "
+                    "media and media whose density varies gather at points either way")
     seed: IntProperty(name="Seed", default=0, min=0,
                       description="Random seed; same seed and threads give the same image")
     animated_seed: BoolProperty(
