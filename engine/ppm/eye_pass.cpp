@@ -296,7 +296,7 @@ struct EyeTracer {
 
   // v's segment up to `nearest` in the homogeneous medium `med` as a beam (VolumeBeam). Its radius,
   // as a hit point's there would have, at the depth of a mean free path into the segment or its end:
-  // a pixel's first beam gives its pixel's initial radius (StochasticHitPoints::beam_band).
+  // a pixel's first beam gives its pixel's initial radius (StochasticHitPoints::start_beams).
   void record_beam(const EyeVertex& v, const Medium& med, double nearest, uint32_t pixel, ChunkOutput& out) const {
     double depth = std::fmin(nearest, 1.0 / std::fmax(max_component(med.sigma_t), 1e-30));
     if (!std::isfinite(depth)) depth = 0.0;  // no extinction and no end

@@ -108,7 +108,7 @@ bool StochasticHitPoints::band(const EyePassOptions& eye, uint64_t pass, const P
     if (eye.record_depth) std::copy(fresh.depth.begin(), fresh.depth.end(), depth_.begin() + first_pixel);
   }
   c_.photon_pass.keep_band_credit();
-  current_.hit_points += fresh.size() + fresh.volume.size() + fresh.beams.size();
+  current_.hit_points += fresh.size() + fresh.volume.size();
   return true;
 }
 
