@@ -73,8 +73,11 @@ struct FloatAabb {
 // Slab test with precomputed reciprocal direction. Returns the entry distance
 // or kInf. Robust to zero direction components (inf * 0 handled by min/max
 // ordering because the box is never degenerate-NaN).
-inline double slab_entry(const Aabb& box, const Vec3& origin, const Vec3& inv_dir, double tmax) {
-  double t0 = 0.0, t1 = tmax;
+// The part [t0, t1] of the ray's [0, tmax] inside the box (empty: t0 > t1).
+inline void slab_interval(const Aabb& box, const Vec3& origin, const Vec3& inv_dir, double tmax, double& t0,
+                          double& t1) {
+  t0 = 0.0;
+  t1 = tmax;
   for (int a = 0; a < 3; ++a) {
     double tn = (box.lo[a] - origin[a]) * inv_dir[a];
     double tf = (box.hi[a] - origin[a]) * inv_dir[a];
@@ -83,6 +86,11 @@ inline double slab_entry(const Aabb& box, const Vec3& origin, const Vec3& inv_di
     t0 = tn > t0 ? tn : t0;
     t1 = tf < t1 ? tf : t1;
   }
+}
+
+inline double slab_entry(const Aabb& box, const Vec3& origin, const Vec3& inv_dir, double tmax) {
+  double t0, t1;
+  slab_interval(box, origin, inv_dir, tmax, t0, t1);
   // Conservative widening by a few ulps keeps rays along box faces from slipping through.
   return t0 <= t1 * (1.0 + 4e-16) ? t0 : kInf;
 }

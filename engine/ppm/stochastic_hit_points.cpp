@@ -202,10 +202,8 @@ bool StochasticHitPoints::beam_band(size_t first_pixel, const uint8_t* pixel_sam
 // The band's beams summed per band pixel: photon count and flux, and their radiance from this pass
 // alone at the radius they gathered with (a disc's: pass_radiance_scale).
 void StochasticHitPoints::sum_beam_band(size_t first_pixel) {
-  const double photons = static_cast<double>(current_.counters.emitted - c_.stats.photon.emitted);
-  const size_t band_pixels = hit_points_.pixel_begin.size() - 1;
-  beam_band_.assign(band_pixels, VolumeFound{0, Vec3f(0.0f), Vec3f(0.0f), Vec3f(0.0f), 0.0f});
-  beam_parts_.assign(components_.empty() ? 0 : band_pixels, VolumeParts{});
+  const double photons = pass_photons();
+  clear_band(beam_band_, beam_parts_);
   for (const VolumeBeam& b : hit_points_.beams) {
     VolumeFound& f = beam_band_[b.pixel - first_pixel];
     const float scale = static_cast<float>(c_.pass_radiance_scale(b.r2, photons));
@@ -215,6 +213,13 @@ void StochasticHitPoints::sum_beam_band(size_t first_pixel) {
     const int k = volume_slot(b.route);
     parts.tau[k] += b.tau, parts.radiance[k] += b.tau * scale;
   }
+}
+
+// `found` zeroed for each of the band's pixels, and `parts` too with component passes (else empty).
+void StochasticHitPoints::clear_band(std::vector<VolumeFound>& found, std::vector<VolumeParts>& parts) const {
+  const size_t band_pixels = hit_points_.pixel_begin.size() - 1;
+  found.assign(band_pixels, VolumeFound{0, Vec3f(0.0f), Vec3f(0.0f), Vec3f(0.0f), 0.0f});
+  parts.assign(components_.empty() ? 0 : band_pixels, VolumeParts{});
 }
 
 // The global schedule in a medium: every hit point gathers at its own initial radius times the
@@ -230,10 +235,8 @@ void StochasticHitPoints::start_volume_at_global_radii(uint64_t index) {
 // The band's hit points in media summed per band pixel: photon count and flux, direct light, and
 // the photons' radiance from this pass alone, each hit point's at the radius it gathered with.
 void StochasticHitPoints::sum_volume_band(size_t first_pixel) {
-  const double photons = static_cast<double>(current_.counters.emitted - c_.stats.photon.emitted);
-  const size_t band_pixels = hit_points_.pixel_begin.size() - 1;
-  volume_band_.assign(band_pixels, VolumeFound{0, Vec3f(0.0f), Vec3f(0.0f), Vec3f(0.0f), 0.0f});
-  volume_parts_.assign(components_.empty() ? 0 : band_pixels, VolumeParts{});
+  const double photons = pass_photons();
+  clear_band(volume_band_, volume_parts_);
   for (const VolumeHitPoint& h : hit_points_.volume) {
     VolumeFound& f = volume_band_[h.pixel - first_pixel];
     const float scale = static_cast<float>(c_.volume_radiance_scale(h.r2, photons));
@@ -336,7 +339,7 @@ void StochasticHitPoints::pass_components(size_t p, ComponentLight& light, Vec3f
 void StochasticHitPoints::fold_band(size_t first_pixel, uint64_t pass, const uint8_t* pixel_samples) {
   const HitPoints& fresh = hit_points_;
   const size_t band_pixels = fresh.pixel_begin.size() - 1;
-  const double photons = static_cast<double>(current_.counters.emitted - c_.stats.photon.emitted);
+  const double photons = pass_photons();
   parallel_for(c_.threads, band_pixels, [&](size_t begin, size_t end) {
     for (size_t p = begin; p < end; ++p) {
       uint32_t m = 0;
@@ -375,7 +378,7 @@ void StochasticHitPoints::fold_band(size_t first_pixel, uint64_t pass, const uin
 void StochasticHitPoints::fold_band_global(size_t first_pixel, uint64_t pass) {
   const HitPoints& fresh = hit_points_;
   const size_t band_pixels = fresh.pixel_begin.size() - 1;
-  const double photons = static_cast<double>(current_.counters.emitted - c_.stats.photon.emitted);
+  const double photons = pass_photons();
   parallel_for(c_.threads, band_pixels, [&](size_t begin, size_t end) {
     for (size_t p = begin; p < end; ++p) {
       Color light = fresh.emitted[p], photon_light(0.0);

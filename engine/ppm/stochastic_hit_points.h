@@ -69,6 +69,8 @@ class StochasticHitPoints : public Estimator {
   void start_beams(uint64_t pass);
   bool beam_band(size_t first_pixel, const uint8_t* pixel_samples, const Poll& poll);
   void sum_beam_band(size_t first_pixel);
+  // The photons the pass in progress has emitted: what the band's findings are estimates over.
+  double pass_photons() const { return static_cast<double>(current_.counters.emitted - c_.stats.photon.emitted); }
   float density_form(const VolumeHitPoint& h) const;
   // With component passes: band pixel p's hit points in media's direct light, and (the global
   // schedule) their photons' radiance this pass, into `light` by component (light_components.h).
@@ -132,6 +134,7 @@ class StochasticHitPoints : public Estimator {
   std::vector<VolumeFound> beam_band_;
   std::vector<VolumeParts> beam_parts_;
   std::vector<PixelVolumeComponents> beam_components_;
+  void clear_band(std::vector<VolumeFound>& found, std::vector<VolumeParts>& parts) const;
   HitPoints hit_points_;      // the band being made, reused: no pass allocates once sizes settle
   EyePassScratch eye_scratch_;
 };
