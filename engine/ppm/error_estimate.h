@@ -53,6 +53,14 @@ inline Color bias_sum_in_ball(const Color& flux, const Color& flux_d2, double r2
   return flux_d2 * (35.0 / (4.0 * r2)) - flux * (35.0 / 4.0 * mean_d2);
 }
 
+// The same for an eye beam, its photon beams weighed by a 1-D box kernel over their distance u
+// across it (photon_pass_beams.cpp): the box's average is biased by r^2 L'' / 6 (E[u^2] = r^2 / 3);
+// a weight a (u^2 / r^2 - 1/3) integrates to 0, and against u^2 / 2 to a r^2 (1/5 - 1/9) / 2, which
+// is r^2 / 6 for a = 15 / 4.
+inline Color bias_sum_on_line(const Color& flux, const Color& flux_u2, double r2) {
+  return flux_u2 * (15.0 / (4.0 * r2)) - flux * (5.0 / 4.0);
+}
+
 // Running mean and sum of squared deviations in float (Welford: stable over thousands of passes,
 // where sums of squares would cancel).
 struct RunningMoments {

@@ -16,6 +16,8 @@ namespace {
 
 constexpr uint64_t kEyeStream = 1;
 constexpr int kSplitDepth = 3;      // glass interfaces split into both branches up to this depth
+// A path split in a medium (split_path) goes on for sure where it keeps at least this much.
+constexpr double kSplitRoulette = 0.1;
 constexpr int kRowsPerChunk = 2;
 
 struct EyeVertex {
@@ -218,7 +220,15 @@ struct EyeTracer {
     bool scattered = false;
     double distance = 0.0;
     Color weight{1.0};
+    bool goes_on = false;  // scattered, and the path also goes on to the end with weight `through`
+    Color through{0.0};
   };
+  // A scattering's free-path weight without sigma_s (a VolumeHitPoint's).
+  static Color unit_weight(const Medium& med, const Color& weight) {
+    Color unit(0.0);
+    for (int c = 0; c < 3; ++c) unit[c] = med.c.sigma_s[c] > 0.0 ? weight[c] / med.c.sigma_s[c] : 0.0;
+    return unit;
+  }
   FreePath free_path(const EyeVertex& v, const Medium& med, double nearest, const Color& light, Rng& rng,
                      Color& emitted) const {
     const bool may_scatter = !v.emission_only && med.scatters();
@@ -233,11 +243,34 @@ struct EyeTracer {
     emitted += v.throughput * (light * transmittance(med.sigma_t, nearest) + medium_emission_along(med, nearest));
     if (!may_scatter) return {false, nearest, transmittance(med.sigma_t, nearest)};
     const double u1 = rng.uniform(), u2 = rng.uniform();
+    if (settings.volume_beams) return split_path(v, med, nearest, rng, u1, u2);
     const FreePathSample f = sample_free_path(med.sigma_t, med.c.sigma_s, v.throughput, nearest, u1, u2);
     if (f.event == FreePathEvent::Exit) return {false, f.distance, f.weight};
-    Color unit(0.0);
-    for (int c = 0; c < 3; ++c) unit[c] = med.c.sigma_s[c] > 0.0 ? f.weight[c] / med.c.sigma_s[c] : 0.0;
-    return {true, f.distance, unit};
+    return {true, f.distance, unit_weight(med, f.weight)};
+  }
+
+  // With Settings::volume_beams, in a homogeneous medium that scatters: the path both scatters and
+  // goes on (splitting). The scattering distance is drawn within the segment (free_path.h's
+  // chromatic sampling, truncated to it) with weight T(t) / pdf(t) (without sigma_s), and the path
+  // goes on to the end with weight T(end), or where that is small with Russian roulette on it. In
+  // thin fog most free paths cross the segment without scattering, so most camera rays drew no hit
+  // point there and the fog's direct light came from a few; split, each does.
+  FreePath split_path(const EyeVertex& v, const Medium& med, double nearest, Rng& rng, double u1, double u2) const {
+    FreePath out;
+    const Color through = transmittance(med.sigma_t, nearest);
+    const FreePathSample f = sample_free_path_within(med.sigma_t, med.c.sigma_s, v.throughput, nearest, u1, u2);
+    if (f.event == FreePathEvent::Scatter) {
+      out.scattered = true;
+      out.distance = f.distance;
+      out.weight = unit_weight(med, f.weight);
+    }
+    const double keep = std::fmin(1.0, max_component(through) / kSplitRoulette);
+    if (keep > 0.0 && rng.uniform() < keep) {
+      out.goes_on = true;
+      out.through = through / keep;
+    }
+    if (!out.scattered) out.distance = nearest, out.weight = out.goes_on ? out.through : Color(0.0);
+    return out;
   }
 
   // Scenes with media: v's ray segment up to the surface at `t_surface` (kInf: none) in the medium
@@ -273,7 +306,8 @@ struct EyeTracer {
       step.weight = f.weight;
       return step;
     }
-    step.scattered = true;
+    step.scattered = !f.goes_on;
+    step.weight = f.through;
     const Vec3 position = v.ray.origin + f.distance * v.ray.direction;
     double r = settings.initial_radius;
     if (r <= 0.0) r = settings.volume_radius_scale * settings.initial_radius_pixels * pixel_size(v.length + f.distance);
@@ -288,7 +322,6 @@ struct EyeTracer {
     h.media = vm.stack;
     h.route = v.route;
     h.chain = v.chain;
-    h.photons = true;
     if (beam) out.beams.back().point = static_cast<uint32_t>(out.volume.size());
     out.volume.push_back(h);
     return step;

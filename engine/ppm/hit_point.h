@@ -86,7 +86,7 @@ struct VolumeHitPoint {
   MediumStack media;  // the shadow rays' start
   uint8_t route;      // its eye chain's (light_components.h: what it files its light as)
   Bounces chain;      // its eye chain's scatterings, with bounce limits (bounce_limits.h)
-  bool photons;       // whether it gathers volume photons (false: its segment's VolumeBeam does)
+  bool beamed_elsewhere;  // its segment's VolumeBeam gathers the photon beams: it skips their photons
   // Found this pass: the gathered photons (flux times phase times weight) and the direct light;
   // the photons' bias sum in luminance (error_estimate.h's bias_sum_in_ball).
   uint32_t m;
@@ -95,16 +95,16 @@ struct VolumeHitPoint {
   float pass_bias;
 };
 
-// An eye ray's segment through a homogeneous medium (Settings::volume_beams): the beam radiance
-// estimate (Jarosz et al. 2008) gathers the volume photons within r of the whole segment, each
-// times the transmittance exp(-sigma_t t) to its projection t on the beam and the phase function
-// towards the eye, over pi r^2 (a 2-D kernel across the beam). Every camera ray through fog then
-// sees the fog's photons, where a point estimate needs its free path to end near them: in thin fog
-// most never do. Where a beam gathers, the hit point its segment's free path may still draw
-// (`point`) samples direct light only. Beams gather in optically thin media only (sigma_t r at
-// most kThinBeam): a disc across a camera ray that enters a dense medium reaches out of it where
-// the ray's light comes from, and counts no photons there (a dense smoke ball 13% dark in a
-// block); points divide by their ball's share inside (volume_boundary) instead.
+// An eye ray's segment through a homogeneous scattering medium (Settings::volume_beams): it
+// gathers the pass's photon beams that pass within r of it (photon_pass_beams.cpp, the Beam x
+// Beam estimate of Jarosz et al. 2011), the light that reached the medium along chains of
+// specular bounces (photon_beams.h). Each such crossing lights the whole camera ray, where a
+// point estimate needs its free path to end near a photon: in thin fog most never do. The hit
+// point its free path draws (`point`) gathers the other volume photons. Beams gather only where
+// the medium is optically thin at their radius (sigma_t r at most kThinBeam): in a dense one
+// photon beams are short against r / sin(theta), the stretch over which two nearly parallel
+// beams meet, and crossings cut by their ends go missing (a dense slab lit and seen from above
+// 17% dark); there the hit point gathers every volume photon, those of beams too.
 constexpr double kThinBeam = 0.1;
 constexpr uint32_t kNoPoint = ~0u;
 struct VolumeBeam {
@@ -119,8 +119,8 @@ struct VolumeBeam {
   uint8_t route;  // as VolumeHitPoint's
   Bounces chain;
   uint32_t point;  // the segment's VolumeHitPoint in HitPoints::volume, or kNoPoint
-  // Found this pass: photons, their flux (times transmittance, phase and weight) and bias sum
-  // (error_estimate.h's bias_sum over their distances across the beam), in luminance.
+  // Found this pass: photon beams, their flux (times transmittance, phase, sigma_s, 1 / sin and
+  // weight) and bias sum (error_estimate.h's bias_sum_on_line), in luminance.
   uint32_t m;
   Vec3f tau;
   float pass_bias;

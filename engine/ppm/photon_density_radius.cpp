@@ -46,9 +46,10 @@ bool trace_pilot(const Scene& scene, const LightSampler& lights, const Settings&
       return;
     }
     trace_photons_in_media(scene, lights, settings, limits, first, last, rng_of, deposit,
-                           [&](const Vec3& pos, const Vec3&, const Color&, const Bounces&) {
+                           [&](const Vec3& pos, const Vec3&, const Color&, const Bounces&, bool) {
                              volume_buffers[c].push_back(pos);
-                           });
+                           },
+                           [](const PhotonBeam&) {});
   };
   if (!parallel_chunks(threads, chunks, trace, cancel, poll, settings.progress_interval)) return false;
   for (const std::vector<Vec3>& b : buffers) positions.insert(positions.end(), b.begin(), b.end());

@@ -379,6 +379,9 @@ bool PhotonPass::trace_and_index(const Scene& scene, const LightSampler& lights,
   if (!run_polled(index, cancel, poll, settings_.progress_interval)) return false;
   if (media_ && !run_polled([&] { count += index_volume_photons(chunks); }, cancel, poll, settings_.progress_interval))
     return false;
+  if (media_ && settings_.volume_beams &&
+      !run_polled([&] { index_photon_beams(pass, chunks); }, cancel, poll, settings_.progress_interval))
+    return false;
   counters.index_seconds += seconds_since(t0);
   counters.deposited += count;
   counters.emitted += settings_.photons_per_pass;
@@ -419,6 +422,8 @@ bool PhotonPass::trace_into_chunks(const Scene& scene, const LightSampler& light
   media_ = scene.has_media();
   if (media_ && chunk_volume_.size() < chunks) chunk_volume_.resize(chunks);
   if (media_ && limits_.active && chunk_volume_bounces_.size() < chunks) chunk_volume_bounces_.resize(chunks);
+  const bool beams = media_ && settings_.volume_beams;
+  if (beams && chunk_beams_.size() < chunks) chunk_beams_.resize(chunks);
   auto trace = [&](int, size_t chunk) {
     auto& buffer = chunk_photons_[chunk];
     buffer.clear();
@@ -440,13 +445,14 @@ bool PhotonPass::trace_into_chunks(const Scene& scene, const LightSampler& light
     volume.clear();
     std::vector<Bounces>* volume_bounces = limits_.active ? &chunk_volume_bounces_[chunk] : nullptr;
     if (volume_bounces) volume_bounces->clear();
+    if (beams) chunk_beams_[chunk].clear();
     trace_photons_in_media(
         scene, lights, settings_, limits_, first, last, rng_of, deposit,
-        [&](const Vec3& pos, const Vec3& dir, const Color& flux, const Bounces& used) {
-          volume.push_back(VolumePhoton{pos, Vec3f(dir), Vec3f(flux)});
+        [&](const Vec3& pos, const Vec3& dir, const Color& flux, const Bounces& used, bool beamed) {
+          volume.push_back(VolumePhoton{pos, Vec3f(dir), Vec3f(flux), beamed});
           if (volume_bounces) volume_bounces->push_back(used);
         },
-        guided ? &guide_ : nullptr);
+        [&](const PhotonBeam& b) { chunk_beams_[chunk].push_back(b); }, guided ? &guide_ : nullptr);
   };
   return parallel_chunks(threads_, chunks, trace, cancel, poll, settings_.progress_interval);
 }
@@ -605,10 +611,17 @@ size_t PhotonPass::index_volume_photons(size_t chunks) {
     for (size_t j = 0; j < chunk_volume_[c].size(); ++j, ++k) {
       const VolumePhoton& v = chunk_volume_[c][j];
       volume_positions_[new_of_old[k]] = v.position;
-      volume_arrivals_[new_of_old[k]] = VolumeArrival{v.direction, v.flux};
+      volume_arrivals_[new_of_old[k]] = VolumeArrival{v.direction, v.flux, v.beamed};
       if (limits_.active) volume_arrival_bounces_[new_of_old[k]] = chunk_volume_bounces_[c][j];
     }
   return count;
+}
+
+// The pass's photon beams indexed, one per kPhotonsPerBeam photons kept or kMinPhotonBeams (the
+// same ones in every share of the pass).
+void PhotonPass::index_photon_beams(uint64_t pass, size_t chunks) {
+  const size_t most = std::max<uint64_t>(kMinPhotonBeams, settings_.photons_per_pass / kPhotonsPerBeam);
+  photon_beams_.build(chunk_beams_, chunks, most, mix64(settings_.seed ^ mix64(kPhotonStream + pass)));
 }
 
 // Each hit point in a medium: the volume photons within r, each times the phase function from its
@@ -624,7 +637,7 @@ bool PhotonPass::gather_volume(const Scene& scene, std::vector<VolumeHitPoint>& 
       h.m = 0;
       h.tau = Vec3f(0.0f);
       h.pass_bias = 0.0f;
-      if (!any || !h.photons) continue;
+      if (!any) continue;
       const Medium& medium = scene.medium(static_cast<uint32_t>(h.medium));
       const Phase& phase = medium.c.phase;
       const Vec3 center = h.position, back = -Vec3(h.direction);
@@ -639,6 +652,7 @@ bool PhotonPass::gather_volume(const Scene& scene, std::vector<VolumeHitPoint>& 
           const double d2 = glm::dot(d, d);
           if (d2 > r2 || (limited && !within(volume_arrival_bounces_[p], budget))) continue;
           const VolumeArrival& a = volume_arrivals_[p];
+          if (a.beamed && h.beamed_elsewhere) continue;
           ++m;
           const Color f = Color(a.flux) * phase.eval(Vec3(a.direction), back);
           sum += f;
@@ -701,7 +715,7 @@ size_t PhotonPass::photon_bytes() const {
 }
 
 size_t PhotonPass::index_bytes() const {
-  return quantile_.memory_bytes() + hash_.memory_bytes() + volume_grid_.memory_bytes();
+  return quantile_.memory_bytes() + hash_.memory_bytes() + volume_grid_.memory_bytes() + photon_beams_.memory_bytes();
 }
 
 size_t PhotonPass::per_hit_point_bytes() const {

@@ -14,6 +14,7 @@
 #include "ppm/bounce_limits.h"
 #include "ppm/hash_grid.h"
 #include "ppm/hit_point.h"
+#include "ppm/photon_beams.h"
 #include "ppm/photon_guide.h"
 #include "ppm/quantile_grid.h"
 #include "ppm/settings.h"
@@ -178,10 +179,12 @@ class PhotonPass {
     Vec3 position;
     Vec3f direction;  // of travel into the scattering point
     Vec3f flux;       // times sigma_s T / pdf (photon_tracer_media.h)
+    bool beamed;      // a photon beam carried it here too
   };
   struct VolumeArrival {
     Vec3f direction;
     Vec3f flux;
+    bool beamed;
   };
   bool media_ = false;  // the pass's scene has media
   std::vector<std::vector<VolumePhoton>> chunk_volume_;
@@ -192,6 +195,10 @@ class PhotonPass {
   std::vector<Bounces> volume_arrival_bounces_;  // with bounce limits only, beside volume_arrivals_
   std::vector<uint32_t> volume_old_of_new_;
   Aabb volume_bounds_;  // of the pass's volume photons
+  // With Settings::volume_beams: the photon beams per chunk as traced, then indexed.
+  std::vector<std::vector<PhotonBeam>> chunk_beams_;
+  PhotonBeamIndex photon_beams_;
+  void index_photon_beams(uint64_t pass, size_t chunks);
   void gather_beam(const Scene& scene, VolumeBeam& beam) const;
 };
 

@@ -1,4 +1,9 @@
-// The beam radiance estimate (PhotonPass::gather_beams; hit_point.h's VolumeBeam).
+// The Beam x Beam estimate (Jarosz et al. 2011, "1D" blur): eye beams (hit_point.h's VolumeBeam)
+// against the pass's photon beams (photon_beams.h). Where the two lines pass within r of each
+// other, at t_e along the eye beam and t_p along the photon beam, the eye sees
+//   flux(t_p) sigma_s phase T(t_e) k(u) / sin(theta),
+// u the distance between the lines, theta the angle between them and k the box kernel 1 / (2 r)
+// (its 1 / (2 r) and the photon count are applied with the pass, render_context.h).
 #include "ppm/photon_pass.h"
 
 #include "base/parallel.h"
@@ -12,14 +17,10 @@ namespace ppm {
 
 namespace {
 
-// A beam is searched piece by piece (photons counted in the piece their projection falls in), each
-// piece's box widened by r. A query's fixed cost (slab lookups, rows) outweighs the photons its
-// box holds beyond the cylinder up to pieces of about 8r (fog_caustic: the gather 3.3 s in 20
-// passes at 2r, 2.4 at 4r, 2.2 at 8r and 16r, 2.5 at 32r). A long beam at a tiny radius takes
-// longer pieces, so that its queries stay bounded.
-constexpr double kPieceRadii = 8.0;
-constexpr double kMaxPieces = 256.0;
-constexpr size_t kBeamChunk = 256;  // beams per work item: each is many queries
+constexpr size_t kBeamChunk = 256;  // eye beams per work item
+// Nearly parallel beams are left out: their 1 / sin(theta) is unbounded, and the pair's share of
+// all pairs (a cone of this half-angle) is ~1e-8.
+constexpr double kMinSin2 = 1e-8;
 
 }  // namespace
 
@@ -36,51 +37,44 @@ bool PhotonPass::gather_beams(const Scene& scene, std::vector<VolumeBeam>& beams
   return true;
 }
 
-// Each photon counts in the piece its projection on the beam falls in, once; its distance across
-// the beam decides whether it is inside.
 void PhotonPass::gather_beam(const Scene& scene, VolumeBeam& b) const {
   b.m = 0;
   b.tau = Vec3f(0.0f);
   b.pass_bias = 0.0f;
-  if (volume_positions_.empty() || !(b.r2 > 0.0f)) return;
+  if (photon_beams_.size() == 0 || !(b.r2 > 0.0f)) return;
   const double r2 = b.r2, r = std::sqrt(r2);
   const Vec3 origin = b.origin, dir = Vec3(b.direction), back = -dir;
-  Aabb reach = volume_bounds_;
-  reach.lo -= r;
-  reach.hi += r;
-  double begin, end;
-  slab_interval(reach, origin, 1.0 / dir, b.length, begin, end);
-  if (!(begin <= end)) return;
-  const Phase& phase = scene.medium(static_cast<uint32_t>(b.medium)).c.phase;
-  const Color sigma_t(b.sigma_t);
+  const Medium& med = scene.medium(static_cast<uint32_t>(b.medium));
+  const Phase& phase = med.c.phase;
+  const Color sigma_t(b.sigma_t), sigma_s = med.c.sigma_s;
   const bool limited = limits_.active;
   const Bounces budget = limited ? limits_.budget(b.chain) : Bounces{};
-  const double step = std::max(kPieceRadii * r, (end - begin) / kMaxPieces);
-  const auto pieces = static_cast<uint32_t>(std::max(1.0, std::ceil((end - begin) / step)));
-  Color sum(0.0), sum_d2(0.0);
+  Color sum(0.0), sum_u2(0.0);
   uint32_t m = 0;
-  for (uint32_t k = 0; k < pieces; ++k) {
-    const double a = begin + k * step, z = k + 1 == pieces ? end : begin + (k + 1) * step;
-    const Vec3 p0 = origin + a * dir, p1 = origin + z * dir;
-    const bool first = k == 0, last = k + 1 == pieces;
-    volume_grid_.for_each_run_in_box(glm::min(p0, p1) - r, glm::max(p0, p1) + r, [&](uint32_t from, uint32_t to) {
-      for (uint32_t p = from; p < to; ++p) {
-        const Vec3 d = volume_positions_[p] - origin;
-        const double t = glm::dot(d, dir);
-        if ((t < a && !first) || (t >= z && !last) || t < 0.0 || t > b.length) continue;
-        const double d2 = std::max(0.0, glm::dot(d, d) - t * t);
-        if (d2 > r2 || (limited && !within(volume_arrival_bounces_[p], budget))) continue;
-        const VolumeArrival& arrival = volume_arrivals_[p];
-        ++m;
-        const Color f = Color(arrival.flux) * (phase.eval(Vec3(arrival.direction), back)) * transmittance(sigma_t, t);
-        sum += f;
-        sum_d2 += f * d2;
-      }
-    });
-  }
+  photon_beams_.for_each_near_segment(origin, 1.0 / dir, 0.0, b.length, r, [&](const PhotonBeam& p,
+                                                                                const PhotonBeamIndex::Piece& piece) {
+    if (p.medium != b.medium) return;
+    const Vec3 pd(p.direction), w = origin - p.origin;
+    const double c = glm::dot(dir, pd), sin2 = 1.0 - c * c;
+    if (!(sin2 > kMinSin2)) return;
+    const double d = glm::dot(dir, w), e = glm::dot(pd, w);
+    const double te = (c * e - d) / sin2, tp = (e - c * d) / sin2;
+    if (te < 0.0 || te > b.length || tp < 0.0 || tp > p.length || !piece.holds(tp, p)) return;
+    const Vec3 across = w + te * dir - tp * pd;
+    const double u2 = glm::dot(across, across);
+    if (u2 > r2 || (limited && !within(p.used, budget))) return;
+    const Color tr = transmittance(sigma_t, tp);
+    const double reach = glm::dot(Color(p.channel_pdf), tr);
+    if (!(reach > 0.0)) return;
+    ++m;
+    const Color f = Color(p.flux) * tr * (phase.eval(pd, back) / (reach * std::sqrt(sin2))) * sigma_s *
+                    transmittance(sigma_t, te);
+    sum += f;
+    sum_u2 += f * u2;
+  });
   b.m = m;
   b.tau = Vec3f(sum * Color(b.weight));
-  b.pass_bias = static_cast<float>(luminance(bias_sum(sum, sum_d2, r2) * Color(b.weight)));
+  b.pass_bias = static_cast<float>(luminance(bias_sum_on_line(sum, sum_u2, r2) * Color(b.weight)));
 }
 
 }  // namespace ppm

@@ -20,24 +20,29 @@
 #pragma once
 
 #include "math/sampling.h"
+#include "ppm/photon_beams.h"
 #include "ppm/photon_tracer.h"
 #include "shading/free_path.h"
 
 namespace ppm {
 
+// Whether p's light reaches a medium only along specular bounces, or none: the light that photon
+// beams carry (photon_beams.h) with Settings::volume_beams, in homogeneous media.
+inline bool specular_chain(const PhotonPath& p) { return !p.scattered || p.specular_only; }
+
 // The scattering event at distance f.distance along p's ray in medium `med`: a volume photon
-// deposited (after the first bounce unless `deposit_direct`, see bounce_photon), then the phase
-// function sampled. False when the path ends.
+// deposited (after the first bounce unless `deposit_direct`, see bounce_photon; `beamed` where a
+// photon beam carried the way here), then the phase function sampled. False when the path ends.
 template <class DepositVolume>
 bool scatter_photon_in_medium(const Settings& settings, const BounceLimits& limits, PhotonPath& p, const Medium& med,
-                              const FreePathSample& f, bool deposit_direct, DepositVolume&& deposit_volume,
-                              uint64_t& deposits) {
+                              const FreePathSample& f, bool deposit_direct, bool beamed,
+                              DepositVolume&& deposit_volume, uint64_t& deposits) {
   const Vec3 x = p.ray.origin + f.distance * p.ray.direction;
   if (!soft_falloff_reaches(p, x)) return false;
   p.flux *= f.weight;
   if (p.bounce > 0 || deposit_direct) {
     // With bounce limits: the path's counts with the hit point's own scattering here.
-    deposit_volume(x, p.ray.direction, p.flux, limits.active && p.bounce > 0 ? plus_volume(p.used) : p.used);
+    deposit_volume(x, p.ray.direction, p.flux, limits.active && p.bounce > 0 ? plus_volume(p.used) : p.used, beamed);
     ++deposits;
   }
   const double survive = std::fmin(1.0, max_component(f.weight));
@@ -111,16 +116,24 @@ inline MediaPhoton emit_media_photon(const Scene& scene, const LightSampler& lig
   return out;
 }
 
+// A photon beam's length in float: an endless one (a clear channel in a world medium) ends where
+// float does.
+inline float beam_length(double distance) { return static_cast<float>(std::fmin(distance, 3.0e38)); }
+
 // Traces photons [first, last) as trace_photons does, through media: surface photons to
-// `deposit`, volume photons to `deposit_volume(position, travel_direction, flux, bounces)` (`bounces`
-// as `deposit`'s: the path's counts with the hit point's own scattering, with bounce limits).
-template <class RngOf, class Deposit, class DepositVolume>
+// `deposit`, volume photons to `deposit_volume(position, travel_direction, flux, bounces, beamed)`
+// (`bounces` as `deposit`'s: the path's counts with the hit point's own scattering, with bounce
+// limits), and with Settings::volume_beams the stretches through homogeneous scattering media that
+// light reaches along specular chains to `deposit_beam(PhotonBeam)` (photon_beams.h) as well; the
+// volume photons at their ends are `beamed`, for the hit points where beams do not gather.
+template <class RngOf, class Deposit, class DepositVolume, class DepositBeam>
 uint64_t trace_photons_in_media(const Scene& scene, const LightSampler& lights, const Settings& settings,
                                 const BounceLimits& limits, uint64_t first, uint64_t last, RngOf&& rng_of,
-                                Deposit&& deposit, DepositVolume&& deposit_volume,
+                                Deposit&& deposit, DepositVolume&& deposit_volume, DepositBeam&& deposit_beam,
                                 const PhotonGuide* guide = nullptr) {
   uint64_t deposits = 0;
   const bool photons_direct = settings.direct_light == DirectLight::Photons;
+  const bool beams = settings.volume_beams;
   for (uint64_t i = first; i < last; ++i) {
     MediaPhoton start = emit_media_photon(scene, lights, limits, rng_of(i), guide);
     if (!start.emitted) continue;
@@ -137,7 +150,8 @@ uint64_t trace_photons_in_media(const Scene& scene, const LightSampler& lights, 
           const TrackedSegment f = scene.track(*med, p.ray, segment, p.flux, true, p.rng);
           if (f.event == FreePathEvent::Scatter) {
             const FreePathSample at{FreePathEvent::Scatter, f.distance, f.weight};
-            if (!scatter_photon_in_medium(settings, limits, p, *med, at, deposit_direct, deposit_volume, deposits))
+            if (!scatter_photon_in_medium(settings, limits, p, *med, at, deposit_direct, false, deposit_volume,
+                                          deposits))
               break;
             continue;
           }
@@ -147,8 +161,14 @@ uint64_t trace_photons_in_media(const Scene& scene, const LightSampler& lights, 
         } else {
           const double u1 = p.rng.uniform(), u2 = p.rng.uniform();
           const FreePathSample f = sample_free_path(med->sigma_t, med->c.sigma_s, p.flux, segment, u1, u2);
+          const bool beamed = beams && specular_chain(p) && (p.bounce > 0 || deposit_direct);
+          if (beamed)
+            deposit_beam(PhotonBeam{p.ray.origin, Vec3f(p.ray.direction), beam_length(f.distance), Vec3f(p.flux),
+                                    Vec3f(f.channel_pdf), scene.medium_index(med),
+                                    limits.active && p.bounce > 0 ? plus_volume(p.used) : p.used});
           if (f.event == FreePathEvent::Scatter) {
-            if (!scatter_photon_in_medium(settings, limits, p, *med, f, deposit_direct, deposit_volume, deposits))
+            if (!scatter_photon_in_medium(settings, limits, p, *med, f, deposit_direct, beamed, deposit_volume,
+                                          deposits))
               break;
             continue;
           }

@@ -66,6 +66,12 @@ struct RenderContext {
     if (!analysis.trace_photons || !(r2 > 0.0) || !(photons > 0.0)) return 0.0;
     return lights.flux_unit() / (4.0 / 3.0 * kPi * r2 * std::sqrt(r2) * photons);
   }
+  // The same for an eye beam, its photon beams' crossings weighed by the 1-D kernel of half-width r
+  // (Beam x Beam 1D, photon_pass_beams.cpp).
+  double beam_radiance_scale(double r2, double photons) const {
+    if (!analysis.trace_photons || !(r2 > 0.0) || !(photons > 0.0)) return 0.0;
+    return lights.flux_unit() / (2.0 * std::sqrt(r2) * photons);
+  }
   void add_memory(MemoryUse& use) const;
   // Photon guiding (photon_guide.h), at the start of a pass: each pixel's weight from the error
   // estimate so far (its noise over its luminance, no credit before kMinErrorPasses). Then at the

@@ -161,11 +161,12 @@ bool StochasticHitPoints::volume_band(size_t first_pixel, uint64_t pass, const u
 }
 
 // Each beam at its pixel's beam radius (a pixel's first beam sets it, no smaller than the volume
-// photons' spacing) or the global schedule's; in a medium thin at that radius it gathers in place
-// of its segment's hit point, else (r2 0) the hit point gathers.
+// photons' spacing) or the global schedule's (a 1-D kernel's: r follows the surface's product); in
+// a medium thin at that radius it gathers the photon beams and its segment's hit point skips their
+// photons, else (r2 0) the hit point gathers them all.
 void StochasticHitPoints::start_beams(uint64_t pass) {
   const bool global = c_.settings.radius_schedule == RadiusSchedule::Global;
-  const double factor = global ? global_radius_factor(pass + 1, c_.settings.alpha) : 1.0;
+  const double factor = global ? global_radius_factor_in(1, pass + 1, c_.settings.alpha) : 1.0;
   for (VolumeBeam& b : hit_points_.beams) {
     const double initial = std::max<double>(b.r2, c_.min_volume_r2);
     if (global) {
@@ -178,7 +179,7 @@ void StochasticHitPoints::start_beams(uint64_t pass) {
     if (max_component(Color(b.sigma_t)) * std::sqrt(static_cast<double>(b.r2)) > kThinBeam)
       b.r2 = 0.0f;
     else if (b.point != kNoPoint)
-      hit_points_.volume[b.point].photons = false;
+      hit_points_.volume[b.point].beamed_elsewhere = true;
   }
 }
 
@@ -192,8 +193,8 @@ bool StochasticHitPoints::beam_band(size_t first_pixel, const uint8_t* pixel_sam
   for (size_t p = 0; p < beam_band_.size(); ++p) {
     const VolumeFound& f = beam_band_[p];
     const uint32_t samples = pixel_samples ? pixel_samples[first_pixel + p] : 1;
-    const double ratio = beam_pixels_[first_pixel + p].fold((f.m + samples / 2) / samples, f.tau, c_.settings.alpha,
-                                                            c_.settings.threshold);
+    const double ratio = beam_pixels_[first_pixel + p].fold_in(1, (f.m + samples / 2) / samples, f.tau,
+                                                               c_.settings.alpha, c_.settings.threshold);
     if (!beam_components_.empty()) beam_components_[first_pixel + p].fold(beam_parts_[p].tau, ratio);
   }
   return true;
@@ -206,7 +207,7 @@ void StochasticHitPoints::sum_beam_band(size_t first_pixel) {
   clear_band(beam_band_, beam_parts_);
   for (const VolumeBeam& b : hit_points_.beams) {
     VolumeFound& f = beam_band_[b.pixel - first_pixel];
-    const float scale = static_cast<float>(c_.pass_radiance_scale(b.r2, photons));
+    const float scale = static_cast<float>(c_.beam_radiance_scale(b.r2, photons));
     f.m += b.m, f.tau += b.tau, f.radiance += b.tau * scale, f.bias += b.pass_bias * scale;
     if (beam_parts_.empty()) continue;
     VolumeParts& parts = beam_parts_[b.pixel - first_pixel];
@@ -433,7 +434,10 @@ PixelValue StochasticHitPoints::pixel(size_t p) const {
     if (c_.analysis.trace_photons)
       volume = volume_photon_radiance(v.r2, v.in_double(), emitted, c_.lights.flux_unit());
   }
-  if (!beam_pixels_.empty()) volume += c_.photon_radiance(beam_pixels_[p].r2, beam_pixels_[p].in_double(), emitted);
+  if (!beam_pixels_.empty()) {
+    const FloatPhotonStats& b = beam_pixels_[p];
+    volume += (Color(b.tau) + Color(b.tau_m)) * c_.beam_radiance_scale(b.r2, emitted);
+  }
   return PixelValue{Color(px.light) + c_.photon_radiance(px.r2, px.in_double(), emitted) + volume, px.transparency};
 }
 
@@ -445,7 +449,7 @@ ComponentLight StochasticHitPoints::components(size_t p) const {
   if (!volume_components_.empty())
     volume_components_[p].add_to(out, c_.volume_radiance_scale(volume_pixels_[p].r2, emitted));
   if (!beam_components_.empty())
-    beam_components_[p].add_to(out, c_.pass_radiance_scale(beam_pixels_[p].r2, emitted));
+    beam_components_[p].add_to(out, c_.beam_radiance_scale(beam_pixels_[p].r2, emitted));
   return out;
 }
 

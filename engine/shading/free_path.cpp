@@ -55,10 +55,50 @@ FreePathSample sample_free_path(const Color& sigma_t_in, const Color& sigma_s_in
   };
   if (t < d) {
     const Color tr = transmittance(sigma_t, t);
-    return {FreePathEvent::Scatter, t, divided(sigma_s * tr, glm::dot(pick.pdf, sigma_t * tr))};
+    return {FreePathEvent::Scatter, t, divided(sigma_s * tr, glm::dot(pick.pdf, sigma_t * tr)), pick.pdf};
   }
   const Color tr = transmittance(sigma_t, d);
-  return {FreePathEvent::Exit, d, divided(tr, glm::dot(pick.pdf, tr))};
+  return {FreePathEvent::Exit, d, divided(tr, glm::dot(pick.pdf, tr)), pick.pdf};
+}
+
+FreePathSample sample_free_path_within(const Color& sigma_t_in, const Color& sigma_s_in, const Color& throughput,
+                                       double segment, double u_channel, double u_distance) {
+  const Color sigma_t = safe_coefficients(sigma_t_in);
+  const Color sigma_s = glm::min(safe_coefficients(sigma_s_in), sigma_t);
+  const double d = safe_distance(segment);
+  FreePathSample out{FreePathEvent::Exit, d, Color(0.0)};
+  if (sigma_s == Color(0.0) || !(d > 0.0)) return out;
+  Color albedo(1.0);
+  for (int c = 0; c < 3; ++c)
+    if (sigma_t[c] > 0.0) albedo[c] = sigma_s[c] / sigma_t[c];
+  const Color safe_throughput(std::isfinite(throughput.x) ? throughput.x : 0.0,
+                              std::isfinite(throughput.y) ? throughput.y : 0.0,
+                              std::isfinite(throughput.z) ? throughput.z : 0.0);
+  const ChannelPick pick = pick_channel(albedo, safe_throughput, u_channel);
+  out.channel_pdf = pick.pdf;
+  // Each channel's truncated density at t: sigma e^(-sigma t) / (1 - e^(-sigma d)), or 1 / d.
+  const auto density = [&](int c, double t) {
+    const double s = sigma_t[c];
+    if (!(s > 0.0)) return std::isfinite(d) ? 1.0 / d : 0.0;
+    return s * std::exp(-s * t) / -std::expm1(-s * d);
+  };
+  const double s = sigma_t[pick.channel], u = safe_uniform(u_distance);
+  double t;
+  if (s > 0.0)
+    t = -std::log1p(u * std::expm1(-s * d)) / s;
+  else if (std::isfinite(d))
+    t = u * d;
+  else
+    return out;
+  t = std::min(t, d);
+  double pdf = 0.0;
+  for (int c = 0; c < 3; ++c)
+    if (pick.pdf[c] > 0.0) pdf += pick.pdf[c] * density(c, t);
+  if (!(pdf > 0.0) || !std::isfinite(t)) return out;
+  out.event = FreePathEvent::Scatter;
+  out.distance = t;
+  out.weight = sigma_s * transmittance(sigma_t, t) / pdf;
+  return out;
 }
 
 }  // namespace ppm

@@ -66,6 +66,8 @@ struct FreePathSample {
   FreePathEvent event = FreePathEvent::Exit;
   double distance = 0.0;  // to the scattering point, or the segment's length
   Color weight{0.0};      // what the path's throughput is multiplied by
+  // The channels' probabilities: the free path reaches t with probability sum_c pdf_c T_c(t).
+  Color channel_pdf{1.0 / 3.0};
 };
 
 // One segment of length `segment` (may be infinite) through a homogeneous medium. Scatter at t:
@@ -74,6 +76,13 @@ struct FreePathSample {
 // (sigma_s = 0) is not sampled: the segment is crossed with weight T(d), as Cycles does.
 FreePathSample sample_free_path(const Color& sigma_t, const Color& sigma_s, const Color& throughput, double segment,
                                 double u_channel, double u_distance);
+
+// The same drawn within the segment (a collision for sure, where any channel can have one): the
+// channel's exponential truncated to [0, segment), weight sigma_s T(t) / sum_c pdf_c sigma_t,c T_c(t)
+// / (1 - T_c(segment)); a channel without extinction draws uniformly over a finite segment. Exit
+// (weight 0) where nothing can collide.
+FreePathSample sample_free_path_within(const Color& sigma_t, const Color& sigma_s, const Color& throughput,
+                                       double segment, double u_channel, double u_distance);
 
 // A density as the tracker counts it (see the top): within [0, majorant].
 inline double tracked_density(double sigma, double majorant) { return sigma > 0.0 ? std::min(sigma, majorant) : 0.0; }

@@ -89,6 +89,31 @@ TEST(FreePath, ChromaticSamplingIsUnbiasedPerChannel) {
   expect_mean(scattered, albedo * (Color(1.0) - transmittance(sigma_t, d)), "scattered weight = albedo (1 - T)");
 }
 
+// The split camera path's sampler (volume beams): a collision for sure, inside the segment, whose
+// weight still averages to albedo (1 - T) per channel; a clear channel draws uniformly, and a
+// segment where nothing can collide gives Exit.
+TEST(FreePath, SamplingWithinTheSegmentIsUnbiasedPerChannel) {
+  const Color sigma_t(0.1, 2.0, 0.0), sigma_s(0.09, 1.0, 0.0), throughput(1.0, 0.2, 3.0);
+  const Color albedo(0.9, 0.5, 0.0);
+  const double d = 0.5;
+  const int n = test_samples(400000);
+  Tally scattered;
+  Rng rng(23, 0, 0);
+  for (int i = 0; i < n; ++i) {
+    const FreePathSample s = sample_free_path_within(sigma_t, sigma_s, throughput, d, rng.uniform(), rng.uniform());
+    ASSERT_EQ(s.event, FreePathEvent::Scatter);
+    ASSERT_GE(s.distance, 0.0);
+    ASSERT_LE(s.distance, d);
+    scattered.add(s.weight);
+  }
+  expect_mean(scattered, albedo * (Color(1.0) - transmittance(sigma_t, d)), "scattered weight = albedo (1 - T)");
+  const FreePathSample none = sample_free_path_within(Color(0.0), Color(0.0), throughput, d, 0.5, 0.5);
+  EXPECT_EQ(none.event, FreePathEvent::Exit);
+  const FreePathSample endless = sample_free_path_within(Color(0.0, 1.0, 0.0), Color(0.0, 1.0, 0.0), Color(1.0, 0.0, 0.0),
+                                                         kInf, 0.5, 0.5);
+  EXPECT_TRUE(endless.event == FreePathEvent::Exit || std::isfinite(endless.distance));
+}
+
 TEST(FreePath, AnAbsorberIsCrossedWithItsTransmittance) {
   const FreePathSample s = sample_free_path(Color(1.0, 2.0, 3.0), Color(0.0), Color(1.0), 0.5, 0.3, 0.99);
   EXPECT_EQ(s.event, FreePathEvent::Exit);

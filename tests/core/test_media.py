@@ -640,10 +640,12 @@ def test_a_dense_slab_lit_from_above_matches_single_scattering_at_its_face():
     shrink a little in 64 passes. Measured, seeds 3 and 5: without volume_boundary 0.859 and 0.858
     (0.944 and 0.933 at volume_radius_scale 0.5); with it, dividing by the ball's share inside the
     face, 0.999 and 0.995. Beams keep out of a medium this dense (sigma_t r 0.5, above the core's
-    kThinBeam): with volume_beams the points gather, the same image."""
+    kThinBeam; photon beams and camera rays nearly parallel, their crossings cut by the beams' ends,
+    read 0.830 here): with volume_beams the points gather every photon (0.9995, seed 3; the camera
+    paths split in the medium, so not the same image)."""
     corrected = slab_against_single_scattering(10.0)
     assert corrected == pytest.approx(1.0, abs=0.025)
-    assert slab_against_single_scattering(10.0, volume_beams=True) == corrected
+    assert slab_against_single_scattering(10.0, volume_beams=True) == pytest.approx(corrected, abs=0.01)
     uncorrected = slab_against_single_scattering(10.0, volume_boundary=False)
     half = slab_against_single_scattering(10.0, volume_boundary=False, volume_radius_scale=0.5)
     assert 0.80 < uncorrected < 0.90
