@@ -259,6 +259,35 @@ def test_single_scattering_from_a_point_light_matches_the_integral(g):
     assert got.sum() == pytest.approx(expected.sum(), rel=0.025)
 
 
+@pytest.mark.accuracy
+def test_camera_paths_split_in_fog_carry_single_scattering_as_the_integral():
+    """The same fog ended by a black wall 3 m ahead, with volume_beams: camera paths split in the
+    fog (a scattering drawn inside each segment to the wall, the path going on with weight T), and
+    the image still sums to the single-scattering integral up to the wall. Over seeds 4-14: 1.003
+    of it on the mean (without splitting 1.007; multiple scattering adds about 0.25%)."""
+    sigma_s, sigma_a, wall = 0.002, 0.498, 1.0
+    power, light = 100.0, np.array([0.8, 0.2, 0.3])
+
+    def scene_of(pixels):
+        scene = ppm_core.Scene()
+        scene.add_medium("fog", sigma_a=sigma_a, sigma_s=sigma_s)
+        scene.set_world_medium("fog")
+        scene.add_light("point", power=power, position=tuple(light))
+        box(scene, "wall", (-20, wall, -20), (20, wall + 0.1, 20), scene.add_material("black", base_color=(0, 0, 0)), 0)
+        scene.set_camera(look_at((0, -2, 0), (0, 0, 0)), pixels, pixels, fov=0.6)
+        return scene
+
+    size, sub = 8, 4
+    origins, directions = scene_of(size * sub).camera_rays()
+    expected = 0.0
+    for o, d in zip(origins, directions):
+        t_wall = (wall - o[1]) / d[1]
+        expected += single_scattering(o[None], d[None], light, power / (4 * math.pi), sigma_s, sigma_s + sigma_a,
+                                      t_max=t_wall, steps=2000)[0]
+    image, _ = render(scene_of(size), passes=1500, photons_per_pass=1000, volume_beams=True)
+    assert image.mean(axis=2).sum() == pytest.approx(expected / sub**2, rel=0.025)
+
+
 # ---- furnace ------------------------------------------------------------------------------------
 
 
