@@ -28,6 +28,19 @@ ChannelPick pick_channel(const Color& albedo, const Color& throughput, double& u
   return pick;
 }
 
+// pick_channel by the medium's albedo (Cycles: 1 where sigma_t is 0, so that a clear channel can be
+// picked, and then passes) and the path's throughput (non-finite channels as 0).
+static ChannelPick pick_medium_channel(const Color& sigma_t, const Color& sigma_s, const Color& throughput,
+                                       double& u_channel) {
+  Color albedo(1.0);
+  for (int c = 0; c < 3; ++c)
+    if (sigma_t[c] > 0.0) albedo[c] = sigma_s[c] / sigma_t[c];
+  const Color safe_throughput(std::isfinite(throughput.x) ? throughput.x : 0.0,
+                              std::isfinite(throughput.y) ? throughput.y : 0.0,
+                              std::isfinite(throughput.z) ? throughput.z : 0.0);
+  return pick_channel(albedo, safe_throughput, u_channel);
+}
+
 FreePathSample sample_free_path(const Color& sigma_t_in, const Color& sigma_s_in, const Color& throughput,
                                 double segment, double u_channel, double u_distance) {
   // A scattering coefficient above the extinction is cut to it (the albedo stays within [0, 1]).
@@ -36,14 +49,7 @@ FreePathSample sample_free_path(const Color& sigma_t_in, const Color& sigma_s_in
   const double d = safe_distance(segment);
   if (sigma_s == Color(0.0)) return {FreePathEvent::Exit, d, transmittance(sigma_t, d)};
 
-  // Cycles: albedo 1 where sigma_t is 0, so that a clear channel can be picked (and then passes).
-  Color albedo(1.0);
-  for (int c = 0; c < 3; ++c)
-    if (sigma_t[c] > 0.0) albedo[c] = sigma_s[c] / sigma_t[c];
-  const Color safe_throughput(std::isfinite(throughput.x) ? throughput.x : 0.0,
-                              std::isfinite(throughput.y) ? throughput.y : 0.0,
-                              std::isfinite(throughput.z) ? throughput.z : 0.0);
-  const ChannelPick pick = pick_channel(albedo, safe_throughput, u_channel);
+  const ChannelPick pick = pick_medium_channel(sigma_t, sigma_s, throughput, u_channel);
   const double sigma = sigma_t[pick.channel];
   const double t = sigma > 0.0 ? -std::log1p(-safe_uniform(u_distance)) / sigma : kInf;
 
@@ -68,13 +74,7 @@ FreePathSample sample_free_path_within(const Color& sigma_t_in, const Color& sig
   const double d = safe_distance(segment);
   FreePathSample out{FreePathEvent::Exit, d, Color(0.0)};
   if (sigma_s == Color(0.0) || !(d > 0.0)) return out;
-  Color albedo(1.0);
-  for (int c = 0; c < 3; ++c)
-    if (sigma_t[c] > 0.0) albedo[c] = sigma_s[c] / sigma_t[c];
-  const Color safe_throughput(std::isfinite(throughput.x) ? throughput.x : 0.0,
-                              std::isfinite(throughput.y) ? throughput.y : 0.0,
-                              std::isfinite(throughput.z) ? throughput.z : 0.0);
-  const ChannelPick pick = pick_channel(albedo, safe_throughput, u_channel);
+  const ChannelPick pick = pick_medium_channel(sigma_t, sigma_s, throughput, u_channel);
   out.channel_pdf = pick.pdf;
   // Each channel's truncated density at t: sigma e^(-sigma t) / (1 - e^(-sigma d)), or 1 / d.
   const auto density = [&](int c, double t) {
