@@ -269,7 +269,10 @@ struct EyeTracer {
       out.goes_on = true;
       out.through = through / keep;
     }
-    if (!out.scattered) out.distance = nearest, out.weight = out.goes_on ? out.through : Color(0.0);
+    if (!out.scattered) {
+      out.distance = nearest;
+      out.weight = out.goes_on ? out.through : Color(0.0);
+    }
     return out;
   }
 

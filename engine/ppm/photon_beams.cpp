@@ -33,18 +33,18 @@ void PhotonBeamIndex::build(const std::vector<std::vector<PhotonBeam>>& chunks, 
       beams_.back().flux /= static_cast<float>(keep);
     }
   cut_pieces();
-  pieces_.resize(traced_.size());
-  if (traced_.empty()) return;
-  order_.resize(traced_.size());
-  for (size_t i = 0; i < traced_.size(); ++i) order_[i] = static_cast<uint32_t>(i);
-  nodes_.reserve(traced_.size());
-  build_node(0, static_cast<uint32_t>(traced_.size()), 0);
-  for (size_t i = 0; i < order_.size(); ++i) pieces_[i] = traced_[order_[i]];
+  pieces_.resize(cut_.size());
+  if (cut_.empty()) return;
+  order_.resize(cut_.size());
+  for (size_t i = 0; i < cut_.size(); ++i) order_[i] = static_cast<uint32_t>(i);
+  nodes_.reserve(cut_.size());
+  build_node(0, static_cast<uint32_t>(cut_.size()), 0);
+  for (size_t i = 0; i < order_.size(); ++i) pieces_[i] = cut_[order_[i]];
 }
 
 // Each beam in pieces of about the beams' extent / kPiecesAcross, and their boxes.
 void PhotonBeamIndex::cut_pieces() {
-  traced_.clear();
+  cut_.clear();
   boxes_.clear();
   Aabb all;
   for (const PhotonBeam& b : beams_) {
@@ -59,7 +59,7 @@ void PhotonBeamIndex::cut_pieces() {
     const auto count = static_cast<uint32_t>(pieces);
     for (uint32_t k = 0; k < count; ++k) {
       const double t0 = b.length * k / pieces, t1 = k + 1 == count ? b.length : b.length * (k + 1) / pieces;
-      traced_.push_back(Piece{i, static_cast<float>(t0), static_cast<float>(t1)});
+      cut_.push_back(Piece{i, static_cast<float>(t0), static_cast<float>(t1)});
       Aabb box;
       box.grow(point_on(b, t0));
       box.grow(point_on(b, t1));
@@ -93,7 +93,7 @@ uint32_t PhotonBeamIndex::build_node(uint32_t begin, uint32_t end, int depth) {
 }
 
 size_t PhotonBeamIndex::memory_bytes() const {
-  return beams_.capacity() * sizeof(PhotonBeam) + (traced_.capacity() + pieces_.capacity()) * sizeof(Piece) +
+  return beams_.capacity() * sizeof(PhotonBeam) + (cut_.capacity() + pieces_.capacity()) * sizeof(Piece) +
          order_.capacity() * sizeof(uint32_t) + boxes_.capacity() * sizeof(Aabb) + nodes_.capacity() * sizeof(Node);
 }
 

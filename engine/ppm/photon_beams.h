@@ -92,9 +92,9 @@ class PhotonBeamIndex {
   void cut_pieces();
 
   std::vector<PhotonBeam> beams_;  // chunk order
-  std::vector<Piece> traced_, pieces_;  // as cut; leaf order
-  std::vector<Aabb> boxes_;             // of traced_
-  std::vector<uint32_t> order_;         // traced_ index of each pieces_ entry
+  std::vector<Piece> cut_, pieces_;  // in the order cut; in leaf order
+  std::vector<Aabb> boxes_;          // of cut_
+  std::vector<uint32_t> order_;      // cut_ index of each pieces_ entry
   std::vector<Node> nodes_;
 };
 

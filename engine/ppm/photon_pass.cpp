@@ -598,9 +598,7 @@ size_t PhotonPass::index_volume_photons(size_t chunks) {
   volume_positions_.resize(count);
   volume_arrivals_.resize(count);
   volume_arrival_bounces_.resize(limits_.active ? count : 0);
-  volume_bounds_ = Aabb{};
   if (count == 0) return 0;
-  for (const Vec3& p : volume_traced_) volume_bounds_.grow(p);
   static const std::vector<double> kNoRadii;
   volume_grid_.build(volume_traced_, kNoRadii, threads_);
   volume_grid_.relabel_in_cell_order(volume_old_of_new_);

@@ -194,7 +194,6 @@ class PhotonPass {
   std::vector<VolumeArrival> volume_arrivals_;
   std::vector<Bounces> volume_arrival_bounces_;  // with bounce limits only, beside volume_arrivals_
   std::vector<uint32_t> volume_old_of_new_;
-  Aabb volume_bounds_;  // of the pass's volume photons
   // With Settings::volume_beams: the photon beams per chunk as traced, then indexed.
   std::vector<std::vector<PhotonBeam>> chunk_beams_;
   PhotonBeamIndex photon_beams_;

@@ -200,8 +200,8 @@ bool StochasticHitPoints::beam_band(size_t first_pixel, const uint8_t* pixel_sam
   return true;
 }
 
-// The band's beams summed per band pixel: photon count and flux, and their radiance from this pass
-// alone at the radius they gathered with (a disc's: pass_radiance_scale).
+// The band's beams summed per band pixel: crossing count and flux, and their radiance from this
+// pass alone at the radius they gathered with (a 1-D kernel's: beam_radiance_scale).
 void StochasticHitPoints::sum_beam_band(size_t first_pixel) {
   const double photons = pass_photons();
   clear_band(beam_band_, beam_parts_);
