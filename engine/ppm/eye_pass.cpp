@@ -234,8 +234,10 @@ struct EyeTracer {
     const bool may_scatter = !v.emission_only && med.scatters();
     if (med.varies()) {  // tracked: the light's transmittance and the emission are estimates
       if (max_component(light) > 0.0)
-        emitted += v.throughput * light * scene.track(med, v.ray, nearest, v.throughput, false, rng).weight;
-      const TrackedSegment f = scene.track(med, v.ray, nearest, v.throughput, may_scatter, rng);
+        emitted += v.throughput * light *
+                   (med.extinction_varies() ? scene.track(med, v.ray, nearest, v.throughput, false, false, rng).weight
+                                            : transmittance(med.sigma_t, nearest));
+      const TrackedSegment f = scene.track(med, v.ray, nearest, v.throughput, may_scatter, true, rng);
       emitted += v.throughput * f.emitted;
       const bool scattered = f.event == FreePathEvent::Scatter;
       return {scattered, f.distance, scattered ? f.unit : f.weight};

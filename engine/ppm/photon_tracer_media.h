@@ -146,8 +146,8 @@ uint64_t trace_photons_in_media(const Scene& scene, const LightSampler& lights, 
       const bool found = scene.intersect(p.ray, hit);
       if (const Medium* med = scene.medium_of(media)) {
         const double segment = found ? hit.t : kInf;
-        if (med->varies()) {
-          const TrackedSegment f = scene.track(*med, p.ray, segment, p.flux, true, p.rng);
+        if (med->extinction_varies()) {
+          const TrackedSegment f = scene.track(*med, p.ray, segment, p.flux, true, false, p.rng);
           if (f.event == FreePathEvent::Scatter) {
             const FreePathSample at{FreePathEvent::Scatter, f.distance, f.weight};
             if (!scatter_photon_in_medium(settings, limits, p, *med, at, deposit_direct, false, deposit_volume,
@@ -161,7 +161,7 @@ uint64_t trace_photons_in_media(const Scene& scene, const LightSampler& lights, 
         } else {
           const double u1 = p.rng.uniform(), u2 = p.rng.uniform();
           const FreePathSample f = sample_free_path(med->sigma_t, med->c.sigma_s, p.flux, segment, u1, u2);
-          const bool beamed = beams && specular_chain(p) && (p.bounce > 0 || deposit_direct);
+          const bool beamed = beams && !med->varies() && specular_chain(p) && (p.bounce > 0 || deposit_direct);
           if (beamed)
             deposit_beam(PhotonBeam{p.ray.origin, Vec3f(p.ray.direction), beam_length(f.distance), Vec3f(p.flux),
                                     Vec3f(f.channel_pdf), scene.medium_index(med),

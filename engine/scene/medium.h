@@ -75,6 +75,14 @@ struct Medium {
   double majorant_rest = 0.0;
   bool rest_emits = false;
   bool varies() const { return !uses.empty(); }
+  // Whether sigma_t varies: a field may drive emission alone (a glow by a texture in a medium of
+  // constant density), where paths sample free paths as in a homogeneous medium.
+  bool extinction_varies() const {
+    for (const FieldUse& use : uses)
+      for (const MediumTerm& t : use.field->terms)
+        if (max_component(t.sigma_a + t.sigma_s) > 0.0) return true;
+    return false;
+  }
   bool scatters() const { return max_component(sigma_s_bound) > 0.0; }
   bool emits() const { return max_component(emission_bound) > 0.0; }
   // sigma_t and the bounds from the constants alone (a copy that varies adds its terms' bounds next).

@@ -192,7 +192,7 @@ LocalMedium Scene::local_medium(const Medium& m, const Vec3& x, const Vec3& dire
 }
 
 TrackedSegment Scene::track(const Medium& m, const Ray& ray, double segment, const Color& throughput,
-                            bool may_scatter, Rng& rng) const {
+                            bool may_scatter, bool sums_emission, Rng& rng) const {
   const auto at = [&](double t) {
     const LocalMedium l = local_medium(m, ray.origin + t * ray.direction, ray.direction, rng.next_u32() | 1u);
     return TrackedCoefficients{l.sigma_t(), l.sigma_s, l.emission};
@@ -204,8 +204,9 @@ TrackedSegment Scene::track(const Medium& m, const Ray& ray, double segment, con
   // Emission is summed at the tentative collisions, so a glow that hardly absorbs (a fire's thin
   // smoke, or none) takes a majorant of at least kEmissionSamples over the segment: any majorant
   // above sigma_t is unbiased, and one of 0 saw no emission at all (a Principled Volume of density 0
-  // glowing by a temperature grid read 0.63 of Cycles beside it).
-  const double floor = segment > 0.0 && segment < kInf ? kEmissionSamples / segment : 0.0;
+  // glowing by a temperature grid read 0.63 of Cycles beside it). Photons and shadow rays sum none.
+  const bool floored = sums_emission && segment > 0.0 && segment < kInf;
+  const double floor = floored ? kEmissionSamples / segment : 0.0;
   if (!m.majorant_grids.empty()) {
     SummedMajorant majorants(m, ray, floor, !may_scatter);
     return track_segment_pieces(at, majorants, segment, throughput, may_scatter, [&] { return rng.uniform(); });

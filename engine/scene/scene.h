@@ -220,9 +220,10 @@ class Scene {
     return m.varies() ? local_medium(m, x, direction).sigma_s : m.c.sigma_s;
   }
   // A medium that varies, along `ray` over (0, segment): free_path.h's track_segment, its
-  // coefficients local_medium's along the ray, against the medium's majorant.
+  // coefficients local_medium's along the ray, against the medium's majorant. `sums_emission`: the
+  // caller reads TrackedSegment::emitted (an eye ray), for which a glow takes more collisions.
   TrackedSegment track(const Medium& m, const Ray& ray, double segment, const Color& throughput, bool may_scatter,
-                       Rng& rng) const;
+                       bool sums_emission, Rng& rng) const;
   // A path travelling along `direction` crosses the surface at `hit` (refracted, transmitted or a
   // boundary only): its stack enters or leaves the material's medium by the side it came from.
   void cross(const Hit& hit, const Vec3& direction, MediumStack& stack) const {

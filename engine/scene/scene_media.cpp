@@ -383,7 +383,8 @@ Color Scene::shadow_transmittance(const Ray& shadow, double distance, MediumStac
     const bool found = intersect(ray, hit, distance);
     if (const Medium* m = medium_of(stack)) {
       const double segment = found ? hit.t : distance;
-      tr *= m->varies() ? track(*m, ray, segment, tr, false, rng).weight : transmittance(m->sigma_t, segment);
+      tr *= m->extinction_varies() ? track(*m, ray, segment, tr, false, false, rng).weight
+                                  : transmittance(m->sigma_t, segment);
     }
     if (!found) return tr;
     if (materials_[hit.material].surface) return Color(0.0);
