@@ -1,6 +1,6 @@
 // The media's numeric pieces outside the free-path samplers (free_path_test.cpp): the 3-D
 // progressive radius rule and its volume estimate (progressive.h, pixel_stats.h), a homogeneous
-// medium's emission along a segment, and the medium stack (scene/medium.h).
+// medium's emission along a segment, what varies in a medium, and the medium stack (scene/medium.h).
 #include "ppm/pixel_stats.h"
 #include "ppm/progressive.h"
 #include "scene/medium.h"
@@ -92,6 +92,25 @@ TEST(MediumEmission, IntegralOfTransmittedEmissionPerChannel) {
   EXPECT_NEAR(far.x, 1.0, 1e-12);  // emission / sigma_t
   EXPECT_EQ(far.y, 0.0);           // no extinction to infinity: left out, never infinite
   EXPECT_EQ(medium_emission_along(m, std::nan("")).x, 0.0);
+}
+
+// A field that drives emission alone leaves sigma_t constant: photons and shadow rays then sample
+// the medium as a homogeneous one. Any term with extinction, in any of a sum's parts, varies it.
+TEST(MediumField, ExtinctionVariesOnlyWhereATermCarriesSome) {
+  auto field = [](Color sigma_a, Color sigma_s, Color emission) {
+    auto f = std::make_shared<MediumField>();
+    f->terms.push_back(MediumTerm{sigma_a, sigma_s, emission, 0});
+    return f;
+  };
+  Medium m;
+  EXPECT_FALSE(m.varies() || m.extinction_varies());
+  m.uses.push_back(FieldUse{field(Color(0.0), Color(0.0), Color(4.0)), 0});
+  EXPECT_TRUE(m.varies());
+  EXPECT_FALSE(m.extinction_varies());
+  m.uses.push_back(FieldUse{field(Color(0.0), Color(0.0, 0.0, 0.5), Color(0.0)), 1});
+  EXPECT_TRUE(m.extinction_varies());
+  m.uses.back() = FieldUse{field(Color(0.2, 0.0, 0.0), Color(0.0), Color(0.0)), 1};
+  EXPECT_TRUE(m.extinction_varies());
 }
 
 TEST(MediumStack, NestsAndLeavesInAnyOrder) {
