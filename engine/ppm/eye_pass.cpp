@@ -184,7 +184,8 @@ struct EyeTracer {
     const LightPath path = path_of(v, hit.t);
     const bool front = glm::dot(wo, sp.ng) >= 0.0;
     const Vec3 ns = front ? sp.ns : -sp.ns;
-    const bool glossy = m.kind != MaterialKind::Diffuse;
+    Color albedo;
+    const bool glossy = !bsdf_lambertian(m, sp, wo, albedo);
     double r = settings.initial_radius;
     if (r <= 0.0) r = settings.initial_radius_pixels * pixel_size(v.length);
     r = std::fmax(r, 4.0 * ray_offset(hit.position, scene.offset_floor()));
@@ -193,7 +194,7 @@ struct EyeTracer {
     hp.normal = Vec3f(ns);
     hp.shading = static_cast<uint32_t>(out.shading.size());
     hp.r2 = r * r;
-    hp.weight = Vec3f(glossy ? v.throughput : v.throughput * sp.albedo * kInvPi);
+    hp.weight = Vec3f(glossy ? v.throughput : v.throughput * albedo * kInvPi);
     hp.glossy = glossy ? 1u : 0u;
     out.points.push_back(hp);
     out.shading.push_back(

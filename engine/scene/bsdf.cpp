@@ -29,6 +29,12 @@ Color bsdf_eval(const Material& m, const SurfacePoint& sp, const Vec3& wo, const
   return Color(0.0);
 }
 
+bool bsdf_lambertian(const Material& m, const SurfacePoint& sp, const Vec3& wo, Color& albedo) {
+  albedo = sp.albedo;
+  if (m.kind == MaterialKind::Diffuse) return true;
+  return m.kind == MaterialKind::Mixture && closure_lambertian(m.lobes, sp, wo, albedo);
+}
+
 ClassColors bsdf_eval_classes(const Material& m, const SurfacePoint& sp, const Vec3& wo, const Vec3& wi) {
   if (m.kind == MaterialKind::Mixture) return closure_eval_classes(m.lobes, sp, wo, wi);
   ClassColors f;

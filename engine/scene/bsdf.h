@@ -12,6 +12,11 @@ namespace ppm {
 // f(wo, wi), without the cosine. Zero for delta lobes.
 Color bsdf_eval(const Material& m, const SurfacePoint& sp, const Vec3& wo, const Vec3& wi);
 
+// Whether bsdf_eval at sp, seen from wo, is Lambertian reflection of `albedo` for every wi on wo's
+// side (a Diffuse material, or a mixture whose evaluated lobes are: closure_lambertian): hit points
+// there weigh every photon alike.
+bool bsdf_lambertian(const Material& m, const SurfacePoint& sp, const Vec3& wo, Color& albedo);
+
 // bsdf_eval split by the class of lobe that scatters (shading/light_class.h).
 ClassColors bsdf_eval_classes(const Material& m, const SurfacePoint& sp, const Vec3& wo, const Vec3& wi);
 

@@ -312,6 +312,20 @@ Color closure_eval(const std::vector<Lobe>& lobes, const SurfacePoint& sp, const
   return f;
 }
 
+bool closure_lambertian(const std::vector<Lobe>& lobes, const SurfacePoint& sp, const Vec3& wo, Color& albedo) {
+  if (sp.softening != BumpSoftening::None && sp.smooth_normal != Vec3(0.0) && sp.smooth_normal != sp.ns) return false;
+  Color eff[kMaxLobes];
+  effective_weights(lobes, sp, wo, eff);
+  albedo = Color(0.0);
+  for (size_t i = 0; i < lobes.size(); ++i) {
+    const Lobe& l = lobes[i];
+    if (l.followed(sp)) continue;
+    if (l.kind != LobeKind::Diffuse || l.roughness_at(sp) > 0.0) return false;
+    albedo += eff[i] * l.color_at(sp);
+  }
+  return true;
+}
+
 ClassColors closure_eval_classes(const std::vector<Lobe>& lobes, const SurfacePoint& sp, const Vec3& wo,
                                  const Vec3& wi) {
   Color eff[kMaxLobes];

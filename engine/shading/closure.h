@@ -21,6 +21,11 @@ void prepare_lobe(Lobe& lobe);
 // f(wo, wi) of the lobes hit points store (all but the followed ones), without the cosine.
 Color closure_eval(const std::vector<Lobe>& lobes, const SurfacePoint& sp, const Vec3& wo, const Vec3& wi);
 
+// Whether closure_eval at sp, seen from wo, is Lambertian reflection of `albedo` for every wi on wo's
+// side: each lobe it evaluates (those not followed) a smooth Diffuse one, and no bump shadowing (a
+// diffuse and a mirror mixed, a clear coat over paint). A hit point there gathers as a diffuse one.
+bool closure_lambertian(const std::vector<Lobe>& lobes, const SurfacePoint& sp, const Vec3& wo, Color& albedo);
+
 // closure_eval split by the class of the lobes (light_class.h).
 ClassColors closure_eval_classes(const std::vector<Lobe>& lobes, const SurfacePoint& sp, const Vec3& wo,
                                  const Vec3& wi);

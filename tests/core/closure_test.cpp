@@ -312,6 +312,32 @@ TEST(Closure, ASmoothLayerAttenuatesWhatLiesBelowByItsFresnel) {
   }
 }
 
+// Hit points gather as diffuse ones where closure_lambertian says so: the evaluated lobes must then
+// give albedo / pi for every wi on the viewer's side, and it must refuse what varies with wi.
+TEST(Closure, LambertianWhereEveryEvaluatedLobeIsSmoothDiffuse) {
+  const std::vector<Lobe> coat_and_mirror = {specular_layer(0.0), lobe(LobeKind::Diffuse, Color(0.6), Color(0.5)),
+                                             lobe(LobeKind::Conductor, Color(0.4), Color(0.9), 0.0)};
+  Rng rng(3, 4, 5);
+  for (double cos_o : {1.0, 0.5, 0.1}) {
+    const Vec3 wo = direction(cos_o, 0.4);
+    Color albedo;
+    ASSERT_TRUE(closure_lambertian(coat_and_mirror, kFlat, wo, albedo)) << cos_o;
+    EXPECT_GT(albedo.x, 0.0);
+    for (int i = 0; i < 20; ++i) {
+      const Vec3 wi = direction(0.02 + 0.98 * rng.uniform(), 6.28 * rng.uniform());
+      EXPECT_NEAR(closure_eval(coat_and_mirror, kFlat, wo, wi).x, albedo.x / kPi, 1e-12) << cos_o;
+    }
+  }
+  Color albedo;
+  const Lobe diffuse = lobe(LobeKind::Diffuse, Color(0.5), Color(0.8));
+  EXPECT_FALSE(closure_lambertian({diffuse, rough_diffuse(0.5, Color(0.8), true)}, kFlat, direction(0.7), albedo));
+  EXPECT_FALSE(closure_lambertian({diffuse, lobe(LobeKind::Conductor, Color(0.5), Color(0.9), 0.4)}, kFlat,
+                                  direction(0.7), albedo));
+  EXPECT_FALSE(closure_lambertian({diffuse, lobe(LobeKind::Translucent, Color(0.5), Color(0.8))}, kFlat,
+                                  direction(0.7), albedo));
+  EXPECT_FALSE(closure_lambertian({diffuse}, mapped_point(30.0, BumpSoftening::Chiang), direction(0.7), albedo));
+}
+
 TEST(Closure, WithoutLayersItIsReciprocal) {
   const std::vector<Lobe> lobes = {lobe(LobeKind::Diffuse, Color(0.3), Color(0.8)),
                                    lobe(LobeKind::Conductor, Color(0.4), Color(0.9), 0.4),
