@@ -1,11 +1,12 @@
-"""Beams against points at equal time on the bundled volumetric caustic (fog_caustic, its spot's
-radius 1 m as in equal_time_caustic): for each of volume_beams off and on, two renders of `seconds`
-each (seeds 7 and 8) through the core with the add-on's export and settings, and per region
-(bench/harness/regions.py) their noise, the relative MSE of one render estimated from the two's
-difference, mean((a - b)^2 / (reference^2 + EPS)) / 2, and the mean of the two over the Cycles
-reference's (bench/references/fog_caustic_cycles.exr). One JSON line per variant:
+"""Beams against points at equal time on a bundled fog scene: the volumetric caustic (fog_caustic, its
+spot's radius 1 m as in equal_time_caustic) or god rays without glass (--scene fog_shafts): for each
+of volume_beams off and on, two renders of `seconds` each (seeds 7 and 8) through the core with the
+add-on's export and settings, and per region (bench/harness/regions.py) their noise, the relative
+MSE of one render estimated from the two's difference, mean((a - b)^2 / (reference^2 + EPS)) / 2,
+and the mean of the two over the Cycles reference's (bench/references/<scene>_cycles.exr). One JSON
+line per variant:
 
-    .venv/bin/python tools/volume_beams_noise.py --seconds 10
+    .venv/bin/python tools/volume_beams_noise.py --seconds 10 [--scene fog_shafts]
 
 Run it from a folder without files named like standard-library modules (bpy's rule), on an idle
 machine: it is a timing."""
@@ -36,12 +37,14 @@ SEEDS = (7, 8)
 def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("--seconds", type=float, default=10.0)
+    parser.add_argument("--scene", choices=("fog_caustic", "fog_shafts"), default="fog_caustic")
     args = parser.parse_args()
-    reference, _ = read_exr(os.path.join(ROOT, "bench", "references", "fog_caustic_cycles.exr"))
+    reference, _ = read_exr(os.path.join(ROOT, "bench", "references", f"{args.scene}_cycles.exr"))
     reference = reference[..., :3]
-    masks = regions.region_masks("fog_caustic", reference, WIDTH, HEIGHT)
-    scene = open_scene("fog_caustic", WIDTH, HEIGHT)
-    bpy.data.objects["spot"].data.shadow_soft_size = 1.0
+    masks = regions.region_masks(args.scene, reference, WIDTH, HEIGHT)
+    scene = open_scene(args.scene, WIDTH, HEIGHT)
+    if args.scene == "fog_caustic":
+        bpy.data.objects["spot"].data.shadow_soft_size = 1.0
     settings = properties.media_settings(properties.render_settings(scene), print)
     core, _, _ = export.build_scene(ppm_core, bpy.context.evaluated_depsgraph_get(),
                                     Frame.from_render_settings(scene.render), print)
@@ -55,7 +58,7 @@ def main():
         a, b = images
         noise = ((a - b) ** 2 / (reference ** 2 + EPS)).mean(axis=2) / 2
         mean = (a + b) / 2
-        print(json.dumps({"seconds": args.seconds, "volume_beams": beams, "passes": passes,
+        print(json.dumps({"scene": args.scene, "seconds": args.seconds, "volume_beams": beams, "passes": passes,
                           "noise": {k: round(float(noise[m].mean()), 5) for k, m in masks.items()},
                           "mean_over_cycles": {k: round(float(mean[m].mean() / reference[m].mean()), 4)
                                                for k, m in masks.items()}}), flush=True)

@@ -59,7 +59,7 @@ struct Settings {
   double initial_radius = 0.0;      // metres; 0 = automatic from the pixel footprint
   double initial_radius_pixels = 2.0;  // automatic radius, in pixels at the hit point's distance
   double volume_radius_scale = 1.0;    // hit points in media: their automatic initial radius, times the surface's
-  bool volume_beams = false;           // eye rays through homogeneous media gather photons along their segments
+  bool volume_beams = false;           // photon beams and split camera paths in homogeneous media (the add-on: on)
   bool volume_boundary = true;         // hit points in media: count the gather ball inside the nearest surface only
   bool density_radius = true;       // automatic radius also widened to the photon density (photon_density_radius.h)
   DirectLight direct_light = DirectLight::Sampled;

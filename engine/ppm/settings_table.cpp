@@ -75,9 +75,10 @@ std::vector<SettingInfo> make_table() {
       number("volume_radius_scale", &Settings::volume_radius_scale,
              "hit points in media: the automatic initial radius times this, (0, 1e6]"),
       number("volume_beams", &Settings::volume_beams,
-             "eye rays through homogeneous media gather the volume photons along each segment (the beam "
-             "radiance estimate; a free path's scattering then samples direct light only); false: at the "
-             "point where a free path scatters"),
+             "in homogeneous media that scatter: camera paths split (each samples a scattering within its "
+             "segment and goes on), and photons that reached the medium along specular bounces are kept as "
+             "photon beams that camera segments gather (Beam x Beam 1D); false: volume photons are points, "
+             "gathered where a free path scatters"),
       number("volume_boundary", &Settings::volume_boundary,
              "hit points in media: divide their photons by the share of the gather ball on their side of "
              "the nearest surface (found by rays along the axes), where no photon lies beyond, and in a "
