@@ -85,6 +85,10 @@ struct EyeTracer {
   bool orthographic;
   BounceLimits limits;
   bool media = false;  // the scene has media: every ray segment takes a medium step
+  // Lights with a place (point, sphere, spot, rectangle, disk) that split camera paths draw
+  // scatterings towards (split_path), each picked by its share of their power (cumulative).
+  std::vector<uint32_t> local_lights;
+  std::vector<double> local_light_cdf;
 
   // A light's own Max Bounces: does it reach a path that has scattered `depth` times?
   static bool reaches(const Light& light, int depth) { return depth <= light.max_bounces; }
@@ -258,10 +262,15 @@ struct EyeTracer {
   // goes on to the end with weight T(end), or where that is small with Russian roulette on it. In
   // thin fog most free paths cross the segment without scattering, so most camera rays drew no hit
   // point there and the fog's direct light came from a few; split, each does.
+  // Half the scatterings are drawn equiangular towards a light picked by power (free_path.h), so
+  // that the fog's glow about a small light is sampled where it is strong.
   FreePath split_path(const EyeVertex& v, const Medium& med, double nearest, Rng& rng, double u1, double u2) const {
     FreePath out;
     const Color through = transmittance(med.sigma_t, nearest);
-    const FreePathSample f = sample_free_path_within(med.sigma_t, med.c.sigma_s, v.throughput, nearest, u1, u2);
+    EquiangularTarget target;
+    const bool toward = pick_local_light(v.ray, rng.uniform(), target);
+    const FreePathSample f = sample_free_path_within(med.sigma_t, med.c.sigma_s, v.throughput, nearest, u1, u2,
+                                                     toward ? &target : nullptr);
     if (f.event == FreePathEvent::Scatter) {
       out.scattered = true;
       out.distance = f.distance;
@@ -277,6 +286,16 @@ struct EyeTracer {
       out.weight = out.goes_on ? out.through : Color(0.0);
     }
     return out;
+  }
+
+  // The light a split path's equiangular draws aim at (false: the scene has none with a place).
+  bool pick_local_light(const Ray& ray, double u, EquiangularTarget& target) const {
+    if (local_lights.empty()) return false;
+    const size_t k = std::upper_bound(local_light_cdf.begin(), local_light_cdf.end(), u * local_light_cdf.back()) -
+                     local_light_cdf.begin();
+    const Light& l = scene.lights()[local_lights[std::min(k, local_lights.size() - 1)]];
+    target = EquiangularTarget::of(ray.origin, ray.direction, l.position);
+    return true;
   }
 
   // Scenes with media: v's ray segment up to the surface at `t_surface` (kInf: none) in the medium
@@ -520,6 +539,13 @@ EyeTracer make_tracer(const Scene& scene, const Settings& settings, const EyePas
       tracer.visible_lights.push_back(i);
     if (k == LightKind::Sun && scene.lights()[i].cos_sun < 1.0) tracer.visible_suns.push_back(i);
     if (k == LightKind::Background) tracer.background = &scene.lights()[i];
+    const bool local = k == LightKind::Point || k == LightKind::Sphere || k == LightKind::Spot ||
+                       k == LightKind::Rectangle || k == LightKind::Disk;
+    const double power = luminance(scene.lights()[i].power);
+    if (tracer.media && settings.volume_beams && local && power > 0.0 && power < kInf) {
+      tracer.local_lights.push_back(i);
+      tracer.local_light_cdf.push_back(power + (tracer.local_light_cdf.empty() ? 0.0 : tracer.local_light_cdf.back()));
+    }
   }
   return tracer;
 }

@@ -67,8 +67,20 @@ FreePathSample sample_free_path(const Color& sigma_t_in, const Color& sigma_s_in
   return {FreePathEvent::Exit, d, divided(tr, glm::dot(pick.pdf, tr)), pick.pdf};
 }
 
+double EquiangularTarget::sample(double d, double u) const {
+  const double a = std::atan2(-foot, height), b = std::atan2(d - foot, height);
+  return glm::clamp(foot + height * std::tan(a + u * (b - a)), 0.0, d);
+}
+
+double EquiangularTarget::pdf(double d, double t) const {
+  const double span = std::atan2(d - foot, height) - std::atan2(-foot, height);
+  const double x = t - foot;
+  return span > 0.0 ? height / (span * (height * height + x * x)) : 0.0;
+}
+
 FreePathSample sample_free_path_within(const Color& sigma_t_in, const Color& sigma_s_in, const Color& throughput,
-                                       double segment, double u_channel, double u_distance) {
+                                       double segment, double u_channel, double u_distance,
+                                       const EquiangularTarget* toward) {
   const Color sigma_t = safe_coefficients(sigma_t_in);
   const Color sigma_s = glm::min(safe_coefficients(sigma_s_in), sigma_t);
   const double d = safe_distance(segment);
@@ -82,9 +94,15 @@ FreePathSample sample_free_path_within(const Color& sigma_t_in, const Color& sig
     if (!(s > 0.0)) return std::isfinite(d) ? 1.0 / d : 0.0;
     return s * std::exp(-s * t) / -std::expm1(-s * d);
   };
-  const double s = sigma_t[pick.channel], u = safe_uniform(u_distance);
+  const bool mixed = toward != nullptr && toward->usable(d);
+  double u = safe_uniform(u_distance);
+  const bool equiangular = mixed && u < 0.5;
+  if (mixed) u = equiangular ? 2.0 * u : 2.0 * u - 1.0;
+  const double s = sigma_t[pick.channel];
   double t;
-  if (s > 0.0)
+  if (equiangular)
+    t = toward->sample(d, u);
+  else if (s > 0.0)
     t = -std::log1p(u * std::expm1(-s * d)) / s;
   else if (std::isfinite(d))
     t = u * d;
@@ -94,6 +112,7 @@ FreePathSample sample_free_path_within(const Color& sigma_t_in, const Color& sig
   double pdf = 0.0;
   for (int c = 0; c < 3; ++c)
     if (pick.pdf[c] > 0.0) pdf += pick.pdf[c] * density(c, t);
+  if (mixed) pdf = 0.5 * (pdf + toward->pdf(d, t));
   if (!(pdf > 0.0) || !std::isfinite(t)) return out;
   out.event = FreePathEvent::Scatter;
   out.distance = t;

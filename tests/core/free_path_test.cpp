@@ -114,6 +114,49 @@ TEST(FreePath, SamplingWithinTheSegmentIsUnbiasedPerChannel) {
   EXPECT_TRUE(endless.event == FreePathEvent::Exit || std::isfinite(endless.distance));
 }
 
+// A small light 5 cm beside the segment: the in-scattered light is sigma_s T(t) / distance^2. Drawn
+// half equiangular towards it, the estimate stays unbiased and its noise drops, as it is for.
+TEST(FreePath, DrawingTowardsALightKeepsTheMeanAndLowersTheNoise) {
+  const Color sigma_t(0.1, 2.0, 0.5), sigma_s(0.09, 1.0, 0.5), throughput(1.0, 0.2, 3.0);
+  const double d = 3.0;
+  const EquiangularTarget light{1.2, 0.05};
+  const auto falloff = [&](double t) { return 1.0 / (light.height * light.height + (t - light.foot) * (t - light.foot)); };
+  Color want(0.0);  // the midpoint rule, fine enough at the light's 5 cm
+  const int steps = 200000;
+  for (int i = 0; i < steps; ++i) {
+    const double t = (i + 0.5) * d / steps;
+    want += sigma_s * transmittance(sigma_t, t) * falloff(t) * (d / steps);
+  }
+  double pdf_sum = 0.0;
+  for (int i = 0; i < steps; ++i) pdf_sum += light.pdf(d, (i + 0.5) * d / steps) * (d / steps);
+  EXPECT_NEAR(pdf_sum, 1.0, 1e-4);
+  const int n = test_samples(400000);
+  Tally mixed, plain;
+  Rng rng(29, 0, 0);
+  for (int i = 0; i < n; ++i) {
+    const double u1 = rng.uniform(), u2 = rng.uniform();
+    const FreePathSample a = sample_free_path_within(sigma_t, sigma_s, throughput, d, u1, u2, &light);
+    const FreePathSample b = sample_free_path_within(sigma_t, sigma_s, throughput, d, u1, u2);
+    ASSERT_EQ(a.event, FreePathEvent::Scatter);
+    ASSERT_GE(a.distance, 0.0);
+    ASSERT_LE(a.distance, d);
+    mixed.add(a.weight * falloff(a.distance));
+    plain.add(b.weight * falloff(b.distance));
+  }
+  expect_mean(mixed, want, "towards the light");
+  expect_mean(plain, want, "by transmittance alone");
+  // Measured 0.25-0.26 of the noise in each channel (400,000 draws); a heavy tail makes the plain
+  // estimate's own error uncertain, hence the margin.
+  for (int c = 0; c < 3; ++c) EXPECT_LT(mixed.error()[c], 0.4 * plain.error()[c]) << c;
+  // On the light's line there is nothing to aim at: transmittance alone.
+  EXPECT_FALSE((EquiangularTarget{1.0, 0.0}).usable(d));
+  const EquiangularTarget behind = EquiangularTarget::of(Vec3(0.0), Vec3(1.0, 0.0, 0.0), Vec3(-2.0, 1.0, 0.0));
+  EXPECT_DOUBLE_EQ(behind.foot, -2.0);
+  EXPECT_DOUBLE_EQ(behind.height, 1.0);
+  const double t = behind.sample(d, 0.999);
+  EXPECT_TRUE(t >= 0.0 && t <= d);
+}
+
 TEST(FreePath, AnAbsorberIsCrossedWithItsTransmittance) {
   const FreePathSample s = sample_free_path(Color(1.0, 2.0, 3.0), Color(0.0), Color(1.0), 0.5, 0.3, 0.99);
   EXPECT_EQ(s.event, FreePathEvent::Exit);
