@@ -68,14 +68,13 @@ FreePathSample sample_free_path(const Color& sigma_t_in, const Color& sigma_s_in
 }
 
 double EquiangularTarget::sample(double d, double u) const {
-  const double a = std::atan2(-foot, height), b = std::atan2(d - foot, height);
-  return glm::clamp(foot + height * std::tan(a + u * (b - a)), 0.0, d);
+  const double a = std::atan2(-foot, height);
+  return glm::clamp(foot + height * std::tan(a + u * span(d)), 0.0, d);
 }
 
 double EquiangularTarget::pdf(double d, double t) const {
-  const double span = std::atan2(d - foot, height) - std::atan2(-foot, height);
-  const double x = t - foot;
-  return span > 0.0 ? height / (span * (height * height + x * x)) : 0.0;
+  const double angle = span(d), x = t - foot;
+  return angle > 0.0 ? height / (angle * (height * height + x * x)) : 0.0;
 }
 
 FreePathSample sample_free_path_within(const Color& sigma_t_in, const Color& sigma_s_in, const Color& throughput,

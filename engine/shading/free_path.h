@@ -70,6 +70,25 @@ struct FreePathSample {
   Color channel_pdf{1.0 / 3.0};
 };
 
+// A point at distance `height` > 0 from the ray, its foot at `foot` along it. Equiangular sampling
+// over [0, d] draws t with density height / ((theta_b - theta_a) (height^2 + (t - foot)^2)): uniform
+// in the angle the point sees t under, proportional to 1 / distance^2 to it. Not usable where the
+// point lies on the ray's line or sees the segment under no angle (a point mass is no density).
+struct EquiangularTarget {
+  double foot = 0.0, height = 0.0;
+  static EquiangularTarget of(const Vec3& origin, const Vec3& direction, const Vec3& point) {
+    const Vec3 to = point - origin;
+    const double foot = glm::dot(to, direction);
+    return {foot, glm::length(to - foot * direction)};
+  }
+  double span(double d) const { return std::atan2(d - foot, height) - std::atan2(-foot, height); }
+  bool usable(double d) const {
+    return height > 0.0 && std::isfinite(height) && std::isfinite(foot) && d > 0.0 && span(d) > 0.0;
+  }
+  double sample(double d, double u) const;
+  double pdf(double d, double t) const;
+};
+
 // One segment of length `segment` (may be infinite) through a homogeneous medium. Scatter at t:
 // weight sigma_s T(t) / sum_c pdf_c sigma_t,c T_c(t) (then the phase function is sampled, whose
 // value equals its pdf); through to the end: T(d) / sum_c pdf_c T_c(d). A medium that only absorbs
@@ -85,25 +104,9 @@ FreePathSample sample_free_path(const Color& sigma_t, const Color& sigma_s, cons
 // (EquiangularTarget) and the density in the weight is the two's mean, so that the scatterings near
 // a small light, where its light is strongest, are drawn as often as that light needs (Kulla and
 // Fajardo 2012; Cycles' homogeneous volumes do the same by multiple importance).
-struct EquiangularTarget;
 FreePathSample sample_free_path_within(const Color& sigma_t, const Color& sigma_s, const Color& throughput,
                                        double segment, double u_channel, double u_distance,
                                        const EquiangularTarget* toward = nullptr);
-
-// A point at distance `height` > 0 from the ray, its foot at `foot` along it. Equiangular sampling
-// over [0, d] draws t with density height / ((theta_b - theta_a) (height^2 + (t - foot)^2)): uniform
-// in the angle the point sees t under, proportional to 1 / distance^2 to it.
-struct EquiangularTarget {
-  double foot = 0.0, height = 0.0;
-  static EquiangularTarget of(const Vec3& origin, const Vec3& direction, const Vec3& point) {
-    const Vec3 to = point - origin;
-    const double foot = glm::dot(to, direction);
-    return {foot, glm::length(to - foot * direction)};
-  }
-  bool usable(double d) const { return height > 0.0 && std::isfinite(height) && std::isfinite(foot) && d > 0.0; }
-  double sample(double d, double u) const;
-  double pdf(double d, double t) const;
-};
 
 // A density as the tracker counts it (see the top): within [0, majorant].
 inline double tracked_density(double sigma, double majorant) { return sigma > 0.0 ? std::min(sigma, majorant) : 0.0; }
