@@ -85,10 +85,6 @@ struct EyeTracer {
   bool orthographic;
   BounceLimits limits;
   bool media = false;  // the scene has media: every ray segment takes a medium step
-  // Lights with a place (point, sphere, spot, rectangle, disk) that split camera paths draw
-  // scatterings towards (split_path), each picked by its share of their power (cumulative).
-  std::vector<uint32_t> local_lights;
-  std::vector<double> local_light_cdf;
 
   // A light's own Max Bounces: does it reach a path that has scattered `depth` times?
   static bool reaches(const Light& light, int depth) { return depth <= light.max_bounces; }
@@ -290,10 +286,9 @@ struct EyeTracer {
 
   // The light a split path's equiangular draws aim at (false: the scene has none with a place).
   bool pick_local_light(const Ray& ray, double u, EquiangularTarget& target) const {
-    if (local_lights.empty()) return false;
-    const size_t k = std::upper_bound(local_light_cdf.begin(), local_light_cdf.end(), u * local_light_cdf.back()) -
-                     local_light_cdf.begin();
-    const Light& l = scene.lights()[local_lights[std::min(k, local_lights.size() - 1)]];
+    if (options.lights == nullptr || !options.lights->has_placed()) return false;
+    double pdf;
+    const Light& l = scene.lights()[options.lights->pick_placed(u, pdf)];
     target = EquiangularTarget::of(ray.origin, ray.direction, l.position);
     return true;
   }
@@ -539,13 +534,6 @@ EyeTracer make_tracer(const Scene& scene, const Settings& settings, const EyePas
       tracer.visible_lights.push_back(i);
     if (k == LightKind::Sun && scene.lights()[i].cos_sun < 1.0) tracer.visible_suns.push_back(i);
     if (k == LightKind::Background) tracer.background = &scene.lights()[i];
-    const bool local = k == LightKind::Point || k == LightKind::Sphere || k == LightKind::Spot ||
-                       k == LightKind::Rectangle || k == LightKind::Disk;
-    const double power = luminance(scene.lights()[i].power);
-    if (tracer.media && settings.volume_beams && local && power > 0.0 && power < kInf) {
-      tracer.local_lights.push_back(i);
-      tracer.local_light_cdf.push_back(power + (tracer.local_light_cdf.empty() ? 0.0 : tracer.local_light_cdf.back()));
-    }
   }
   return tracer;
 }

@@ -6,6 +6,7 @@
 
 #include "ppm/hit_point.h"
 #include "ppm/settings.h"
+#include "scene/light_sampler.h"
 #include "scene/scene.h"
 
 #include <atomic>
@@ -35,6 +36,9 @@ struct EyePassOptions {
   // indexed from the first pixel of row_begin.
   int row_begin = 0;
   int row_end = -1;
+  // The renderer's lights: split camera paths in fog aim half their scatterings at one with a place
+  // (EyeTracer::split_path); nullptr: they do not.
+  const LightSampler* lights = nullptr;
 };
 
 // What the eye pass's chunks of rows record before they are joined into `out`, kept by the

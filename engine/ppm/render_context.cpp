@@ -74,6 +74,7 @@ EyePassOptions RenderContext::eye_options(uint64_t generation, int samples_per_p
   o.generation = generation;
   o.lens = dof_lens;
   o.record_depth = dof_post && depth.empty();
+  o.lights = &lights;
   return o;
 }
 
