@@ -34,6 +34,9 @@ struct EyeVertex {
   // what the denoising normal is weighted by.
   double share = 1.0;
   uint8_t route = kNoBounce;  // the class of its chain's first bounce (light_components.h)
+  // Drawn from a rough lobe the eye follows, where lights were sampled too (sample_lights): the
+  // density of its direction, which weighs the lights it meets against that sampling; 0: none.
+  double mis_pdf = 0.0;
 };
 
 // Scenes with media: what an eye vertex knows of them, kept in an array beside the vertices' (so
@@ -55,9 +58,14 @@ struct FileEmission {
   ComponentLight* out;
   const EyeVertex& v;
   const Color& emitted;
-  const Color start;
+  Color start;
   ~FileEmission() {
     if (out && v.depth > 0) out->light[emission_component(v.route, v.depth)] += Vec3f(emitted - start);
+  }
+  // Light the vertex adds to `emitted` that belongs to another component (`k`), filed there instead.
+  void file_apart(const Color& light, LightComponent k) {
+    start += light;
+    if (out) out->light[k] += Vec3f(light);
   }
 };
 
@@ -80,6 +88,8 @@ struct EyeTracer {
   const EyePassOptions& options;
   std::vector<uint32_t> visible_lights;  // lights with a surface: spheres (spots too), rectangles, disks
   std::vector<uint32_t> visible_suns;    // suns of a non-zero angle: a disc in the sky
+  std::vector<uint32_t> delta_lights;    // points, spots without a radius, suns of no angle
+  std::vector<uint32_t> pdf_lights;      // light_has_pdf: sampled with multiple importance sampling
   const Light* background;  // what rays that escape see (nullptr: black)
   double footprint;
   bool orthographic;
@@ -89,6 +99,14 @@ struct EyeTracer {
   // A light's own Max Bounces: does it reach a path that has scattered `depth` times?
   static bool reaches(const Light& light, int depth) { return depth <= light.max_bounces; }
 
+  // The share of light `l` met along v's ray that v's own sampling carries (the balance
+  // heuristic against light sampling at the vertex it left: sample_lights); 1 where that sampled
+  // no light.
+  static double bsdf_share(const EyeVertex& v, const Light& l) {
+    if (!(v.mis_pdf > 0.0) || !light_has_pdf(l)) return 1.0;
+    return v.mis_pdf / (v.mis_pdf + light_pdf(l, v.ray.origin, v.ray.direction));
+  }
+
   // Does this vertex's path make the pixel transparent where it escapes or meets a holdout?
   // Cycles: camera rays, and with transparent glass those refracted through glass only.
   bool transparent_path(const EyeVertex& v) const {
@@ -97,11 +115,12 @@ struct EyeTracer {
 
   // Adds the radiance of the suns whose disc an escaping ray points into (Cycles shows a sun to
   // glossy and transmission rays, and to camera rays if it is visible to them).
-  void see_suns(const Ray& ray, int depth, const Color& throughput, Color& emitted) const {
+  void see_suns(const EyeVertex& v, Color& emitted) const {
     for (uint32_t i : visible_suns) {
       const Light& sun = scene.lights()[i];
-      if ((sun.visibility & ray.kind) && reaches(sun, depth) && -glm::dot(ray.direction, sun.direction) >= sun.cos_sun)
-        emitted += throughput * sun.radiance;
+      if ((sun.visibility & v.ray.kind) && reaches(sun, v.depth) &&
+          -glm::dot(v.ray.direction, sun.direction) >= sun.cos_sun)
+        emitted += v.throughput * sun.radiance * bsdf_share(v, sun);
     }
   }
 
@@ -113,13 +132,13 @@ struct EyeTracer {
       return;
     }
     const Color before = emitted;
-    see_suns(v.ray, v.depth, v.throughput, emitted);
+    see_suns(v, emitted);
     if (seen) seen->emission += emitted - before;
     Color world(0.0);
     if (v.ray.kind == kCameraRay && scene.camera_background() != nullptr)
       world = v.throughput * scene.camera_background()->radiance(v.ray.direction);
     else if (background != nullptr && (background->visibility & v.ray.kind) && reaches(*background, v.depth))
-      world = v.throughput * background_radiance(*background, v.ray.direction);
+      world = v.throughput * background_radiance(*background, v.ray.direction) * bsdf_share(v, *background);
     emitted += world;
     if (seen) seen->environment += world;
   }
@@ -140,21 +159,31 @@ struct EyeTracer {
   }
 
   // Adds the radiance of lights nearer than the surface; returns true if one blocks the view.
-  bool see_lights(const Ray& ray, int depth, double t_surface, const Color& throughput, Color& emitted) const {
-    double nearest = t_surface;
+  bool see_lights(const EyeVertex& v, double t_surface, Color& emitted) const {
     Color seen(0.0);
+    const double nearest = nearest_light(v, t_surface, seen);
+    emitted += v.throughput * seen;
+    return nearest < t_surface;
+  }
+
+  // The nearest light along v's ray before `t_surface`: its distance (t_surface if none) and the
+  // radiance `seen` of it (weighed by bsdf_share).
+  double nearest_light(const EyeVertex& v, double t_surface, Color& seen) const {
+    double nearest = t_surface;
+    const Light* found = nullptr;
     for (uint32_t i : visible_lights) {
       const Light& light = scene.lights()[i];
-      if (!(light.visibility & ray.kind) || !reaches(light, depth)) continue;
+      if (!(light.visibility & v.ray.kind) || !reaches(light, v.depth)) continue;
       double t;
-      const Color L = light_seen(light, ray, nearest, t);
+      const Color L = light_seen(light, v.ray, nearest, t);
       if (max_component(L) > 0.0) {
         nearest = t;
         seen = L;
+        found = &light;
       }
     }
-    emitted += throughput * seen;
-    return nearest < t_surface;
+    if (found) seen *= bsdf_share(v, *found);
+    return nearest;
   }
 
   // What the Light Path node sees at a hit `t` along v's ray. The eye chain scatters only at
@@ -301,18 +330,8 @@ struct EyeTracer {
   MediumStep medium_step(const EyeVertex& v, const EyeMedia& vm, double t_surface, Rng& rng, uint32_t pixel,
                          ChunkOutput& out, Color& emitted) const {
     MediumStep step;
-    double nearest = t_surface;
     Color light(0.0);
-    for (uint32_t i : visible_lights) {
-      const Light& l = scene.lights()[i];
-      if (!(l.visibility & v.ray.kind) || !reaches(l, v.depth)) continue;
-      double t;
-      const Color L = light_seen(l, v.ray, nearest, t);
-      if (max_component(L) > 0.0) {
-        nearest = t;
-        light = L;
-      }
-    }
+    const double nearest = nearest_light(v, t_surface, light);
     step.behind_light = nearest < t_surface;
     const Medium* med = scene.medium_of(vm.stack);
     if (med == nullptr) {
@@ -392,7 +411,7 @@ struct EyeTracer {
       EyeVertex v = stack[--top];
       [[maybe_unused]] std::conditional_t<kMedia, EyeMedia, char> vm{};  // kMedia: the vertex's media
       if constexpr (kMedia) vm = media_of[top];
-      const FileEmission file{components, v, emitted, emitted};
+      FileEmission file{components, v, emitted, emitted};
       Hit hit;
       const bool found = scene.intersect(v.ray, hit, v.depth == 0 ? tmax0 : kInf);
       SeenLight* seen_here = v.depth == 0 ? seen : nullptr;  // Cycles' Emit and Env: no bounce
@@ -404,7 +423,7 @@ struct EyeTracer {
         v.throughput *= step.weight;
         if (!(max_component(v.throughput) > 0.0)) continue;
       } else {
-        const bool behind_a_light = see_lights(v.ray, v.depth, found ? hit.t : kInf, v.throughput, emitted);
+        const bool behind_a_light = see_lights(v, found ? hit.t : kInf, emitted);
         if (seen_here) seen_here->emission += emitted - before;
         if (behind_a_light) continue;
       }
@@ -449,8 +468,14 @@ struct EyeTracer {
       }
       // With Cycles' limits, one ray more than the total: it may still see emission.
       if (!options.follow_specular || v.depth + 1 >= settings.path_bounces() + (limits.by_kind ? 1 : 0)) continue;
+      const bool rough = m.kind == MaterialKind::Mixture && closure_has_rough_followed(m.lobes, sp);
+      if (rough && !(delta_lights.empty() && pdf_lights.empty())) {
+        const MediumStack* media = nullptr;
+        if constexpr (kMedia) media = &vm.stack;
+        sample_lights(v, hit, m, sp, followed, media, rng, emitted, file);
+      }
       const int first_branch = top;
-      follow_specular(v, length, hit, m, sp, followed, rng, stack, top);
+      follow_specular(v, length, hit, m, sp, followed, rough && !pdf_lights.empty(), rng, stack, top);
       if constexpr (kMedia) {  // each branch keeps v's media, and changes them where it goes through the surface
         for (int b = first_branch; b < top; ++b) {
           media_of[b] = vm;
@@ -460,6 +485,67 @@ struct EyeTracer {
         }
       }
     }
+  }
+
+  // A path that follows rough lobes (closure_eval_followed_rough) at `hit`, with probability
+  // `followed`, stores no hit point for them: the lights they reflect are sampled here, a shadow
+  // ray each, added to `emitted` and filed as the reflection or refraction that carries them.
+  // Lights of no size, which no drawn direction meets, in full; lights with a density
+  // (light_has_pdf) by the balance heuristic against the lobes' own draw, which weighs what it
+  // meets alike (bsdf_share). Emissive triangles and a plain world are left to the lobes' draw.
+  // `media`: the stack v is in (scenes with media), for the shadow rays' transmittance.
+  void sample_lights(const EyeVertex& v, const Hit& hit, const Material& m, const SurfacePoint& sp, double followed,
+                     const MediumStack* media, Rng& rng, Color& emitted, FileEmission& file) const {
+    for (uint32_t i : delta_lights) {
+      DirectSample ds;
+      if (sample_direct(scene.lights()[i], hit.position, sp.ns, 0.5, 0.5, ds))
+        add_light_sample(v, hit, m, sp, scene.lights()[i], ds, 1.0 / followed, media, rng, emitted, file);
+    }
+    for (uint32_t i : pdf_lights) {
+      const Light& light = scene.lights()[i];
+      const double u1 = rng.uniform(), u2 = rng.uniform();
+      DirectSample ds;
+      if (!sample_light_with_pdf(light, hit.position, u1, u2, ds)) continue;
+      const double p_light = light_pdf(light, hit.position, ds.wi);
+      if (!(p_light > 0.0)) continue;
+      const double p_bsdf = closure_followed_pdf(m.lobes, sp, -v.ray.direction, ds.wi);
+      add_light_sample(v, hit, m, sp, light, ds, p_light / ((p_light + p_bsdf) * followed), media, rng, emitted,
+                       file);
+    }
+  }
+
+  // One light sample `ds` of sample_lights, times `scale`.
+  void add_light_sample(const EyeVertex& v, const Hit& hit, const Material& m, const SurfacePoint& sp,
+                        const Light& light, const DirectSample& ds, double scale, const MediumStack* media, Rng& rng,
+                        Color& emitted, FileEmission& file) const {
+    const Vec3 wo = -v.ray.direction;
+    const bool reflected = glm::dot(ds.wi, hit.geometric_normal) * glm::dot(wo, hit.geometric_normal) > 0.0;
+    const uint8_t kind = reflected ? kGlossyRay : kTransmissionRay;
+    if (!reaches(light, v.depth) || !(light.visibility & kind)) return;  // Cycles leaves it out of those closures
+    const Color f = closure_eval_followed_rough(m.lobes, sp, wo, ds.wi);
+    Color c = v.throughput * f * ds.value * (std::fabs(glm::dot(sp.ns, ds.wi)) * scale);
+    if (!(max_component(c) > 0.0)) return;
+    c *= shadow_weight(hit, v.ray.direction, ds, light.cast_shadow, media, rng);
+    if (!(max_component(c) > 0.0)) return;
+    emitted += c;
+    file.file_apart(c, emission_component(route_after(v.route, kind), v.depth + 1));
+  }
+
+  // What reaches `hit` of a light sample `ds` past the shadows (1 or 0; in media, their transmittance).
+  Color shadow_weight(const Hit& hit, const Vec3& incoming, const DirectSample& ds, bool casts_shadow,
+                      const MediumStack* media, Rng& rng) const {
+    if (!casts_shadow) return Color(1.0);
+    const Ray ray{offset_point(hit.position, hit.geometric_normal, ds.wi, scene.offset_floor()), ds.wi, kShadowRay};
+    double dist = ds.distance;
+    if (dist < kInf) {
+      dist = dist * (1.0 - 1e-9) - 2.0 * ray_offset(hit.position + ds.wi * ds.distance, scene.offset_floor());
+      if (!(dist > 0.0)) return Color(0.0);
+    }
+    if (media == nullptr) return scene.occluded(ray, dist) ? Color(0.0) : Color(1.0);
+    MediumStack stack = *media;  // through the surface: the media beyond it
+    if (glm::dot(ds.wi, hit.geometric_normal) * glm::dot(incoming, hit.geometric_normal) > 0.0)
+      scene.cross(hit, incoming, stack);
+    return scene.shadow_transmittance(ray, dist, stack, rng);
   }
 
   // The share of m's scattering at sp that eye paths follow: its mirror and smooth glass lobes'.
@@ -472,9 +558,11 @@ struct EyeTracer {
 
   // Pushes the rays v follows from a mirror or glass at `hit` (their share `followed` of its
   // scattering) onto `stack`: both branches of a split up to kSplitDepth, one chosen past it.
+  // `weigh`: light was sampled at the vertex too (sample_lights), so a direction drawn from a rough
+  // lobe carries its density (EyeVertex::mis_pdf).
   [[gnu::always_inline]] void follow_specular(const EyeVertex& v, double length, const Hit& hit, const Material& m,
-                                              const SurfacePoint& sp, double followed, Rng& rng, EyeVertex* stack,
-                                              int& top) const {
+                                              const SurfacePoint& sp, double followed, bool weigh, Rng& rng,
+                                              EyeVertex* stack, int& top) const {
     BsdfSample branches[2];
     double u[4] = {0.5, 0.5, 0.5, 0.5};  // only a mixture draws: other scenes keep their random streams
     if (m.kind == MaterialKind::Mixture)
@@ -507,8 +595,10 @@ struct EyeTracer {
                                  v.emission_only, share, v.route};
         continue;
       }
-      stack[top++] = EyeVertex{Ray{origin, wi, kind}, thr,   v.depth + 1, length,
-                               glass_only,            chain, emission_only, share, route_after(v.route, kind)};
+      const double mis_pdf =
+          weigh && !branches[b].specular ? closure_followed_pdf(m.lobes, sp, -v.ray.direction, wi) : 0.0;
+      stack[top++] = EyeVertex{Ray{origin, wi, kind}, thr,   v.depth + 1, length, glass_only,
+                               chain, emission_only, share, route_after(v.route, kind), mis_pdf};
     }
   }
 };
@@ -525,7 +615,7 @@ void add_features(const SampleFeatures& f, int spp, Vec3f& albedo, Vec3f& normal
 // in the sky, and the world.
 EyeTracer make_tracer(const Scene& scene, const Settings& settings, const EyePassOptions& options) {
   const Camera& cam = scene.camera();
-  EyeTracer tracer{scene, settings, options, {}, {}, nullptr, cam.pixel_footprint(),
+  EyeTracer tracer{scene, settings, options, {}, {}, {}, {}, nullptr, cam.pixel_footprint(),
                    cam.projection == Projection::Orthographic, BounceLimits::of(settings, scene), scene.has_media()};
   for (uint32_t i = 0; i < scene.lights().size(); ++i) {
     const LightKind k = scene.lights()[i].kind;
@@ -534,6 +624,8 @@ EyeTracer make_tracer(const Scene& scene, const Settings& settings, const EyePas
       tracer.visible_lights.push_back(i);
     if (k == LightKind::Sun && scene.lights()[i].cos_sun < 1.0) tracer.visible_suns.push_back(i);
     if (k == LightKind::Background) tracer.background = &scene.lights()[i];
+    if (light_is_delta(scene.lights()[i])) tracer.delta_lights.push_back(i);
+    if (light_has_pdf(scene.lights()[i])) tracer.pdf_lights.push_back(i);
   }
   return tracer;
 }

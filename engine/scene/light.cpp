@@ -477,4 +477,50 @@ Color light_seen(const Light& l, const Ray& ray, double tmax, double& t) {
   }
 }
 
+bool light_has_pdf(const Light& l) {
+  switch (l.kind) {
+    case LightKind::Sphere: return !l.soft_falloff;
+    case LightKind::Spot: return l.radius > 0.0 && !l.soft_falloff;
+    case LightKind::Rectangle:
+    case LightKind::Disk: return light_area(l) > 0.0;
+    case LightKind::Sun: return l.cos_sun < 1.0;
+    case LightKind::Background: return l.environment != nullptr;
+    default: return false;
+  }
+}
+
+bool sample_light_with_pdf(const Light& l, const Vec3& p, double u1, double u2, DirectSample& out) {
+  if (l.kind != LightKind::Background) return sample_direct(l, p, Vec3(0.0, 0.0, 1.0), u1, u2, out);
+  double pdf;
+  if (!l.environment->sample(u1, u2, out.wi, pdf) || !(pdf > 0.0)) return false;
+  out.distance = kInf;
+  out.value = l.environment->radiance(out.wi) / pdf;
+  return true;
+}
+
+double light_pdf(const Light& l, const Vec3& p, const Vec3& wi) {
+  switch (l.kind) {
+    case LightKind::Sphere:
+    case LightKind::Spot: {  // uniform in the cone the sphere subtends
+      const Vec3 d = l.position - p;
+      const double dist2 = glm::dot(d, d), r2 = l.radius * l.radius;
+      if (dist2 <= r2) return 0.0;
+      const double cos_max = std::sqrt(std::fmax(0.0, 1.0 - r2 / dist2));
+      if (glm::dot(wi, d) < cos_max * std::sqrt(dist2)) return 0.0;
+      return (1.0 + cos_max) * dist2 / (2.0 * kPi * r2);  // 1 / (2 pi (1 - cos_max)), as sample_sphere
+    }
+    case LightKind::Rectangle:
+    case LightKind::Disk: {  // uniform over the area: distance^2 / (cos area)
+      const double cos_l = -glm::dot(wi, l.direction);
+      if (cos_l <= 0.0) return 0.0;
+      const double t = glm::dot(l.position - p, l.direction) / -cos_l;
+      return t > 0.0 ? t * t / (cos_l * light_area(l)) : 0.0;
+    }
+    case LightKind::Sun:
+      return -glm::dot(wi, l.direction) >= l.cos_sun ? 1.0 / (2.0 * kPi * (1.0 - l.cos_sun)) : 0.0;
+    case LightKind::Background: return l.environment->pdf(wi);
+    default: return 0.0;
+  }
+}
+
 }  // namespace ppm

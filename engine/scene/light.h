@@ -161,6 +161,16 @@ int direct_samples(const Light& light);
 bool sample_direct(const Light& light, const Vec3& p, const Vec3& n, double u1, double u2,
                    DirectSample& out, int strategy = 0);
 
+// Lights whose sampled directions have a density that light_pdf gives (spheres and spots of a
+// radius without the soft falloff, rectangles and disks, suns of an angle, environment images), so
+// that light sampling and BSDF sampling can share their directions (multiple importance sampling).
+bool light_has_pdf(const Light& light);
+// A light_has_pdf light sampled from p: by sample_direct, and an environment by its density alone.
+bool sample_light_with_pdf(const Light& light, const Vec3& p, double u1, double u2, DirectSample& out);
+// The density per solid angle of sample_light_with_pdf's direction wi from p (0 where it never draws it;
+// a rectangle's or disk's wi taken to meet it).
+double light_pdf(const Light& light, const Vec3& p, const Vec3& wi);
+
 // Is the light delta in position and direction (direct light needs one sample only)?
 bool light_is_delta(const Light& light);
 

@@ -312,6 +312,43 @@ Color closure_eval(const std::vector<Lobe>& lobes, const SurfacePoint& sp, const
   return f;
 }
 
+Color closure_eval_followed_rough(const std::vector<Lobe>& lobes, const SurfacePoint& sp, const Vec3& wo,
+                                  const Vec3& wi) {
+  Color eff[kMaxLobes];
+  effective_weights(lobes, sp, wo, eff);
+  Color f(0.0);
+  for (size_t i = 0; i < lobes.size(); ++i) {
+    const Lobe& l = lobes[i];
+    if (l.followed(sp) && !l.delta_at(l.roughness_at(sp)))
+      f += eff[i] * lobe_eval(l, sp, wo, wi) * bump_shadowing(l, sp, wo, wi, true);
+  }
+  return f;
+}
+
+double closure_followed_pdf(const std::vector<Lobe>& lobes, const SurfacePoint& sp, const Vec3& wo, const Vec3& wi) {
+  Color eff[kMaxLobes];
+  double prob[kMaxLobes];
+  effective_weights(lobes, sp, wo, eff);
+  if (!(pick_probabilities(lobes, sp, wo, eff, [&sp](const Lobe& l) { return l.followed(sp); }, prob) > 0.0))
+    return 0.0;
+  double pdf = 0.0;
+  for (size_t i = 0; i < lobes.size(); ++i) {
+    const Lobe& l = lobes[i];
+    if (prob[i] <= 0.0 || l.delta_at(l.roughness_at(sp))) continue;
+    if (l.kind == LobeKind::Dielectric)
+      pdf += prob[i] * dielectric_pdf(l.dielectric(sp), sp, wo, wi);
+    else if (l.kind == LobeKind::Conductor || l.kind == LobeKind::Glossy)
+      pdf += prob[i] * conductor_pdf(conductor_at(l, sp, l.color_at(sp)), sp, wo, wi);
+  }
+  return pdf;
+}
+
+bool closure_has_rough_followed(const std::vector<Lobe>& lobes, const SurfacePoint& sp) {
+  for (const Lobe& l : lobes)
+    if (l.followed(sp) && !l.delta_at(l.roughness_at(sp))) return true;
+  return false;
+}
+
 bool closure_lambertian(const std::vector<Lobe>& lobes, const SurfacePoint& sp, const Vec3& wo, Color& albedo) {
   if (sp.softening != BumpSoftening::None && sp.smooth_normal != Vec3(0.0) && sp.smooth_normal != sp.ns) return false;
   Color eff[kMaxLobes];

@@ -21,6 +21,16 @@ void prepare_lobe(Lobe& lobe);
 // f(wo, wi) of the lobes hit points store (all but the followed ones), without the cosine.
 Color closure_eval(const std::vector<Lobe>& lobes, const SurfacePoint& sp, const Vec3& wo, const Vec3& wi);
 
+// f(wo, wi) of the followed lobes that are not delta at sp (glossy ones narrower than
+// kFollowedRoughness, rough refraction), without the cosine: what an eye path that follows them
+// reflects of a delta light, which no sampled direction meets (EyeTracer::delta_light).
+Color closure_eval_followed_rough(const std::vector<Lobe>& lobes, const SurfacePoint& sp, const Vec3& wo,
+                                  const Vec3& wi);
+bool closure_has_rough_followed(const std::vector<Lobe>& lobes, const SurfacePoint& sp);
+// The density (per solid angle) at wi of the directions closure_followed_branches draws from its
+// lobes that are not delta (a delta lobe's direction has no density: those are left out).
+double closure_followed_pdf(const std::vector<Lobe>& lobes, const SurfacePoint& sp, const Vec3& wo, const Vec3& wi);
+
 // Whether closure_eval at sp, seen from wo, is Lambertian reflection of `albedo` for every wi on wo's
 // side: each lobe it evaluates (those not followed) a smooth Diffuse one, and no bump shadowing (a
 // diffuse and a mirror mixed, a clear coat over paint). A hit point there gathers as a diffuse one.

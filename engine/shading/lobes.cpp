@@ -186,6 +186,16 @@ bool conductor_sample(const ConductorParams& p, const SurfacePoint& sp, const Ve
   return true;
 }
 
+double conductor_pdf(const ConductorParams& p, const SurfacePoint& sp, const Vec3& wo, const Vec3& wi) {
+  if (p.roughness < kSmoothRoughness) return 0.0;
+  const LocalFrame f(facing_normal(sp, wo), p.tangent);
+  const Vec3 lo = f.to_local(wo), li = f.to_local(wi);
+  if (lo.z <= 0.0 || li.z <= 0.0) return 0.0;
+  const Vec3 h = glm::normalize(lo + li);
+  const double oh = glm::dot(lo, h);
+  return oh > 0.0 ? conductor_microfacet(p).pdf(lo, h) / (4.0 * oh) : 0.0;
+}
+
 FresnelSplit fresnel_split(const DielectricParams& p, double F) {
   // Refraction alone (Cycles' Refraction BSDF) has no Fresnel: all of it passes, but for total
   // internal reflection, where the path ends.
@@ -225,6 +235,35 @@ Color dielectric_eval(const DielectricParams& p, const SurfacePoint& sp, const V
   const double value = std::fabs(ih) * oh * s.eta_i * s.eta_i * m.d(h) * m.g2(lo, li_up) /
                        (lo.z * std::fabs(li.z) * denom * denom);
   return fresnel_split(p, F).refracted * value;
+}
+
+double dielectric_pdf(const DielectricParams& p, const SurfacePoint& sp, const Vec3& wo, const Vec3& wi) {
+  if (p.roughness < kSmoothRoughness) return 0.0;
+  const DielectricSide s = dielectric_side(p, sp, wo);
+  const LocalFrame f(s.n);
+  const Vec3 lo = f.to_local(wo), li = f.to_local(wi);
+  if (lo.z <= 0.0 || li.z == 0.0) return 0.0;
+  const Microfacet m = dielectric_microfacet(p);
+  const bool both = p.parts == kReflectionAndRefraction;
+  if (li.z > 0.0) {  // reflected: chosen with probability F where both parts are
+    if (!(p.parts & kReflection)) return 0.0;
+    const Vec3 h = glm::normalize(lo + li);
+    const double oh = glm::dot(lo, h);
+    if (oh <= 0.0) return 0.0;
+    Vec3 t;
+    const double F = refract(lo, h, s.eta_o / s.eta_i, t) ? fresnel_dielectric(oh, s.eta_o, s.eta_i) : 1.0;
+    return (both ? F : 1.0) * m.pdf(lo, h) / (4.0 * oh);
+  }
+  if (!(p.parts & kRefraction)) return 0.0;
+  Vec3 h = -(s.eta_o * lo + s.eta_i * li);
+  if (glm::dot(h, h) == 0.0) return 0.0;
+  h = glm::normalize(h);
+  if (h.z < 0.0) h = -h;
+  const double oh = glm::dot(lo, h), ih = glm::dot(li, h);
+  if (oh <= 0.0 || ih >= 0.0) return 0.0;
+  const double F = fresnel_dielectric(oh, s.eta_o, s.eta_i);
+  const double denom = s.eta_i * ih + s.eta_o * oh;  // the half vector's change with wi (Walter 2007)
+  return (both ? 1.0 - F : 1.0) * m.pdf(lo, h) * s.eta_i * s.eta_i * std::fabs(ih) / (denom * denom);
 }
 
 int dielectric_branches(const DielectricParams& p, const SurfacePoint& sp, const Vec3& wo, bool photon,

@@ -51,6 +51,8 @@ struct ConductorParams {
 Color conductor_eval(const ConductorParams& p, const SurfacePoint& sp, const Vec3& wo, const Vec3& wi);
 bool conductor_sample(const ConductorParams& p, const SurfacePoint& sp, const Vec3& wo, double u1, double u2,
                       BsdfSample& out);
+// The density (per solid angle) of conductor_sample's directions at wi (0 for a smooth conductor).
+double conductor_pdf(const ConductorParams& p, const SurfacePoint& sp, const Vec3& wo, const Vec3& wi);
 
 enum DielectricParts : uint8_t { kReflection = 1, kRefraction = 2, kReflectionAndRefraction = 3 };
 struct DielectricParams {
@@ -76,6 +78,9 @@ Color dielectric_eval(const DielectricParams& p, const SurfacePoint& sp, const V
 // surface is as bright as in Cycles. Into and out of a closed object the factors cancel.
 bool dielectric_sample(const DielectricParams& p, const SurfacePoint& sp, const Vec3& wo, double u1, double u2,
                        double u3, bool photon, BsdfSample& out);
+// The density (per solid angle) of dielectric_sample's directions at wi, the choice between
+// reflection and refraction included (0 for a smooth dielectric).
+double dielectric_pdf(const DielectricParams& p, const SurfacePoint& sp, const Vec3& wo, const Vec3& wi);
 // Both branches of a smooth dielectric with their Fresnel weights (0 to 2 written). `photon`: the
 // refraction also scales by (eta_o / eta_i)^2 (see dielectric_sample).
 int dielectric_branches(const DielectricParams& p, const SurfacePoint& sp, const Vec3& wo, bool photon,

@@ -133,6 +133,12 @@ struct Microfacet {
   Vec3 sample(const Vec3& wo, double u1, double u2) const {
     return beckmann ? beckmann_sample_d_cos(ax, ay, u1, u2) : ggx_sample_vndf(wo, ax, ay, u1, u2);
   }
+  // The density of `sample`'s normals at h (for wo).
+  double pdf(const Vec3& wo, const Vec3& h) const {
+    if (h.z <= 0.0) return 0.0;
+    if (beckmann) return d(h) * h.z;
+    return std::fmax(glm::dot(wo, h), 0.0) * d(h) / ((1.0 + lambda(wo)) * wo.z);
+  }
   // f |cos| / pdf of a direction scattered through a sampled h, Fresnel aside; wi_up is the
   // direction mirrored into wo's hemisphere (for refraction).
   double sample_weight(const Vec3& wo, const Vec3& wi_up, const Vec3& h) const {

@@ -374,5 +374,48 @@ TEST(Closure, DeltaShareAndBranchesSplitTheSurfaceWhole) {
   EXPECT_NEAR(b[0].weight.x, 0.5, 1e-12);
 }
 
+TEST(Closure, FollowedDensityIsWhatTheDrawsOfRoughFollowedLobesHave) {
+  // Each rough followed lobe beside a smooth mirror (a delta lobe, which has no density): for every
+  // direction drawn from the rough one, f cos / pdf of the followed rough lobes is the draw's weight,
+  // the share of the pick included. GGX (anisotropic too) and Beckmann, glass from both sides.
+  Lobe aniso = lobe(LobeKind::Glossy, Color(0.5), Color(0.8), 0.2);
+  aniso.stretch_x = 1.6;
+  aniso.stretch_y = 0.6;
+  Lobe beckmann = lobe(LobeKind::Conductor, Color(0.5), Color(0.9, 0.6, 0.3), 0.15);
+  beckmann.beckmann = true;
+  Lobe glass = lobe(LobeKind::Dielectric, Color(0.5), Color(1.0), 0.35);
+  glass.ior = 1.5;
+  SurfacePoint sp = kFlat;
+  sp.tangent = Vec3(1.0, 0.0, 0.0);
+  const Lobe mirror = lobe(LobeKind::Conductor, Color(0.5), Color(1.0));
+  Rng rng(3, 4, 5);
+  for (const Lobe& rough : {aniso, beckmann, glass}) {
+    const std::vector<Lobe> lobes = {mirror, rough};
+    for (double cos_o : {0.9, 0.4, -0.6}) {
+      if (cos_o < 0.0 && rough.kind != LobeKind::Dielectric) continue;
+      const Vec3 wo = direction(cos_o, 0.7);
+      int drawn = 0;
+      for (int i = 0; i < 2000; ++i) {
+        BsdfSample b[2];
+        if (closure_followed_branches(lobes, sp, wo, rng.uniform(), rng.uniform(), rng.uniform(), rng.uniform(), b) != 1 ||
+            b[0].specular)
+          continue;
+        ++drawn;
+        const double pdf = closure_followed_pdf(lobes, sp, wo, b[0].wi);
+        ASSERT_GT(pdf, 0.0);
+        const Color f = closure_eval_followed_rough(lobes, sp, wo, b[0].wi);
+        const Color weight = f * (std::fabs(b[0].wi.z) / pdf);
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(weight[c], b[0].weight[c], 1e-6 * (1.0 + b[0].weight[c]));
+      }
+      EXPECT_GT(drawn, 500);
+    }
+  }
+  // The delta lobe alone has no density, nor a rough lobe's draw away from its side.
+  const std::vector<Lobe> smooth = {mirror};
+  EXPECT_EQ(closure_followed_pdf(smooth, kFlat, direction(0.8), direction(0.8, kPi)), 0.0);
+  EXPECT_FALSE(closure_has_rough_followed(smooth, kFlat));
+  EXPECT_EQ(closure_followed_pdf({mirror, beckmann}, kFlat, direction(0.8), direction(-0.5)), 0.0);
+}
+
 }  // namespace
 }  // namespace ppm

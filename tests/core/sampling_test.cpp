@@ -187,6 +187,47 @@ TEST(Lights, AreaLightDirectMatchesAnalyticIrradiance) {
   EXPECT_NEAR(e / kN, kPi * L * a * a / (h * h + a * a), 0.005 * kPi * L * a * a / (h * h));
 }
 
+TEST(Lights, TheDensityOfTheirDirectionsIsWhatTheirSamplesCarry) {
+  // For lights with a density (light_has_pdf), a sample's value times the density of its direction
+  // is the radiance a ray along it sees (light_seen, the sun's disc), at the sample's distance.
+  const Aabb box{Vec3(-1.0), Vec3(1.0)};
+  std::vector<Light> lights(4);
+  lights[0].kind = LightKind::Sphere;
+  lights[0].radius = 0.3;
+  lights[1].kind = LightKind::Rectangle;
+  lights[1].axis_u = 0.4 * glm::normalize(Vec3(1.0, 0.0, 0.1));  // in the plane normal to `direction` below
+  lights[1].axis_v = Vec3(0.0, 0.2, 0.0);
+  lights[2] = lights[1];
+  lights[2].kind = LightKind::Disk;
+  lights[3].kind = LightKind::Sun;
+  lights[3].cos_sun = std::cos(0.1);
+  for (Light& l : lights) {
+    l.power = Color(50.0, 20.0, 10.0);
+    l.position = Vec3(0.2, 0.1, 3.0);
+    l.direction = glm::normalize(Vec3(0.1, 0.0, -1.0));
+    prepare_light(l, box);
+    ASSERT_TRUE(light_has_pdf(l));
+  }
+  const Vec3 p(0.0, 0.0, 0.0);
+  Rng rng(8, 8, 8);
+  for (const Light& l : lights)
+    for (int i = 0; i < 200; ++i) {
+      DirectSample ds;
+      if (!sample_light_with_pdf(l, p, rng.uniform(), rng.uniform(), ds)) continue;
+      const double pdf = light_pdf(l, p, ds.wi);
+      ASSERT_GT(pdf, 0.0);
+      double t = kInf;
+      const Color seen = l.kind == LightKind::Sun ? l.radiance : light_seen(l, Ray{p, ds.wi}, kInf, t);
+      for (int c = 0; c < 3; ++c) EXPECT_NEAR(ds.value[c] * pdf, seen[c], 1e-6 * seen[c]);
+      if (l.kind != LightKind::Sun) EXPECT_NEAR(t, ds.distance, 1e-9);
+    }
+  // Directions a light never draws have no density; lights of no size have none at all.
+  EXPECT_EQ(light_pdf(lights[0], p, Vec3(0.0, 0.0, -1.0)), 0.0);
+  EXPECT_EQ(light_pdf(lights[3], p, Vec3(1.0, 0.0, 0.0)), 0.0);
+  Light point;
+  EXPECT_FALSE(light_has_pdf(point));
+}
+
 }  // namespace
 }  // namespace ppm
 
