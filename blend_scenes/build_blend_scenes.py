@@ -10,7 +10,8 @@ cornell_3spheres (report figure 1), bezier_vase (figure 2), cornell_dof
 cornell_diffuse (diffuse only, for the accuracy benchmarks against Cycles), hdri_glass (image-based
 light from an HDRI Blender ships, packed, with glass and its caustic) and fog_caustic (a volumetric
 caustic: a spot light through a glass ball into a fog box), fog_shafts (god rays in a fog-filled
-room, the camera in the fog) and cloud (a medium that varies in space: a Noise cloud over a stage).
+room, the camera in the fog), cloud (a medium that varies in space: a Noise cloud over a stage) and
+studio (an HDRI with a sun over diffuse, rough gold and glass balls: a path tracer's kind of scene).
 Geometry mirrors blend_scenes/core_scenes.py where a core scene exists.
 """
 
@@ -380,6 +381,27 @@ def hdri_glass():
     bpy.context.scene.view_settings.exposure = -2.5  # a sunlit floor is about 4
 
 
+def studio():
+    """A product shot under an HDRI, the kind of scene a path tracer renders well: Blender's city.exr
+    (its sun 48 degrees high) turned so that the sun comes from the camera's left, a grey floor, and
+    three Principled balls: diffuse clay, rough gold (roughness 0.25) and smooth glass (IOR 1.5)."""
+    reset()
+    quad("floor", [(-8, -8, 0), (8, -8, 0), (8, 8, 0), (-8, 8, 0)], diffuse("floor", (0.5, 0.5, 0.5)))
+    principled = "ShaderNodeBsdfPrincipled"
+    clay = node_material("clay", principled, **{"Base Color": (0.8, 0.45, 0.3, 1.0), "Roughness": 0.6})
+    gold = node_material("gold", principled, **{"Base Color": (1.0, 0.76, 0.33, 1.0), "Metallic": 1.0,
+                                                "Roughness": 0.25})
+    glass = node_material("glass", principled, **{"Transmission Weight": 1.0, "Transmission": 1.0,
+                                                  "Roughness": 0.0, "IOR": 1.5})
+    uv_sphere("clay_ball", (-1.25, 0.4, 0.5), 0.5, clay)
+    uv_sphere("gold_ball", (0.0, 0.0, 0.5), 0.5, gold)
+    uv_sphere("glass_ball", (1.25, 0.4, 0.5), 0.5, glass)
+    camera((0.0, -4.5, 1.6), (0.0, 0.2, 0.45), lens=45.0)
+    environment_world("city", turn_degrees=250.0)
+    render_settings()
+    bpy.context.scene.view_settings.exposure = -2.0
+
+
 def fog_box(name, corner_min, corner_max, density, anisotropy):
     """A box of Volume Scatter with nothing on its Surface: fog inside it, an invisible boundary."""
     mat = bpy.data.materials.new(name)
@@ -487,7 +509,8 @@ def cloud():
 
 SCENES = {"cornell_3spheres": cornell_3spheres, "bezier_vase": bezier_vase,
           "cornell_dof": cornell_dof, "showcase": showcase, "cornell_diffuse": cornell_diffuse,
-          "hdri_glass": hdri_glass, "fog_caustic": fog_caustic, "fog_shafts": fog_shafts, "cloud": cloud}
+          "hdri_glass": hdri_glass, "fog_caustic": fog_caustic, "fog_shafts": fog_shafts, "cloud": cloud,
+          "studio": studio}
 
 
 def save(path):
