@@ -1,5 +1,5 @@
 """PPM against Cycles for every material of material_library.py, in the running Blender: each on a
-ball under a small sun and a grey world, seen through an orthographic camera. The same saved file
+ball under a small sun (or `--light`: see LIGHTS) and a grey world, seen through an orthographic camera. The same saved file
 is rendered by both engines (Cycles 1024 samples, 16 bounces of each kind; PPM 64 passes of 50,000
 photons, 10,000 on a ball that stores next to none (material_library.PHOTON_LIT); in_blender.py, in
 every Blender version: 256 and 32). The mean colour over the ball
@@ -8,7 +8,7 @@ channel darker than 0.1) for every material but the documented approximations, w
 only. Prints one line per material and, with --table, a markdown table for the README; --sheet
 PATH draws Cycles | PPM | difference for each (docs/materials_compare.png).
 
-    .venv/bin/python tests/blenders/materials_compare.py [--table] [--sheet PATH] [NAME ...]  # 5.0 (bpy)
+    .venv/bin/python tests/blenders/materials_compare.py [--table] [--sheet PATH] [--light L] [NAME ...]  # 5.0
     blender -b --factory-startup --python-exit-code 1 -P tests/blenders/materials_compare.py [-- NAME ...]
 """
 
@@ -31,13 +31,23 @@ DARK = 0.1
 SHEET = {}  # name -> {"CYCLES": rgb, "PPM": rgb}, for the contact sheet
 
 
-def build(name):
+# The key light (`--light`): a sun of 5 degrees (a disc in the sky, met by sampled directions), or
+# lights of no size, which only light sampling reaches: a sun of no angle and a point light.
+LIGHTS = {
+    "sun": lambda: cycles_compare.add_light("SUN", 3.0, (0.0, 0.0, 5.0), angle=math.radians(5),
+                                            rotation=(math.radians(40), 0.0, math.radians(-30))),
+    "sun0": lambda: cycles_compare.add_light("SUN", 3.0, (0.0, 0.0, 5.0), angle=0.0,
+                                             rotation=(math.radians(40), 0.0, math.radians(-30))),
+    "point": lambda: cycles_compare.add_light("POINT", 600.0, (2.0, -3.0, 3.0), shadow_soft_size=0.0),
+}
+
+
+def build(name, light="sun"):
     cycles_compare.reset()
     scene = bpy.context.scene
     cycles_compare.ball("ball", (0.0, 0.0, 0.0), 1.0, material_library.make_material(name))
     cycles_compare.set_world(0.5)
-    cycles_compare.add_light("SUN", 3.0, (0.0, 0.0, 5.0), rotation=(math.radians(40), 0.0, math.radians(-30)),
-                             angle=math.radians(5))
+    LIGHTS[light]()
     cam = bpy.data.objects.new("camera", bpy.data.cameras.new("camera"))
     cam.location, cam.rotation_euler = (0.0, -5.0, 0.0), (math.radians(90), 0.0, 0.0)
     cam.data.type, cam.data.ortho_scale = "ORTHO", ORTHO_SCALE
@@ -69,8 +79,8 @@ def configure_for(name):
     return configure
 
 
-def compare(name, workdir, samples=1024, passes=64):
-    build(name)
+def compare(name, workdir, samples=1024, passes=64, light="sun"):
+    build(name, light)
     images = cycles_compare.render_with_both_engines(name, workdir, samples, passes, bounces=16,
                                                      configure=configure_for(name))
     mask = ball_mask()
@@ -114,11 +124,11 @@ def table(rows):
               f"{100 * row['pixel_rel_rmse']:.1f}% | {100 * row['block_rel_rmse']:.1f}% |")
 
 
-def compare_cases(names=None, samples=1024, passes=64):
+def compare_cases(names=None, samples=1024, passes=64, light="sun"):
     """compare() for each material (all by default), printing a line each; the rows."""
     names = names or list(material_library.MATERIALS)
     return cycles_compare.run_cases("materials_compare", names,
-                                    lambda name, workdir: compare(name, workdir, samples, passes), describe)
+                                    lambda name, workdir: compare(name, workdir, samples, passes, light), describe)
 
 
 def contact_sheet(rows, path):
@@ -154,10 +164,11 @@ def main():
     else:  # the blender binary's own arguments are not ours
         args = [] if os.path.basename(sys.argv[0]).startswith("blender") else sys.argv[1:]
     sheet = args[args.index("--sheet") + 1] if "--sheet" in args else None
-    names = [a for a in args if not a.startswith("-") and a != sheet] or list(material_library.MATERIALS)
+    light = args[args.index("--light") + 1] if "--light" in args else "sun"
+    names = [a for a in args if not a.startswith("-") and a not in (sheet, light)] or list(material_library.MATERIALS)
 
     def run():
-        rows = compare_cases(names)
+        rows = compare_cases(names, light=light)
         if "--table" in args:
             table(rows)
         if "--sheet" in args:
