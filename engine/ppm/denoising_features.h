@@ -4,9 +4,9 @@
 // path's throughput (the mirrors' and glass's tint and Fresnel weight), and the surface's normal
 // facing the viewer; background and emitters add nothing. Our eye chains stop exactly at the
 // surfaces where hit points are recorded, so the features are an eye pass's (eye_pass.h,
-// record_features), made band by band and then dropped. One difference: glossy lobes of roughness
-// 0.075 to 0.25, which Cycles counts as rough, our eye paths follow (shading/lobe.h,
-// kFollowedRoughness), so their features are those of what they reflect.
+// record_features), made band by band and then dropped. Eye paths also follow glossy and glass
+// lobes, rough ones too: as Cycles, they write the albedo of those rougher than 0.075
+// (Lobe::rough_for_denoising) where they meet them, and write nothing more after drawing one.
 #pragma once
 
 #include "math/types.h"

@@ -37,6 +37,8 @@ struct EyeVertex {
   // Drawn from a rough lobe the eye follows, where lights were sampled too (sample_lights): the
   // density of its direction, which weighs the lights it meets against that sampling; 0: none.
   double mis_pdf = 0.0;
+  // Its denoising features were written at a rough lobe it followed (Lobe::rough_for_denoising).
+  bool features_done = false;
 };
 
 // Scenes with media: what an eye vertex knows of them, kept in an array beside the vertices' (so
@@ -102,8 +104,9 @@ struct EyeTracer {
   // The share of light `l` met along v's ray that v's own sampling carries (the balance
   // heuristic against light sampling at the vertex it left: sample_lights); 1 where that sampled
   // no light.
-  static double bsdf_share(const EyeVertex& v, const Light& l) {
+  double bsdf_share(const EyeVertex& v, const Light& l) const {
     if (!(v.mis_pdf > 0.0) || !light_has_pdf(l)) return 1.0;
+    if (settings.followed_light == FollowedLight::Lights) return 0.0;
     return v.mis_pdf / (v.mis_pdf + light_pdf(l, v.ray.origin, v.ray.direction));
   }
 
@@ -186,8 +189,8 @@ struct EyeTracer {
     return nearest;
   }
 
-  // What the Light Path node sees at a hit `t` along v's ray. The eye chain scatters only at
-  // mirrors and smooth glass (followed lobes), so every ray after the camera's is singular.
+  // What the Light Path node sees at a hit `t` along v's ray. The eye chain scatters only at the
+  // lobes it follows (microfacet ones, smooth or rough), whose rays it counts as singular.
   static LightPath path_of(const EyeVertex& v, double t) {
     LightPath p;
     p.kind = v.ray.kind;
@@ -232,7 +235,7 @@ struct EyeTracer {
                         hit.primitive, pixel, path});
     if (limits.active) out.chain.push_back(v.chain);
     if (options.record_components) out.route.push_back(v.route);
-    if (features) features->add(v.throughput, denoising_albedo(m, sp, wo), ns, v.share);
+    if (features && !v.features_done) features->add(v.throughput, denoising_albedo(m, sp, wo), ns, v.share);
   }
 
   // What a medium step (below) decided for the segment of v's ray up to the surface.
@@ -468,11 +471,18 @@ struct EyeTracer {
       }
       // With Cycles' limits, one ray more than the total: it may still see emission.
       if (!options.follow_specular || v.depth + 1 >= settings.path_bounces() + (limits.by_kind ? 1 : 0)) continue;
-      const bool rough = m.kind == MaterialKind::Mixture && closure_has_rough_followed(m.lobes, sp);
+      const bool rough = settings.followed_light != FollowedLight::Draws && m.kind == MaterialKind::Mixture &&
+                         closure_has_rough_followed(m.lobes, sp);
       if (rough && !(delta_lights.empty() && pdf_lights.empty())) {
         const MediumStack* media = nullptr;
         if constexpr (kMedia) media = &vm.stack;
         sample_lights(v, hit, m, sp, followed, media, rng, emitted, file);
+      }
+      if (features && !v.features_done && m.kind == MaterialKind::Mixture) {  // Cycles' features stop here
+        const Vec3 wo = -v.ray.direction;
+        const Color albedo = closure_followed_albedo(m.lobes, sp, wo);
+        if (max_component(albedo) > 0.0)
+          features->add(v.throughput / followed, albedo, glm::dot(wo, sp.ng) >= 0.0 ? sp.ns : -sp.ns, v.share);
       }
       const int first_branch = top;
       follow_specular(v, length, hit, m, sp, followed, rough && !pdf_lights.empty(), rng, stack, top);
@@ -508,7 +518,9 @@ struct EyeTracer {
       if (!sample_light_with_pdf(light, hit.position, u1, u2, ds)) continue;
       const double p_light = light_pdf(light, hit.position, ds.wi);
       if (!(p_light > 0.0)) continue;
-      const double p_bsdf = closure_followed_pdf(m.lobes, sp, -v.ray.direction, ds.wi);
+      const double p_bsdf = settings.followed_light == FollowedLight::Lights
+                                ? 0.0
+                                : closure_followed_pdf(m.lobes, sp, -v.ray.direction, ds.wi);
       add_light_sample(v, hit, m, sp, light, ds, p_light / ((p_light + p_bsdf) * followed), media, rng, emitted,
                        file);
     }
@@ -592,13 +604,15 @@ struct EyeTracer {
       const bool emission_only = limits.by_kind && !within(chain, limits.max);
       if (branches[b].ray_kind == 0) {  // through a transparent lobe: no bounce, as Cycles counts it
         stack[top++] = EyeVertex{Ray{origin, wi, v.ray.kind}, thr, v.depth, length, v.glass_only, v.chain,
-                                 v.emission_only, share, v.route};
+                                 v.emission_only, share, v.route, 0.0, v.features_done};
         continue;
       }
       const double mis_pdf =
           weigh && !branches[b].specular ? closure_followed_pdf(m.lobes, sp, -v.ray.direction, wi) : 0.0;
+      const int lobe = branches[b].lobe;
+      const bool features_done = v.features_done || (lobe >= 0 && m.lobes[lobe].rough_for_denoising(sp));
       stack[top++] = EyeVertex{Ray{origin, wi, kind}, thr,   v.depth + 1, length, glass_only,
-                               chain, emission_only, share, route_after(v.route, kind), mis_pdf};
+                               chain, emission_only, share, route_after(v.route, kind), mis_pdf, features_done};
     }
   }
 };

@@ -12,6 +12,12 @@ enum class DirectLight : uint8_t {
   Sampled,  // direct light by light sampling with shadow rays; photons carry indirect light and caustics
   Photons,  // the reference design: photons carry all light
 };
+// How eye paths take the light a lobe they follow reflects (rough ones: EyeTracer::sample_lights).
+enum class FollowedLight : uint8_t {
+  Mis,     // light sampling and the lobe's own draw, weighed by the balance heuristic
+  Lights,  // light sampling alone, where a light has a density (the draw's meetings count nothing)
+  Draws,   // the draw alone (lights of no size go unseen): to test the other two against
+};
 enum class GatherOrganisation : uint8_t {
   HitPoints,  // hit points in the grid, each photon queries it
   Photons,    // each pass's photons in the grid, each hit point queries it
@@ -63,6 +69,7 @@ struct Settings {
   bool volume_boundary = true;         // hit points in media: count the gather ball inside the nearest surface only
   bool density_radius = true;       // automatic radius also widened to the photon density (photon_density_radius.h)
   DirectLight direct_light = DirectLight::Sampled;
+  FollowedLight followed_light = FollowedLight::Mis;
   GatherOrganisation gather = GatherOrganisation::Photons;  // measured faster: bench/run.py throughput
   GridKind grid = GridKind::Quantile;
   double progress_interval = 0.1;   // seconds between progress callbacks inside a pass

@@ -88,6 +88,10 @@ std::vector<SettingInfo> make_table() {
       number("progress_interval", &Settings::progress_interval, "seconds between progress callbacks"),
       choice("direct_light", &Settings::direct_light, {{"sampled", DirectLight::Sampled}, {"photons", DirectLight::Photons}},
              "'sampled': light sampling + photons for indirect; 'photons': photons carry all"),
+      choice("followed_light", &Settings::followed_light,
+             {{"mis", FollowedLight::Mis}, {"lights", FollowedLight::Lights}, {"draws", FollowedLight::Draws}},
+             "light reflected by glossy and refracting lobes, which eye paths follow: 'mis' (light sampling and "
+             "the lobe's draw, by the balance heuristic), 'lights' or 'draws' alone (to compare)"),
       choice("gather", &Settings::gather,
              {{"hit_points", GatherOrganisation::HitPoints}, {"photons", GatherOrganisation::Photons}},
              "which set the grid organises: 'hit_points' (photons query) or 'photons'"),

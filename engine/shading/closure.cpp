@@ -308,7 +308,7 @@ Color closure_eval(const std::vector<Lobe>& lobes, const SurfacePoint& sp, const
   effective_weights(lobes, sp, wo, eff);
   Color f(0.0);
   for (size_t i = 0; i < lobes.size(); ++i)
-    if (!lobes[i].followed(sp)) f += eff[i] * lobe_eval(lobes[i], sp, wo, wi) * bump_shadowing(lobes[i], sp, wo, wi, true);
+    if (!lobes[i].followed()) f += eff[i] * lobe_eval(lobes[i], sp, wo, wi) * bump_shadowing(lobes[i], sp, wo, wi, true);
   return f;
 }
 
@@ -319,7 +319,7 @@ Color closure_eval_followed_rough(const std::vector<Lobe>& lobes, const SurfaceP
   Color f(0.0);
   for (size_t i = 0; i < lobes.size(); ++i) {
     const Lobe& l = lobes[i];
-    if (l.followed(sp) && !l.delta_at(l.roughness_at(sp)))
+    if (l.followed() && !l.delta_at(l.roughness_at(sp)))
       f += eff[i] * lobe_eval(l, sp, wo, wi) * bump_shadowing(l, sp, wo, wi, true);
   }
   return f;
@@ -329,7 +329,7 @@ double closure_followed_pdf(const std::vector<Lobe>& lobes, const SurfacePoint& 
   Color eff[kMaxLobes];
   double prob[kMaxLobes];
   effective_weights(lobes, sp, wo, eff);
-  if (!(pick_probabilities(lobes, sp, wo, eff, [&sp](const Lobe& l) { return l.followed(sp); }, prob) > 0.0))
+  if (!(pick_probabilities(lobes, sp, wo, eff, [](const Lobe& l) { return l.followed(); }, prob) > 0.0))
     return 0.0;
   double pdf = 0.0;
   for (size_t i = 0; i < lobes.size(); ++i) {
@@ -345,7 +345,7 @@ double closure_followed_pdf(const std::vector<Lobe>& lobes, const SurfacePoint& 
 
 bool closure_has_rough_followed(const std::vector<Lobe>& lobes, const SurfacePoint& sp) {
   for (const Lobe& l : lobes)
-    if (l.followed(sp) && !l.delta_at(l.roughness_at(sp))) return true;
+    if (l.followed() && !l.delta_at(l.roughness_at(sp))) return true;
   return false;
 }
 
@@ -356,7 +356,7 @@ bool closure_lambertian(const std::vector<Lobe>& lobes, const SurfacePoint& sp, 
   albedo = Color(0.0);
   for (size_t i = 0; i < lobes.size(); ++i) {
     const Lobe& l = lobes[i];
-    if (l.followed(sp)) continue;
+    if (l.followed()) continue;
     if (l.kind != LobeKind::Diffuse || l.roughness_at(sp) > 0.0) return false;
     albedo += eff[i] * l.color_at(sp);
   }
@@ -371,7 +371,7 @@ ClassColors closure_eval_classes(const std::vector<Lobe>& lobes, const SurfacePo
   ClassColors f;
   for (size_t i = 0; i < lobes.size(); ++i) {
     const Lobe& l = lobes[i];
-    if (l.followed(sp)) continue;
+    if (l.followed()) continue;
     const int c = l.diffuse() || l.sheen() ? kDiffuseClass : reflected ? kGlossyClass : kTransmissionClass;
     f.c[c] += eff[i] * lobe_eval(l, sp, wo, wi) * bump_shadowing(l, sp, wo, wi, true);
   }
@@ -400,14 +400,27 @@ Color closure_albedo(const std::vector<Lobe>& lobes, const SurfacePoint& sp, con
   Color albedo(0.0);
   for (size_t i = 0; i < lobes.size(); ++i) {
     const Lobe& l = lobes[i];
-    if (l.followed(sp)) continue;
-    const Color tint = l.kind == LobeKind::Dielectric ? l.tint : l.color_at(sp);
-    if (l.layer)
-      albedo += eff[i] * tint * layer_albedo(l, sp, mu);
-    else if (l.kind == LobeKind::Dielectric)  // stored: reflection only (refraction is followed)
-      albedo += eff[i] * tint * fresnel_dielectric(mu, 1.0, l.ior);
-    else
-      albedo += eff[i] * tint;
+    if (l.followed()) continue;  // stored lobes: diffuse, translucent, sheen (a sheen may be a layer)
+    albedo += eff[i] * l.color_at(sp) * (l.layer ? layer_albedo(l, sp, mu) : 1.0);
+  }
+  return albedo;
+}
+
+Color closure_followed_albedo(const std::vector<Lobe>& lobes, const SurfacePoint& sp, const Vec3& wo) {
+  Color eff[kMaxLobes];
+  effective_weights(lobes, sp, wo, eff);
+  const double mu = glm::clamp(std::fabs(glm::dot(wo, sp.ns)), 0.0, 1.0);
+  Color albedo(0.0);
+  for (size_t i = 0; i < lobes.size(); ++i) {
+    const Lobe& l = lobes[i];
+    if (!l.followed() || !l.rough_for_denoising(sp)) continue;
+    if (l.kind != LobeKind::Dielectric) {
+      albedo += eff[i] * l.color_at(sp) * (l.layer ? layer_albedo(l, sp, mu) : 1.0);
+      continue;
+    }
+    const double F = glm::dot(wo, sp.ng) < 0.0 ? fresnel_dielectric(mu, l.ior, 1.0) : fresnel_dielectric(mu, 1.0, l.ior);
+    if (l.parts & kReflection) albedo += eff[i] * l.tint * (l.layer ? layer_albedo(l, sp, mu) : F);
+    if (l.parts & kRefraction) albedo += eff[i] * l.color_at(sp) * (l.parts == kRefraction ? 1.0 : 1.0 - F);
   }
   return albedo;
 }
@@ -444,7 +457,7 @@ double closure_followed_share(const std::vector<Lobe>& lobes, const SurfacePoint
   if (!(pick_probabilities(lobes, sp, wo, eff, [](const Lobe&) { return true; }, prob) > 0.0)) return 0.0;
   double share = 0.0;
   for (size_t i = 0; i < lobes.size(); ++i)
-    if (lobes[i].followed(sp)) share += prob[i];
+    if (lobes[i].followed()) share += prob[i];
   return glm::clamp(share, 0.0, 1.0);
 }
 
@@ -453,7 +466,7 @@ int closure_followed_branches(const std::vector<Lobe>& lobes, const SurfacePoint
   Color eff[kMaxLobes];
   double prob[kMaxLobes];
   effective_weights(lobes, sp, wo, eff);
-  if (!(pick_probabilities(lobes, sp, wo, eff, [&sp](const Lobe& l) { return l.followed(sp); }, prob) > 0.0))
+  if (!(pick_probabilities(lobes, sp, wo, eff, [](const Lobe& l) { return l.followed(); }, prob) > 0.0))
     return 0;
   const int i = pick(lobes, prob, u);
   if (i < 0) return 0;
@@ -464,27 +477,28 @@ int closure_followed_branches(const std::vector<Lobe>& lobes, const SurfacePoint
   } else {
     count = lobe_sample(l, sp, wo, u1, u2, u3, false, out[0]) ? 1 : 0;
   }
-  for (int b = 0; b < count; ++b) out[b].weight *= eff[i] / prob[i];
+  for (int b = 0; b < count; ++b) {
+    out[b].weight *= eff[i] / prob[i];
+    out[b].lobe = static_cast<int8_t>(i);
+  }
   return count;
 }
 
 bool closure_has_followed(const std::vector<Lobe>& lobes) {
   for (const Lobe& l : lobes)
-    if (l.may_be_followed()) return true;
+    if (l.followed()) return true;
   return false;
 }
 
 bool closure_is_followed(const std::vector<Lobe>& lobes) {
   for (const Lobe& l : lobes)
-    if (!l.always_followed()) return false;
+    if (!l.followed()) return false;
   return !lobes.empty();
 }
 
 bool closure_transmits(const std::vector<Lobe>& lobes) {
   for (const Lobe& l : lobes)
-    if (!l.always_followed() && (l.kind == LobeKind::Translucent ||
-                       (l.kind == LobeKind::Dielectric && (l.parts & kRefraction))))
-      return true;
+    if (l.kind == LobeKind::Translucent) return true;  // (refraction is followed)
   return false;
 }
 

@@ -1,6 +1,6 @@
 // A mixture of weighted lobes: evaluation, sampling and the split the eye pass needs between the
-// lobes it follows (delta and near-delta ones, Lobe::followed) and the rest, which a hit point
-// stores. Layering follows Cycles' Principled BSDF: a `layer` lobe attenuates every lobe after it
+// lobes it follows (microfacet and transparent ones, Lobe::followed) and the rest, which a hit
+// point stores. Layering follows Cycles' Principled BSDF: a `layer` lobe attenuates every lobe after it
 // by 1 - max(its directional albedo towards the viewer), so that a layer over a white base loses
 // nothing (as Cycles 5 measures), and a `multiscatter` lobe gets back the energy GGX single
 // scattering loses, as Cycles' Multiscatter GGX. Sampling picks one lobe (probabilities from the
@@ -21,9 +21,9 @@ void prepare_lobe(Lobe& lobe);
 // f(wo, wi) of the lobes hit points store (all but the followed ones), without the cosine.
 Color closure_eval(const std::vector<Lobe>& lobes, const SurfacePoint& sp, const Vec3& wo, const Vec3& wi);
 
-// f(wo, wi) of the followed lobes that are not delta at sp (glossy ones narrower than
-// kFollowedRoughness, rough refraction), without the cosine: what an eye path that follows them
-// reflects of a delta light, which no sampled direction meets (EyeTracer::delta_light).
+// f(wo, wi) of the followed lobes that are not delta at sp (rough glossy, metal, glass and coats),
+// without the cosine: what an eye path that follows them reflects of a sampled light
+// (EyeTracer::sample_lights).
 Color closure_eval_followed_rough(const std::vector<Lobe>& lobes, const SurfacePoint& sp, const Vec3& wo,
                                   const Vec3& wi);
 bool closure_has_rough_followed(const std::vector<Lobe>& lobes, const SurfacePoint& sp);
@@ -58,6 +58,11 @@ int closure_followed_branches(const std::vector<Lobe>& lobes, const SurfacePoint
 // Cycles' Denoising Albedo of the lobes hit points store: each lobe's colour (a layer's and a
 // dielectric's: their reflectance towards wo, tinted) times its weight after the layers above.
 Color closure_albedo(const std::vector<Lobe>& lobes, const SurfacePoint& sp, const Vec3& wo);
+
+// Cycles' Denoising Albedo of the followed lobes it counts as rough (Lobe::rough_for_denoising):
+// each one's reflectance towards wo (a dielectric's reflection by its Fresnel reflectance, its
+// refraction by the rest), tinted, times its weight after the layers above.
+Color closure_followed_albedo(const std::vector<Lobe>& lobes, const SurfacePoint& sp, const Vec3& wo);
 
 // Cycles' Diffuse, Glossy and Transmission Color of all the lobes, the followed ones too: each
 // lobe's colour times its weight, a dielectric's reflection by its Fresnel reflectance towards wo

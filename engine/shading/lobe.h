@@ -25,14 +25,6 @@ enum class LobeKind : uint8_t {
 };
 
 constexpr int kMaxLobes = 8;
-// Below this roughness a mixture's glossy lobe is sampled by eye paths, as a mirror is followed:
-// photons gathered in a radius resolve it poorly (against Cycles 5.0, tests/blenders/
-// materials_compare.py: a Principled coat of roughness 0.03 was 16% dark and rough glass of 0.2 3%
-// bright when gathered; 2.2% and 1.0% when followed). Lobes that refract are followed at every
-// roughness: their transmitted lobe is narrower than the reflected one, and gathered it was 5-9%
-// off in a white furnace at roughness 0.3 to 1 (0.94-1.09 with Multiscatter GGX, 54% bright at
-// 0.26; a ball of 24 pixels, 30 passes), followed within 1% of 1 as Cycles (0.98-0.99).
-constexpr double kFollowedRoughness = 0.25;
 constexpr int kLayerAlbedoSteps = 32;      // a layer's directional albedo, tabulated by cos(theta)
 constexpr int kLayerRoughnessSteps = 17;   // ... and by roughness, when a texture drives it
 constexpr int kGlassEnergySteps = 32;      // a multiscatter glass's albedo, by cos(theta)
@@ -110,14 +102,19 @@ struct Lobe {
     return kind == LobeKind::Conductor || kind == LobeKind::Glossy || kind == LobeKind::Dielectric;
   }
   bool delta_at(double r) const { return kind == LobeKind::Transparent || (microfacet() && r < kSmoothRoughness); }
-  // Followed by eye paths rather than stored in a hit point: delta lobes, refraction, and glossy
-  // ones too narrow for a photon density estimate to resolve (see kFollowedRoughness). With a
-  // textured roughness that is decided per shading point.
-  bool followed_at(double r) const { return delta_at(r) || refracts() || (microfacet() && r < kFollowedRoughness); }
   bool refracts() const { return kind == LobeKind::Dielectric && (parts & kRefraction); }
-  bool followed(const SurfacePoint& sp) const { return followed_at(roughness_at(sp)); }
-  bool may_be_followed() const { return followed_at(roughness) || (microfacet() && roughness_input.used()); }
-  bool always_followed() const { return followed_at(roughness) && !roughness_input.used(); }
+  // Followed by eye paths rather than stored in a hit point: every microfacet lobe (metal, glossy,
+  // glass and coats, at any roughness) and transparency; hit points store diffuse, translucent and
+  // sheen lobes. Eye paths sample a rough lobe and the lights it reflects (EyeTracer::
+  // sample_lights). Gathered in a radius, narrow lobes were biased (against Cycles 5.0,
+  // tests/blenders/materials_compare.py: a coat of roughness 0.03 16% dark, rough glass of 0.2 3%
+  // bright; refraction gathered 5-9% off in a white furnace) and wide ones noisy: the rough gold
+  // ball (0.25) of bench/equal_time_studio had 26 times the relative MSE at 30 s (0.106 gathered,
+  // 0.0040 followed: issue 50).
+  bool followed() const { return kind == LobeKind::Transparent || microfacet(); }
+  // Cycles writes its denoising features at the first lobe rougher than this (a smoother one it
+  // looks through, as through a mirror).
+  bool rough_for_denoising(const SurfacePoint& sp) const { return microfacet() && roughness_at(sp) > 0.075; }
 };
 
 }  // namespace ppm

@@ -37,6 +37,7 @@ struct BsdfSample {
   Color weight;           // f * |cos| / pdf
   bool specular = false;  // a delta lobe was sampled
   uint8_t ray_kind = 0;   // the RayKind of the scattered ray; 0: the ray goes on as it was (transparency)
+  int8_t lobe = -1;       // the mixture's lobe it was drawn from (closure_followed_branches)
 };
 
 // Below this roughness a surface is treated as perfectly smooth: the eye pass

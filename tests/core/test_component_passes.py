@@ -74,9 +74,12 @@ def test_a_mixture_splits_its_light_by_lobe_class():
     plain = render(closed_sphere([{"kind": "diffuse", "weight": 1.0, "color": 0.5}]), passes=6).component_passes()
     np.testing.assert_allclose(mixed["DiffCol"], 0.5, rtol=1e-6)
     np.testing.assert_allclose(mixed["GlossCol"], 0.5, rtol=1e-6)
-    # The same direct light through the diffuse lobe as through a plain diffuse wall of half the colour.
-    np.testing.assert_allclose(mixed["DiffDir"], plain["DiffDir"], rtol=1e-5)
-    assert mixed["GlossDir"].min() > 0.0 and mixed["GlossInd"].min() > 0.0
+    # The same direct light through the diffuse lobe as through a plain diffuse wall of half the
+    # colour: on average, as eye samples store the diffuse lobe or follow the glossy one at random
+    # (a pixel whose few samples all followed it has none; 0.7% apart over the image with seed 5).
+    assert mixed["DiffDir"].mean() == pytest.approx(plain["DiffDir"].mean(), rel=0.03)
+    for name in ("GlossDir", "GlossInd"):  # nearly every pixel has samples that followed the glossy lobe
+        assert (mixed[name] > 0.0).mean() > 0.8, name
     assert not mixed["TransDir"].any() and not mixed["TransInd"].any()
 
 

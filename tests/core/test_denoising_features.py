@@ -51,6 +51,25 @@ def test_a_mirror_is_seen_through_with_its_tint():
     np.testing.assert_allclose(f["normal"], np.broadcast_to((0, 0, 1), (24, 32, 3)), atol=1e-4)
 
 
+@pytest.mark.parametrize("roughness, sees_the_floor", [(0.05, True), (0.4, False)])
+def test_a_glossy_mirror_is_seen_through_only_while_cycles_counts_it_smooth(roughness, sees_the_floor):
+    """Eye paths follow glossy lobes at every roughness; as Cycles, the features are the glossy
+    surface's own (its colour, its normal) where it is rougher than 0.075, and what it reflects
+    (the floor, tinted) where it is smoother."""
+    scene = scene_over_floor(look_at((0, -5, 2), (0, 0, 2)), 8)
+    tint = (0.9, 0.5, 0.7)
+    mirror = scene.add_material("mirror", "mixture", lobes=[{"kind": "glossy", "color": tint, "roughness": roughness}])
+    quad(scene, "mirror", [(-1, 0.5, 1.5), (1, 0.5, 1.5), (1, -0.5, 2.5), (-1, -0.5, 2.5)], mirror)
+    f = features(scene, samples=16)
+    if sees_the_floor:  # (up to the share of the lobe's draws that leave the floor for the sky)
+        assert np.median(f["albedo"] / np.multiply(tint, FLOOR)) == pytest.approx(1.0, abs=0.02)
+        assert np.median(f["normal"][..., 2]) > 0.95
+    else:
+        np.testing.assert_allclose(f["albedo"], np.broadcast_to(tint, (24, 32, 3)), atol=1e-4)
+        facing = np.array([0.0, -1.0, -1.0]) / math.sqrt(2.0)  # the mirror faces the camera and the floor
+        np.testing.assert_allclose(f["normal"], np.broadcast_to(facing, (24, 32, 3)), atol=1e-4)
+
+
 def test_a_glass_pane_passes_its_fresnel_transmission():
     """Seen straight down through a smooth glass pane (two interfaces at normal incidence) the floor's
     albedo is weighted by the light the pane lets through, about (1 - F)^2 with F = 0.04 at IOR 1.5;

@@ -70,7 +70,7 @@ def test_a_uniform_input_renders_as_the_constant_it_holds(textured, constant, in
 
 
 def test_each_part_of_the_surface_gets_its_own_value():
-    # Roughness 0.1 on the upper half (followed by eye paths) and 0.6 below (gathered): each half as
+    # Roughness 0.1 on the upper half and 0.6 below (eye paths follow both, sampling the lamp): each half as
     # the ball of that constant roughness renders it, away from the seam at the equator.
     def glossy(roughness, **extra):
         return [{"kind": "glossy", "color": 0.8, "roughness": roughness, **extra}]
