@@ -308,7 +308,7 @@ Color closure_eval(const std::vector<Lobe>& lobes, const SurfacePoint& sp, const
   effective_weights(lobes, sp, wo, eff);
   Color f(0.0);
   for (size_t i = 0; i < lobes.size(); ++i)
-    if (!lobes[i].followed()) f += eff[i] * lobe_eval(lobes[i], sp, wo, wi) * bump_shadowing(lobes[i], sp, wo, wi, true);
+    if (!lobes[i].followed(sp)) f += eff[i] * lobe_eval(lobes[i], sp, wo, wi) * bump_shadowing(lobes[i], sp, wo, wi, true);
   return f;
 }
 
@@ -319,7 +319,7 @@ Color closure_eval_followed_rough(const std::vector<Lobe>& lobes, const SurfaceP
   Color f(0.0);
   for (size_t i = 0; i < lobes.size(); ++i) {
     const Lobe& l = lobes[i];
-    if (l.followed() && !l.delta_at(l.roughness_at(sp)))
+    if (l.followed(sp) && !l.delta_at(l.roughness_at(sp)))
       f += eff[i] * lobe_eval(l, sp, wo, wi) * bump_shadowing(l, sp, wo, wi, true);
   }
   return f;
@@ -329,7 +329,7 @@ double closure_followed_pdf(const std::vector<Lobe>& lobes, const SurfacePoint& 
   Color eff[kMaxLobes];
   double prob[kMaxLobes];
   effective_weights(lobes, sp, wo, eff);
-  if (!(pick_probabilities(lobes, sp, wo, eff, [](const Lobe& l) { return l.followed(); }, prob) > 0.0))
+  if (!(pick_probabilities(lobes, sp, wo, eff, [&sp](const Lobe& l) { return l.followed(sp); }, prob) > 0.0))
     return 0.0;
   double pdf = 0.0;
   for (size_t i = 0; i < lobes.size(); ++i) {
@@ -345,7 +345,7 @@ double closure_followed_pdf(const std::vector<Lobe>& lobes, const SurfacePoint& 
 
 bool closure_has_rough_followed(const std::vector<Lobe>& lobes, const SurfacePoint& sp) {
   for (const Lobe& l : lobes)
-    if (l.followed() && !l.delta_at(l.roughness_at(sp))) return true;
+    if (l.followed(sp) && !l.delta_at(l.roughness_at(sp))) return true;
   return false;
 }
 
@@ -356,7 +356,7 @@ bool closure_lambertian(const std::vector<Lobe>& lobes, const SurfacePoint& sp, 
   albedo = Color(0.0);
   for (size_t i = 0; i < lobes.size(); ++i) {
     const Lobe& l = lobes[i];
-    if (l.followed()) continue;
+    if (l.followed(sp)) continue;
     if (l.kind != LobeKind::Diffuse || l.roughness_at(sp) > 0.0) return false;
     albedo += eff[i] * l.color_at(sp);
   }
@@ -371,7 +371,7 @@ ClassColors closure_eval_classes(const std::vector<Lobe>& lobes, const SurfacePo
   ClassColors f;
   for (size_t i = 0; i < lobes.size(); ++i) {
     const Lobe& l = lobes[i];
-    if (l.followed()) continue;
+    if (l.followed(sp)) continue;
     const int c = l.diffuse() || l.sheen() ? kDiffuseClass : reflected ? kGlossyClass : kTransmissionClass;
     f.c[c] += eff[i] * lobe_eval(l, sp, wo, wi) * bump_shadowing(l, sp, wo, wi, true);
   }
@@ -400,8 +400,9 @@ Color closure_albedo(const std::vector<Lobe>& lobes, const SurfacePoint& sp, con
   Color albedo(0.0);
   for (size_t i = 0; i < lobes.size(); ++i) {
     const Lobe& l = lobes[i];
-    if (l.followed()) continue;  // stored lobes: diffuse, translucent, sheen (a sheen may be a layer)
-    albedo += eff[i] * l.color_at(sp) * (l.layer ? layer_albedo(l, sp, mu) : 1.0);
+    if (l.followed(sp)) continue;
+    const Color tint = l.kind == LobeKind::Dielectric ? l.tint : l.color_at(sp);
+    albedo += eff[i] * tint * (l.layer ? layer_albedo(l, sp, mu) : 1.0);  // (a stored dielectric is a layer)
   }
   return albedo;
 }
@@ -413,7 +414,7 @@ Color closure_followed_albedo(const std::vector<Lobe>& lobes, const SurfacePoint
   Color albedo(0.0);
   for (size_t i = 0; i < lobes.size(); ++i) {
     const Lobe& l = lobes[i];
-    if (!l.followed() || !l.rough_for_denoising(sp)) continue;
+    if (!l.followed(sp) || !l.rough_for_denoising(sp)) continue;
     if (l.kind != LobeKind::Dielectric) {
       albedo += eff[i] * l.color_at(sp) * (l.layer ? layer_albedo(l, sp, mu) : 1.0);
       continue;
@@ -457,7 +458,7 @@ double closure_followed_share(const std::vector<Lobe>& lobes, const SurfacePoint
   if (!(pick_probabilities(lobes, sp, wo, eff, [](const Lobe&) { return true; }, prob) > 0.0)) return 0.0;
   double share = 0.0;
   for (size_t i = 0; i < lobes.size(); ++i)
-    if (lobes[i].followed()) share += prob[i];
+    if (lobes[i].followed(sp)) share += prob[i];
   return glm::clamp(share, 0.0, 1.0);
 }
 
@@ -466,7 +467,7 @@ int closure_followed_branches(const std::vector<Lobe>& lobes, const SurfacePoint
   Color eff[kMaxLobes];
   double prob[kMaxLobes];
   effective_weights(lobes, sp, wo, eff);
-  if (!(pick_probabilities(lobes, sp, wo, eff, [](const Lobe& l) { return l.followed(); }, prob) > 0.0))
+  if (!(pick_probabilities(lobes, sp, wo, eff, [&sp](const Lobe& l) { return l.followed(sp); }, prob) > 0.0))
     return 0;
   const int i = pick(lobes, prob, u);
   if (i < 0) return 0;
@@ -486,13 +487,13 @@ int closure_followed_branches(const std::vector<Lobe>& lobes, const SurfacePoint
 
 bool closure_has_followed(const std::vector<Lobe>& lobes) {
   for (const Lobe& l : lobes)
-    if (l.followed()) return true;
+    if (l.may_be_followed()) return true;
   return false;
 }
 
 bool closure_is_followed(const std::vector<Lobe>& lobes) {
   for (const Lobe& l : lobes)
-    if (!l.followed()) return false;
+    if (!l.always_followed()) return false;
   return !lobes.empty();
 }
 

@@ -8,7 +8,7 @@ import pytest
 from conftest import SCENES_DIR, bpy, render_file
 
 SCENES = ("cornell_3spheres", "bezier_vase", "cornell_dof", "showcase", "cornell_diffuse", "hdri_glass",
-          "fog_caustic", "fog_shafts", "cloud")
+          "fog_caustic", "fog_shafts", "cloud", "studio")
 
 
 @pytest.mark.parametrize("name", SCENES)

@@ -300,7 +300,11 @@ MATERIALS.update(procedural_library.MATERIALS)  # texture and utility nodes (Mat
 # In 3.x Multiscatter GGX glass is a random walk over the microsurface (Heitz et al. 2016), which the
 # add-on approximates by 4.x's energy compensation: rough tinted glass differs by 5-8%, rough
 # Principled glass by 20-22% (too dark).
-APPROXIMATED = {"principled_subsurface", "toon"} | (set() if V4 else {"glass_frosted", "principled_glass_frosted"})
+# In 3.x the car paint (the 3.x Principled BSDF's clearcoat over metal, textured base) reads 5.0% off
+# in its dark channels with eye paths gathering the metal (256 passes), 5.7% following it (R 2.5%
+# bright, G and B 11% dark; Blender 3.4.1, 2026-12-08): docs/LIMITATIONS.md.
+APPROXIMATED = {"principled_subsurface", "toon"} | (
+    set() if V4 else {"glass_frosted", "principled_glass_frosted", "proc_car_paint"})
 # The materials whose ball, alone under the sun and the world, stores photons at all: at least 0.2% of
 # the emitted ones (light passing through it to its far side, a bumped surface lighting itself). On the
 # others a photon leaves the convex ball for the sky after its first bounce, so the image is direct
