@@ -393,37 +393,40 @@ bool closure_sample(const std::vector<Lobe>& lobes, const SurfacePoint& sp, cons
   return true;
 }
 
-Color closure_albedo(const std::vector<Lobe>& lobes, const SurfacePoint& sp, const Vec3& wo) {
-  Color eff[kMaxLobes];
-  effective_weights(lobes, sp, wo, eff);
-  const double mu = glm::clamp(std::fabs(glm::dot(wo, sp.ns)), 0.0, 1.0);
+namespace {
+
+// A lobe's Denoising Albedo towards wo (cos theta `mu`): its colour (a dielectric's reflection by its
+// tint and its Fresnel reflectance, its refraction by its colour and the rest), a layer's by its
+// tabulated albedo.
+Color lobe_albedo(const Lobe& l, const SurfacePoint& sp, const Vec3& wo, double mu) {
+  if (l.kind != LobeKind::Dielectric) return l.color_at(sp) * (l.layer ? layer_albedo(l, sp, mu) : 1.0);
+  const double F = glm::dot(wo, sp.ng) < 0.0 ? fresnel_dielectric(mu, l.ior, 1.0) : fresnel_dielectric(mu, 1.0, l.ior);
   Color albedo(0.0);
-  for (size_t i = 0; i < lobes.size(); ++i) {
-    const Lobe& l = lobes[i];
-    if (l.followed(sp)) continue;
-    const Color tint = l.kind == LobeKind::Dielectric ? l.tint : l.color_at(sp);
-    albedo += eff[i] * tint * (l.layer ? layer_albedo(l, sp, mu) : 1.0);  // (a stored dielectric is a layer)
-  }
+  if (l.parts & kReflection) albedo += l.tint * (l.layer ? layer_albedo(l, sp, mu) : F);
+  if (l.parts & kRefraction) albedo += l.color_at(sp) * (l.parts == kRefraction ? 1.0 : 1.0 - F);
   return albedo;
 }
 
-Color closure_followed_albedo(const std::vector<Lobe>& lobes, const SurfacePoint& sp, const Vec3& wo) {
+// The sum of lobe_albedo over the lobes `select` takes, each times its weight after the layers above.
+template <class Select>
+Color albedo_of(const std::vector<Lobe>& lobes, const SurfacePoint& sp, const Vec3& wo, Select&& select) {
   Color eff[kMaxLobes];
   effective_weights(lobes, sp, wo, eff);
   const double mu = glm::clamp(std::fabs(glm::dot(wo, sp.ns)), 0.0, 1.0);
   Color albedo(0.0);
-  for (size_t i = 0; i < lobes.size(); ++i) {
-    const Lobe& l = lobes[i];
-    if (!l.followed(sp) || !l.rough_for_denoising(sp)) continue;
-    if (l.kind != LobeKind::Dielectric) {
-      albedo += eff[i] * l.color_at(sp) * (l.layer ? layer_albedo(l, sp, mu) : 1.0);
-      continue;
-    }
-    const double F = glm::dot(wo, sp.ng) < 0.0 ? fresnel_dielectric(mu, l.ior, 1.0) : fresnel_dielectric(mu, 1.0, l.ior);
-    if (l.parts & kReflection) albedo += eff[i] * l.tint * (l.layer ? layer_albedo(l, sp, mu) : F);
-    if (l.parts & kRefraction) albedo += eff[i] * l.color_at(sp) * (l.parts == kRefraction ? 1.0 : 1.0 - F);
-  }
+  for (size_t i = 0; i < lobes.size(); ++i)
+    if (select(lobes[i])) albedo += eff[i] * lobe_albedo(lobes[i], sp, wo, mu);
   return albedo;
+}
+
+}  // namespace
+
+Color closure_albedo(const std::vector<Lobe>& lobes, const SurfacePoint& sp, const Vec3& wo) {
+  return albedo_of(lobes, sp, wo, [&sp](const Lobe& l) { return !l.followed(sp); });
+}
+
+Color closure_followed_albedo(const std::vector<Lobe>& lobes, const SurfacePoint& sp, const Vec3& wo) {
+  return albedo_of(lobes, sp, wo, [&sp](const Lobe& l) { return l.followed(sp) && l.rough_for_denoising(sp); });
 }
 
 ClassColors closure_class_albedo(const std::vector<Lobe>& lobes, const SurfacePoint& sp, const Vec3& wo) {
