@@ -24,6 +24,18 @@ DielectricSide dielectric_side(const DielectricParams& p, const SurfacePoint& sp
 
 double alpha_of(double roughness) { return roughness * roughness; }
 
+// The microfacet normal h (towards wo's side) that refracts lo into li (local frame, Walter 2007),
+// with lo.h and li.h; false where there is none (li on lo's side of h, or no direction at all).
+bool refraction_half_vector(const DielectricSide& s, const Vec3& lo, const Vec3& li, Vec3& h, double& oh, double& ih) {
+  h = -(s.eta_o * lo + s.eta_i * li);
+  if (glm::dot(h, h) == 0.0) return false;
+  h = glm::normalize(h);
+  if (h.z < 0.0) h = -h;
+  oh = glm::dot(lo, h);
+  ih = glm::dot(li, h);
+  return oh > 0.0 && ih < 0.0;
+}
+
 Microfacet dielectric_microfacet(const DielectricParams& p) {
   const double a = std::fmax(alpha_of(p.roughness), 1e-4);
   return {a, a, p.beckmann};
@@ -223,12 +235,9 @@ Color dielectric_eval(const DielectricParams& p, const SurfacePoint& sp, const V
   if (!(p.parts & kRefraction)) return Color(0.0);
   // Walter 2007, eq. 21, with wi the light side, times (eta_i / eta_o)^2: Cycles' rule, radiance
   // passing the interface unscaled (see dielectric_sample), which photons follow too.
-  Vec3 h = -(s.eta_o * lo + s.eta_i * li);
-  if (glm::dot(h, h) == 0.0) return Color(0.0);
-  h = glm::normalize(h);
-  if (h.z < 0.0) h = -h;
-  const double oh = glm::dot(lo, h), ih = glm::dot(li, h);
-  if (oh <= 0.0 || ih >= 0.0) return Color(0.0);
+  Vec3 h;
+  double oh, ih;
+  if (!refraction_half_vector(s, lo, li, h, oh, ih)) return Color(0.0);
   const double F = fresnel_dielectric(oh, s.eta_o, s.eta_i);
   const double denom = s.eta_i * ih + s.eta_o * oh;
   const Vec3 li_up(li.x, li.y, -li.z);
@@ -255,12 +264,9 @@ double dielectric_pdf(const DielectricParams& p, const SurfacePoint& sp, const V
     return (both ? F : 1.0) * m.pdf(lo, h) / (4.0 * oh);
   }
   if (!(p.parts & kRefraction)) return 0.0;
-  Vec3 h = -(s.eta_o * lo + s.eta_i * li);
-  if (glm::dot(h, h) == 0.0) return 0.0;
-  h = glm::normalize(h);
-  if (h.z < 0.0) h = -h;
-  const double oh = glm::dot(lo, h), ih = glm::dot(li, h);
-  if (oh <= 0.0 || ih >= 0.0) return 0.0;
+  Vec3 h;
+  double oh, ih;
+  if (!refraction_half_vector(s, lo, li, h, oh, ih)) return 0.0;
   const double F = fresnel_dielectric(oh, s.eta_o, s.eta_i);
   const double denom = s.eta_i * ih + s.eta_o * oh;  // the half vector's change with wi (Walter 2007)
   return (both ? 1.0 - F : 1.0) * m.pdf(lo, h) * s.eta_i * s.eta_i * std::fabs(ih) / (denom * denom);
