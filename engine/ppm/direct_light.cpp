@@ -28,12 +28,8 @@ Color light_contribution(const Scene& scene, const Light& light, const HitPoint&
   Color c = Color(sh.throughput) * f * (cos * ds.value);
   if (!(max_component(c) > 0.0)) return Color(0.0);
   const Vec3 origin = offset_point(hp.position, sh.geometric_normal, ds.wi, scene.offset_floor());
-  double dist = ds.distance;
-  if (dist < kInf) {
-    const Vec3 target = hp.position + ds.wi * ds.distance;
-    dist = dist * (1.0 - 1e-9) - 2.0 * ray_offset(target, scene.offset_floor());  // stop short of an emitter's own surface
-    if (!(dist > 0.0)) return Color(0.0);
-  }
+  const double dist = shadow_distance(hp.position, ds, scene.offset_floor());  // short of an emitter's own surface
+  if (!(dist > 0.0)) return Color(0.0);
   Color tr(1.0);  // through media (scenes with media only): their transmittance to the light
   if (light.cast_shadow) {
     if (media == nullptr) {
@@ -64,12 +60,8 @@ Color volume_light_sample(const Scene& scene, const Light& light, const VolumeHi
   const double phase = med.c.phase.eval(-ds.wi, -Vec3(h.direction));
   Color c = Color(h.weight) * sigma_s * (phase * ds.value);
   if (!(max_component(c) > 0.0)) return Color(0.0);
-  double dist = ds.distance;
-  if (dist < kInf) {
-    const Vec3 target = h.position + ds.wi * ds.distance;
-    dist = dist * (1.0 - 1e-9) - 2.0 * ray_offset(target, scene.offset_floor());
-    if (!(dist > 0.0)) return Color(0.0);
-  }
+  const double dist = shadow_distance(h.position, ds, scene.offset_floor());
+  if (!(dist > 0.0)) return Color(0.0);
   if (light.cast_shadow) c *= scene.shadow_transmittance(Ray{h.position, ds.wi, kShadowRay}, dist, h.media, rng);
   return c;
 }

@@ -548,11 +548,8 @@ struct EyeTracer {
                       const MediumStack* media, Rng& rng) const {
     if (!casts_shadow) return Color(1.0);
     const Ray ray{offset_point(hit.position, hit.geometric_normal, ds.wi, scene.offset_floor()), ds.wi, kShadowRay};
-    double dist = ds.distance;
-    if (dist < kInf) {
-      dist = dist * (1.0 - 1e-9) - 2.0 * ray_offset(hit.position + ds.wi * ds.distance, scene.offset_floor());
-      if (!(dist > 0.0)) return Color(0.0);
-    }
+    const double dist = shadow_distance(hit.position, ds, scene.offset_floor());
+    if (!(dist > 0.0)) return Color(0.0);
     if (media == nullptr) return scene.occluded(ray, dist) ? Color(0.0) : Color(1.0);
     MediumStack stack = *media;  // through the surface: the media beyond it
     if (glm::dot(ds.wi, hit.geometric_normal) * glm::dot(incoming, hit.geometric_normal) > 0.0)

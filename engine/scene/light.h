@@ -157,6 +157,13 @@ Color radiance_at(const Light& light, const Vec2& b);
 // one by its own density, combined by multiple importance sampling).
 int direct_samples(const Light& light);
 
+// How far a shadow ray from p towards sample `ds` goes: short of the light's own surface (by twice
+// the ray offset there), kInf for a light at infinity; not positive where nothing is left.
+inline double shadow_distance(const Vec3& p, const DirectSample& ds, double offset_floor) {
+  if (!(ds.distance < kInf)) return ds.distance;
+  return ds.distance * (1.0 - 1e-9) - 2.0 * ray_offset(p + ds.wi * ds.distance, offset_floor);
+}
+
 // `n` is the receiving surface's normal on the side light is gathered from.
 bool sample_direct(const Light& light, const Vec3& p, const Vec3& n, double u1, double u2,
                    DirectSample& out, int strategy = 0);
